@@ -1,0 +1,8 @@
+"""Test volumes: seeded synthetic phantoms and a real head CT.
+
+See ``README.md`` in this package for what each fixture is and its licence.
+"""
+from .head_ct import head_ct_path, load_head_ct
+from .synthetic import FIXTURES, make_fixture
+
+__all__ = ["FIXTURES", "make_fixture", "head_ct_path", "load_head_ct"]

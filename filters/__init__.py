@@ -1,0 +1,142 @@
+"""pyvista wrappers: render an ImageData with a mipcast method, or add it to a Plotter.
+
+Thin functions over :class:`mipcast.offscreen.OffscreenView` and the mipcast
+mappers, in the style of pyvista's own filters.  pyvista is imported here,
+never by the core package.
+"""
+from __future__ import annotations
+
+from typing import Optional, Sequence, Union
+
+import numpy as np
+
+from ..methods import attach, create_mapper
+from ..offscreen import OffscreenView
+from ..validation import check_image, check_positive
+
+
+def render(image, method: str = "mip", *, size: Sequence[int] = (256, 256), view: str = "oblique",
+           sample_distance: Optional[float] = None, window: Optional[Sequence[float]] = None,
+           as_float: bool = False) -> np.ndarray:
+    """Render ``image`` offscreen with a mipcast method.
+
+    Parameters
+    ----------
+    image : pyvista.ImageData
+        Volume with one-component point scalars.
+    method : str, default: "mip"
+        A name from ``mipcast.METHODS``.
+    size : sequence of int, default: (256, 256)
+        Image (width, height) in pixels.
+    view : str, default: "oblique"
+        A camera preset of ``mipcast.offscreen.VIEWS``.
+    sample_distance : float, optional
+        World units between samples; default one sample per voxel.
+    window : sequence of float, optional
+        Grey window (low, high) in data units; default the data range.
+    as_float : bool, default: False
+        Return each pixel's maximum in data units (float32, NaN where a ray
+        misses) instead of the 8-bit RGB picture.
+
+    Returns
+    -------
+    numpy.ndarray
+        (height, width, 3) uint8, or (height, width) float32, top row first.
+
+    Examples
+    --------
+    >>> import pyvista as pv
+    >>> from mipcast.filters import render
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> grid = pv.wrap(make_fixture("vessels", size=32))
+    >>> render(grid, size=(64, 48)).shape
+    (48, 64, 3)
+    """
+    scene = OffscreenView(image, method, size=size, view=view,
+                          sample_distance=sample_distance, window=window)
+    return scene.float_image() if as_float else scene.screenshot()
+
+
+def add_volume(plotter, image, method: str = "mip", *, cmap: Union[str, object] = "gray",
+               clim: Optional[Sequence[float]] = None, opacity: Union[float, str] = 1.0,
+               sample_distance: Optional[float] = None):
+    """Add ``image`` to a pyvista ``Plotter``, rendered by a mipcast method.
+
+    Parameters
+    ----------
+    plotter : pyvista.Plotter
+        Any plotter, including ``Plotter(off_screen=True)``.
+    image : pyvista.ImageData
+        Volume with one-component point scalars.
+    method : str, default: "mip"
+        A name from ``mipcast.METHODS``.
+    cmap : str or matplotlib colormap, default: "gray"
+        Colour map over ``clim``, as in ``Plotter.add_volume``.
+    clim : sequence of float, optional
+        Colour limits (low, high); default the data range.
+    opacity : float or str, default: 1.0
+        A constant opacity, or one of pyvista's opacity transfer function
+        names (``"linear"``, ``"sigmoid"``, ...), as in ``add_volume``.
+    sample_distance : float, optional
+        World units between samples; default one sample per voxel.
+        Auto-adjust is off so the setting holds while interacting.
+
+    Returns
+    -------
+    vtkVolume
+        The added volume; its mapper is ``volume.GetMapper()``.
+
+    Examples
+    --------
+    >>> import pyvista as pv
+    >>> from mipcast.filters import add_volume
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> plotter = pv.Plotter(off_screen=True, window_size=(64, 64))
+    >>> volume = add_volume(plotter, pv.wrap(make_fixture("spheres", size=24)))
+    >>> plotter.screenshot().shape
+    (64, 64, 3)
+    """
+    from vtkmodules.vtkRenderingCore import vtkVolume
+
+    check_image(image)
+    low, high = clim if clim is not None else image.GetPointData().GetScalars().GetRange(0)
+    if sample_distance is None:
+        sample_distance = min(abs(s) for s in image.GetSpacing())
+    mapper = create_mapper(method)
+    mapper.SetInputData(image)
+    mapper.SetAutoAdjustSampleDistances(False)
+    mapper.SetSampleDistance(check_positive("sample_distance", sample_distance))
+    volume = vtkVolume()
+    volume.SetProperty(_volume_property(cmap, (low, high), opacity))
+    attach(mapper, volume)
+    plotter.renderer.AddVolume(volume)
+    plotter.reset_camera()
+    return volume
+
+
+def _volume_property(cmap, clim, opacity):
+    import pyvista
+    from matplotlib import colormaps
+    from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+    from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolumeProperty
+
+    low, high = float(clim[0]), float(clim[1])
+    if not high > low:
+        raise ValueError(f"clim must be (low, high) with high > low, got {tuple(clim)}")
+    colours = (colormaps[cmap] if isinstance(cmap, str) else cmap)(np.linspace(0.0, 1.0, 256))
+    if isinstance(opacity, str):
+        alphas = np.asarray(pyvista.opacity_transfer_function(opacity, 256), dtype=float)
+        alphas = alphas / 255.0 if alphas.max() > 1.0 else alphas
+    else:
+        alphas = np.full(256, float(opacity))
+        if not 0.0 <= float(opacity) <= 1.0:
+            raise ValueError(f"opacity must be within [0, 1], got {opacity}")
+    colour_tf, opacity_tf = vtkColorTransferFunction(), vtkPiecewiseFunction()
+    for value, rgba, alpha in zip(np.linspace(low, high, 256), colours, alphas):
+        colour_tf.AddRGBPoint(value, *rgba[:3])
+        opacity_tf.AddPoint(value, alpha)
+    prop = vtkVolumeProperty()
+    prop.SetColor(colour_tf)
+    prop.SetScalarOpacity(opacity_tf)
+    prop.SetInterpolationTypeToLinear()
+    return prop

@@ -1,0 +1,17 @@
+"""mipcast: better maximum intensity projection in VTK's GPU volume ray caster.
+
+The core imports VTK through ``vtkmodules`` only and pyvista lazily, so it
+also runs inside ParaView's Python.
+
+Examples
+--------
+>>> import mipcast
+>>> sorted(mipcast.METHODS)
+['analytic', 'mip', 'stock']
+"""
+from .analytic_mapper import AnalyticMIPVolumeMapper
+from .methods import METHODS, create_mapper
+from .mip_mapper import MIPVolumeMapper
+
+__version__ = "0.1.0"
+__all__ = ["METHODS", "AnalyticMIPVolumeMapper", "MIPVolumeMapper", "create_mapper", "__version__"]

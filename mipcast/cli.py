@@ -1,0 +1,208 @@
+"""The ``mipcast`` command: ``demo``, ``render`` and ``bench``.
+
+Everything renders offscreen (EGL/Mesa works with no GPU and no display).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+from typing import Optional, Sequence
+
+import numpy as np
+
+from . import METHODS
+from .offscreen import VIEWS, OffscreenView
+
+DEMO_FIXTURE = "vessels"
+DEMO_SIZE = 96
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """Entry point of the ``mipcast`` console script.
+
+    Examples
+    --------
+    >>> main([])  # no command: prints the help, returns 2
+    usage: mipcast ...
+    2
+    """
+    parser = _parser()
+    args = parser.parse_args(argv)
+    if args.command is None:
+        parser.print_help()
+        return 2
+    try:
+        return args.run(args)
+    except (ValueError, TypeError, FileNotFoundError, ImportError) as error:
+        print(f"mipcast {args.command}: error: {error}", file=sys.stderr)
+        return 2
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="mipcast", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=_version())
+    sub = parser.add_subparsers(dest="command")
+
+    demo = sub.add_parser("demo", help="render the bundled scene with every method, plus error maps")
+    demo.add_argument("--out", type=Path, default=Path("mipcast-demo"), help="output folder")
+    demo.add_argument("--size", type=int, default=256, help="image width and height (pixels)")
+    demo.set_defaults(run=run_demo)
+
+    render = sub.add_parser("render", help="render a volume file (.vti/.nrrd/.nii/.mha/DICOM) to PNG")
+    render.add_argument("input", type=Path)
+    render.add_argument("--method", default="mip", choices=sorted(METHODS))
+    render.add_argument("--out", type=Path, required=True, help="PNG file to write")
+    render.add_argument("--view", default="oblique", choices=sorted(VIEWS))
+    render.add_argument("--size", type=int, nargs=2, default=(512, 512), metavar=("W", "H"))
+    render.add_argument("--sample-distance", type=float, default=None,
+                        help="world units between samples (default: one per voxel)")
+    render.add_argument("--window", type=float, nargs=2, default=None, metavar=("LOW", "HIGH"),
+                        help="grey window in data units (default: data range)")
+    render.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
+    render.set_defaults(run=run_render)
+
+    bench = sub.add_parser("bench", help="frame-time ratios of every method against stock VTK MIP")
+    bench.add_argument("--scenes", nargs="+", default=["vessels"],
+                       help="fixture names, 'head' for the head CT, or volume files")
+    bench.add_argument("--size", type=int, nargs="+", default=[256, 512])
+    bench.add_argument("--volume-size", type=int, default=128, help="edge of synthetic fixtures")
+    bench.add_argument("--views", nargs="+", default=["oblique", "perspective"], choices=sorted(VIEWS))
+    bench.add_argument("--rounds", type=int, default=5)
+    bench.add_argument("--out", type=Path, default=Path("mipcast-bench"))
+    bench.set_defaults(run=run_bench)
+    return parser
+
+
+def _version() -> str:
+    from . import __version__
+    return f"mipcast {__version__}"
+
+
+def run_demo(args) -> int:
+    """Render the demo fixture with every method, its float readout and error map."""
+    from . import reference
+    from .data_fixtures import make_fixture
+    from .metrics import summary
+
+    image = make_fixture(DEMO_FIXTURE, size=DEMO_SIZE)
+    size = (args.size, args.size)
+    args.out.mkdir(parents=True, exist_ok=True)
+    low, high = image.GetPointData().GetScalars().GetRange(0)
+    exact = None
+    report = {}
+    for method in sorted(METHODS):
+        view = OffscreenView(image, method, size=size, view="oblique")
+        picture = args.out / f"{method}.png"
+        write_png(picture, view.screenshot())
+        if exact is None:
+            exact = reference.render(image, view.camera, size, method="exact")
+            write_png(args.out / "reference_exact.png", _grey8(exact, low, high))
+        entry = {"png": str(picture)}
+        if hasattr(view.mapper, "Attach"):
+            values = view.float_image()
+            errors = summary(values, exact, high - low)
+            write_error_map(args.out / f"{method}_error.png", values, exact, high - low)
+            entry.update(error_png=str(args.out / f"{method}_error.png"),
+                         p99_error_pct=errors["p99_pct"], within_1_grey=errors["within_1_grey"])
+        report[method] = entry
+    (args.out / "demo.json").write_text(json.dumps(report, indent=2))
+    print(f"mipcast demo: {DEMO_FIXTURE} fixture ({DEMO_SIZE}^3), {size[0]}x{size[1]} pixels")
+    for method, entry in report.items():
+        extra = ""
+        if "p99_error_pct" in entry:
+            extra = (f"  error vs exact reference: p99 {entry['p99_error_pct']:.2f}% of range, "
+                     f"{100 * entry['within_1_grey']:.1f}% of pixels within 1 grey level")
+        print(f"  {method:8s} {entry['png']}{extra}")
+    print(f"wrote {args.out}/ (PNGs, error maps *_error.png, demo.json)")
+    return 0
+
+
+def run_render(args) -> int:
+    """Render one volume file to a PNG."""
+    from .io import read_volume
+
+    image = read_volume(args.input, series_uid=args.series)
+    view = OffscreenView(image, args.method, size=tuple(args.size), view=args.view,
+                         sample_distance=args.sample_distance, window=args.window)
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    write_png(args.out, view.screenshot())
+    print(f"wrote {args.out}")
+    return 0
+
+
+def run_bench(args) -> int:
+    """Time every method against stock VTK MIP on each scene, view and size."""
+    from .benchmark import markdown_table, time_methods
+
+    args.out.mkdir(parents=True, exist_ok=True)
+    methods = ["stock"] + sorted(m for m in METHODS if m != "stock")
+    rows = []
+    started = time.perf_counter()
+    for scene in args.scenes:
+        image = load_scene(scene, args.volume_size)
+        for view in args.views:
+            for edge in args.size:
+                times = time_methods(image, methods, size=(edge, edge), view=view, rounds=args.rounds)
+                for method, result in times.items():
+                    rows.append({"scene": scene, "view": view, "size": edge, "method": method,
+                                 "median_ms": 1000 * result["median_s"], "ratio_to_stock": result["ratio"],
+                                 "frames": result["frames"]})
+                print(f"  {scene} {view} {edge}^2: " + ", ".join(
+                    f"{m} {r['ratio']:.3f}" for m, r in times.items()), flush=True)
+    columns = ["scene", "view", "size", "method", "median_ms", "ratio_to_stock", "frames"]
+    (args.out / "bench.json").write_text(json.dumps(rows, indent=2))
+    (args.out / "bench.md").write_text(markdown_table(rows, columns) + "\n")
+    print(markdown_table(rows, columns))
+    print(f"wrote {args.out}/bench.json and bench.md ({time.perf_counter() - started:.0f} s)")
+    return 0
+
+
+def load_scene(scene: str, volume_size: int):
+    """A fixture name, ``head`` (the head CT) or a volume file -> vtkImageData."""
+    from .data_fixtures import FIXTURES, load_head_ct, make_fixture
+
+    if scene in FIXTURES:
+        return make_fixture(scene, size=volume_size)
+    if scene == "head":
+        return load_head_ct()
+    from .io import read_volume
+    return read_volume(Path(scene))
+
+
+def write_png(path: Path, pixels: np.ndarray) -> None:
+    """Write an (H, W) or (H, W, 3) uint8 array, top row first, as PNG."""
+    import matplotlib
+    matplotlib.use("Agg")
+    from matplotlib import pyplot
+
+    pyplot.imsave(path, pixels, cmap="gray" if pixels.ndim == 2 else None, vmin=0, vmax=255)
+
+
+def write_error_map(path: Path, values: np.ndarray, reference_values: np.ndarray, data_range: float) -> None:
+    """Write |values - reference| in percent of the data range as a colour-mapped PNG."""
+    import matplotlib
+    matplotlib.use("Agg")
+    from matplotlib import pyplot
+
+    from .metrics import error_map
+
+    percent = 100.0 * error_map(values, reference_values) / data_range
+    figure, axes = pyplot.subplots(figsize=(5, 4.2), dpi=100)
+    shown = axes.imshow(percent, cmap="magma", vmin=0.0, vmax=max(5.0, float(np.nanmax(percent))))
+    axes.set_axis_off()
+    axes.set_title("|GPU - exact reference|, % of data range")
+    figure.colorbar(shown, ax=axes, fraction=0.046)
+    figure.savefig(path, bbox_inches="tight")
+    pyplot.close(figure)
+
+
+def _grey8(values: np.ndarray, low: float, high: float) -> np.ndarray:
+    scaled = np.clip((np.nan_to_num(values, nan=low) - low) / (high - low), 0.0, 1.0)
+    return np.round(255 * scaled).astype(np.uint8)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

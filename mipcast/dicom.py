@@ -1,0 +1,717 @@
+"""Read a DICOM series (a folder of slices, or one multi-frame file) as a volume.
+
+pydicom is imported inside the functions only, so ``import mipcast`` works
+without it (e.g. in ParaView's Python).  pyvista is imported lazily too:
+:func:`read_dicom` returns a ``pyvista.ImageData`` when pyvista is
+installed, else a plain ``vtkImageData`` with the same content.
+
+Geometry follows DICOM's patient coordinate system (LPS: +x towards the
+patient's left, +y posterior, +z superior, in mm):
+
+- VTK index ``i`` runs along the pixel columns (along the *row* direction
+  cosine, ``ImageOrientationPatient[:3]``), ``j`` along the rows (column
+  direction cosine, ``ImageOrientationPatient[3:]``) and ``k`` along the
+  slice normal (row cosine x column cosine), so the direction matrix has
+  the columns (row cosine, column cosine, normal).
+- Pixel ``pixel_array[r, c]`` of the ``k``-th slice (sorted by position
+  along the normal) is point ``(i, j, k) = (c, r, k)``; the scalars are the
+  volume ``(nz, ny, nx) = (slices, Rows, Columns)`` flattened in C order.
+- Spacing is ``(PixelSpacing[1], PixelSpacing[0], slice step)``: DICOM's
+  PixelSpacing lists the row spacing (between rows) first.  The slice step
+  comes from the slice positions, never from SliceThickness.
+"""
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+from typing import Any, Dict, List, Optional, Sequence, Union
+
+import numpy as np
+from vtkmodules.util.numpy_support import get_vtk_array_type, vtk_to_numpy
+from vtkmodules.vtkCommonCore import vtkDataArray, vtkStringArray
+from vtkmodules.vtkCommonDataModel import vtkImageData
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+#: Name of the point-data array holding the rescaled values.
+SCALARS_NAME = "values"
+#: Name of the one-value string array in the field data holding the units.
+UNITS_NAME = "units"
+
+# Tolerances (see _assemble for how they are used).
+ORIENTATION_TOL = 1e-3      # cosines: about 0.06 degrees
+SPACING_TOL = 0.01          # relative: non-uniform slice steps beyond 1 % are refused
+GAP_FACTOR = 1.5            # a step > 1.5 x the median step is a missing slice
+TILT_TOL_PIXELS = 0.1       # lateral drift of slice origins, in pixels
+
+# Suggested `pip install` per transfer syntax whose decoder can be missing.
+_DECODER_PACKAGES = {
+    "1.2.840.10008.1.2.4.50": "pylibjpeg pylibjpeg-libjpeg",   # JPEG baseline (Pillow works too)
+    "1.2.840.10008.1.2.4.51": "pylibjpeg pylibjpeg-libjpeg",   # JPEG extended
+    "1.2.840.10008.1.2.4.57": "pylibjpeg pylibjpeg-libjpeg",   # JPEG lossless
+    "1.2.840.10008.1.2.4.70": "pylibjpeg pylibjpeg-libjpeg",   # JPEG lossless SV1
+    "1.2.840.10008.1.2.4.80": "pyjpegls",                      # JPEG-LS lossless
+    "1.2.840.10008.1.2.4.81": "pyjpegls",                      # JPEG-LS near-lossless
+    "1.2.840.10008.1.2.4.90": "pylibjpeg pylibjpeg-openjpeg",  # JPEG 2000 lossless
+    "1.2.840.10008.1.2.4.91": "pylibjpeg pylibjpeg-openjpeg",  # JPEG 2000
+    "1.2.840.10008.1.2.4.201": "pylibjpeg pylibjpeg-openjpeg",  # HTJ2K lossless
+    "1.2.840.10008.1.2.4.202": "pylibjpeg pylibjpeg-openjpeg",  # HTJ2K lossless RPCL
+    "1.2.840.10008.1.2.4.203": "pylibjpeg pylibjpeg-openjpeg",  # HTJ2K
+    "1.2.840.10008.1.2.5": "pylibjpeg pylibjpeg-rle",          # RLE (numpy decoder built in)
+}
+_ANY_DECODER = "pylibjpeg pylibjpeg-libjpeg pylibjpeg-openjpeg"
+
+
+# ---------------------------------------------------------------------------
+# public API
+# ---------------------------------------------------------------------------
+
+def read_dicom(path: PathLike, series_uid: Optional[str] = None):
+    """Read one DICOM series as a volume with its patient-space geometry.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A folder holding the files of a series (single-frame slices, or
+        multi-frame files), or one DICOM file (a multi-frame volume such as
+        RT Dose or an enhanced CT/MR, or a single slice).  File names and
+        extensions do not matter; files that are not DICOM are skipped.
+        Subfolders are not searched.
+    series_uid : str, optional
+        The SeriesInstanceUID to read when the folder holds several image
+        series (see :func:`list_series`).
+
+    Returns
+    -------
+    pyvista.ImageData
+        (a plain ``vtkImageData`` if pyvista is not installed) with:
+
+        - point scalars ``"values"``: the stored values after
+          RescaleSlope/RescaleIntercept (for RT Dose: DoseGridScaling).
+          float32 if any slope or intercept is not an integer (or the stored
+          values are floats), else the first of int16/int32 that holds the
+          range (uint32/float64 beyond that);
+        - field data ``"units"``: one string -- ``"HU"`` for CT (or the
+          RescaleType if it names something else), ``"Gy"`` or
+          ``"relative"`` for RT Dose, the ``Units`` tag for PET (e.g.
+          ``"BQML"``), ``""`` when DICOM does not say (e.g. MR);
+        - dimensions ``(Columns, Rows, slices)``, spacing
+          ``(PixelSpacing[1], PixelSpacing[0], slice step)``, origin the
+          ImagePositionPatient of the first slice along the normal, and the
+          direction matrix with columns (row cosine, column cosine, normal).
+
+        A single slice gives an image one point thick: it is returned, but
+        :func:`mipcast.io.read_volume` and the renderers refuse it.
+        MONOCHROME1 images are returned as stored (not inverted).
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``path`` does not exist.
+    ValueError
+        With what is wrong and how to fix it: no DICOM files; no images
+        among them (only non-image objects such as RT structure sets); several
+        image series and no ``series_uid``; an unknown ``series_uid``;
+        missing slices (a step > 1.5 x the median step); two slices at the
+        same position; slice steps differing by more than 1 % (refused
+        rather than resampled, which would silently change the geometry);
+        slices with different orientations, sizes or pixel spacings; gantry
+        tilt (slice origins drifting sideways to the slice normal); colour
+        images; images without ImagePositionPatient/ImageOrientationPatient;
+        compressed pixel data without an installed decoder (the message names
+        the package to install).
+
+    Examples
+    --------
+    A CT series of 5 slices (files named by number, stored top-down):
+
+    >>> import os
+    >>> from pydicom.data import get_testdata_file
+    >>> folder = os.path.dirname(get_testdata_file("dicomdirtests/98892001/CT5N/2062"))
+    >>> ct = read_dicom(folder)
+    >>> ct.dimensions, ct.spacing
+    ((16, 16, 5), (0.488281, 0.488281, 2.5))
+    >>> ct.origin  # the most inferior slice (lowest z) comes first
+    (-72.199997, -143.0, -1.2375)
+    >>> str(ct.field_data["units"][0]), ct.point_data["values"].dtype.name
+    ('HU', 'int16')
+
+    A multi-frame RT Dose grid (offsets from GridFrameOffsetVector):
+
+    >>> dose = read_dicom(get_testdata_file("rtdose.dcm"))
+    >>> dose.dimensions, dose.spacing, dose.point_data["values"].dtype.name
+    ((10, 10, 15), (10.0, 10.0, 5.0), 'float32')
+
+    One slice (returned; rendering needs at least two):
+
+    >>> read_dicom(get_testdata_file("CT_small.dcm")).dimensions
+    (128, 128, 1)
+
+    JPEG 2000 pixel data decodes if a decoder (Pillow with OpenJPEG,
+    pylibjpeg-openjpeg or GDCM) is installed, else a ValueError names the
+    package to install:
+
+    >>> read_dicom(get_testdata_file("693_J2KI.dcm")).dimensions  # doctest: +SKIP
+    (512, 512, 1)
+    """
+    pydicom = _import_pydicom()
+    path = Path(path)
+    datasets = _scan(path, pydicom)
+    images = [(file, ds) for file, ds in datasets if _has_pixels(ds)]
+    if not images:
+        kinds = sorted({str(ds.get("Modality", "?")) for _, ds in datasets})
+        raise ValueError(
+            f"'{path}' holds {len(datasets)} DICOM file(s) but none with pixel data "
+            f"(modalities: {', '.join(kinds)}); these are non-image objects (structure "
+            "sets, plans, reports, DICOMDIR ...): point to the folder holding the image slices")
+    series: Dict[str, list] = {}
+    for file, ds in images:
+        series.setdefault(_series_uid(ds), []).append((file, ds))
+    if series_uid is None:
+        if len(series) > 1:
+            listing = "\n".join(f"  {_describe(entry)}" for entry in _summaries(images))
+            raise ValueError(
+                f"'{path}' holds {len(series)} image series; choose one with "
+                "series_uid=... (read_dicom(path, series_uid=...) or "
+                "read_volume(path, series_uid=...)), or move each series into its own "
+                f"folder:\n{listing}")
+        chosen = next(iter(series.values()))
+    else:
+        if str(series_uid) not in series:
+            listing = "\n".join(f"  {_describe(entry)}" for entry in _summaries(images))
+            raise ValueError(
+                f"no image series with SeriesInstanceUID {series_uid!r} in '{path}'; "
+                f"the image series there are:\n{listing}")
+        chosen = series[str(series_uid)]
+    frames = []
+    for file, ds in chosen:
+        frames.extend(_frames_of(file, ds))
+    image = _assemble(frames, chosen, pydicom)
+    try:
+        import pyvista
+    except ImportError:  # e.g. ParaView's Python: plain VTK is enough
+        return image
+    return pyvista.wrap(image)
+
+
+def list_series(path: PathLike) -> List[Dict[str, Any]]:
+    """List the DICOM series in a folder (or the one series of a file).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A folder (subfolders are not searched) or a DICOM file.
+
+    Returns
+    -------
+    list of dict
+        One dict per SeriesInstanceUID, ordered by SeriesNumber, with keys
+        ``"uid"``, ``"modality"``, ``"description"`` (SeriesDescription, may
+        be ``""``), ``"number"`` (SeriesNumber or ``None``), ``"n_files"``
+        and ``"n_images"`` (files with pixel data; series with 0 images, such
+        as structure sets, cannot be read as volumes).
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``path`` does not exist.
+    ValueError
+        If there are no DICOM files.
+
+    Examples
+    --------
+    >>> import os
+    >>> from pydicom.data import get_testdata_file
+    >>> folder = os.path.dirname(get_testdata_file("dicomdirtests/98892001/CT5N/2062"))
+    >>> [(s["modality"], s["n_files"], s["n_images"]) for s in list_series(folder)]
+    [('CT', 5, 5)]
+    """
+    pydicom = _import_pydicom()
+    return _summaries(_scan(Path(path), pydicom))
+
+
+# ---------------------------------------------------------------------------
+# finding and grouping files
+# ---------------------------------------------------------------------------
+
+def _import_pydicom():
+    try:
+        import pydicom
+    except ImportError:
+        raise ImportError(
+            "reading DICOM needs pydicom: pip install pydicom "
+            "(Debian/ParaView: apt-get install python3-pydicom)") from None
+    return pydicom
+
+
+def _scan(path: Path, pydicom) -> list:
+    """Return [(file, dataset)] for the DICOM files at ``path`` (pixels deferred)."""
+    if not path.exists():
+        raise FileNotFoundError(f"no such DICOM file or folder: '{path}'")
+    if path.is_file():
+        ds = _read_header(path, pydicom)
+        if ds is None:
+            raise ValueError(
+                f"'{path}' is not a DICOM file (no 'DICM' marker and no DICOM data set at "
+                "its start); pass a DICOM file or the folder holding the series")
+        return [(path, ds)]
+    files = sorted(p for p in path.iterdir() if p.is_file() and not p.name.startswith("."))
+    found = []
+    for file in files:
+        ds = _read_header(file, pydicom)
+        if ds is not None:
+            found.append((file, ds))
+    if not found:
+        subfolders = sorted(p.name for p in path.iterdir() if p.is_dir())
+        hint = (f"; it has subfolders ({', '.join(subfolders[:5])}"
+                f"{', ...' if len(subfolders) > 5 else ''}) -- subfolders are not searched, "
+                "pass the folder that holds the slices" if subfolders else
+                "; pass the folder that holds the slices of one series")
+        raise ValueError(f"no DICOM files in '{path}' ({len(files)} file(s) checked){hint}")
+    return found
+
+
+def _read_header(file: Path, pydicom):
+    """The data set of ``file`` with its large values (pixels) deferred, or None."""
+    from pydicom.errors import InvalidDicomError
+
+    try:
+        return pydicom.dcmread(str(file), defer_size="16 KB")
+    except InvalidDicomError:
+        pass
+    except Exception as error:  # a DICOM file that does not parse
+        raise ValueError(
+            f"'{file}' is a DICOM file but could not be read ({error}); remove or "
+            "re-export it") from error
+    # Old files without the 128-byte preamble and 'DICM': accept only if they
+    # start like a data set (group 0x0002 or 0x0008, little endian) and parse.
+    with open(file, "rb") as handle:
+        head = handle.read(4)
+    if head[:2] not in (b"\x02\x00", b"\x08\x00"):
+        return None
+    try:
+        ds = pydicom.dcmread(str(file), defer_size="16 KB", force=True)
+        return ds if "SOPClassUID" in ds else None
+    except Exception:
+        return None
+
+
+def _has_pixels(ds) -> bool:
+    return any(k in ds for k in ("PixelData", "FloatPixelData", "DoubleFloatPixelData"))
+
+
+def _series_uid(ds) -> str:
+    return str(ds.get("SeriesInstanceUID", "") or "")
+
+
+def _summaries(datasets) -> List[Dict[str, Any]]:
+    table: Dict[str, Dict[str, Any]] = {}
+    for _, ds in datasets:
+        uid = _series_uid(ds)
+        if uid not in table:
+            number = ds.get("SeriesNumber", None)
+            table[uid] = {
+                "uid": uid,
+                "modality": str(ds.get("Modality", "") or ""),
+                "description": str(ds.get("SeriesDescription", "") or ""),
+                "number": int(number) if number not in (None, "") else None,
+                "n_files": 0,
+                "n_images": 0,
+            }
+        table[uid]["n_files"] += 1
+        table[uid]["n_images"] += int(_has_pixels(ds))
+    return sorted(table.values(), key=lambda s: (s["number"] is None, s["number"] or 0, s["uid"]))
+
+
+def _describe(entry: Dict[str, Any]) -> str:
+    text = f"{entry['uid'] or '(no SeriesInstanceUID)'}: {entry['modality'] or '?'}"
+    if entry["number"] is not None:
+        text += f" #{entry['number']}"
+    if entry["description"]:
+        text += f" '{entry['description']}'"
+    return text + f", {entry['n_files']} file(s)"
+
+
+# ---------------------------------------------------------------------------
+# frames: one 2D image each, with its own geometry and rescale
+# ---------------------------------------------------------------------------
+
+class _Frame:
+    """One 2D image: where it is, how to scale it, where its pixels are."""
+
+    __slots__ = ("file", "index", "position", "orientation", "pixel_spacing",
+                 "slope", "intercept", "rescale_type")
+
+    def __init__(self, file, index, position, orientation, pixel_spacing, slope, intercept,
+                 rescale_type):
+        self.file = file
+        self.index = index
+        self.position = position
+        self.orientation = orientation
+        self.pixel_spacing = pixel_spacing
+        self.slope = slope
+        self.intercept = intercept
+        self.rescale_type = rescale_type
+
+    @property
+    def name(self) -> str:
+        return self.file.name if self.index is None else f"{self.file.name} frame {self.index + 1}"
+
+
+def _floats(value, count: int, what: str, where: str) -> np.ndarray:
+    try:
+        numbers = np.array([float(v) for v in value], dtype=float)
+    except (TypeError, ValueError):
+        numbers = np.array([])
+    if numbers.shape != (count,) or not np.isfinite(numbers).all():
+        raise ValueError(f"{where}: {what} is {value!r}, expected {count} numbers")
+    return numbers
+
+
+def _first_item(container, keyword):
+    if container is None:
+        return None
+    sequence = container.get(keyword, None)
+    return sequence[0] if sequence else None
+
+
+def _frames_of(file: Path, ds) -> List[_Frame]:
+    """The frames of one file, with per-frame geometry and rescale."""
+    where = f"'{file}'"
+    samples = int(ds.get("SamplesPerPixel", 1) or 1)
+    if samples != 1:
+        raise ValueError(
+            f"{where} is a colour image ({samples} samples per pixel, "
+            f"{ds.get('PhotometricInterpretation', '?')}); a MIP needs one value per voxel: "
+            "use a greyscale series")
+    frames = int(ds.get("NumberOfFrames", 1) or 1)
+    top_slope = float(ds.get("RescaleSlope", 1) or 1)
+    top_intercept = float(ds.get("RescaleIntercept", 0) or 0)
+    top_type = str(ds.get("RescaleType", "") or "")
+    if "DoseGridScaling" in ds:  # RT Dose: the scale lives here
+        top_slope = float(ds.DoseGridScaling)
+
+    per_frame = ds.get("PerFrameFunctionalGroupsSequence", None)
+    shared = _first_item(ds, "SharedFunctionalGroupsSequence")
+    if per_frame is not None or shared is not None:  # enhanced multi-frame
+        if per_frame is not None and len(per_frame) != frames:
+            raise ValueError(f"{where}: {len(per_frame)} per-frame functional groups for "
+                             f"{frames} frames; the file is inconsistent")
+        result = []
+        for index in range(frames):
+            own = per_frame[index] if per_frame is not None else None
+
+            def item(keyword):
+                found = _first_item(own, keyword)
+                return found if found is not None else _first_item(shared, keyword)
+
+            plane_position = item("PlanePositionSequence")
+            plane_orientation = item("PlaneOrientationSequence")
+            measures = item("PixelMeasuresSequence")
+            transform = item("PixelValueTransformationSequence")
+            position = (plane_position.get("ImagePositionPatient", None)
+                        if plane_position is not None else ds.get("ImagePositionPatient", None))
+            orientation = (plane_orientation.get("ImageOrientationPatient", None)
+                           if plane_orientation is not None
+                           else ds.get("ImageOrientationPatient", None))
+            spacing = (measures.get("PixelSpacing", None) if measures is not None
+                       else ds.get("PixelSpacing", None))
+            slope, intercept, rescale_type = top_slope, top_intercept, top_type
+            if transform is not None:
+                slope = float(transform.get("RescaleSlope", slope) or slope)
+                intercept = float(transform.get("RescaleIntercept", intercept) or intercept)
+                rescale_type = str(transform.get("RescaleType", rescale_type) or rescale_type)
+            frame_where = f"{where} frame {index + 1}"
+            result.append(_frame(file, index, position, orientation, spacing, slope, intercept,
+                                 rescale_type, frame_where, ds))
+        return result
+
+    position = ds.get("ImagePositionPatient", None)
+    orientation = ds.get("ImageOrientationPatient", None)
+    spacing = ds.get("PixelSpacing", None)
+    if frames == 1:
+        return [_frame(file, None, position, orientation, spacing, top_slope, top_intercept,
+                       top_type, where, ds)]
+    offsets = ds.get("GridFrameOffsetVector", None)
+    if offsets is None:
+        raise ValueError(
+            f"{where} has {frames} frames but no per-frame positions (no "
+            "PerFrameFunctionalGroupsSequence and no GridFrameOffsetVector): mipcast cannot "
+            "tell where the frames are; convert it to a slice series or an enhanced "
+            "multi-frame object first")
+    offsets = _floats(offsets, frames, "GridFrameOffsetVector", where)
+    base = _frame(file, 0, position, orientation, spacing, top_slope, top_intercept, top_type,
+                  where, ds)
+    row, col = base.orientation[:3], base.orientation[3:]
+    normal = np.cross(row, col)
+    normal /= np.linalg.norm(normal)
+    if offsets[0] != 0.0:
+        # Absolute form (DICOM C.8.8.3.2): offsets are coordinates along the
+        # normal, the first one being that of ImagePositionPatient.
+        offsets = offsets - float(base.position @ normal)
+    return [_Frame(file, index, base.position + offset * normal, base.orientation,
+                   base.pixel_spacing, top_slope, top_intercept, top_type)
+            for index, offset in enumerate(offsets)]
+
+
+def _frame(file, index, position, orientation, spacing, slope, intercept, rescale_type, where,
+           ds) -> _Frame:
+    if position is None or orientation is None:
+        kind = f"{ds.get('Modality', '?')} {getattr(ds.get('SOPClassUID', None), 'name', '')}"
+        raise ValueError(
+            f"{where} ({kind.strip()}) has no ImagePositionPatient/ImageOrientationPatient: it "
+            "is not a slice of a 3D volume (a projection, scout or secondary capture?); "
+            "mipcast needs cross-sectional images (CT, MR, PET, RT dose ...)")
+    if spacing is None:
+        raise ValueError(f"{where} has no PixelSpacing, so the voxel size is unknown; "
+                         "add it to the files (e.g. with pydicom) before reading")
+    pixel_spacing = _floats(spacing, 2, "PixelSpacing", where)
+    if not (pixel_spacing > 0).all():
+        raise ValueError(f"{where}: PixelSpacing {list(pixel_spacing)} must be > 0")
+    return _Frame(file, index, _floats(position, 3, "ImagePositionPatient", where),
+                  _floats(orientation, 6, "ImageOrientationPatient", where), pixel_spacing,
+                  float(slope), float(intercept), rescale_type)
+
+
+# ---------------------------------------------------------------------------
+# decoding
+# ---------------------------------------------------------------------------
+
+def _decoder_problem(ds) -> Optional[str]:
+    """Why the pixel data of ``ds`` cannot be decoded here, or None."""
+    meta = getattr(ds, "file_meta", None)
+    syntax = meta.get("TransferSyntaxUID", None) if meta is not None else None
+    if syntax is None or not syntax.is_compressed:
+        return None
+    try:
+        from pydicom.pixels import get_decoder  # pydicom >= 3
+    except ImportError:  # pydicom 2.x: decoding errors are reported when they happen
+        return None
+    try:
+        decoder = get_decoder(syntax)
+    except NotImplementedError:
+        return (f"pydicom has no decoder at all for its transfer syntax {syntax.name} "
+                f"({syntax}); convert the files to an uncompressed syntax first (e.g. "
+                "`gdcmconv --raw` or `dcmdjpeg`)")
+    if decoder.is_available:
+        return None
+    return _missing_decoder_text(syntax, list(decoder.missing_dependencies))
+
+
+def _missing_decoder_text(syntax, missing: Sequence[str]) -> str:
+    package = _DECODER_PACKAGES.get(str(syntax), _ANY_DECODER)
+    text = (f"its pixel data is compressed with {syntax.name} ({syntax}) and no decoder for "
+            f"it is installed: pip install {package}")
+    if missing:
+        text += f" (pydicom's options: {'; '.join(missing)})"
+    return text
+
+
+def _pixels(file: Path, ds) -> np.ndarray:
+    """Decoded pixels of one file as (frames, rows, columns)."""
+    problem = _decoder_problem(ds)
+    if problem:
+        raise ValueError(f"cannot decode '{file}': {problem}")
+    try:
+        array = ds.pixel_array
+    except Exception as error:
+        meta = getattr(ds, "file_meta", None)
+        syntax = meta.get("TransferSyntaxUID", None) if meta is not None else None
+        if syntax is not None and syntax.is_compressed:
+            raise ValueError(f"cannot decode '{file}': "
+                             f"{_missing_decoder_text(syntax, [])}; pydicom said: {error}") from error
+        raise ValueError(f"cannot decode the pixel data of '{file}': {error}") from error
+    frames = int(ds.get("NumberOfFrames", 1) or 1)
+    return array.reshape((frames,) + array.shape[-2:])
+
+
+# ---------------------------------------------------------------------------
+# stacking
+# ---------------------------------------------------------------------------
+
+def _assemble(frames: List[_Frame], files, pydicom) -> vtkImageData:
+    """Check the geometry of ``frames``, sort them along the normal, stack them."""
+    first = frames[0]
+    headers = {file: ds for file, ds in files}
+    size = {(int(headers[f.file].Rows), int(headers[f.file].Columns)) for f in frames}
+    if len(size) > 1:
+        raise ValueError(f"the images of the series have different sizes {sorted(size)} "
+                         "(rows, columns); keep only the slices of one stack")
+    rows, cols = size.pop()
+
+    for frame in frames[1:]:
+        if np.abs(frame.orientation - first.orientation).max() > ORIENTATION_TOL:
+            raise ValueError(
+                f"inconsistent orientation: {frame.name} has ImageOrientationPatient "
+                f"{_fmt(frame.orientation)} but {first.name} has {_fmt(first.orientation)}; "
+                "the series mixes differently oriented images (a scout/localizer or "
+                "reformats?): keep only the slices of one stack")
+        if np.abs(frame.pixel_spacing - first.pixel_spacing).max() > 1e-4 * first.pixel_spacing.max():
+            raise ValueError(
+                f"inconsistent PixelSpacing: {frame.name} has {_fmt(frame.pixel_spacing)} but "
+                f"{first.name} has {_fmt(first.pixel_spacing)}; keep only the slices of one stack")
+    row = first.orientation[:3] / np.linalg.norm(first.orientation[:3])
+    col = first.orientation[3:] / np.linalg.norm(first.orientation[3:])
+    if abs(float(row @ col)) > ORIENTATION_TOL:
+        raise ValueError(
+            f"ImageOrientationPatient {_fmt(first.orientation)} of {first.name} is not made of "
+            "two perpendicular unit vectors; the files are corrupt")
+    normal = np.cross(row, col)
+    normal /= np.linalg.norm(normal)
+
+    positions = np.array([f.position for f in frames])
+    along = positions @ normal
+    order = np.argsort(along, kind="stable")
+    frames = [frames[i] for i in order]
+    positions, along = positions[order], along[order]
+    pixel = float(first.pixel_spacing.min())
+
+    if len(frames) == 1:
+        ds = headers[first.file]
+        step = None
+        for keyword in ("SpacingBetweenSlices", "SliceThickness"):
+            value = ds.get(keyword, None)
+            if value not in (None, "") and float(value) > 0:
+                step = float(value)
+                break
+        step = step or 1.0  # one slice: the step has no effect on any point
+    else:
+        step = _check_steps(frames, positions, along, normal, pixel)
+
+    ds0 = headers[first.file]
+    values = _stack(frames, headers, rows, cols)
+    image = vtkImageData()
+    image.SetDimensions(cols, rows, len(frames))
+    # PixelSpacing = (between rows, between columns) = (along j, along i)
+    image.SetSpacing(float(first.pixel_spacing[1]), float(first.pixel_spacing[0]), step)
+    image.SetOrigin(*(float(v) for v in positions[0]))
+    image.SetDirectionMatrix(*np.column_stack([row, col, normal]).ravel())
+    values.SetName(SCALARS_NAME)
+    image.GetPointData().SetScalars(values)
+    units = vtkStringArray()
+    units.SetName(UNITS_NAME)
+    units.InsertNextValue(_units(ds0, first.rescale_type))
+    image.GetFieldData().AddArray(units)
+    return image
+
+
+def _check_steps(frames, positions, along, normal, pixel) -> float:
+    """Refuse duplicates, tilt, gaps and uneven steps; return the slice step."""
+    steps = np.diff(along)
+    nonzero = steps[steps > 1e-6]
+    median = float(np.median(nonzero)) if nonzero.size else 0.0
+    duplicates = np.flatnonzero(steps <= max(1e-4, 0.01 * median))
+    if duplicates.size:
+        pairs = "; ".join(f"{frames[d].name} and {frames[d + 1].name} at {along[d]:.3f} mm"
+                          for d in duplicates[:3])
+        raise ValueError(
+            f"{duplicates.size} duplicate slice position(s) along the slice normal ({pairs}"
+            f"{'; ...' if duplicates.size > 3 else ''}): the series holds several images per "
+            "position (repeated files, several time points, echoes or acquisitions?); keep "
+            "one image per position (e.g. one acquisition/echo per folder)")
+
+    offsets = positions - positions[0]
+    lateral = offsets - np.outer(offsets @ normal, normal)
+    drift = np.linalg.norm(lateral, axis=1)
+    tolerance = max(TILT_TOL_PIXELS * pixel, 1e-3)
+    if drift.max() > tolerance:
+        last = int(np.argmax(drift))
+        angle = math.degrees(math.atan2(drift[last], along[last] - along[0]))
+        raise ValueError(
+            f"the slice origins drift sideways to the slice normal by up to {drift.max():.3f} mm "
+            f"(gantry tilt of about {angle:.2f} deg, or slices of several stacks): stacking "
+            "them on a regular grid would shear the anatomy. mipcast refuses tilted series; "
+            "resample onto an untilted grid first (e.g. 3D Slicer's 'Gantry tilt correction', "
+            "dcm2niix, or SimpleITK's ResampleImageFilter)")
+
+    gaps = np.flatnonzero(steps > GAP_FACTOR * median)
+    if gaps.size:
+        where = "; ".join(
+            f"between {frames[g].name} ({along[g]:.3f} mm) and {frames[g + 1].name} "
+            f"({along[g + 1]:.3f} mm): about {max(1, round(steps[g] / median) - 1)} missing"
+            for g in gaps[:3])
+        raise ValueError(
+            f"missing slice(s): {gaps.size} gap(s) larger than {GAP_FACTOR} x the usual step "
+            f"of {median:.4g} mm ({where}{'; ...' if gaps.size > 3 else ''}); copy the whole "
+            "series into the folder (or remove the stray slices)")
+
+    step = float((along[-1] - along[0]) / (len(along) - 1))
+    deviation = float(np.abs(steps - step).max())
+    if deviation > SPACING_TOL * step:
+        raise ValueError(
+            f"the slice step is not uniform: it ranges from {steps.min():.4g} to "
+            f"{steps.max():.4g} mm (mean {step:.4g} mm, {100 * deviation / step:.1f} % off, "
+            f"limit {100 * SPACING_TOL:g} %). A regular grid would misplace slices by up to "
+            f"{deviation:.3g} mm and resampling would silently change the geometry, so "
+            "mipcast refuses; resample the series to a uniform step first, or read a "
+            "uniformly spaced part of it")
+    return step
+
+
+def _stack(frames: List[_Frame], headers, rows: int, cols: int) -> vtkDataArray:
+    """Decode, rescale and stack the frames into a new VTK array (nz, ny, nx)."""
+    decoded: Dict[Path, np.ndarray] = {}
+    raw = []
+    for frame in frames:
+        if frame.file not in decoded:
+            decoded[frame.file] = _pixels(frame.file, headers[frame.file])
+        raw.append(decoded[frame.file][frame.index or 0])
+    slopes = np.array([f.slope for f in frames])
+    intercepts = np.array([f.intercept for f in frames])
+    integral = (all(a.dtype.kind in "iub" for a in raw)
+                and all(float(v).is_integer() for v in np.concatenate([slopes, intercepts])))
+    if integral:
+        lows, highs = [], []
+        for array, slope, intercept in zip(raw, slopes, intercepts):
+            ends = np.array([int(array.min()), int(array.max())], dtype=float) * slope + intercept
+            lows.append(ends.min())
+            highs.append(ends.max())
+        dtype = integer_dtype(min(lows), max(highs))
+    else:
+        dtype = np.dtype(np.float32)
+    array = vtkDataArray.CreateDataArray(get_vtk_array_type(dtype))
+    array.SetNumberOfComponents(1)
+    array.SetNumberOfTuples(len(frames) * rows * cols)
+    out = vtk_to_numpy(array).reshape(len(frames), rows, cols)
+    for k, (pixels, slope, intercept) in enumerate(zip(raw, slopes, intercepts)):
+        if slope == 1 and intercept == 0:
+            out[k] = pixels
+        elif integral and dtype.kind in "iu":
+            out[k] = pixels.astype(np.int64) * int(slope) + int(intercept)
+        else:
+            out[k] = pixels.astype(np.float64) * slope + intercept
+    return array
+
+
+def integer_dtype(low: float, high: float) -> np.dtype:
+    """The smallest of int16, int32, uint32 holding [low, high], else float64.
+
+    Examples
+    --------
+    >>> integer_dtype(-1024, 3071).name, integer_dtype(0, 65535).name
+    ('int16', 'int32')
+    """
+    for candidate in (np.int16, np.int32, np.uint32):
+        info = np.iinfo(candidate)
+        if info.min <= low and high <= info.max:
+            return np.dtype(candidate)
+    return np.dtype(np.float64)
+
+
+def _units(ds, rescale_type: str) -> str:
+    modality = str(ds.get("Modality", "") or "").upper()
+    if modality == "RTDOSE":
+        units = str(ds.get("DoseUnits", "") or "")
+        return {"GY": "Gy", "RELATIVE": "relative"}.get(units.upper(), units)
+    if rescale_type and rescale_type.upper() != "US":  # US = unspecified
+        return rescale_type
+    if modality == "CT":
+        return "HU"
+    if modality == "PT":
+        return str(ds.get("Units", "") or "")
+    return ""
+
+
+def _fmt(values) -> str:
+    return "[" + ", ".join(f"{float(v):.6g}" for v in values) + "]"

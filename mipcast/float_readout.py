@@ -1,0 +1,69 @@
+"""Read a mipcast mapper's per-pixel result as float32, above the 8-bit floor."""
+from __future__ import annotations
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkImageData
+
+from . import shader_pieces
+
+#: Normalised hits are written shifted by this much (see shaders/float_readout.glsl).
+_SHIFT = -2.0
+
+
+def render_float(render_window, mapper) -> np.ndarray:
+    """Render once and return each pixel's ray maximum in data units.
+
+    The mapper renders into VTK's RenderToImage buffers with a float "depth"
+    image that receives the raw maximum instead of a depth; the value is
+    mapped back from VTK's normalised scalar to data units with the input's
+    scalar range.  The mapper's settings are restored afterwards.
+
+    Parameters
+    ----------
+    render_window : vtkRenderWindow
+        The window whose renderer holds the mapper's attached volume.
+    mapper : MIPVolumeMapper
+        An attached mipcast mapper.
+
+    Returns
+    -------
+    numpy.ndarray, shape (height, width), float32
+        Data units; NaN where no ray hit the volume. Top row first, like
+        ``pyvista.Plotter.screenshot()``.
+
+    Examples
+    --------
+    >>> from mipcast.offscreen import OffscreenView
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> view = OffscreenView(make_fixture("spheres", size=16), "mip", size=(32, 32))
+    >>> render_float(view.render_window, view.mapper).shape
+    (32, 32)
+    """
+    volume = mapper.GetAttachedVolume()
+    if volume is None or not mapper.IsAttached():
+        raise RuntimeError("render_float needs an attached mipcast mapper: call mapper.Attach(volume)")
+    pieces = [shader_pieces.load_piece(name) for name in mapper.PIECES + ("float_readout",)]
+    saved = (mapper.GetRenderToImage(), mapper.GetDepthImageScalarType())
+    shader_pieces.install(volume.GetShaderProperty(), pieces)
+    try:
+        mapper.RenderToImageOn()
+        mapper.SetDepthImageScalarTypeToFloat()
+        render_window.Render()
+        image = vtkImageData()
+        mapper.GetDepthImage(image)
+    finally:
+        mapper.SetRenderToImage(saved[0])
+        mapper.SetDepthImageScalarType(saved[1])
+        mapper.Attach(volume)
+    scalars = image.GetPointData().GetScalars()
+    if scalars is None:  # nothing was drawn (volume outside the view or clipped away)
+        width, height = render_window.GetSize()
+        return np.full((height, width), np.nan, dtype=np.float32)
+    width, height, _ = image.GetDimensions()
+    raw = vtk_to_numpy(scalars).reshape(height, width)[::-1]
+    low, high = mapper.GetInput().GetPointData().GetScalars().GetRange(0)
+    normalised = raw.astype(np.float64) - _SHIFT
+    values = low + normalised * (high - low)
+    values[raw > -0.5] = np.nan
+    return values.astype(np.float32)

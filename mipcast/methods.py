@@ -1,0 +1,41 @@
+"""The registry of rendering methods: a name -> a configured VTK volume mapper."""
+from __future__ import annotations
+
+from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
+
+from .analytic_mapper import AnalyticMIPVolumeMapper
+from .mip_mapper import MIPVolumeMapper
+from .validation import check_choice
+
+
+def _stock_mip() -> vtkOpenGLGPUVolumeRayCastMapper:
+    mapper = vtkOpenGLGPUVolumeRayCastMapper()
+    mapper.SetBlendModeToMaximumIntensity()
+    return mapper
+
+
+#: Method name -> factory of an unconfigured mapper. "stock" is VTK's own MIP.
+METHODS = {
+    "stock": _stock_mip,
+    "mip": MIPVolumeMapper,
+    "analytic": AnalyticMIPVolumeMapper,
+}
+
+
+def create_mapper(method: str):
+    """Create the mapper for ``method`` (one of :data:`METHODS`).
+
+    Examples
+    --------
+    >>> type(create_mapper("mip")).__name__
+    'MIPVolumeMapper'
+    """
+    return METHODS[check_choice("method", method, tuple(METHODS))]()
+
+
+def attach(mapper, volume) -> None:
+    """Give ``volume`` its mapper: ``Attach`` for mipcast mappers, ``SetMapper`` for stock."""
+    if hasattr(mapper, "Attach"):
+        mapper.Attach(volume)
+    else:
+        volume.SetMapper(mapper)

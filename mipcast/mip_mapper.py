@@ -1,0 +1,140 @@
+"""The base mipcast mapper: VTK's GPU ray caster running mipcast's own ray loop."""
+from __future__ import annotations
+
+from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow, vtkWeakReference
+from vtkmodules.vtkRenderingCore import vtkVolume
+from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
+
+from . import shader_pieces
+from .object_state import object_state
+from .validation import check_image
+
+
+class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
+    """Sampled maximum intensity projection through mipcast's shader pieces.
+
+    A drop-in for ``vtkGPUVolumeRayCastMapper`` in MIP mode: input, sample
+    distance, auto-adjust, image sample distance, the volume property's
+    transfer functions and interpolation, and the image's spacing, origin and
+    direction matrix all behave as they do there.  VTK keeps shader code on
+    the ``vtkVolume``, so the mapper must be attached to its volume with
+    :meth:`Attach` (which also calls ``volume.SetMapper``).  Rendering an
+    unattached mipcast mapper, or one whose input is unusable (see
+    :func:`mipcast.validation.check_image`), reports a VTK error naming the
+    problem and draws nothing.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkVolume
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> mapper = MIPVolumeMapper()
+    >>> mapper.SetInputData(make_fixture("vessels", size=32))
+    >>> volume = vtkVolume()
+    >>> mapper.Attach(volume)
+    >>> volume.GetMapper() is mapper
+    True
+    """
+
+    #: Shader pieces this method installs (file names in ``shaders/``).
+    PIECES = ("mip_globals", "mip_sampled_loop", "no_stock_sample", "mip_color")
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.SetBlendModeToMaximumIntensity()
+        self.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, _check_before_render)
+        self.AddObserver(vtkCommand.VolumeMapperRenderEndEvent, _restore_after_refused_render)
+
+    # -- attachment ---------------------------------------------------------
+    def Attach(self, volume: vtkVolume) -> None:
+        """Install this method's shader pieces on ``volume`` and set its mapper.
+
+        Parameters
+        ----------
+        volume : vtkVolume
+            The volume to render.  Its shader property receives mipcast's
+            pieces; replacements other code put on the same tags are refused.
+        """
+        if not isinstance(volume, vtkVolume):
+            raise TypeError(f"Attach needs a vtkVolume, got {type(volume).__name__}")
+        previous = self.GetAttachedVolume()
+        if previous is not None and previous is not volume:
+            self.Detach()
+        pieces = [shader_pieces.load_piece(name) for name in self.PIECES]
+        shader_pieces.install(volume.GetShaderProperty(), pieces)
+        self._push_uniforms(volume.GetShaderProperty().GetFragmentCustomUniforms())
+        link = vtkWeakReference()  # a C++ weak pointer: Python wrappers come and go
+        link.Set(volume)
+        object_state(self)["volume"] = link
+        volume.SetMapper(self)
+        self.Modified()
+
+    def Detach(self) -> None:
+        """Remove mipcast's pieces from the attached volume (if any)."""
+        volume = self.GetAttachedVolume()
+        if volume is not None:
+            shader_pieces.uninstall(volume.GetShaderProperty())
+        object_state(self).pop("volume", None)
+
+    def GetAttachedVolume(self):
+        """The volume given to :meth:`Attach`, or ``None``."""
+        link = object_state(self).get("volume")
+        return None if link is None else link.Get()
+
+    def GetRenderProblem(self):
+        """Why this mapper would refuse to render now, or ``None`` if it can.
+
+        Checked at the start of every render: the mapper must be attached
+        (:meth:`Attach`) and its input must pass
+        :func:`mipcast.validation.check_image` (checked once per input
+        modification).
+        """
+        if not self.IsAttached():
+            return ("rendered without Attach(volume): its shader pieces are not on the "
+                    "volume, so nothing is drawn. Call mapper.Attach(volume) instead of "
+                    "volume.SetMapper(mapper).")
+        if self.GetNumberOfInputConnections(0) == 0:
+            return "no input: call SetInputData(image) or SetInputConnection(port)"
+        self.GetInputAlgorithm().Update()
+        image = self.GetInput()
+        if image is None:
+            return "no input: call SetInputData(image) or SetInputConnection(port)"
+        state = object_state(self)
+        stamp = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime())
+        if state.get("checked_input") != stamp:
+            try:
+                check_image(image)
+            except (TypeError, ValueError) as error:
+                return f"input refused, nothing is drawn: {error}"
+            state["checked_input"] = stamp
+        return None
+
+    def _push_uniforms(self, uniforms) -> None:
+        """Write this method's custom uniforms (``u_mc_*``); called at Attach and every render."""
+
+    def IsAttached(self) -> bool:
+        """True when the attached volume uses this mapper and still carries its pieces."""
+        volume = self.GetAttachedVolume()
+        if volume is None or volume.GetMapper() is not self:
+            return False
+        wanted = {shader_pieces.load_piece(n).vtk_tag for n in self.PIECES}
+        return wanted <= set(shader_pieces.installed_tags(volume.GetShaderProperty()))
+
+
+def _check_before_render(mapper, event) -> None:
+    """Refuse to draw with stock shaders or bad input: report a VTK error, draw nothing."""
+    problem = mapper.GetRenderProblem()
+    if problem is None:
+        mapper._push_uniforms(mapper.GetAttachedVolume().GetShaderProperty().GetFragmentCustomUniforms())
+        return
+    vtkOutputWindow.GetInstance().DisplayErrorText(f"{type(mapper).__name__}: {problem}\n")
+    mapper.InvokeEvent(vtkCommand.ErrorEvent)
+    object_state(mapper)["refused"] = (mapper.GetCropping(), mapper.GetCroppingRegionFlags())
+    mapper.SetCropping(True)
+    mapper.SetCroppingRegionFlags(0)
+
+
+def _restore_after_refused_render(mapper, event) -> None:
+    refused = object_state(mapper).pop("refused", None)
+    if refused is not None:
+        mapper.SetCropping(refused[0])
+        mapper.SetCroppingRegionFlags(refused[1])

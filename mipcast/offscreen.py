@@ -1,0 +1,171 @@
+"""One volume, one method, one offscreen window: the scene tests, CLI and benchmark share.
+
+Offscreen rendering needs OpenGL 3.2+ from a GPU driver, or Mesa's EGL
+(llvmpipe) on a headless machine; VTK picks EGL by itself when there is no
+display.
+"""
+from __future__ import annotations
+
+import time
+from typing import Optional, Sequence
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+from vtkmodules.vtkRenderingCore import (
+    vtkColorTransferFunction,
+    vtkRenderer,
+    vtkRenderWindow,
+    vtkVolume,
+    vtkVolumeProperty,
+    vtkWindowToImageFilter,
+)
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL back end)
+
+from . import methods
+from .float_readout import render_float
+from .validation import check_choice, check_image, check_positive, check_size
+
+#: View presets: (azimuth, elevation, parallel projection).  Azimuth and
+#: elevation rotate the camera from the default view down -z.
+VIEWS = {
+    "oblique": (33.0, 21.0, True),
+    "perspective": (-38.0, 27.0, False),
+    "front": (0.0, 0.0, True),
+    "back": (180.0, 0.0, True),
+    "side": (90.0, 0.0, True),
+}
+
+
+def grey_property(window: Sequence[float]) -> vtkVolumeProperty:
+    """A MIP volume property: black-to-white over ``window``, opaque, trilinear.
+
+    Examples
+    --------
+    >>> grey_property((0.0, 1.0)).GetInterpolationType()
+    1
+    """
+    low, high = float(window[0]), float(window[1])
+    if not high > low:
+        raise ValueError(f"window must be (low, high) with high > low, got {tuple(window)}")
+    colour = vtkColorTransferFunction()
+    colour.AddRGBPoint(low, 0.0, 0.0, 0.0)
+    colour.AddRGBPoint(high, 1.0, 1.0, 1.0)
+    opacity = vtkPiecewiseFunction()
+    opacity.AddPoint(low, 1.0)
+    opacity.AddPoint(high, 1.0)
+    prop = vtkVolumeProperty()
+    prop.SetColor(colour)
+    prop.SetScalarOpacity(opacity)
+    prop.SetInterpolationTypeToLinear()
+    return prop
+
+
+def set_view(renderer, image, view: str) -> None:
+    """Point the renderer's camera at ``image`` from a preset of :data:`VIEWS`."""
+    azimuth, elevation, parallel = VIEWS[check_choice("view", view, tuple(VIEWS))]
+    camera = renderer.GetActiveCamera()
+    camera.SetPosition(0.0, 0.0, 1.0)
+    camera.SetFocalPoint(0.0, 0.0, 0.0)
+    camera.SetViewUp(0.0, 1.0, 0.0)
+    camera.Azimuth(azimuth)
+    camera.Elevation(elevation)
+    camera.OrthogonalizeViewUp()
+    camera.SetParallelProjection(parallel)
+    camera.SetViewAngle(30.0)
+    renderer.ResetCamera(image.GetBounds())
+
+
+class OffscreenView:
+    """An offscreen window rendering ``image`` with one method.
+
+    Parameters
+    ----------
+    image : vtkImageData
+        The volume (one-component point scalars).
+    method : str, default: "mip"
+        A name from :data:`mipcast.methods.METHODS`.
+    size : tuple of int, default: (256, 256)
+        Window (width, height) in pixels.
+    view : str, default: "oblique"
+        A preset of :data:`VIEWS`.
+    sample_distance : float, optional
+        World units between samples; default one sample per voxel (the
+        smallest spacing).  Auto-adjust and jittering are off.
+    window : tuple of float, optional
+        Grey window (low, high); default the data range.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> view = OffscreenView(make_fixture("spheres", size=16), size=(32, 24))
+    >>> view.screenshot().shape
+    (24, 32, 3)
+    """
+
+    def __init__(self, image, method: str = "mip", size=(256, 256), view: str = "oblique",
+                 sample_distance: Optional[float] = None, window=None) -> None:
+        check_image(image)
+        self.image = image
+        self.size = check_size(size)
+        if sample_distance is None:
+            sample_distance = min(abs(s) for s in image.GetSpacing())
+        self.sample_distance = check_positive("sample_distance", sample_distance)
+        self.window = tuple(window) if window is not None else image.GetPointData().GetScalars().GetRange(0)
+        self.mapper = methods.create_mapper(method)
+        self.mapper.SetInputData(image)
+        self.mapper.SetAutoAdjustSampleDistances(False)
+        self.mapper.SetSampleDistance(self.sample_distance)
+        self.mapper.SetUseJittering(False)
+        self.volume = vtkVolume()
+        self.volume.SetProperty(grey_property(self.window))
+        methods.attach(self.mapper, self.volume)
+        self.renderer = vtkRenderer()
+        self.renderer.AddVolume(self.volume)
+        self.render_window = vtkRenderWindow()
+        self.render_window.SetOffScreenRendering(True)
+        self.render_window.SetMultiSamples(0)  # MSAA would blend silhouette pixels with the background
+        self.render_window.AddRenderer(self.renderer)
+        self.render_window.SetSize(*self.size)
+        set_view(self.renderer, image, view)
+
+    @property
+    def camera(self):
+        """The renderer's active vtkCamera."""
+        return self.renderer.GetActiveCamera()
+
+    def screenshot(self) -> np.ndarray:
+        """Render and return the 8-bit RGB image, shape (height, width, 3), top row first."""
+        self.render_window.Render()
+        grab = vtkWindowToImageFilter()
+        grab.SetInput(self.render_window)
+        grab.SetInputBufferTypeToRGB()
+        grab.ReadFrontBufferOff()
+        grab.Update()
+        output = grab.GetOutput()
+        width, height, _ = output.GetDimensions()
+        pixels = vtk_to_numpy(output.GetPointData().GetScalars()).reshape(height, width, 3)
+        return pixels[::-1].copy()
+
+    def float_image(self) -> np.ndarray:
+        """Render and return each pixel's maximum in data units (float32, NaN = miss)."""
+        return render_float(self.render_window, self.mapper)
+
+    def frame_times(self, frames: int = 10, warmup: int = 3) -> list:
+        """Wall-clock seconds of ``frames`` renders after ``warmup`` untimed ones.
+
+        Each timed frame is a full re-render followed by ``WaitForCompletion``,
+        so the time includes the GPU work, not just its submission.
+        """
+        for _ in range(warmup):
+            self._render_and_wait()
+        times = []
+        for _ in range(frames):
+            start = time.perf_counter()
+            self._render_and_wait()
+            times.append(time.perf_counter() - start)
+        return times
+
+    def _render_and_wait(self) -> None:
+        self.render_window.Render()
+        self.render_window.WaitForCompletion()

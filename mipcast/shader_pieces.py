@@ -1,0 +1,182 @@
+"""Load mipcast's GLSL pieces and install them on a volume's shader property.
+
+Every piece is one file in ``mipcast/shaders`` (``shaders/`` in the source
+tree) whose header names the VTK template tag it fills and how::
+
+    // mipcast piece: mip_sampled_loop
+    // fills: Shading::Init
+    // mode: replace
+
+``replace`` swaps VTK's code at the tag for the piece; ``augment`` keeps VTK's
+code and appends the piece after it.  Tags are checked against
+:data:`TEMPLATE_TAGS`, and a piece may not contain VTK's tag marker itself
+(VTK would substitute it again).  User values never enter the source: numbers
+reach the shader through custom uniforms only.
+"""
+from __future__ import annotations
+
+import functools
+import re
+from dataclasses import dataclass
+from importlib import resources
+from typing import Iterable
+
+#: Tags of VTK's ``Rendering/VolumeOpenGL2/shaders/raycasterfs.glsl``, taken
+#: from the template compiled into VTK 9.7.2 and ParaView 5.11's VTK 9.2
+#: (identical in both).
+TEMPLATE_TAGS = frozenset("""
+Base::Dec Base::Exit Base::Impl Base::Init BinaryMask::Dec BinaryMask::Impl
+CallWorker::Impl Clipping::Dec Clipping::Exit Clipping::Impl Clipping::Init
+CompositeMask::Dec CompositeMask::Impl ComputeColor::Dec ComputeColor::Unif
+ComputeDensityGradient::Dec ComputeGradient::Dec ComputeGradientOpacity1D::Dec
+ComputeLighting::Dec ComputeOpacity::Dec ComputeRGBA2DWithGradient::Dec
+ComputeRayDirection::Dec ComputeVolumetricShadow::Dec Cropping::Dec
+Cropping::Exit Cropping::Impl Cropping::Init CustomUniforms::Dec DepthPass::Exit
+DepthPass::Impl DepthPass::Init DepthPeeling::Dec DepthPeeling::Ray::Init
+DepthPeeling::Ray::PathCheck GradientCache::Dec Matrices::Init Output::Dec
+PhaseFunction::Dec Picking::Dec Picking::Exit PreComputeGradients::Impl
+RenderToImage::Dec RenderToImage::Exit RenderToImage::Impl RenderToImage::Init
+Shading::Dec Shading::Exit Shading::Impl Shading::Init System::Dec
+Terminate::Exit Terminate::Impl Terminate::Init Termination::Dec Transfer2D::Dec
+""".split())
+
+MARKER = "// mipcast piece: "
+VTK_TAG_PREFIX = "//VTK::"
+_HEADER = re.compile(
+    r"\A// mipcast piece: (?P<name>\w+)\n// fills: (?P<tag>[\w:]+)\n// mode: (?P<mode>\w+)\n")
+
+
+@dataclass(frozen=True)
+class Piece:
+    """One GLSL piece: the template tag it fills and the text put there."""
+
+    name: str
+    tag: str
+    mode: str
+    text: str
+
+    @property
+    def vtk_tag(self) -> str:
+        """The tag as it appears in VTK's template, e.g. ``//VTK::Shading::Init``."""
+        return VTK_TAG_PREFIX + self.tag
+
+    @property
+    def replacement(self) -> str:
+        """The text handed to ``AddFragmentShaderReplacement``."""
+        if self.mode == "augment":
+            return f"{self.vtk_tag}\n{self.text}"
+        return self.text
+
+
+@functools.lru_cache(maxsize=None)
+def load_piece(name: str) -> Piece:
+    """Read and check one piece from the package's ``shaders`` folder.
+
+    Parameters
+    ----------
+    name : str
+        File name without ``.glsl``.
+
+    Returns
+    -------
+    Piece
+
+    Examples
+    --------
+    >>> load_piece("mip_color").tag
+    'Shading::Exit'
+    """
+    try:
+        text = resources.files("mipcast.shaders").joinpath(f"{name}.glsl").read_text()
+    except FileNotFoundError:
+        raise ValueError(f"no shader piece named {name!r} in mipcast/shaders") from None
+    return parse_piece(name, text)
+
+
+def parse_piece(name: str, text: str) -> Piece:
+    """Check a piece's header and body; raise ``ValueError`` naming the fault.
+
+    Examples
+    --------
+    >>> parse_piece("p", "// mipcast piece: p\\n// fills: Base::Dec\\n// mode: augment\\nfloat x;\\n").mode
+    'augment'
+    """
+    header = _HEADER.match(text)
+    if header is None:
+        raise ValueError(
+            f"shader piece {name!r} must start with the three header lines "
+            "'// mipcast piece: NAME', '// fills: TAG', '// mode: replace|augment'")
+    if header["name"] != name:
+        raise ValueError(f"shader piece file {name!r} declares the name {header['name']!r}")
+    if header["tag"] not in TEMPLATE_TAGS:
+        raise ValueError(
+            f"shader piece {name!r} fills unknown tag {header['tag']!r}; "
+            "it must be one of VTK raycasterfs.glsl's tags (see TEMPLATE_TAGS)")
+    if header["mode"] not in ("replace", "augment"):
+        raise ValueError(f"shader piece {name!r} has mode {header['mode']!r}; use replace or augment")
+    if VTK_TAG_PREFIX in text:
+        raise ValueError(
+            f"shader piece {name!r} contains {VTK_TAG_PREFIX!r}: VTK would substitute it "
+            "again; write tags without that prefix in comments")
+    return Piece(header["name"], header["tag"], header["mode"], text)
+
+
+def install(shader_property, pieces: Iterable[Piece]) -> None:
+    """Put ``pieces`` on a volume's shader property, replacing earlier mipcast pieces.
+
+    Refuses (``ValueError``) two pieces for one tag, and a tag that already
+    carries a replacement that is not mipcast's (someone else's code would be
+    silently lost).
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkVolume
+    >>> import vtkmodules.vtkRenderingOpenGL2
+    >>> volume = vtkVolume()
+    >>> install(volume.GetShaderProperty(), [load_piece("mip_color")])
+    >>> installed_tags(volume.GetShaderProperty())
+    ['//VTK::Shading::Exit']
+    """
+    pieces = list(pieces)
+    claimed: dict = {}
+    for piece in pieces:
+        if piece.vtk_tag in claimed:
+            raise ValueError(
+                f"shader pieces {claimed[piece.vtk_tag]!r} and {piece.name!r} both fill "
+                f"{piece.tag}; a slot takes one piece")
+        claimed[piece.vtk_tag] = piece.name
+    uninstall(shader_property)
+    foreign = {tag for tag, text in _fragment_replacements(shader_property) if MARKER not in text}
+    clashes = sorted(foreign & set(claimed))
+    if clashes:
+        raise ValueError(
+            f"the volume's shader property already has replacements for {', '.join(clashes)} "
+            "that mipcast did not install; remove them (ClearFragmentShaderReplacement) or "
+            "use a separate vtkVolume")
+    for piece in pieces:
+        shader_property.AddFragmentShaderReplacement(piece.vtk_tag, True, piece.replacement, False)
+
+
+def uninstall(shader_property) -> None:
+    """Remove every mipcast piece from a shader property, leaving others alone."""
+    for tag, text in _fragment_replacements(shader_property):
+        if MARKER in text:
+            shader_property.ClearFragmentShaderReplacement(tag, True)
+
+
+def installed_tags(shader_property) -> list:
+    """Tags that currently carry a mipcast piece, sorted."""
+    return sorted(tag for tag, text in _fragment_replacements(shader_property) if MARKER in text)
+
+
+def _fragment_replacements(shader_property) -> list:
+    from vtkmodules.vtkCommonCore import reference
+
+    found = []
+    for index in range(shader_property.GetNumberOfShaderReplacements()):
+        if shader_property.GetNthShaderReplacementTypeAsString(index) != "Fragment":
+            continue
+        tag, first, text, every = reference(""), reference(False), reference(""), reference(False)
+        shader_property.GetNthShaderReplacement(index, tag, first, text, every)
+        found.append((str(tag), str(text)))
+    return found

@@ -1,0 +1,33 @@
+"""Install mipcast: the core package plus filters, shaders, fixtures and plugin.
+
+``mipcast/filters``, ``mipcast/shaders``, ``mipcast/data_fixtures`` and
+``mipcast/plugin`` are symbolic links to the top-level folders, so the
+source tree imports as-is (e.g. from ParaView's pvpython with PYTHONPATH).
+"""
+from setuptools import setup
+
+setup(
+    name="mipcast",
+    version="0.1.0",
+    description="Better maximum intensity projection for VTK's GPU ray caster",
+    long_description=open("README.md", encoding="utf-8").read(),
+    long_description_content_type="text/markdown",
+    python_requires=">=3.9",
+    packages=[
+        "mipcast",
+        "mipcast.filters",
+        "mipcast.shaders",
+        "mipcast.data_fixtures",
+        "mipcast.plugin",
+    ],
+    package_data={"mipcast.shaders": ["*.glsl"], "mipcast.data_fixtures": ["*.md"], "mipcast.plugin": ["*.xml"]},
+    install_requires=[
+        "vtk>=9.2",
+        "pyvista>=0.48",
+        "numpy>=1.24",
+        "pydicom>=2.4",
+        "matplotlib>=3.6",
+    ],
+    extras_require={"test": ["pytest>=7"]},
+    entry_points={"console_scripts": ["mipcast=mipcast.cli:main"]},
+)

@@ -1,0 +1,145 @@
+"""Analytic MIP on the GPU against the float64 exact reference, on the same rays."""
+import numpy as np
+import pytest
+from vtkmodules.util.numpy_support import numpy_to_vtk
+
+from mipcast import reference
+from mipcast.data_fixtures import head_ct_path, load_head_ct, make_fixture
+from mipcast.offscreen import OffscreenView
+
+SIZE = (96, 80)
+
+
+def _image(values, spacing=(1.0, 1.0, 1.0), direction=None):
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    image = vtkImageData()
+    image.SetDimensions(values.shape[2], values.shape[1], values.shape[0])
+    image.SetSpacing(spacing)
+    if direction is not None:
+        image.SetDirectionMatrix(*np.asarray(direction, float).ravel())
+    array = numpy_to_vtk(np.ascontiguousarray(values, np.float32).ravel(), deep=True)
+    array.SetName("values")
+    image.GetPointData().SetScalars(array)
+    return image
+
+
+def _compare(image, view="oblique", size=SIZE, camera=None):
+    """GPU float readout and 8-bit picture vs the exact reference: error shares."""
+    gpu = OffscreenView(image, "analytic", size=size, view=view)
+    if camera is not None:
+        camera(gpu.camera)
+        gpu.renderer.ResetCameraClippingRange()
+    values = gpu.float_image()
+    picture = gpu.screenshot()
+    exact = reference.render(image, gpu.camera, size, method="exact")
+    low, high = gpu.window
+    misses = np.isnan(exact)
+    # Hit masks agree except where a pixel centre lies on the box silhouette
+    # (rasterisation rules and rounding decide there): such pixels border a miss.
+    disagree = np.isnan(values) != misses
+    border = np.zeros_like(misses)
+    padded = np.pad(misses, 1, constant_values=True)
+    for dy in (0, 1, 2):
+        for dx in (0, 1, 2):
+            border |= padded[dy:dy + misses.shape[0], dx:dx + misses.shape[1]]
+    assert not np.any(disagree & ~border), "hit masks differ inside the silhouette"
+    hits = ~misses & ~np.isnan(values)
+    assert hits.mean() > 0.02, "the volume is (nearly) off screen"
+    error = np.abs(values[hits] - exact[hits]) / (high - low)
+    expected8 = np.round(255 * np.clip((exact[hits] - low) / (high - low), 0, 1))
+    grey_error = np.abs(picture[..., 0][hits].astype(float) - expected8)
+    return {"float_ok": float(np.mean(error <= 1e-3)), "float_max": float(error.max()),
+            "grey_ok": float(np.mean(grey_error <= 1)), "brightest": int(picture.max()),
+            "silhouette_disagreement": int(disagree.sum())}
+
+
+def _assert_exact(result):
+    assert result["float_ok"] >= 0.999, result
+    assert result["grey_ok"] >= 0.995, result
+
+
+@pytest.mark.parametrize("fixture", ["vessels", "spheres", "noise"])
+@pytest.mark.parametrize("view", ["oblique", "perspective"])
+def test_fixtures_match_exact_reference(fixture, view):
+    result = _compare(make_fixture(fixture, size=48), view)
+    _assert_exact(result)
+    assert result["brightest"] > 200 and result["silhouette_disagreement"] == 0
+
+
+def test_sampled_mip_is_not_exact_on_vessels():
+    # the point of the method: the same check fails for stock-equivalent sampling
+    image = make_fixture("vessels", size=48)
+    gpu = OffscreenView(image, "mip", size=SIZE)
+    values = gpu.float_image()
+    exact = reference.render(image, gpu.camera, SIZE, method="exact")
+    hits = ~np.isnan(exact)
+    assert np.mean(np.abs(values[hits] - exact[hits]) <= 1e-3) < 0.9
+
+
+def test_linear_data_has_its_maximum_at_an_end():
+    k, j, i = np.mgrid[0:12, 0:10, 0:14].astype(float)
+    _assert_exact(_compare(_image(0.5 * i + 0.2 * j - 0.3 * k), "perspective"))
+
+
+def test_rays_along_voxel_planes_and_through_grid_corners():
+    rng = np.random.default_rng(7)
+    image = _image(rng.random((17, 17, 17)))
+
+    def on_grid_lines(camera):  # pixel centres exactly on integer and half-integer x, y
+        camera.SetFocalPoint(8.0, 8.0, 8.0)
+        camera.SetPosition(8.0, 8.0, 60.0)
+        camera.SetViewUp(0.0, 1.0, 0.0)
+        camera.SetParallelProjection(True)
+        camera.SetParallelScale(33 * 0.5 / 2)
+
+    _assert_exact(_compare(image, size=(33, 33), camera=on_grid_lines))
+
+    def diagonal(camera):  # along (1, 1, 1): rays cross cells through edges and corners
+        camera.SetFocalPoint(8.0, 8.0, 8.0)
+        camera.SetPosition(48.0, 48.0, 48.0)
+        camera.SetViewUp(0.0, 0.0, 1.0)
+        camera.SetParallelProjection(True)
+        camera.SetParallelScale(14.0)
+
+    _assert_exact(_compare(image, size=(64, 64), camera=diagonal))
+
+
+def test_grazing_rays_at_the_silhouette():
+    rng = np.random.default_rng(8)
+    image = _image(rng.random((9, 9, 9)))
+
+    def edge_on(camera):  # the box edge runs through the middle of the image
+        camera.SetFocalPoint(8.0, 8.0, 4.0)
+        camera.SetPosition(8.0 + 40.0, 8.0 + 40.0, 4.0)
+        camera.SetViewUp(0.0, 0.0, 1.0)
+        camera.SetParallelProjection(True)
+        camera.SetParallelScale(6.0)
+
+    _assert_exact(_compare(image, size=(64, 64), camera=edge_on))
+
+
+@pytest.mark.parametrize("spacing", [(1.0, 1.0, 20.0), (0.1, 2.0, 1.0)])
+def test_anisotropic_spacing_up_to_1_to_20(spacing):
+    rng = np.random.default_rng(9)
+    _assert_exact(_compare(_image(rng.random((10, 12, 14)) ** 4, spacing=spacing), "perspective"))
+
+
+def test_rotated_direction_matrix():
+    c, s = np.cos(0.6), np.sin(0.6)
+    rotation = np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]]) @ np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+    values = np.random.default_rng(1).random((20, 16, 24))
+    _assert_exact(_compare(_image(values, direction=rotation), "oblique"))
+
+
+@pytest.mark.parametrize("shape", [(2, 24, 24), (2, 2, 2), (24, 2, 2)])
+def test_thin_and_tiny_volumes(shape):
+    rng = np.random.default_rng(10)
+    _assert_exact(_compare(_image(rng.random(shape)), "perspective"))
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(head_ct_path() is None, reason="head CT absent: apt-get install invesalius-examples")
+@pytest.mark.parametrize("view", ["oblique", "perspective"])
+def test_head_ct_matches_exact_reference(view):
+    _assert_exact(_compare(load_head_ct(), view, size=(128, 128)))

@@ -1,0 +1,60 @@
+"""The mipcast command: demo, render, bench, and its error messages."""
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from matplotlib import pyplot
+from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
+
+from mipcast.cli import main
+from mipcast.data_fixtures import make_fixture
+
+
+def test_demo_writes_pictures_and_error_maps(tmp_path, capsys):
+    assert main(["demo", "--out", str(tmp_path), "--size", "64"]) == 0
+    printed = capsys.readouterr().out
+    report = json.loads((tmp_path / "demo.json").read_text())
+    assert {"stock", "mip"} <= set(report)
+    for method, entry in report.items():
+        picture = pyplot.imread(entry["png"])
+        assert picture.shape[:2] == (64, 64)
+        assert picture[..., :3].max() > 0.5, f"{method} picture is dark"
+        assert entry["png"] in printed
+    assert (tmp_path / "mip_error.png").exists()
+    assert 0.0 < report["mip"]["within_1_grey"] < 1.0  # sampled MIP is not exact on vessels
+    assert str(tmp_path) in printed
+
+
+def test_render_a_vti_file(tmp_path):
+    source = tmp_path / "spheres.vti"
+    writer = vtkXMLImageDataWriter()
+    writer.SetFileName(str(source))
+    writer.SetInputData(make_fixture("spheres", size=32))
+    writer.Write()
+    out = tmp_path / "out.png"
+    assert main(["render", str(source), "--method", "mip", "--out", str(out), "--size", "48", "40"]) == 0
+    picture = pyplot.imread(out)
+    assert picture.shape[:2] == (40, 48) and picture[..., :3].max() > 0.5
+
+
+def test_render_errors_are_clear(tmp_path, capsys):
+    assert main(["render", str(tmp_path / "missing.vti"), "--out", str(tmp_path / "x.png")]) == 2
+    assert "missing.vti" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["render", "x.vti", "--method", "best", "--out", "x.png"])
+
+
+def test_bench_writes_tables(tmp_path):
+    assert main(["bench", "--scenes", "spheres", "--volume-size", "24", "--size", "32",
+                 "--views", "oblique", "--rounds", "1", "--out", str(tmp_path)]) == 0
+    rows = json.loads((tmp_path / "bench.json").read_text())
+    assert {row["method"] for row in rows} >= {"stock", "mip"}
+    assert all(row["median_ms"] > 0 for row in rows)
+    assert "ratio_to_stock" in (tmp_path / "bench.md").read_text()
+
+
+def test_console_script_is_installed():
+    run = subprocess.run([sys.executable, "-m", "mipcast.cli", "--version"], capture_output=True, text=True)
+    assert run.returncode == 0 and "mipcast" in run.stdout

@@ -1,0 +1,413 @@
+"""Tests of mipcast.dicom on pydicom's bundled files and on generated series.
+
+Generated series are written with pydicom into tmp_path with known geometry;
+expected positions are computed from the DICOM definition
+(PS3.3 C.7.6.2.1.1: P = IPP + c * PixelSpacing[1] * row_cosine
++ r * PixelSpacing[0] * column_cosine), independently of the reader.
+"""
+import random
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+pydicom = pytest.importorskip("pydicom")
+from pydicom.data import get_testdata_file  # noqa: E402
+from pydicom.dataset import Dataset, FileMetaDataset  # noqa: E402
+from pydicom.sequence import Sequence  # noqa: E402
+from pydicom.uid import ExplicitVRLittleEndian, JPEG2000, generate_uid  # noqa: E402
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
+
+from mipcast.dicom import list_series, read_dicom  # noqa: E402
+from mipcast.io import read_volume  # noqa: E402
+from mipcast.validation import check_image  # noqa: E402
+
+CT5N = Path(get_testdata_file("dicomdirtests/98892001/CT5N/2062")).parent
+CT_IMAGE = "1.2.840.10008.5.1.4.1.1.2"
+ENHANCED_CT_IMAGE = "1.2.840.10008.5.1.4.1.1.2.1"
+RT_STRUCT = "1.2.840.10008.5.1.4.1.1.481.3"
+
+
+# ---------------------------------------------------------------------------
+# helpers
+# ---------------------------------------------------------------------------
+
+def direction(image):
+    m = image.GetDirectionMatrix()
+    return np.array([[m.GetElement(r, c) for c in range(3)] for r in range(3)])
+
+
+def physical(image, i, j, k):
+    point = [0.0, 0.0, 0.0]
+    image.TransformContinuousIndexToPhysicalPoint(i, j, k, point)
+    return np.array(point)
+
+
+def rotation(z_deg, x_deg=0.0):
+    a, b = np.radians(z_deg), np.radians(x_deg)
+    rz = np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
+    rx = np.array([[1, 0, 0], [0, np.cos(b), -np.sin(b)], [0, np.sin(b), np.cos(b)]])
+    return rz @ rx
+
+
+def ds_numbers(values, digits):
+    return [f"{v:.{digits}f}" for v in values]
+
+
+def save(ds, path):
+    try:
+        ds.save_as(path, enforce_file_format=True)
+    except TypeError:  # pydicom 2.x
+        ds.save_as(path, write_like_original=False)
+
+
+def base_dataset(sop_class, series_uid, modality="CT", description="", number=1):
+    meta = FileMetaDataset()
+    meta.MediaStorageSOPClassUID = sop_class
+    meta.MediaStorageSOPInstanceUID = generate_uid()
+    meta.TransferSyntaxUID = ExplicitVRLittleEndian
+    ds = Dataset()
+    ds.file_meta = meta
+    ds.SOPClassUID = sop_class
+    ds.SOPInstanceUID = meta.MediaStorageSOPInstanceUID
+    ds.StudyInstanceUID = "1.2.826.0.1.3680043.8.498.1"
+    ds.SeriesInstanceUID = series_uid
+    ds.Modality = modality
+    ds.SeriesDescription = description
+    ds.SeriesNumber = number
+    return ds
+
+
+def write_slice(path, pixels, ipp, iop, pixel_spacing, series_uid, instance, slope=1, intercept=-1024,
+                **series):
+    ds = base_dataset(CT_IMAGE, series_uid, **series)
+    ds.InstanceNumber = instance
+    ds.ImagePositionPatient = ds_numbers(ipp, 4)
+    ds.ImageOrientationPatient = ds_numbers(iop, 6)
+    ds.PixelSpacing = ds_numbers(pixel_spacing, 4)
+    ds.SliceThickness = "99"  # deliberately wrong: the spacing must come from positions
+    ds.Rows, ds.Columns = pixels.shape
+    ds.SamplesPerPixel = 1
+    ds.PhotometricInterpretation = "MONOCHROME2"
+    ds.BitsAllocated, ds.BitsStored, ds.HighBit, ds.PixelRepresentation = 16, 16, 15, 1
+    ds.RescaleSlope, ds.RescaleIntercept = str(slope), str(intercept)
+    ds.PixelData = pixels.astype("<i2").tobytes()
+    save(ds, path)
+
+
+class Series:
+    """Known geometry: slice k at origin + positions[k] * normal (+ drift)."""
+
+    def __init__(self, rot=rotation(30), origin=(-20.0, 35.0, 110.0), n=6, step=1.25,
+                 rows=4, cols=5, pixel_spacing=(0.7, 0.9), slope=1, intercept=-1024):
+        self.row, self.col, self.normal = rot[:, 0], rot[:, 1], rot[:, 2]
+        self.iop = np.round(np.concatenate([self.row, self.col]), 6)
+        self.origin = np.array(origin)
+        self.positions = step * np.arange(n)
+        self.rows, self.cols, self.pixel_spacing = rows, cols, pixel_spacing
+        self.slope, self.intercept = slope, intercept
+        self.uid = generate_uid()
+
+    def pixels(self, k):
+        r, c = np.mgrid[0:self.rows, 0:self.cols]
+        return 100 * k + 10 * r + c
+
+    def ipp(self, k):
+        return np.round(self.origin + self.positions[k] * self.normal, 4)
+
+    def write(self, folder, ks=None, shuffle=True, drift=None, seed=0, **series):
+        folder.mkdir(parents=True, exist_ok=True)
+        ks = list(range(len(self.positions)))[::-1] if ks is None else list(ks)  # decreasing
+        names = [f"IM{n:04d}" for n in range(len(ks))]
+        numbers = list(range(1, len(ks) + 1))
+        if shuffle:
+            rng = random.Random(seed)
+            rng.shuffle(names)
+            rng.shuffle(numbers)
+        for k, name, number in zip(ks, names, numbers):
+            ipp = self.ipp(k) if drift is None else np.round(self.ipp(k) + drift(k), 4)
+            write_slice(folder / name, self.pixels(k), ipp, self.iop, self.pixel_spacing, self.uid,
+                        number, self.slope, self.intercept, **series)
+        return folder
+
+
+# ---------------------------------------------------------------------------
+# pydicom's bundled files
+# ---------------------------------------------------------------------------
+
+def test_ct5n_geometry_and_values_match_the_tags():
+    datasets = [pydicom.dcmread(str(f)) for f in sorted(CT5N.iterdir())]
+    normal = np.cross(np.array(datasets[0].ImageOrientationPatient[:3], float),
+                      np.array(datasets[0].ImageOrientationPatient[3:], float))
+    datasets.sort(key=lambda ds: float(np.array(ds.ImagePositionPatient, float) @ normal))
+    z = [float(np.array(ds.ImagePositionPatient, float) @ normal) for ds in datasets]
+    ct = read_dicom(CT5N)
+    assert isinstance(ct, vtkImageData)
+    assert ct.GetDimensions() == (datasets[0].Columns, datasets[0].Rows, 5) == (16, 16, 5)
+    spacing = ct.GetSpacing()
+    assert spacing[:2] == pytest.approx((float(datasets[0].PixelSpacing[1]),
+                                         float(datasets[0].PixelSpacing[0])))
+    assert spacing[2] == pytest.approx(np.diff(z).mean()) == pytest.approx(2.5)
+    assert ct.GetOrigin() == pytest.approx([float(v) for v in datasets[0].ImagePositionPatient])
+    assert ct.GetOrigin()[2] == pytest.approx(min(z))  # file 3353, InstanceNumber 10
+    np.testing.assert_allclose(direction(ct), np.eye(3))
+    expected = np.stack([ds.pixel_array * float(ds.RescaleSlope) + float(ds.RescaleIntercept)
+                         for ds in datasets])
+    values = check_image(ct)
+    assert values.dtype == np.int16
+    np.testing.assert_array_equal(values, expected)
+    assert ct.GetPointData().GetScalars().GetName() == "values"
+    assert ct.GetFieldData().GetAbstractArray("units").GetValue(0) == "HU"
+    # HU sanity: this tiny (16x16) CT has air/lung near -900 HU, nothing near metal
+    assert -1100 < values.min() < -500 and 0 < values.max() < 4000
+
+
+def test_list_series_ct5n():
+    (series,) = list_series(CT5N)
+    assert series["uid"] == pydicom.dcmread(str(CT5N / "2062")).SeriesInstanceUID
+    assert (series["modality"], series["n_files"], series["n_images"]) == ("CT", 5, 5)
+    assert series["description"] == "SmartScore - Gated 0.5 sec"
+
+
+def test_rtdose_multiframe_uses_grid_frame_offsets_and_dose_scaling():
+    path = get_testdata_file("rtdose.dcm")
+    ds = pydicom.dcmread(path)
+    dose = read_dicom(path)
+    offsets = np.array(ds.GridFrameOffsetVector, float)
+    assert int(ds.NumberOfFrames) == len(offsets) == 15
+    assert dose.GetDimensions() == (10, 10, 15)
+    assert dose.GetSpacing() == pytest.approx((10, 10, np.diff(offsets).mean()))
+    assert dose.GetOrigin() == pytest.approx([float(v) for v in ds.ImagePositionPatient])
+    for k in (0, 7, 14):
+        assert physical(dose, 0, 0, k)[2] == pytest.approx(float(ds.ImagePositionPatient[2]) + offsets[k])
+    values = check_image(dose)
+    assert values.dtype == np.float32
+    np.testing.assert_allclose(values, ds.pixel_array * float(ds.DoseGridScaling), rtol=1e-6)
+    assert dose.GetFieldData().GetAbstractArray("units").GetValue(0) == "relative"
+
+
+def test_rtdose_with_decreasing_offsets_is_sorted(tmp_path):
+    ds = pydicom.dcmread(get_testdata_file("rtdose.dcm"))
+    ds.GridFrameOffsetVector = [-float(v) for v in ds.GridFrameOffsetVector]
+    save(ds, tmp_path / "dose.dcm")
+    dose = read_dicom(tmp_path / "dose.dcm")
+    assert dose.GetSpacing()[2] == pytest.approx(5.0)
+    assert dose.GetOrigin()[2] == pytest.approx(float(ds.ImagePositionPatient[2]) - 70)
+    np.testing.assert_allclose(check_image(dose), ds.pixel_array[::-1] * 1e-6, rtol=1e-6)
+
+
+def test_ct_small_single_slice_is_read_but_not_renderable():
+    path = get_testdata_file("CT_small.dcm")
+    image = read_dicom(path)
+    assert image.GetDimensions() == (128, 128, 1)
+    with pytest.raises(ValueError, match="at least 2 points are needed along every axis") as info:
+        read_volume(path)
+    assert "single DICOM slice" in str(info.value)
+
+
+def j2k_decoder_available():
+    try:
+        from pydicom.pixels import get_decoder
+    except ImportError:  # pydicom 2.x
+        from pydicom.pixel_data_handlers import pillow_handler
+        return pillow_handler.is_available()
+    return get_decoder(JPEG2000).is_available
+
+
+def test_jpeg2000_decodes_or_names_the_package():
+    path = get_testdata_file("693_J2KI.dcm")
+    if j2k_decoder_available():
+        image = read_dicom(path)
+        assert image.GetDimensions() == (512, 512, 1)
+        ds = pydicom.dcmread(path)
+        values = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(512, 512)
+        np.testing.assert_array_equal(values, ds.pixel_array - 1024)
+    else:
+        with pytest.raises(ValueError, match="pip install pylibjpeg pylibjpeg-openjpeg"):
+            read_dicom(path)
+
+
+def test_missing_jpeg2000_decoder_names_the_package(monkeypatch):
+    decoders = pytest.importorskip("pydicom.pixels")
+    decoder = decoders.get_decoder(JPEG2000)
+    monkeypatch.setattr(decoder, "_available", {})  # as if no plugin were installed
+    with pytest.raises(ValueError, match=r"JPEG 2000.*pip install pylibjpeg pylibjpeg-openjpeg"):
+        read_dicom(get_testdata_file("693_J2KI.dcm"))
+
+
+# ---------------------------------------------------------------------------
+# generated series with known geometry
+# ---------------------------------------------------------------------------
+
+@pytest.mark.parametrize("rot", [rotation(30), rotation(30, 20),
+                                 np.array([[1.0, 0, 0], [0, -1, 0], [0, 0, -1]])],
+                         ids=["z30", "z30x20", "normal-down"])
+def test_oblique_series_written_in_decreasing_order(tmp_path, rot):
+    series = Series(rot=rot)
+    image = read_dicom(series.write(tmp_path / "s"))
+    n = len(series.positions)
+    assert image.GetDimensions() == (series.cols, series.rows, n)
+    assert image.GetSpacing() == pytest.approx((0.9, 0.7, 1.25), abs=1e-4)
+    np.testing.assert_allclose(direction(image)[:, 0], series.iop[:3], atol=1e-6)
+    np.testing.assert_allclose(direction(image)[:, 1], series.iop[3:], atol=1e-6)
+    np.testing.assert_allclose(direction(image)[:, 2], series.normal, atol=1e-5)
+    assert np.linalg.det(direction(image)) == pytest.approx(1.0, abs=1e-5)
+    np.testing.assert_allclose(image.GetOrigin(), series.ipp(0), atol=1e-4)
+    values = check_image(image)
+    for k in range(n):
+        np.testing.assert_array_equal(values[k], series.pixels(k) - 1024)
+        for r, c in [(0, 0), (3, 4), (2, 1)]:  # DICOM's pixel -> patient equation
+            expected = (series.ipp(k) + c * 0.9 * series.iop[:3] + r * 0.7 * series.iop[3:])
+            np.testing.assert_allclose(physical(image, c, r, k), expected, atol=2e-3)
+
+
+def test_rescale_type_follows_slope(tmp_path):
+    image = read_dicom(Series(slope=1, intercept=-1024).write(tmp_path / "a"))
+    assert check_image(image).dtype == np.int16
+    image = read_dicom(Series(slope=0.5, intercept=-1024.25).write(tmp_path / "b"))
+    values = check_image(image)
+    assert values.dtype == np.float32
+    assert values[2, 1, 3] == pytest.approx((200 + 13) * 0.5 - 1024.25)
+    image = read_dicom(Series(slope=100, intercept=1000).write(tmp_path / "c"))
+    assert check_image(image).dtype == np.int32  # 100 * 534 + 1000 > 32767
+
+
+def test_gantry_tilt_is_refused(tmp_path):
+    series = Series(rot=rotation(0))
+    tilt = np.tan(np.radians(15))
+    folder = series.write(tmp_path / "s", drift=lambda k: series.positions[k] * tilt * series.col)
+    with pytest.raises(ValueError, match=r"gantry tilt of about 15\.0"):
+        read_dicom(folder)
+
+
+def test_missing_slice_is_refused(tmp_path):
+    folder = Series().write(tmp_path / "s", ks=[0, 1, 2, 4, 5])
+    with pytest.raises(ValueError, match=r"missing slice.*about 1 missing"):
+        read_dicom(folder)
+
+
+def test_duplicate_position_is_refused(tmp_path):
+    series = Series()
+    folder = series.write(tmp_path / "s")
+    write_slice(folder / "extra", series.pixels(2), series.ipp(2), series.iop, series.pixel_spacing,
+                series.uid, 99)
+    with pytest.raises(ValueError, match="duplicate slice position"):
+        read_dicom(folder)
+
+
+def test_non_uniform_spacing_is_refused(tmp_path):
+    series = Series()
+    series.positions = np.array([0.0, 1.0, 2.0, 3.1, 4.1, 5.1])
+    with pytest.raises(ValueError, match="not uniform.*resampling would silently change"):
+        read_dicom(series.write(tmp_path / "s"))
+
+
+def test_small_rounding_of_positions_is_accepted(tmp_path):
+    series = Series()
+    series.positions = np.array([0.0, 1.25, 2.5009, 3.75, 5.0, 6.2495])  # < 1 % off
+    assert read_dicom(series.write(tmp_path / "s")).GetSpacing()[2] == pytest.approx(1.2499)
+
+
+def test_inconsistent_orientation_is_refused(tmp_path):
+    series = Series()
+    folder = series.write(tmp_path / "s")
+    other = np.round(np.concatenate([rotation(35)[:, 0], rotation(35)[:, 1]]), 6)
+    write_slice(folder / "IM0000", series.pixels(0), series.ipp(0), other, series.pixel_spacing,
+                series.uid, 1)
+    with pytest.raises(ValueError, match="inconsistent orientation"):
+        read_dicom(folder)
+
+
+def test_two_series_need_a_uid(tmp_path):
+    first, second = Series(), Series(rot=rotation(0), n=3)
+    first.write(tmp_path, description="first one", number=2)
+    for k in range(3):
+        write_slice(tmp_path / f"B{k}", second.pixels(k), second.ipp(k), second.iop,
+                    second.pixel_spacing, second.uid, k + 1, description="second one", number=3)
+    with pytest.raises(ValueError, match="2 image series") as info:
+        read_dicom(tmp_path)
+    for text in (first.uid, second.uid, "first one", "second one", "6 file(s)", "3 file(s)"):
+        assert text in str(info.value)
+    assert read_dicom(tmp_path, series_uid=second.uid).GetDimensions() == (5, 4, 3)
+    assert read_volume(tmp_path, series_uid=first.uid).GetDimensions() == (5, 4, 6)
+    listed = list_series(tmp_path)
+    assert [(s["uid"], s["n_files"], s["description"]) for s in listed] == [
+        (first.uid, 6, "first one"), (second.uid, 3, "second one")]
+    with pytest.raises(ValueError, match="no image series with SeriesInstanceUID '1.2.3'"):
+        read_dicom(tmp_path, series_uid="1.2.3")
+
+
+def non_image(path, series_uid):
+    ds = base_dataset(RT_STRUCT, series_uid, modality="RTSTRUCT")
+    ds.StructureSetLabel = "contours"
+    save(ds, path)
+
+
+def test_non_image_objects_are_skipped(tmp_path):
+    series = Series()
+    folder = series.write(tmp_path / "s")
+    non_image(folder / "RS.dcm", generate_uid())
+    (folder / "README.txt").write_text("not DICOM")
+    assert read_dicom(folder).GetDimensions() == (5, 4, 6)
+    only = tmp_path / "only"
+    only.mkdir()
+    non_image(only / "RS.dcm", generate_uid())
+    with pytest.raises(ValueError, match=r"none with pixel data \(modalities: RTSTRUCT\)"):
+        read_dicom(only)
+
+
+def test_no_dicom_files(tmp_path):
+    (tmp_path / "notes.txt").write_text("hello")
+    (tmp_path / "sub").mkdir()
+    with pytest.raises(ValueError, match=r"no DICOM files in .*1 file\(s\) checked.*subfolders \(sub\)"):
+        read_dicom(tmp_path)
+    with pytest.raises(FileNotFoundError, match="nowhere"):
+        read_dicom(tmp_path / "nowhere")
+    with pytest.raises(ValueError, match="is not a DICOM file"):
+        read_dicom(tmp_path / "notes.txt")
+
+
+def test_colour_images_are_refused():
+    with pytest.raises(ValueError, match="colour image"):
+        read_dicom(get_testdata_file("SC_rgb_rle_2frame.dcm"))
+
+
+def test_enhanced_multiframe_uses_functional_groups(tmp_path):
+    series = Series(rot=rotation(30, 20), slope=0.5, intercept=-1000)
+    order = [3, 0, 5, 1, 4, 2]  # frames stored out of order
+    ds = base_dataset(ENHANCED_CT_IMAGE, series.uid)
+    ds.NumberOfFrames = len(order)
+    ds.Rows, ds.Columns = series.rows, series.cols
+    ds.SamplesPerPixel = 1
+    ds.PhotometricInterpretation = "MONOCHROME2"
+    ds.BitsAllocated, ds.BitsStored, ds.HighBit, ds.PixelRepresentation = 16, 16, 15, 1
+    shared = Dataset()
+    orientation, measures, transform = Dataset(), Dataset(), Dataset()
+    orientation.ImageOrientationPatient = ds_numbers(series.iop, 6)
+    measures.PixelSpacing = ds_numbers(series.pixel_spacing, 4)
+    measures.SliceThickness = "99"
+    transform.RescaleSlope, transform.RescaleIntercept, transform.RescaleType = "0.5", "-1000", "HU"
+    shared.PlaneOrientationSequence = Sequence([orientation])
+    shared.PixelMeasuresSequence = Sequence([measures])
+    shared.PixelValueTransformationSequence = Sequence([transform])
+    ds.SharedFunctionalGroupsSequence = Sequence([shared])
+    per_frame = []
+    for k in order:
+        group, position = Dataset(), Dataset()
+        position.ImagePositionPatient = ds_numbers(series.ipp(k), 4)
+        group.PlanePositionSequence = Sequence([position])
+        per_frame.append(group)
+    ds.PerFrameFunctionalGroupsSequence = Sequence(per_frame)
+    ds.PixelData = np.stack([series.pixels(k) for k in order]).astype("<i2").tobytes()
+    save(ds, tmp_path / "enhanced.dcm")
+
+    image = read_dicom(tmp_path / "enhanced.dcm")
+    assert image.GetDimensions() == (5, 4, 6)
+    assert image.GetSpacing() == pytest.approx((0.9, 0.7, 1.25), abs=1e-4)
+    np.testing.assert_allclose(image.GetOrigin(), series.ipp(0), atol=1e-4)
+    np.testing.assert_allclose(direction(image)[:, 2], series.normal, atol=1e-5)
+    values = check_image(image)
+    assert values.dtype == np.float32
+    for k in range(6):
+        np.testing.assert_allclose(values[k], series.pixels(k) * 0.5 - 1000)

@@ -1,0 +1,355 @@
+"""Tests of mipcast.io.read_volume: round trips, geometry, and errors.
+
+NIfTI and NRRD files are also written byte by byte here, so the expected
+voxel positions come from the formats' own definitions (NIfTI-1 methods 2
+and 3; NRRD space directions), not from VTK.  World coordinates are LPS.
+"""
+import gzip
+import math
+import struct
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkCommonMath import vtkMatrix4x4
+from vtkmodules.vtkIOImage import vtkMetaImageWriter, vtkNIFTIImageWriter
+from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
+
+from mipcast.io import SUPPORTED_EXTENSIONS, read_volume
+from mipcast.validation import check_image
+
+RAS_TO_LPS = np.diag([-1.0, -1.0, 1.0])
+SHAPE = (6, 7, 11)  # (nz, ny, nx); nx > 9 for VTK's NRRD reader
+
+
+def rotation(z_deg, x_deg=0.0):
+    a, b = np.radians(z_deg), np.radians(x_deg)
+    rz = np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
+    rx = np.array([[1, 0, 0], [0, np.cos(b), -np.sin(b)], [0, np.sin(b), np.cos(b)]])
+    return rz @ rx
+
+
+def is_plain_vtk(image):
+    """A vtkImageData that is not a pyvista object (VTK's own Python override is fine)."""
+    return isinstance(image, vtkImageData) and type(image).__module__.startswith("vtkmodules")
+
+
+def direction(image):
+    m = image.GetDirectionMatrix()
+    return np.array([[m.GetElement(r, c) for c in range(3)] for r in range(3)])
+
+
+def make_image(values, spacing=(0.5, 0.75, 1.5), origin=(10.0, -20.0, 30.0), rot=None):
+    nz, ny, nx = values.shape
+    image = vtkImageData()
+    image.SetDimensions(nx, ny, nz)
+    image.SetSpacing(*spacing)
+    image.SetOrigin(*origin)
+    if rot is not None:
+        image.SetDirectionMatrix(*np.asarray(rot, float).ravel())
+    array = numpy_to_vtk(values.ravel(), deep=True)
+    array.SetName("scalars")
+    image.GetPointData().SetScalars(array)
+    return image
+
+
+def file_values():
+    """Values that tell each voxel's file index: v = i + nx * (j + ny * k)."""
+    return np.arange(np.prod(SHAPE), dtype=np.int16).reshape(SHAPE)
+
+
+def assert_positions(image, world_of_file_index, atol=1e-4):
+    """Every point's position equals the format's position for the voxel its value came from."""
+    values = check_image(image).astype(np.int64)
+    nz, ny, nx = SHAPE
+    i, j, k = values % nx, (values // nx) % ny, values // (nx * ny)
+    expected = world_of_file_index(np.stack([i, j, k], axis=-1).reshape(-1, 3).astype(float))
+    dims = image.GetDimensions()
+    K, J, I = np.meshgrid(*(np.arange(n) for n in dims[::-1]), indexing="ij")
+    index = np.stack([I, J, K], axis=-1).reshape(-1, 3) * np.array(image.GetSpacing())
+    actual = np.array(image.GetOrigin()) + index @ direction(image).T
+    np.testing.assert_allclose(actual, expected, atol=atol)
+    assert np.linalg.det(direction(image)) == pytest.approx(1.0, abs=1e-5)
+
+
+# ---------------------------------------------------------------------------
+# VTK XML, MetaImage
+# ---------------------------------------------------------------------------
+
+def test_vti_round_trip_is_a_new_plain_image(tmp_path):
+    values = np.random.default_rng(0).random(SHAPE, dtype=np.float32)
+    source = make_image(values, rot=rotation(30, 20))
+    writer = vtkXMLImageDataWriter()
+    writer.SetFileName(str(tmp_path / "a.vti"))
+    writer.SetInputData(source)
+    assert writer.Write() == 1
+    image = read_volume(tmp_path / "a.vti")
+    assert is_plain_vtk(image)
+    assert image.GetDimensions() == (11, 7, 6)
+    assert image.GetSpacing() == pytest.approx(source.GetSpacing())
+    assert image.GetOrigin() == pytest.approx(source.GetOrigin())
+    np.testing.assert_allclose(direction(image), rotation(30, 20), atol=1e-12)
+    np.testing.assert_array_equal(check_image(image), values)
+    assert read_volume(str(tmp_path / "a.vti")) is not image
+
+
+def test_mha_round_trip(tmp_path):
+    values = file_values()
+    source = make_image(values, rot=rotation(-40, 10))
+    writer = vtkMetaImageWriter()
+    writer.SetFileName(str(tmp_path / "a.mha"))
+    writer.SetCompression(False)
+    writer.SetInputData(source)
+    writer.Write()
+    image = read_volume(tmp_path / "a.mha")
+    assert image.GetSpacing() == pytest.approx(source.GetSpacing())
+    assert image.GetOrigin() == pytest.approx(source.GetOrigin())
+    np.testing.assert_allclose(direction(image), rotation(-40, 10), atol=1e-12)
+    np.testing.assert_array_equal(check_image(image), values)
+
+
+# ---------------------------------------------------------------------------
+# NIfTI
+# ---------------------------------------------------------------------------
+
+def matrix4(rot, translation):
+    matrix = vtkMatrix4x4()
+    for r in range(3):
+        for c in range(3):
+            matrix.SetElement(r, c, rot[r, c])
+        matrix.SetElement(r, 3, translation[r])
+    return matrix
+
+
+def test_nifti_round_trip_with_vtk_writer(tmp_path):
+    values = file_values()
+    rot, offset = rotation(25, -15), np.array([4.0, -5.0, 6.0])
+    writer = vtkNIFTIImageWriter()
+    writer.SetFileName(str(tmp_path / "a.nii.gz"))
+    writer.SetInputData(make_image(values, origin=(0, 0, 0)))
+    writer.SetQFormMatrix(matrix4(rot, offset))
+    writer.Write()
+    image = read_volume(tmp_path / "a.nii.gz")
+    assert is_plain_vtk(image)
+    assert image.GetSpacing() == pytest.approx((0.5, 0.75, 1.5))
+    np.testing.assert_allclose(direction(image), RAS_TO_LPS @ rot, atol=1e-6)
+    np.testing.assert_allclose(image.GetOrigin(), RAS_TO_LPS @ offset, atol=1e-5)
+    np.testing.assert_array_equal(check_image(image), values)
+
+
+def write_nifti(path, data, pixdim, qform=None, sform=None, slope=0.0, inter=0.0):
+    """A NIfTI-1 file written field by field (int16 data, i fastest)."""
+    nz, ny, nx = data.shape
+    header = bytearray(352)
+    struct.pack_into("<i", header, 0, 348)
+    struct.pack_into("<8h", header, 40, 3, nx, ny, nz, 1, 1, 1, 1)
+    struct.pack_into("<hh", header, 70, 4, 16)  # datatype int16, bitpix
+    qfac = qform["qfac"] if qform else 1.0
+    struct.pack_into("<8f", header, 76, qfac, *pixdim, 1, 1, 1, 1)
+    struct.pack_into("<fff", header, 108, 352.0, slope, inter)  # vox_offset, scl_slope, scl_inter
+    struct.pack_into("<B", header, 123, 2)  # mm
+    struct.pack_into("<hh", header, 252, 1 if qform else 0, 2 if sform is not None else 0)
+    if qform:
+        struct.pack_into("<6f", header, 256, *qform["bcd"], *qform["offset"])
+    if sform is not None:
+        struct.pack_into("<12f", header, 280, *np.asarray(sform, float).ravel())
+    header[344:348] = b"n+1\0"
+    payload = bytes(header) + data.astype("<i2").tobytes()
+    Path(path).write_bytes(gzip.compress(payload) if str(path).endswith(".gz") else payload)
+
+
+def quaternion_matrix(b, c, d):
+    a = math.sqrt(max(0.0, 1 - b * b - c * c - d * d))
+    return np.array([
+        [a * a + b * b - c * c - d * d, 2 * (b * c - a * d), 2 * (b * d + a * c)],
+        [2 * (b * c + a * d), a * a + c * c - b * b - d * d, 2 * (c * d - a * b)],
+        [2 * (b * d - a * c), 2 * (c * d + a * b), a * a + d * d - c * c - b * b]])
+
+
+def f32(values):
+    return np.asarray(values, np.float32).astype(float)
+
+
+@pytest.mark.parametrize("qfac", [1.0, -1.0])
+def test_nifti_qform_method_2(tmp_path, qfac):
+    pixdim = f32([0.5, 0.75, 1.5])
+    bcd = f32([0.1, -0.2, 0.3])
+    offset = f32([12.0, -7.0, 3.5])
+    write_nifti(tmp_path / "q.nii", file_values(), pixdim,
+                qform={"qfac": qfac, "bcd": bcd, "offset": offset})
+    rot = quaternion_matrix(*bcd)
+
+    def world(ijk):  # NIfTI-1 method 2, then RAS -> LPS
+        ras = (ijk * pixdim * [1, 1, qfac]) @ rot.T + offset
+        return ras @ RAS_TO_LPS.T
+
+    assert_positions(read_volume(tmp_path / "q.nii"), world)
+
+
+def test_nifti_sform_method_3_with_flip_and_scaling(tmp_path):
+    # a typical radiological (LAS) sform: x flipped, voxel size 2x pixdim in z
+    pixdim = f32([0.5, 0.75, 1.5])
+    sform = np.zeros((3, 4))
+    sform[:, :3] = rotation(20) @ np.diag([-0.5, 0.75, 3.0])
+    sform[:, 3] = [30.0, -40.0, 50.0]
+    sform = f32(sform)
+    write_nifti(tmp_path / "s.nii.gz", file_values(), pixdim, sform=sform,
+                qform={"qfac": 1.0, "bcd": [0, 0, 0], "offset": [0, 0, 0]})
+
+    def world(ijk):  # NIfTI-1 method 3 (sform wins over qform), then RAS -> LPS
+        return (ijk @ sform[:, :3].T + sform[:, 3]) @ RAS_TO_LPS.T
+
+    image = read_volume(tmp_path / "s.nii.gz")
+    assert sorted(image.GetSpacing()) == pytest.approx([0.5, 0.75, 3.0])
+    assert_positions(image, world)
+
+
+def test_nifti_sheared_sform(tmp_path):
+    pixdim = f32([1, 1, 1])
+    sheared = np.array([[1.0, 0.3, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]])
+    qform = {"qfac": 1.0, "bcd": f32([0, 0, 0.2]), "offset": f32([1, 2, 3])}
+    write_nifti(tmp_path / "a.nii", file_values(), pixdim, qform=qform, sform=sheared)
+    rot = quaternion_matrix(*qform["bcd"])
+    assert_positions(read_volume(tmp_path / "a.nii"),  # falls back to the qform
+                     lambda ijk: (ijk @ rot.T + qform["offset"]) @ RAS_TO_LPS.T)
+    write_nifti(tmp_path / "b.nii", file_values(), pixdim, sform=sheared)
+    with pytest.warns(UserWarning, match="sheared"):
+        image = read_volume(tmp_path / "b.nii")
+    assert image.GetOrigin() == (0, 0, 0)
+
+
+def test_nifti_scaling(tmp_path):
+    write_nifti(tmp_path / "a.nii", file_values(), f32([1, 1, 1]), slope=2.0, inter=-10.0)
+    values = check_image(read_volume(tmp_path / "a.nii"))
+    assert values.dtype == np.int16
+    np.testing.assert_array_equal(values, file_values() * 2 - 10)
+    write_nifti(tmp_path / "b.nii", file_values(), f32([1, 1, 1]), slope=0.5, inter=0.25)
+    values = check_image(read_volume(tmp_path / "b.nii"))
+    assert values.dtype == np.float32
+    np.testing.assert_allclose(values, file_values() * 0.5 + 0.25)
+
+
+# ---------------------------------------------------------------------------
+# NRRD (VTK has no NRRD writer: the files are written by hand)
+# ---------------------------------------------------------------------------
+
+def write_nrrd(path, data, space, directions, origin, encoding="raw", detached=False):
+    nz, ny, nx = data.shape
+    vectors = " ".join("(" + ",".join(f"{v:.17g}" for v in d) + ")" for d in directions)
+    payload = data.astype("<i2").tobytes()
+    if encoding == "gzip":
+        payload = gzip.compress(payload)
+    lines = ["NRRD0004", "type: short", "dimension: 3", f"space: {space}", f"sizes: {nx} {ny} {nz}",
+             f"space directions: {vectors}", "kinds: domain domain domain", "endian: little",
+             f"encoding: {encoding}",
+             "space origin: (" + ",".join(f"{v:.17g}" for v in origin) + ")"]
+    if detached:
+        raw = Path(path).with_suffix(".raw")
+        raw.write_bytes(payload)
+        lines.append(f"data file: {raw.name}")
+        Path(path).write_text("\n".join(lines) + "\n")
+    else:
+        Path(path).write_bytes(("\n".join(lines) + "\n\n").encode() + payload)
+
+
+@pytest.mark.parametrize("space, to_lps, name, encoding", [
+    ("right-anterior-superior", RAS_TO_LPS, "a.nrrd", "raw"),
+    ("left-posterior-superior", np.eye(3), "b.nrrd", "gzip"),
+    ("left-anterior-superior", np.diag([1.0, -1.0, 1.0]), "c.nrrd", "raw"),
+    ("RAS", RAS_TO_LPS, "d.nhdr", "raw"),
+])
+def test_nrrd_space_directions(tmp_path, space, to_lps, name, encoding):
+    axes = rotation(35, 25) @ np.diag([0.5, 0.75, 1.5])
+    origin = np.array([-3.0, 8.0, 21.0])
+    write_nrrd(tmp_path / name, file_values(), space, axes.T, origin, encoding,
+               detached=name.endswith(".nhdr"))
+
+    def world(ijk):
+        return (ijk @ axes.T + origin) @ to_lps.T
+
+    image = read_volume(tmp_path / name)
+    assert sorted(image.GetSpacing()) == pytest.approx([0.5, 0.75, 1.5])
+    assert_positions(image, world)
+
+
+def test_nrrd_short_first_axis_is_explained(tmp_path):
+    write_nrrd(tmp_path / "a.nrrd", np.zeros((5, 6, 4), np.int16), "RAS", np.eye(3), [0, 0, 0])
+    with pytest.raises(ValueError, match="9 samples or fewer as vector components"):
+        read_volume(tmp_path / "a.nrrd")
+
+
+def test_truncated_nrrd_is_an_error(tmp_path):
+    write_nrrd(tmp_path / "a.nrrd", file_values(), "RAS", np.eye(3), [0, 0, 0])
+    data = (tmp_path / "a.nrrd").read_bytes()
+    (tmp_path / "a.nrrd").write_bytes(data[:-100])
+    with pytest.raises(ValueError, match="damaged or incomplete"):
+        read_volume(tmp_path / "a.nrrd")
+
+
+# ---------------------------------------------------------------------------
+# errors and DICOM dispatch
+# ---------------------------------------------------------------------------
+
+def test_missing_file_names_the_path(tmp_path):
+    with pytest.raises(FileNotFoundError, match="no-such-volume.nii.gz"):
+        read_volume(tmp_path / "no-such-volume.nii.gz")
+
+
+def test_unknown_extension_lists_the_supported_ones(tmp_path):
+    (tmp_path / "volume.xyz").write_text("data")
+    with pytest.raises(ValueError, match=r"unknown file type '\.xyz'.*\.vti, \.nrrd") as info:
+        read_volume(tmp_path / "volume.xyz")
+    assert all(ext in str(info.value) for ext in SUPPORTED_EXTENSIONS)
+
+
+@pytest.mark.parametrize("name, content", [
+    ("a.vti", b"hello"),
+    ("b.vti", b'<?xml version="1.0"?>\n<VTKFile type="ImageData" version="1.0"><ImageData'),
+    ("c.nii.gz", b"\x00" * 10),
+    ("d.nrrd", b"hello"),
+    ("e.mha", b"hello"),
+])
+def test_unreadable_files(tmp_path, name, content, capfd):
+    (tmp_path / name).write_bytes(content)
+    with pytest.raises(ValueError, match=f"cannot read '.*{name}'"):
+        read_volume(tmp_path / name)
+    assert "ERR|" not in capfd.readouterr().err  # VTK's messages go into the exception
+
+
+def test_check_image_message_passes_through(tmp_path):
+    writer = vtkXMLImageDataWriter()
+    writer.SetFileName(str(tmp_path / "flat.vti"))
+    writer.SetInputData(make_image(np.zeros((1, 4, 4), np.float32)))
+    writer.Write()
+    with pytest.raises(ValueError, match="at least 2 points are needed along every axis"):
+        read_volume(tmp_path / "flat.vti")
+
+
+def test_dicom_folder_and_extensionless_file(tmp_path):
+    pytest.importorskip("pydicom")
+    from pydicom.data import get_testdata_file
+
+    first = Path(get_testdata_file("dicomdirtests/98892001/CT5N/2062"))
+    image = read_volume(first.parent)
+    assert is_plain_vtk(image)
+    assert image.GetDimensions() == (16, 16, 5)
+    assert image.GetPointData().GetScalars().GetName() == "values"
+    assert image.GetFieldData().GetAbstractArray("units").GetValue(0) == "HU"
+    with pytest.raises(ValueError, match="single DICOM slice"):  # no extension: 'DICM' marker
+        read_volume(first)
+    writer = vtkXMLImageDataWriter()
+    writer.SetFileName(str(tmp_path / "a.vti"))
+    writer.SetInputData(make_image(file_values()))
+    writer.Write()
+    with pytest.raises(ValueError, match="DICOM input only"):
+        read_volume(tmp_path / "a.vti", series_uid="1.2")
+
+
+def test_no_warnings_on_good_files(tmp_path):
+    write_nifti(tmp_path / "a.nii", file_values(), f32([1, 1, 1]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert read_volume(tmp_path / "a.nii").GetOrigin() == (0, 0, 0)

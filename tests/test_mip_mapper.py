@@ -1,0 +1,210 @@
+"""The base mapper: parity with stock VTK MIP, Attach rules, refusals, float readout."""
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.vtkCommonCore import vtkCommand
+from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkRenderingCore import vtkVolume
+
+import mipcast
+from mipcast import reference
+from mipcast.metrics import grey_diff
+from mipcast.offscreen import OffscreenView, grey_property
+from mipcast.shader_pieces import installed_tags
+
+HERE = Path(__file__).resolve().parent
+
+
+def _parity(image, size=(96, 80), configure=None, **kwargs):
+    shots = {}
+    for method in ("stock", "mip"):
+        view = OffscreenView(image, method, size=size, **kwargs)
+        if configure is not None:
+            configure(view)
+        shots[method] = view.screenshot()
+    return grey_diff(shots["stock"], shots["mip"]), shots["mip"]
+
+
+def test_parity_with_stock_vtk_in_process():
+    sys.path.insert(0, str(HERE))
+    try:
+        from parity_check import parity
+    finally:
+        sys.path.remove(str(HERE))
+    result = parity()
+    for view in ("oblique", "perspective"):
+        assert result[view]["lit"] > 0.3, "the picture is (nearly) black"
+        assert result[view]["within_1"] >= 0.999, result
+
+
+@pytest.mark.skipif(not (shutil.which("pvpython") and shutil.which("xvfb-run")),
+                    reason="ParaView's pvpython (VTK 9.2) not installed: apt-get install paraview xvfb")
+def test_parity_with_stock_vtk_92_in_paraview():
+    env = dict(os.environ, PYTHONPATH=str(HERE.parent))
+    run = subprocess.run(["xvfb-run", "-a", "pvpython", str(HERE / "parity_check.py")],
+                         capture_output=True, text=True, timeout=300, env=env)
+    assert run.returncode == 0, run.stderr[-2000:]
+    result = json.loads(run.stdout.strip().splitlines()[-1])
+    assert result["vtk"].startswith("9.2"), result
+    for view in ("oblique", "perspective"):
+        assert result[view]["lit"] > 0.3
+        assert result[view]["within_1"] >= 0.999, result
+        assert result[view]["masks_agree"], result
+        assert result[view]["float_max_error"] <= 1e-3, result
+
+
+@pytest.mark.parametrize("name, configure", [
+    ("half-voxel steps", lambda v: v.mapper.SetSampleDistance(0.5)),
+    ("image sample distance 2", lambda v: v.mapper.SetImageSampleDistance(2.0)),
+    ("nearest interpolation", lambda v: v.volume.GetProperty().SetInterpolationTypeToNearest()),
+    ("colour and opacity ramp", lambda v: _hot_property(v)),
+])
+def test_vtk_settings_behave_as_in_stock(vessels48, name, configure):
+    diff, shot = _parity(vessels48, configure=configure)
+    assert shot.max() > 100, f"{name}: picture is dark"
+    assert diff["within_1"] >= 0.999, (name, diff)
+
+
+def _hot_property(view):
+    prop = view.volume.GetProperty()
+    colour = prop.GetRGBTransferFunction()
+    colour.RemoveAllPoints()
+    colour.AddRGBPoint(0.0, 0.0, 0.0, 0.3)
+    colour.AddRGBPoint(0.5, 1.0, 0.2, 0.0)
+    colour.AddRGBPoint(1.0, 1.0, 1.0, 0.6)
+    opacity = prop.GetScalarOpacity()
+    opacity.RemoveAllPoints()
+    opacity.AddPoint(0.1, 0.0)
+    opacity.AddPoint(0.8, 1.0)
+
+
+def _image(values, spacing=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0), direction=None):
+    image = vtkImageData()
+    image.SetDimensions(values.shape[2], values.shape[1], values.shape[0])
+    image.SetSpacing(spacing)
+    image.SetOrigin(origin)
+    if direction is not None:
+        image.SetDirectionMatrix(*np.asarray(direction, dtype=float).ravel())
+    array = numpy_to_vtk(np.ascontiguousarray(values).ravel(), deep=True)
+    array.SetName("values")
+    image.GetPointData().SetScalars(array)
+    return image
+
+
+def _rotation(axis, degrees):
+    c, s = np.cos(np.radians(degrees)), np.sin(np.radians(degrees))
+    x, y, z = np.asarray(axis, float) / np.linalg.norm(axis)
+    return np.array([[c + x * x * (1 - c), x * y * (1 - c) - z * s, x * z * (1 - c) + y * s],
+                     [y * x * (1 - c) + z * s, c + y * y * (1 - c), y * z * (1 - c) - x * s],
+                     [z * x * (1 - c) - y * s, z * y * (1 - c) + x * s, c + z * z * (1 - c)]])
+
+
+@pytest.mark.parametrize("view", ["oblique", "perspective"])
+@pytest.mark.parametrize("geometry", ["unit", "anisotropic rotated int16"])
+def test_float_readout_matches_sampled_reference(view, geometry):
+    rng = np.random.default_rng(3)
+    if geometry == "unit":
+        image = mipcast.data_fixtures.make_fixture("vessels", size=40)
+    else:
+        values = (rng.random((24, 36, 30)) ** 6 * 3000 - 1000).astype(np.int16)
+        image = _image(values, spacing=(0.8, 0.8, 2.0), origin=(-10.0, 5.0, 3.0),
+                       direction=_rotation((1, 2, 0.5), 35))
+    low, high = image.GetPointData().GetScalars().GetRange(0)
+    gpu = OffscreenView(image, "mip", size=(80, 64), view=view, sample_distance=0.7)
+    values = gpu.float_image()
+    expected = reference.render(image, gpu.camera, (80, 64), method="mip", sample_distance=0.7)
+    assert np.array_equal(np.isnan(values), np.isnan(expected)), "hit masks differ"
+    hits = ~np.isnan(expected)
+    assert 0.1 < hits.mean() < 0.95
+    error = np.abs(values[hits] - expected[hits]) / (high - low)
+    assert np.percentile(error, 99.9) <= 1e-3
+    assert error.max() <= 5e-3
+
+
+def test_unattached_mapper_refuses_to_draw(vessels48):
+    view = OffscreenView(vessels48, "mip", size=(64, 64))
+    messages = []
+    view.mapper.AddObserver(vtkCommand.ErrorEvent, lambda *args: messages.append(args))
+    assert view.screenshot().max() > 100
+    view.volume.SetMapper(None)
+    view.volume.SetMapper(view.mapper)
+    view.volume.GetShaderProperty().ClearAllFragmentShaderReplacements()
+    assert not view.mapper.IsAttached()
+    assert "Attach(volume)" in view.mapper.GetRenderProblem()
+    assert view.screenshot().max() == 0, "an unattached mipcast mapper must not draw stock MIP"
+    assert messages, "no VTK error was reported"
+    view.mapper.Attach(view.volume)
+    assert view.screenshot().max() > 100
+
+
+def test_set_mapper_without_attach_is_refused(vessels48):
+    mapper = mipcast.MIPVolumeMapper()
+    mapper.SetInputData(vessels48)
+    volume = vtkVolume()
+    volume.SetMapper(mapper)
+    assert "Attach" in mapper.GetRenderProblem()
+
+
+def test_attach_moves_pieces_and_refuses_foreign_code(vessels48):
+    mapper = mipcast.MIPVolumeMapper()
+    mapper.SetInputData(vessels48)
+    first, second = vtkVolume(), vtkVolume()
+    mapper.Attach(first)
+    assert installed_tags(first.GetShaderProperty())
+    mapper.Attach(second)
+    assert installed_tags(first.GetShaderProperty()) == []
+    assert mapper.GetAttachedVolume() is second and second.GetMapper() is mapper
+    foreign = vtkVolume()
+    foreign.GetShaderProperty().AddFragmentShaderReplacement("//VTK::Shading::Init", True, "x", False)
+    with pytest.raises(ValueError, match="did not install"):
+        mapper.Attach(foreign)
+    with pytest.raises(TypeError, match="vtkVolume"):
+        mapper.Attach(vessels48)
+
+
+def test_bad_input_is_refused_at_render_not_drawn():
+    values = np.ones((8, 8, 8), np.float32)
+    values[2, 3, 4] = np.nan
+    bad = _image(values)
+    mapper = mipcast.MIPVolumeMapper()
+    mapper.SetInputData(bad)
+    volume = vtkVolume()
+    volume.SetProperty(grey_property((0.0, 1.0)))
+    mapper.Attach(volume)
+    problem = mapper.GetRenderProblem()
+    assert "NaN" in problem and "nan_to_num" in problem
+
+
+def test_input_connection_works(vessels48):
+    from vtkmodules.vtkImagingCore import vtkImageShiftScale
+
+    view = OffscreenView(vessels48, "mip", size=(64, 64))
+    scale = vtkImageShiftScale()
+    scale.SetInputData(vessels48)
+    scale.SetScale(1.0)
+    scale.SetOutputScalarTypeToFloat()
+    view.mapper.SetInputConnection(scale.GetOutputPort())
+    assert view.mapper.GetRenderProblem() is None
+    assert view.screenshot().max() > 100
+
+
+def test_attachment_survives_python_wrapper_loss(vessels48):
+    import gc
+
+    def build():
+        view = OffscreenView(vessels48, "mip", size=(48, 48))
+        return view.render_window, view.renderer.GetVolumes().GetLastProp().GetAddressAsString("vtkObjectBase")
+
+    window, address = build()  # the Python wrappers of the volume and mapper die here
+    gc.collect()
+    volume = window.GetRenderers().GetFirstRenderer().GetVolumes().GetLastProp()
+    assert volume.GetAddressAsString("vtkObjectBase") == address
+    assert volume.GetMapper().IsAttached()
+    assert volume.GetMapper().GetRenderProblem() is None

@@ -1,0 +1,96 @@
+"""The ParaView plugin, run for real in Debian's ParaView (pvpython under xvfb).
+
+Runs ``tests/paraview_plugin_check.py`` in a ``pvpython`` subprocess: it loads
+``plugin/mipcast_paraview.py`` with ``LoadPlugin``, applies the
+"mipcast MIP Render" filter to a 32^3 vessel phantom at 96 x 80 pixels for
+every method of ``mipcast.METHODS``, compares the output with a direct
+``OffscreenView`` render, and feeds it bad inputs.  Skipped when ``pvpython``
+or ``xvfb-run`` is not installed (Debian: ``apt-get install paraview
+python3-paraview xvfb``).
+"""
+import json
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+CHECK = ROOT / "tests" / "paraview_plugin_check.py"
+WIDTH, HEIGHT = 96, 80
+TIMEOUT = 240
+
+
+def _missing_tools():
+    return [tool for tool in ("pvpython", "xvfb-run") if shutil.which(tool) is None]
+
+
+@pytest.fixture(scope="module")
+def report():
+    missing = _missing_tools()
+    if missing:
+        pytest.skip(f"{' and '.join(missing)} not on PATH: ParaView plugin test needs "
+                    "Debian's paraview, python3-paraview and xvfb")
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    env.pop("PYTHONHOME", None)
+    completed = subprocess.run(
+        ["xvfb-run", "-a", "pvpython", str(CHECK)], cwd=ROOT, env=env,
+        capture_output=True, text=True, timeout=TIMEOUT)
+    lines = [line for line in completed.stdout.splitlines() if line.startswith("{")]
+    assert completed.returncode == 0 and lines, (
+        f"pvpython exited with {completed.returncode}\nstdout:\n{completed.stdout[-3000:]}"
+        f"\nstderr:\n{completed.stderr[-3000:]}")
+    return json.loads(lines[-1])
+
+
+def test_output_is_an_image_of_the_requested_size(report):
+    assert report["dims"] == [WIDTH, HEIGHT, 1]
+    assert report["active_scalars"] == "mip_rgb"
+    assert report["rgb_dtype"] == "uint8"
+    assert report["value_dtype"] == "float32"
+
+
+def test_output_is_a_lit_picture_with_misses(report):
+    assert report["lit_pixels"] > 0.10 * report["pixels"]
+    assert 0.05 < report["nan_share"] < 0.95
+
+
+def test_every_method_matches_direct_rendering(report):
+    import mipcast
+
+    assert set(report["methods"]) == set(mipcast.METHODS)
+    for method, result in report["methods"].items():
+        assert result["dims"] == [WIDTH, HEIGHT, 1], method
+        assert result["rgb_within_1_share"] >= 0.999, (method, result)
+
+
+def test_float_readout_matches_direct_rendering(report):
+    assert report["has_values"]
+    assert report["nan_mismatch"] == 0
+    assert report["max_value_diff"] <= 1e-6 * report["value_range"]
+    for method, result in report["methods"].items():
+        if "max_value_diff" in result:
+            assert result["nan_mismatch"] == 0, method
+            assert result["max_value_diff"] <= 1e-6 * result["value_range"], method
+
+
+@pytest.mark.parametrize("case, words", [
+    ("three_components", ["'vectors'", "3 components"]),
+    ("nan", ["NaN"]),
+    ("polydata", ["vtkImageData", "vtkPolyData"]),
+    ("bad_window", ["Window", "high > low"]),
+])
+def test_bad_input_reports_the_problem(report, case, words):
+    message = report["errors"][case]
+    assert message.startswith("mipcast MIP Render:"), message
+    for word in words:
+        assert word in message, message
+
+
+def test_filter_recovers_after_an_error(report):
+    recovery = report["recovery"]
+    assert recovery["failed_reported"]
+    assert recovery["dims"] == [WIDTH // 2, HEIGHT // 2, 1]
+    assert recovery["value_tuples"] == (WIDTH // 2) * (HEIGHT // 2)
+    assert recovery["log"] == ""

@@ -1,0 +1,84 @@
+"""Bad input: each case a clear error naming the problem; inputs never modified."""
+import numpy as np
+import pytest
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPolyData
+
+from mipcast import reference
+from mipcast.offscreen import OffscreenView
+from mipcast.validation import check_choice, check_image, check_positive, check_size
+
+
+def _image(values, components=1):
+    image = vtkImageData()
+    shape = values.shape[:3]
+    image.SetDimensions(shape[2], shape[1], shape[0])
+    array = numpy_to_vtk(values.reshape(-1, components), deep=True)
+    array.SetName("v")
+    image.GetPointData().SetScalars(array)
+    return image
+
+
+@pytest.mark.parametrize("make, error, words", [
+    (lambda: vtkPolyData(), TypeError, "vtkImageData"),
+    (lambda: vtkImageData(), ValueError, "empty"),
+    (lambda: _image(np.ones((1, 1, 1), np.float32)), ValueError, "at least 2 points"),
+    (lambda: _image(np.ones((4, 4, 1), np.float32)), ValueError, "at least 2 points"),
+    (lambda: _image(np.ones((4, 4, 4, 3), np.float32), 3), ValueError, "3 components"),
+    (lambda: _image(np.full((4, 4, 4), np.inf, np.float32)), ValueError, "NaN/Inf"),
+    (lambda: _image(np.ones((4, 4, 4), np.int64)), TypeError, "not supported"),
+])
+def test_bad_volumes(make, error, words):
+    with pytest.raises(error, match=words):
+        check_image(make())
+
+
+def test_cell_scalars_only_names_the_fix():
+    image = vtkImageData()
+    image.SetDimensions(3, 3, 3)
+    array = numpy_to_vtk(np.ones(8, np.float32), deep=True)
+    image.GetCellData().SetScalars(array)
+    with pytest.raises(ValueError, match="cell_data_to_point_data"):
+        check_image(image)
+
+
+@pytest.mark.parametrize("dtype", [np.uint8, np.int16, np.uint16, np.float32, np.float64])
+def test_good_volumes_pass_read_only(dtype):
+    values = np.arange(64).reshape(4, 4, 4).astype(dtype)
+    view = check_image(_image(values))
+    assert view.shape == (4, 4, 4) and not view.flags.writeable
+    assert view[1, 2, 3] == values[1, 2, 3]
+
+
+@pytest.mark.parametrize("value", [0, -1.0, float("nan"), float("inf")])
+def test_positive_parameters(value):
+    with pytest.raises(ValueError, match="sample_distance"):
+        check_positive("sample_distance", value)
+    with pytest.raises(TypeError, match="sample_distance"):
+        check_positive("sample_distance", "far")
+
+
+def test_choices_and_sizes():
+    with pytest.raises(ValueError, match="'mip', 'exact'"):
+        check_choice("method", "best", ("mip", "exact"))
+    for bad in [(0, 5), (5.5, 5), (1, 2, 3), "big"]:
+        with pytest.raises((TypeError, ValueError)):
+            check_size(bad)
+
+
+def test_entry_points_refuse_and_leave_input_untouched():
+    values = np.random.default_rng(0).random((6, 6, 6)).astype(np.float32)
+    image = _image(values)
+    before = vtk_to_numpy(image.GetPointData().GetScalars()).copy()
+    with pytest.raises(ValueError, match="unknown method"):
+        OffscreenView(image, "best")
+    with pytest.raises(ValueError, match="sample_distance"):
+        OffscreenView(image, "mip", sample_distance=-1)
+    with pytest.raises(ValueError, match="view"):
+        OffscreenView(image, "mip", view="sideways")
+    view = OffscreenView(image, "mip", size=(16, 16))
+    view.screenshot()
+    view.float_image()
+    reference.render(image, view.camera, (16, 16), method="exact")
+    assert np.array_equal(vtk_to_numpy(image.GetPointData().GetScalars()), before)
+    assert image.GetDimensions() == (6, 6, 6) and image.GetSpacing() == (1.0, 1.0, 1.0)
