@@ -4,6 +4,7 @@ from __future__ import annotations
 from .max_blocks import block_maxima_image
 from .mip_mapper import MIPVolumeMapper
 from .object_state import object_state
+from .transfer_bounds import constant_ends
 from .validation import check_image
 
 
@@ -36,8 +37,30 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
 
     #: Cells per edge of a skipping block (the coarse level is 1/BLOCK^3 the size).
     BLOCK = 4
-    #: Voxels between the exact lower-bound samples taken before the cell walk.
-    BOUND_STRIDE = 4.0
+
+    def GetShaderPieces(self) -> tuple:
+        """:data:`PIECES`, with the block-skipping loop when the transfer functions have a floor.
+
+        Skipping blocks pays only when most of them lie below the running
+        maximum from the start, i.e. when colour and opacity are constant
+        from the data minimum up to a floor (a window above the background).
+        Without a floor the check costs more than it saves on llvmpipe, so
+        the plain loop is used.
+        """
+        names = super().GetShaderPieces()
+        if self._transfer_floor_ceiling()[0] > 0.0:
+            names = tuple("amip_loop_blocks" if n == "amip_loop" else n for n in names)
+        return names
+
+    def _transfer_floor_ceiling(self) -> tuple:
+        """Normalised (floor, ceiling) of the attached volume's transfer functions."""
+        image, volume = self.GetInput(), self.GetAttachedVolume()
+        if image is None or volume is None or image.GetPointData().GetScalars() is None:
+            return 0.0, 1.0
+        low, high = image.GetPointData().GetScalars().GetRange(0)
+        if not high > low:
+            return 0.0, 1.0
+        return tuple((v - low) / (high - low) for v in constant_ends(volume.GetProperty(), low, high))
 
     def _push_uniforms(self, uniforms) -> None:
         image = self.GetInput()
@@ -45,7 +68,10 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         uniforms.SetUniform3f("u_mc_dims", [float(n) for n in dims])
         uniforms.SetUniformf("u_mc_blockSize", float(self.BLOCK))
 
-        uniforms.SetUniformf("u_mc_boundStride", float(self.BOUND_STRIDE))
+        floor, ceiling = self._transfer_floor_ceiling()
+        exact = object_state(self).get("exact_readout", False)
+        uniforms.SetUniformf("u_mc_floor", -1.0e30 if exact else floor)
+        uniforms.SetUniformf("u_mc_ceiling", 1.0e30 if exact else ceiling)
         if image is not None and image.GetNumberOfPoints() > 0:
             self._update_block_maxima(image)
 

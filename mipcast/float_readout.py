@@ -5,7 +5,7 @@ import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
-from . import shader_pieces
+from .object_state import object_state
 
 #: Normalised hits are written shifted by this much (see shaders/float_readout.glsl).
 _SHIFT = -2.0
@@ -17,7 +17,9 @@ def render_float(render_window, mapper) -> np.ndarray:
     The mapper renders into VTK's RenderToImage buffers with a float "depth"
     image that receives the raw maximum instead of a depth; the value is
     mapped back from VTK's normalised scalar to data units with the input's
-    scalar range.  The mapper's settings are restored afterwards.
+    scalar range.  Shortcuts that are exact only for the displayed colour
+    (see :mod:`mipcast.transfer_bounds`) are off while it renders.  The
+    mapper's settings are restored afterwards.
 
     Parameters
     ----------
@@ -43,9 +45,8 @@ def render_float(render_window, mapper) -> np.ndarray:
     volume = mapper.GetAttachedVolume()
     if volume is None or not mapper.IsAttached():
         raise RuntimeError("render_float needs an attached mipcast mapper: call mapper.Attach(volume)")
-    pieces = [shader_pieces.load_piece(name) for name in mapper.PIECES + ("float_readout",)]
     saved = (mapper.GetRenderToImage(), mapper.GetDepthImageScalarType())
-    shader_pieces.install(volume.GetShaderProperty(), pieces)
+    object_state(mapper)["exact_readout"] = True  # adds the float_readout piece at the render
     try:
         mapper.RenderToImageOn()
         mapper.SetDepthImageScalarTypeToFloat()
@@ -53,9 +54,9 @@ def render_float(render_window, mapper) -> np.ndarray:
         image = vtkImageData()
         mapper.GetDepthImage(image)
     finally:
+        object_state(mapper).pop("exact_readout", None)
         mapper.SetRenderToImage(saved[0])
         mapper.SetDepthImageScalarType(saved[1])
-        mapper.Attach(volume)
     scalars = image.GetPointData().GetScalars()
     if scalars is None:  # nothing was drawn (volume outside the view or clipped away)
         width, height = render_window.GetSize()

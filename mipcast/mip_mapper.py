@@ -59,14 +59,29 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         previous = self.GetAttachedVolume()
         if previous is not None and previous is not volume:
             self.Detach()
-        pieces = [shader_pieces.load_piece(name) for name in self.PIECES]
-        shader_pieces.install(volume.GetShaderProperty(), pieces)
-        self._push_uniforms(volume.GetShaderProperty().GetFragmentCustomUniforms())
+        self._install_pieces(volume)
         link = vtkWeakReference()  # a C++ weak pointer: Python wrappers come and go
         link.Set(volume)
         object_state(self)["volume"] = link
         volume.SetMapper(self)
+        self._push_uniforms(volume.GetShaderProperty().GetFragmentCustomUniforms())
         self.Modified()
+
+    def GetShaderPieces(self) -> tuple:
+        """Names of the shader pieces (files in ``shaders/``) the mapper needs now.
+
+        :data:`PIECES`, plus ``float_readout`` while
+        :func:`mipcast.float_readout.render_float` renders.  Subclasses whose
+        pieces depend on their settings override this; the pieces are
+        re-installed at the next render when the answer changes.
+        """
+        readout = ("float_readout",) if object_state(self).get("exact_readout") else ()
+        return tuple(self.PIECES) + readout
+
+    def _install_pieces(self, volume) -> None:
+        names = self.GetShaderPieces()
+        shader_pieces.install(volume.GetShaderProperty(), [shader_pieces.load_piece(n) for n in names])
+        object_state(self)["installed"] = names
 
     def Detach(self) -> None:
         """Remove mipcast's pieces from the attached volume (if any)."""
@@ -116,15 +131,22 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         volume = self.GetAttachedVolume()
         if volume is None or volume.GetMapper() is not self:
             return False
-        wanted = {shader_pieces.load_piece(n).vtk_tag for n in self.PIECES}
+        names = object_state(self).get("installed", ())
+        wanted = {shader_pieces.load_piece(n).vtk_tag for n in names}
         return wanted <= set(shader_pieces.installed_tags(volume.GetShaderProperty()))
 
 
 def _check_before_render(mapper, event) -> None:
-    """Refuse to draw with stock shaders or bad input: report a VTK error, draw nothing."""
+    """Bring pieces and uniforms up to date; refuse stock shaders or bad input.
+
+    A refusal reports a VTK error naming the problem and draws nothing.
+    """
     problem = mapper.GetRenderProblem()
     if problem is None:
-        mapper._push_uniforms(mapper.GetAttachedVolume().GetShaderProperty().GetFragmentCustomUniforms())
+        volume = mapper.GetAttachedVolume()
+        if object_state(mapper).get("installed") != mapper.GetShaderPieces():
+            mapper._install_pieces(volume)
+        mapper._push_uniforms(volume.GetShaderProperty().GetFragmentCustomUniforms())
         return
     vtkOutputWindow.GetInstance().DisplayErrorText(f"{type(mapper).__name__}: {problem}\n")
     mapper.InvokeEvent(vtkCommand.ErrorEvent)

@@ -1,7 +1,22 @@
 // mipcast piece: amip_cell
 // fills: Shading::Dec
 // mode: augment
-// Cell-level helpers of analytic MIP (corner fetches, trilinear value, cubic).
+// Analytic MIP's building blocks, shared by its two ray loops (amip_loop,
+// amip_loop_blocks): the ray in index space, one DDA step over a cell, and
+// the exact maximum of the trilinear interpolant inside a cell.
+//
+// Index space: point i sits at texture coordinate (i + 0.5) / N, so
+// p(t) = origin + t * dir with t the texture-space length along the ray.
+struct McRay
+{
+  vec3 origin;
+  vec3 dir;
+  bvec3 still;     // axes the ray runs parallel to
+  vec3 tDelta;     // t between voxel planes, per axis
+  float length;    // t where the ray leaves the point bounds or is terminated
+  ivec3 lastCell;
+};
+
 // Exact maximum over s in [0, 1] of the trilinear interpolant of one cell
 // along u(s) = u0 + s * du (local cell coordinates). lo/hi hold the corner
 // values at x = 0 / x = 1, ordered (y,z) = (0,0), (1,0), (0,1), (1,1).
@@ -28,7 +43,8 @@ float mcCellMaximum(vec4 lo, vec4 hi, vec3 u0, vec3 du)
                 q.z * du.z);
   // Roots of d1 + 2 d2 s + 3 d3 s^2 by the cancellation-free formula; a
   // missing or out-of-range root is clamped into [0, 1], which only re-tests
-  // a point of the segment (never above the true maximum).
+  // a point of the segment (never above the true maximum). a ~ 0 (quadratic
+  // or linear cubic) and tiny segments need no special case.
   float qa = 3.0 * d.w;
   float qb = 2.0 * d.z;
   float disc = max(qb * qb - 4.0 * qa * d.y, 0.0);
@@ -40,28 +56,67 @@ float mcCellMaximum(vec4 lo, vec4 hi, vec3 u0, vec3 du)
   return max(best, mcCubic(d, clamp(r2, 0.0, 1.0)));
 }
 
-// The 8 corner values of cell c (raw texel values, no filtering).
-void mcCorners(ivec3 c, out vec4 lo, out vec4 hi)
+// Ray parameters of the next voxel plane per axis after parameter t; 1e30
+// on axes the ray runs parallel to.
+vec3 mcPlanesAfter(McRay ray, float t)
 {
-  lo = vec4(texelFetch(in_volume[0], c, 0).r,
-            texelFetch(in_volume[0], c + ivec3(0, 1, 0), 0).r,
-            texelFetch(in_volume[0], c + ivec3(0, 0, 1), 0).r,
-            texelFetch(in_volume[0], c + ivec3(0, 1, 1), 0).r);
-  hi = vec4(texelFetch(in_volume[0], c + ivec3(1, 0, 0), 0).r,
-            texelFetch(in_volume[0], c + ivec3(1, 1, 0), 0).r,
-            texelFetch(in_volume[0], c + ivec3(1, 0, 1), 0).r,
-            texelFetch(in_volume[0], c + ivec3(1, 1, 1), 0).r);
+  vec3 here = ray.origin + t * ray.dir;
+  vec3 plane = mix(floor(here) + 1.0, ceil(here) - 1.0, vec3(lessThan(ray.dir, vec3(0.0))));
+  return mix(t + (plane - here) / mix(ray.dir, vec3(1.0), vec3(ray.still)), vec3(1.0e30), vec3(ray.still));
 }
 
-// The trilinear interpolant at index-space point p inside cell c, computed
-// from the corners in full float precision (the GPU filter is not used).
-float mcTrilinear(ivec3 c, vec3 p)
+// The ray from its true entry (g_dataPos is one jitter step further in) to
+// where it leaves the point bounds or reaches the depth-buffer/clip end.
+McRay mcBeginRay()
 {
-  vec4 lo;
-  vec4 hi;
-  mcCorners(c, lo, hi);
-  vec3 u = p - vec3(c);
-  vec4 x = mix(lo, hi, u.x);
-  vec2 y = mix(x.xz, x.yw, u.y);
-  return mix(y.x, y.y, u.z);
+  McRay ray;
+  vec3 dims = u_mc_dims;
+  vec3 dirTex = normalize(g_dirStep);
+  vec3 entryTex = g_dataPos - g_rayJitter;
+  vec3 parallel = vec3(equal(dirTex, vec3(0.0)));
+  vec3 exitPlanes = mix(in_texMin[0], in_texMax[0], vec3(greaterThan(dirTex, vec3(0.0))));
+  vec3 toPlanes = mix((exitPlanes - entryTex) / mix(dirTex, vec3(1.0), parallel), vec3(1.0e30), parallel);
+  ray.length = max(0.0, min(min(toPlanes.x, toPlanes.y), toPlanes.z));
+  ray.length = min(ray.length, g_terminatePointMax * length(g_dirStep) + length(g_rayJitter));
+  ray.origin = entryTex * dims - 0.5;
+  ray.dir = dirTex * dims;
+  ray.still = lessThan(abs(ray.dir), vec3(1.0e-20));
+  ray.tDelta = mix(1.0 / max(abs(ray.dir), vec3(1.0e-20)), vec3(1.0e30), vec3(ray.still));
+  ray.lastCell = ivec3(dims) - 2;
+  return ray;
+}
+
+// The cell holding the segment [t0, t1] (by its midpoint: robust at ties).
+ivec3 mcCellOf(McRay ray, float t0, float t1)
+{
+  return clamp(ivec3(floor(ray.origin + (0.5 * (t0 + t1)) * ray.dir)), ivec3(0), ray.lastCell);
+}
+
+// One DDA step: the segment [t0, t1] in `cell` raises rayMax to the cell's
+// exact maximum, unless no corner is above rayMax (trilinear values never
+// exceed the corners); then every axis whose plane is reached steps (ties
+// at edges and corners step together) and t0 moves to t1.
+void mcWalkCell(McRay ray, ivec3 cell, float t1, inout float t0, inout vec3 tNext, inout float rayMax)
+{
+  vec4 lo = vec4(texelFetch(in_volume[0], cell, 0).r,
+                 texelFetch(in_volume[0], cell + ivec3(0, 1, 0), 0).r,
+                 texelFetch(in_volume[0], cell + ivec3(0, 0, 1), 0).r,
+                 texelFetch(in_volume[0], cell + ivec3(0, 1, 1), 0).r);
+  vec4 hi = vec4(texelFetch(in_volume[0], cell + ivec3(1, 0, 0), 0).r,
+                 texelFetch(in_volume[0], cell + ivec3(1, 1, 0), 0).r,
+                 texelFetch(in_volume[0], cell + ivec3(1, 0, 1), 0).r,
+                 texelFetch(in_volume[0], cell + ivec3(1, 1, 1), 0).r);
+  vec4 corners = max(lo, hi);
+  if (max(max(corners.x, corners.y), max(corners.z, corners.w)) > rayMax)
+  {
+    rayMax = max(rayMax, mcCellMaximum(lo, hi, ray.origin + t0 * ray.dir - vec3(cell), (t1 - t0) * ray.dir));
+  }
+  tNext += ray.tDelta * vec3(lessThanEqual(tNext, vec3(t1 * (1.0 + 1.0e-6) + 1.0e-7)));
+  t0 = t1;
+}
+
+// Raw texel value <-> VTK's normalised scalar.
+float mcRaw(float normalised)
+{
+  return (normalised - in_volume_bias[0].r) / in_volume_scale[0].r;
 }

@@ -143,3 +143,23 @@ def test_thin_and_tiny_volumes(shape):
 @pytest.mark.parametrize("view", ["oblique", "perspective"])
 def test_head_ct_matches_exact_reference(view):
     _assert_exact(_compare(load_head_ct(), view, size=(128, 128)))
+
+
+@pytest.mark.parametrize("window, background_black", [((0.3, 0.9), True), ((0.05, 0.5), False)])
+def test_windowed_display_skips_blocks_and_stays_exact(window, background_black):
+    # a window above the background turns on block skipping and the floor and
+    # ceiling shortcuts; the float readout (exact) and the picture must both hold
+    image = make_fixture("vessels", size=48)
+    gpu = OffscreenView(image, "analytic", size=SIZE, window=window)
+    assert "amip_loop_blocks" in gpu.mapper.GetShaderPieces()
+    values = gpu.float_image()
+    picture = gpu.screenshot()
+    exact = reference.render(image, gpu.camera, SIZE, method="exact")
+    hits = ~np.isnan(exact)
+    low, high = image.GetPointData().GetScalars().GetRange(0)
+    assert np.mean(np.abs(values[hits] - exact[hits]) <= 1e-3 * (high - low)) >= 0.999
+    expected8 = np.round(255 * np.clip((exact[hits] - window[0]) / (window[1] - window[0]), 0, 1))
+    grey_error = np.abs(picture[..., 0][hits].astype(float) - expected8)
+    assert picture.max() == 255
+    assert (np.mean(picture[..., 0][hits] == 0) > 0.3) == background_black
+    assert np.mean(grey_error <= 1) >= 0.995

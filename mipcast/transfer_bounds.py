@@ -1,0 +1,63 @@
+"""Where a volume property's MIP colour stops changing: below a floor, above a ceiling.
+
+A MIP pixel's colour is the transfer functions applied to the ray maximum.
+If colour and opacity are constant for all scalars up to a *floor*, every
+maximum below the floor gives the same pixel, so a method may stop caring
+about values below it; likewise above a *ceiling*.
+"""
+from __future__ import annotations
+
+from typing import Tuple
+
+import numpy as np
+
+
+def constant_ends(prop, low: float, high: float) -> Tuple[float, float]:
+    """The (floor, ceiling) of component 0's transfer functions over [low, high].
+
+    Parameters
+    ----------
+    prop : vtkVolumeProperty
+        Colour (RGB or grey) and scalar opacity of component 0.
+    low, high : float
+        The data range.
+
+    Returns
+    -------
+    tuple of float
+        Premultiplied colour and opacity are constant on ``[low, floor]`` and
+        on ``[ceiling, high]``; ``floor == low`` / ``ceiling == high`` when
+        they change right away.
+
+    Examples
+    --------
+    >>> from mipcast.offscreen import grey_property
+    >>> constant_ends(grey_property((100.0, 400.0)), 0.0, 1000.0)
+    (100.0, 400.0)
+    """
+    stops = sorted({float(low), float(high)} | {x for x in _node_positions(prop) if low < x < high})
+    values = np.array([_premultiplied(prop, x) for x in stops])
+    same_as_low = np.all(np.abs(values - values[0]) <= 1e-7, axis=1)
+    same_as_high = np.all(np.abs(values - values[-1]) <= 1e-7, axis=1)
+    floor = stops[int(np.argmin(same_as_low)) - 1] if not same_as_low.all() else float(high)
+    ceiling = stops[len(stops) - int(np.argmin(same_as_high[::-1]))] if not same_as_high.all() else float(low)
+    return floor, ceiling
+
+
+def _node_positions(prop):
+    opacity = prop.GetScalarOpacity(0)
+    colour = prop.GetRGBTransferFunction(0) if prop.GetColorChannels(0) == 3 else prop.GetGrayTransferFunction(0)
+    for function, width in ((opacity, 4), (colour, 6 if prop.GetColorChannels(0) == 3 else 4)):
+        node = [0.0] * width
+        for index in range(function.GetSize()):
+            function.GetNodeValue(index, node)
+            yield node[0]
+
+
+def _premultiplied(prop, x: float) -> np.ndarray:
+    alpha = prop.GetScalarOpacity(0).GetValue(x)
+    if prop.GetColorChannels(0) == 3:
+        rgb = np.array(prop.GetRGBTransferFunction(0).GetColor(x))
+    else:
+        rgb = np.full(3, prop.GetGrayTransferFunction(0).GetValue(x))
+    return np.append(rgb * alpha, alpha)
