@@ -33,10 +33,52 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     True
     """
 
-    PIECES = ("mip_globals", "amip_cell", "amip_loop", "no_stock_sample", "mip_color")
+    PIECES = ("mip_globals", "refusal", "amip_cell", "amip_loop", "no_stock_sample", "mip_color")
 
     #: Cells per edge of a skipping block (the coarse level is 1/BLOCK^3 the size).
     BLOCK = 4
+
+    def SetPartitions(self, x: int, y: int, z: int) -> None:
+        """Recorded so that rendering can refuse it: see :meth:`GetRenderProblem`."""
+        object_state(self)["partitions"] = (int(x), int(y), int(z))
+        super().SetPartitions(x, y, z)
+
+    def GetRenderProblem(self):
+        """As :meth:`MIPVolumeMapper.GetRenderProblem`, plus the one-texture rule.
+
+        The cell walk needs the whole volume in one 3D texture: a volume
+        larger than the GPU's 3D texture limit, or VTK's partitioned
+        rendering (``SetPartitions``), is refused with a message naming the
+        limit, instead of drawing each partition as if it were the volume.
+        """
+        problem = super().GetRenderProblem()
+        if problem is not None:
+            return problem
+        if object_state(self).get("partitions", (1, 1, 1)) != (1, 1, 1):
+            return ("analytic MIP walks the whole volume in one 3D texture, so partitioned "
+                    "rendering (SetPartitions) would not be exact: call SetPartitions(1, 1, 1), "
+                    "or use the 'mip' method for volumes beyond one texture")
+        dims = self.GetInput().GetDimensions()
+        limit = self._texture_limit()
+        if limit and max(dims) > limit:
+            return (f"the volume's dimensions {dims} exceed this GPU's 3D texture limit of "
+                    f"{limit} points per axis, and analytic MIP needs the volume in one texture: "
+                    "resample it (e.g. vtkImageResample) or use the 'mip' method with SetPartitions")
+        return None
+
+    def _texture_limit(self) -> int:
+        """GL_MAX_3D_TEXTURE_SIZE of the window drawing the attached volume (0 if unknown)."""
+        from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
+
+        state = object_state(self)
+        if "texture_limit" not in state:
+            volume = self.GetAttachedVolume()
+            for index in range(volume.GetNumberOfConsumers() if volume is not None else 0):
+                window = getattr(volume.GetConsumer(index), "GetRenderWindow", lambda: None)()
+                if window is not None and window.GetNeverRendered() == 0:
+                    state["texture_limit"] = vtkTextureObject.GetMaximumTextureSize3D(window)
+                    break
+        return state.get("texture_limit", 0)
 
     def GetShaderPieces(self) -> tuple:
         """:data:`PIECES`, with the block-skipping loop when the transfer functions have a floor.

@@ -1,63 +1,126 @@
-"""Frame-time ratios between methods, measured in one process on one scene.
+"""Speed and accuracy of every method on one scene, measured in one process.
 
-llvmpipe (and any shared machine) drifts, so methods are timed in
-interleaved rounds: each round renders every method a few frames, and each
-method's time is the median over all its frames after warm-up.  Only ratios
-measured this way mean something.
+llvmpipe (and any shared machine) drifts, so settings are timed in
+interleaved rounds: each round renders every setting a few frames, and each
+setting's time is the median over all its frames after warm-up.  Only ratios
+measured this way mean something.  Errors are against the float64 exact
+reference (:func:`mipcast.reference.render`, ``method="exact"``) on the same
+rays, from each method's float readout.
 """
 from __future__ import annotations
 
 import statistics
-from typing import Iterable, Sequence
+from typing import Iterable, NamedTuple, Optional, Sequence
+
+import numpy as np
 
 from .offscreen import OffscreenView
 
 
-def time_methods(image, methods: Sequence[str], size=(256, 256), view: str = "oblique",
-                 rounds: int = 5, frames: int = 3, warmup: int = 3,
-                 sample_distance=None) -> dict:
-    """Median frame time in seconds of each method, measured in interleaved rounds.
+class Setting(NamedTuple):
+    """One row of the benchmark: a method at a sampling rate."""
+
+    label: str
+    method: str
+    samples_per_voxel: Optional[float] = None  # None: the method samples no ray (exact)
+    readout_method: Optional[str] = None       # method whose float readout stands for it
+
+
+#: Stock VTK MIP has no float readout; mipcast's "mip" takes the very same
+#: samples (parity tests: identical pictures), so its readout stands for it.
+DEFAULT_SETTINGS = (
+    Setting("stock 1x", "stock", 1, "mip"),
+    Setting("stock 2x", "stock", 2, "mip"),
+    Setting("stock 4x", "stock", 4, "mip"),
+    Setting("stock 8x", "stock", 8, "mip"),
+    Setting("mip 1x", "mip", 1),
+    Setting("analytic", "analytic"),
+)
+
+
+def _view(image, setting: Setting, method: str, size, view: str, window=None) -> OffscreenView:
+    spacing = min(abs(s) for s in image.GetSpacing())
+    distance = spacing / setting.samples_per_voxel if setting.samples_per_voxel else spacing
+    return OffscreenView(image, method, size=size, view=view, sample_distance=distance, window=window)
+
+
+def time_settings(image, settings: Sequence[Setting], size=(256, 256), view: str = "oblique",
+                  rounds: int = 5, frames: int = 3, warmup: int = 3, window=None) -> dict:
+    """Median frame time in seconds of each setting, measured in interleaved rounds.
 
     Parameters
     ----------
     image : vtkImageData
         The scene's volume.
-    methods : sequence of str
-        Names from :data:`mipcast.methods.METHODS`; the first is the baseline.
+    settings : sequence of Setting
+        The first is the baseline of the ratios.
     size : tuple of int, default: (256, 256)
         Window (width, height).
     view : str, default: "oblique"
         A preset of :data:`mipcast.offscreen.VIEWS`.
     rounds, frames, warmup : int
-        ``rounds`` x ``frames`` timed frames per method, after ``warmup``.
-    sample_distance : float, optional
-        Passed to every view (default: one sample per voxel).
+        ``rounds`` x ``frames`` timed frames per setting, after ``warmup``.
+    window : tuple of float, optional
+        Grey window (default: the data range).
 
     Returns
     -------
     dict
-        ``{method: {"median_s": float, "ratio": float, "frames": int}}`` with
-        ``ratio`` = median / baseline median.
+        ``{label: {"median_s": float, "ratio": float, "frames": int}}``.
 
     Examples
     --------
     >>> from mipcast.data_fixtures import make_fixture
-    >>> times = time_methods(make_fixture("spheres", size=16), ["stock", "mip"],
-    ...                      size=(32, 32), rounds=1, frames=1, warmup=1)
-    >>> times["stock"]["ratio"]
+    >>> times = time_settings(make_fixture("spheres", size=16), DEFAULT_SETTINGS[:2],
+    ...                       size=(32, 32), rounds=1, frames=1, warmup=1)
+    >>> times["stock 1x"]["ratio"]
     1.0
     """
-    views = {m: OffscreenView(image, m, size=size, view=view, sample_distance=sample_distance)
-             for m in methods}
-    samples: dict = {m: [] for m in methods}
-    for method, view_ in views.items():
-        view_.frame_times(frames=0, warmup=warmup)
+    views = {s.label: _view(image, s, s.method, size, view, window) for s in settings}
+    for scene in views.values():
+        scene.frame_times(frames=0, warmup=warmup)
+    samples: dict = {label: [] for label in views}
     for _ in range(rounds):
-        for method, view_ in views.items():
-            samples[method].extend(view_.frame_times(frames=frames, warmup=0))
-    baseline = statistics.median(samples[methods[0]])
-    return {m: {"median_s": statistics.median(t), "ratio": statistics.median(t) / baseline,
-                "frames": len(t)} for m, t in samples.items()}
+        for label, scene in views.items():
+            samples[label].extend(scene.frame_times(frames=frames, warmup=0))
+    baseline = statistics.median(samples[settings[0].label])
+    return {label: {"median_s": statistics.median(t), "ratio": statistics.median(t) / baseline,
+                    "frames": len(t)} for label, t in samples.items()}
+
+
+def errors_of_settings(image, settings: Sequence[Setting], size=(256, 256), view: str = "oblique",
+                       window=None) -> dict:
+    """Error of each setting's float readout against the exact float64 reference.
+
+    Returns
+    -------
+    dict
+        ``{label: metrics.summary(...)}`` plus ``"_reference_s"``: seconds the
+        reference took.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> errors = errors_of_settings(make_fixture("spheres", size=16), DEFAULT_SETTINGS[-1:], size=(24, 24))
+    >>> errors["analytic"]["within_1_grey"]
+    1.0
+    """
+    import time
+
+    from . import reference
+    from .metrics import summary
+
+    results: dict = {}
+    exact = None
+    low, high = image.GetPointData().GetScalars().GetRange(0)
+    for setting in settings:
+        scene = _view(image, setting, setting.readout_method or setting.method, size, view, window)
+        if exact is None:
+            started = time.perf_counter()
+            exact = reference.render(image, scene.camera, size, method="exact")
+            results["_reference_s"] = time.perf_counter() - started
+        results[setting.label] = summary(scene.float_image(), exact, high - low, window=window)
+    return results
 
 
 def markdown_table(rows: Iterable[dict], columns: Sequence[str]) -> str:
@@ -75,3 +138,50 @@ def markdown_table(rows: Iterable[dict], columns: Sequence[str]) -> str:
     lines = ["| " + " | ".join(columns) + " |", "| " + " | ".join("---" for _ in columns) + " |"]
     lines += ["| " + " | ".join(cell(row.get(c, "")) for c in columns) + " |" for row in rows]
     return "\n".join(lines)
+
+
+def pareto_front(points: Sequence[tuple]) -> list:
+    """Indices of the (time, error) points no other point beats in both.
+
+    Examples
+    --------
+    >>> pareto_front([(1.0, 5.0), (2.0, 1.0), (3.0, 2.0), (0.5, 9.0)])
+    [0, 1, 3]
+    """
+    front = []
+    for i, (t, e) in enumerate(points):
+        if not any((t2 <= t and e2 <= e) and (t2 < t or e2 < e) for t2, e2 in points):
+            front.append(i)
+    return front
+
+
+def write_chart(rows: Sequence[dict], path, error_key: str = "p99_pct") -> None:
+    """Error (log) against time ratio to stock MIP 1x, one panel per scene/view/size.
+
+    Pareto-optimal settings are circled; an error of 0 is drawn at the
+    panel's floor (marked "exact").
+    """
+    import matplotlib
+    matplotlib.use("Agg")
+    from matplotlib import pyplot
+
+    panels = sorted({(r["scene"], r["view"], r["size"]) for r in rows})
+    figure, axes = pyplot.subplots(1, len(panels), figsize=(4.6 * len(panels), 4.2), squeeze=False)
+    for ax, panel in zip(axes[0], panels):
+        chosen = [r for r in rows if (r["scene"], r["view"], r["size"]) == panel]
+        floor = 1e-4
+        points = [(r["ratio_to_stock"], max(r[error_key], floor)) for r in chosen]
+        front = set(pareto_front(points))
+        for index, (row, (x, y)) in enumerate(zip(chosen, points)):
+            ax.scatter(x, y, s=60 if index in front else 30, edgecolors="k" if index in front else "none",
+                       zorder=3)
+            label = row["setting"] + (" (exact)" if row[error_key] < floor else "")
+            ax.annotate(label, (x, y), textcoords="offset points", xytext=(5, 4), fontsize=8)
+        ax.set_yscale("log")
+        ax.set_xlabel("frame time / stock VTK MIP 1x")
+        ax.set_ylabel(f"error {error_key} (% of data range)")
+        ax.set_title(f"{panel[0]}, {panel[1]}, {panel[2]}²", fontsize=10)
+        ax.grid(True, which="both", alpha=0.3)
+    figure.tight_layout()
+    figure.savefig(path, dpi=110)
+    pyplot.close(figure)

@@ -134,29 +134,36 @@ def run_render(args) -> int:
 
 
 def run_bench(args) -> int:
-    """Time every method against stock VTK MIP on each scene, view and size."""
-    from .benchmark import markdown_table, time_methods
+    """Time and check every setting against stock VTK MIP on each scene, view and size."""
+    from .benchmark import DEFAULT_SETTINGS, errors_of_settings, markdown_table, time_settings, write_chart
 
     args.out.mkdir(parents=True, exist_ok=True)
-    methods = ["stock"] + sorted(m for m in METHODS if m != "stock")
     rows = []
     started = time.perf_counter()
-    for scene in args.scenes:
+    jobs = [(scene, view, edge) for scene in args.scenes for view in args.views for edge in args.size]
+    for number, (scene, view, edge) in enumerate(jobs, 1):
         image = load_scene(scene, args.volume_size)
-        for view in args.views:
-            for edge in args.size:
-                times = time_methods(image, methods, size=(edge, edge), view=view, rounds=args.rounds)
-                for method, result in times.items():
-                    rows.append({"scene": scene, "view": view, "size": edge, "method": method,
-                                 "median_ms": 1000 * result["median_s"], "ratio_to_stock": result["ratio"],
-                                 "frames": result["frames"]})
-                print(f"  {scene} {view} {edge}^2: " + ", ".join(
-                    f"{m} {r['ratio']:.3f}" for m, r in times.items()), flush=True)
-    columns = ["scene", "view", "size", "method", "median_ms", "ratio_to_stock", "frames"]
+        size = (edge, edge)
+        print(f"[{number}/{len(jobs)}] {scene} {view} {edge}^2 ...", flush=True)
+        times = time_settings(image, DEFAULT_SETTINGS, size=size, view=view, rounds=args.rounds)
+        errors = errors_of_settings(image, DEFAULT_SETTINGS, size=size, view=view)
+        for setting in DEFAULT_SETTINGS:
+            error = errors[setting.label]
+            rows.append({"scene": scene, "view": view, "size": edge, "setting": setting.label,
+                         "median_ms": 1000 * times[setting.label]["median_s"],
+                         "ratio_to_stock": times[setting.label]["ratio"],
+                         "p99_pct": error["p99_pct"], "max_pct": error["max_pct"],
+                         "fg_p99_pct": error["fg_p99_pct"], "within_1_grey": error["within_1_grey"],
+                         "frames": times[setting.label]["frames"]})
+        print("    " + ", ".join(f"{r['setting']} x{r['ratio_to_stock']:.2f} p99 {r['p99_pct']:.3g}%"
+                                 for r in rows[-len(DEFAULT_SETTINGS):]), flush=True)
+    columns = ["scene", "view", "size", "setting", "median_ms", "ratio_to_stock", "p99_pct",
+               "fg_p99_pct", "max_pct", "within_1_grey", "frames"]
     (args.out / "bench.json").write_text(json.dumps(rows, indent=2))
     (args.out / "bench.md").write_text(markdown_table(rows, columns) + "\n")
+    write_chart(rows, args.out / "bench.png")
     print(markdown_table(rows, columns))
-    print(f"wrote {args.out}/bench.json and bench.md ({time.perf_counter() - started:.0f} s)")
+    print(f"wrote {args.out}/bench.json, bench.md, bench.png ({time.perf_counter() - started:.0f} s)")
     return 0
 
 

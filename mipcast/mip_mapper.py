@@ -36,7 +36,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     """
 
     #: Shader pieces this method installs (file names in ``shaders/``).
-    PIECES = ("mip_globals", "mip_sampled_loop", "no_stock_sample", "mip_color")
+    PIECES = ("mip_globals", "refusal", "mip_sampled_loop", "no_stock_sample", "mip_color")
 
     def __init__(self) -> None:
         super().__init__()
@@ -60,6 +60,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         if previous is not None and previous is not volume:
             self.Detach()
         self._install_pieces(volume)
+        volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniformf("u_mc_refused", 0.0)
         link = vtkWeakReference()  # a C++ weak pointer: Python wrappers come and go
         link.Set(volume)
         object_state(self)["volume"] = link
@@ -142,17 +143,21 @@ def _check_before_render(mapper, event) -> None:
     A refusal reports a VTK error naming the problem and draws nothing.
     """
     problem = mapper.GetRenderProblem()
+    volume = mapper.GetAttachedVolume()
+    if mapper.IsAttached():
+        uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+        uniforms.SetUniformf("u_mc_refused", 0.0 if problem is None else 1.0)  # shaders/refusal.glsl
     if problem is None:
-        volume = mapper.GetAttachedVolume()
         if object_state(mapper).get("installed") != mapper.GetShaderPieces():
             mapper._install_pieces(volume)
         mapper._push_uniforms(volume.GetShaderProperty().GetFragmentCustomUniforms())
         return
     vtkOutputWindow.GetInstance().DisplayErrorText(f"{type(mapper).__name__}: {problem}\n")
     mapper.InvokeEvent(vtkCommand.ErrorEvent)
-    object_state(mapper)["refused"] = (mapper.GetCropping(), mapper.GetCroppingRegionFlags())
-    mapper.SetCropping(True)
-    mapper.SetCroppingRegionFlags(0)
+    if not mapper.IsAttached():  # stock shaders would draw: crop everything away
+        object_state(mapper)["refused"] = (mapper.GetCropping(), mapper.GetCroppingRegionFlags())
+        mapper.SetCropping(True)
+        mapper.SetCroppingRegionFlags(0)
 
 
 def _restore_after_refused_render(mapper, event) -> None:

@@ -47,12 +47,16 @@ def test_render_errors_are_clear(tmp_path, capsys):
 
 
 def test_bench_writes_tables(tmp_path):
-    assert main(["bench", "--scenes", "spheres", "--volume-size", "24", "--size", "32",
+    assert main(["bench", "--scenes", "vessels", "--volume-size", "24", "--size", "32",
                  "--views", "oblique", "--rounds", "1", "--out", str(tmp_path)]) == 0
-    rows = json.loads((tmp_path / "bench.json").read_text())
-    assert {row["method"] for row in rows} >= {"stock", "mip"}
-    assert all(row["median_ms"] > 0 for row in rows)
+    rows = {row["setting"]: row for row in json.loads((tmp_path / "bench.json").read_text())}
+    assert {"stock 1x", "stock 8x", "mip 1x", "analytic"} <= set(rows)
+    assert all(row["median_ms"] > 0 for row in rows.values())
+    assert rows["stock 1x"]["ratio_to_stock"] == 1.0
+    assert rows["analytic"]["p99_pct"] < 0.1 <= rows["stock 1x"]["p99_pct"]  # exact vs sampled
+    assert rows["stock 8x"]["p99_pct"] < rows["stock 1x"]["p99_pct"]
     assert "ratio_to_stock" in (tmp_path / "bench.md").read_text()
+    assert (tmp_path / "bench.png").stat().st_size > 10000
 
 
 def test_console_script_is_installed():

@@ -169,17 +169,20 @@ def test_attach_moves_pieces_and_refuses_foreign_code(vessels48):
         mapper.Attach(vessels48)
 
 
-def test_bad_input_is_refused_at_render_not_drawn():
+@pytest.mark.parametrize("method", ["mip", "analytic"])
+def test_bad_input_is_refused_at_render_not_drawn(vessels48, method):
+    view = OffscreenView(vessels48, method, size=(48, 48))
+    assert view.screenshot().max() > 100
     values = np.ones((8, 8, 8), np.float32)
     values[2, 3, 4] = np.nan
-    bad = _image(values)
-    mapper = mipcast.MIPVolumeMapper()
-    mapper.SetInputData(bad)
-    volume = vtkVolume()
-    volume.SetProperty(grey_property((0.0, 1.0)))
-    mapper.Attach(volume)
-    problem = mapper.GetRenderProblem()
+    view.mapper.SetInputData(_image(values))  # after the view checked its input
+    messages = []
+    view.mapper.AddObserver(vtkCommand.ErrorEvent, lambda *args: messages.append(args))
+    problem = view.mapper.GetRenderProblem()
     assert "NaN" in problem and "nan_to_num" in problem
+    assert view.screenshot().max() == 0 and messages
+    view.mapper.SetInputData(vessels48)
+    assert view.screenshot().max() > 100
 
 
 def test_input_connection_works(vessels48):
