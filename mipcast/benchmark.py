@@ -10,7 +10,7 @@ rays, from each method's float readout.
 from __future__ import annotations
 
 import statistics
-from typing import Iterable, NamedTuple, Optional, Sequence
+from typing import Iterable, NamedTuple, Optional, Sequence, Union
 
 import numpy as np
 
@@ -22,8 +22,8 @@ class Setting(NamedTuple):
 
     label: str
     method: str
-    samples_per_voxel: Optional[float] = None  # None: the method samples no ray (exact)
-    readout_method: Optional[str] = None       # method whose float readout stands for it
+    samples_per_voxel: Union[float, str, None] = None  # None: no sampling (exact); "auto": chosen per scene
+    readout_method: Optional[str] = None               # method whose float readout stands for it
 
 
 #: Stock VTK MIP has no float readout; mipcast's "mip" takes the very same
@@ -34,8 +34,37 @@ DEFAULT_SETTINGS = (
     Setting("stock 4x", "stock", 4, "mip"),
     Setting("stock 8x", "stock", 8, "mip"),
     Setting("mip 1x", "mip", 1),
+    Setting("auto", "stock", "auto", "mip"),
     Setting("analytic", "analytic"),
 )
+
+
+def resolve_settings(image, settings: Sequence[Setting], size, view: str, window=None) -> list:
+    """Settings with ``"auto"`` sampling replaced by the rate chosen for this scene and view.
+
+    The label becomes e.g. ``"auto (12x)"`` (``"auto (32x, target missed)"``
+    when even the densest candidate misses the target); see
+    :func:`mipcast.auto_sampling.choose_samples_per_voxel`.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> [s.label for s in resolve_settings(make_fixture("spheres", size=16),
+    ...                                    DEFAULT_SETTINGS[-2:], (32, 32), "oblique")]
+    ['auto (12x)', 'analytic']
+    """
+    from .auto_sampling import choose_samples_per_voxel
+
+    resolved = []
+    for setting in settings:
+        if setting.samples_per_voxel == "auto":
+            camera = OffscreenView(image, "mip", size=size, view=view, window=window).camera
+            choice = choose_samples_per_voxel(image, camera, size, window=window)
+            note = "" if choice.met else ", target missed"
+            setting = setting._replace(label=f"{setting.label} ({choice.samples_per_voxel:g}x{note})",
+                                       samples_per_voxel=choice.samples_per_voxel)
+        resolved.append(setting)
+    return resolved
 
 
 def _view(image, setting: Setting, method: str, size, view: str, window=None) -> OffscreenView:
@@ -176,7 +205,8 @@ def write_chart(rows: Sequence[dict], path, error_key: str = "p99_pct") -> None:
             ax.scatter(x, y, s=60 if index in front else 30, edgecolors="k" if index in front else "none",
                        zorder=3)
             label = row["setting"] + (" (exact)" if row[error_key] < floor else "")
-            ax.annotate(label, (x, y), textcoords="offset points", xytext=(5, 4), fontsize=8)
+            ax.annotate(label, (x, y), textcoords="offset points", fontsize=8,
+                        xytext=(5, 4) if index % 2 == 0 else (5, -11))
         ax.set_yscale("log")
         ax.set_xlabel("frame time / stock VTK MIP 1x")
         ax.set_ylabel(f"error {error_key} (% of data range)")

@@ -51,6 +51,8 @@ def test_bench_writes_tables(tmp_path):
                  "--views", "oblique", "--rounds", "1", "--out", str(tmp_path)]) == 0
     rows = {row["setting"]: row for row in json.loads((tmp_path / "bench.json").read_text())}
     assert {"stock 1x", "stock 8x", "mip 1x", "analytic"} <= set(rows)
+    auto = next(row for label, row in rows.items() if label.startswith("auto ("))
+    assert auto["within_1_grey"] >= rows["stock 8x"]["within_1_grey"]
     assert all(row["median_ms"] > 0 for row in rows.values())
     assert rows["stock 1x"]["ratio_to_stock"] == 1.0
     assert rows["analytic"]["p99_pct"] < 0.1 <= rows["stock 1x"]["p99_pct"]  # exact vs sampled
