@@ -7,7 +7,7 @@ Examples
 --------
 >>> import mipcast
 >>> sorted(mipcast.METHODS)
-['analytic', 'mip', 'stock']
+['analytic', 'cpu', 'mip', 'stock']
 """
 from .analytic_mapper import AnalyticMIPVolumeMapper
 from .methods import METHODS, create_mapper

@@ -1,6 +1,7 @@
 """The registry of rendering methods: a name -> a configured VTK volume mapper."""
 from __future__ import annotations
 
+from vtkmodules.vtkRenderingVolume import vtkFixedPointVolumeRayCastMapper
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
 from .analytic_mapper import AnalyticMIPVolumeMapper
@@ -14,9 +15,18 @@ def _stock_mip() -> vtkOpenGLGPUVolumeRayCastMapper:
     return mapper
 
 
-#: Method name -> factory of an unconfigured mapper. "stock" is VTK's own MIP.
+def _cpu_mip() -> vtkFixedPointVolumeRayCastMapper:
+    mapper = vtkFixedPointVolumeRayCastMapper()
+    mapper.SetBlendModeToMaximumIntensity()
+    return mapper
+
+
+#: Method name -> factory of an unconfigured mapper. "stock" is VTK's own GPU
+#: MIP, "cpu" its CPU peer (vtkFixedPointVolumeRayCastMapper); neither has a
+#: float readout.
 METHODS = {
     "stock": _stock_mip,
+    "cpu": _cpu_mip,
     "mip": MIPVolumeMapper,
     "analytic": AnalyticMIPVolumeMapper,
 }

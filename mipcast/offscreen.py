@@ -116,7 +116,8 @@ class OffscreenView:
         self.mapper.SetInputData(image)
         self.mapper.SetAutoAdjustSampleDistances(False)
         self.mapper.SetSampleDistance(self.sample_distance)
-        self.mapper.SetUseJittering(False)
+        if hasattr(self.mapper, "SetUseJittering"):  # the CPU peer has no jittering
+            self.mapper.SetUseJittering(False)
         self.volume = vtkVolume()
         self.volume.SetProperty(grey_property(self.window))
         methods.attach(self.mapper, self.volume)
