@@ -72,6 +72,8 @@ def _parser() -> argparse.ArgumentParser:
     bench.add_argument("--views", nargs="+", default=["oblique", "perspective"], choices=sorted(VIEWS))
     bench.add_argument("--rounds", type=int, default=5)
     bench.add_argument("--out", type=Path, default=Path("mipcast-bench"))
+    bench.add_argument("--stability", action="store_true",
+                       help="instead: measure each method's known weak points (stability.md)")
     bench.set_defaults(run=run_bench)
     return parser
 
@@ -136,6 +138,8 @@ def run_render(args) -> int:
 
 def run_bench(args) -> int:
     """Time and check every setting against stock VTK MIP on each scene, view and size."""
+    if args.stability:
+        return run_stability(args)
     from .benchmark import (DEFAULT_SETTINGS, errors_of_settings, markdown_table, resolve_settings,
                             time_settings, write_chart)
 
@@ -167,6 +171,25 @@ def run_bench(args) -> int:
     write_chart(rows, args.out / "bench.png")
     print(markdown_table(rows, columns))
     print(f"wrote {args.out}/bench.json, bench.md, bench.png ({time.perf_counter() - started:.0f} s)")
+    return 0
+
+
+def run_stability(args) -> int:
+    """Measure every stability case (:mod:`mipcast.stability`) and write stability.md/json."""
+    from .benchmark import markdown_table
+    from .stability import CASES, measure
+
+    args.out.mkdir(parents=True, exist_ok=True)
+    rows = []
+    for number, case in enumerate(CASES, 1):
+        rows.append(measure(case))
+        print(f"[{number}/{len(CASES)}] {case.method}: {case.name}: "
+              f"p99 {rows[-1]['p99_pct']:.3g}% of range", flush=True)
+    columns = ["method", "case", "p99_pct", "max_pct", "within_1_grey", "explanation"]
+    (args.out / "stability.json").write_text(json.dumps(rows, indent=2))
+    (args.out / "stability.md").write_text(markdown_table(rows, columns) + "\n")
+    print(markdown_table(rows, columns))
+    print(f"wrote {args.out}/stability.json and stability.md")
     return 0
 
 
