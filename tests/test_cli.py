@@ -59,6 +59,7 @@ def test_bench_writes_tables(tmp_path):
     assert rows["stock 8x"]["p99_pct"] < rows["stock 1x"]["p99_pct"]
     assert "ratio_to_stock" in (tmp_path / "bench.md").read_text()
     assert (tmp_path / "bench.png").stat().st_size > 10000
+    assert "mipcast, llvmpipe: vessels oblique 32" in (tmp_path / "papers.md").read_text()
 
 
 def test_console_script_is_installed():
