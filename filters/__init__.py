@@ -3,10 +3,22 @@
 Thin functions over :class:`mipcast.offscreen.OffscreenView` and the mipcast
 mappers, in the style of pyvista's own filters.  pyvista is imported here,
 never by the core package.
+
+Importing this module also registers two pyvista extensions (pyvista 0.48+
+extension API, see :mod:`mipcast.filters.extensions`):
+
+- ``grid.mip.render(...)`` on every ``pyvista.ImageData``;
+- ``plotter.mip.add_volume(...)`` on every pyvista plotter, with the added
+  volumes removed (and their shader pieces detached) when the plotter closes.
+
+Method parameters are keyword arguments passed to the mapper's VTK-style
+setters: ``depth_weight=0.2`` calls ``mapper.SetDepthWeight(0.2)`` (see
+:func:`set_parameters`).
 """
 from __future__ import annotations
 
-from typing import Optional, Sequence, Union
+import re
+from typing import Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -17,7 +29,7 @@ from ..validation import check_image, check_positive
 
 def render(image, method: str = "mip", *, size: Sequence[int] = (256, 256), view: str = "oblique",
            sample_distance: Optional[float] = None, window: Optional[Sequence[float]] = None,
-           as_float: bool = False) -> np.ndarray:
+           as_float: bool = False, **params) -> np.ndarray:
     """Render ``image`` offscreen with a mipcast method.
 
     Parameters
@@ -37,6 +49,9 @@ def render(image, method: str = "mip", *, size: Sequence[int] = (256, 256), view
     as_float : bool, default: False
         Return each pixel's maximum in data units (float32, NaN where a ray
         misses) instead of the 8-bit RGB picture.
+    **params
+        Method parameters, passed to the mapper's setters (see
+        :func:`set_parameters`); an unknown name raises ``TypeError``.
 
     Returns
     -------
@@ -51,15 +66,18 @@ def render(image, method: str = "mip", *, size: Sequence[int] = (256, 256), view
     >>> grid = pv.wrap(make_fixture("vessels", size=32))
     >>> render(grid, size=(64, 48)).shape
     (48, 64, 3)
+    >>> render(grid, "mip", size=(32, 32), as_float=True, image_sample_distance=2.0).dtype
+    dtype('float32')
     """
     scene = OffscreenView(image, method, size=size, view=view,
                           sample_distance=sample_distance, window=window)
+    set_parameters(scene.mapper, **params)
     return scene.float_image() if as_float else scene.screenshot()
 
 
 def add_volume(plotter, image, method: str = "mip", *, cmap: Union[str, object] = "gray",
                clim: Optional[Sequence[float]] = None, opacity: Union[float, str] = 1.0,
-               sample_distance: Optional[float] = None):
+               sample_distance: Optional[float] = None, **params):
     """Add ``image`` to a pyvista ``Plotter``, rendered by a mipcast method.
 
     Parameters
@@ -80,6 +98,10 @@ def add_volume(plotter, image, method: str = "mip", *, cmap: Union[str, object] 
     sample_distance : float, optional
         World units between samples; default one sample per voxel.
         Auto-adjust is off so the setting holds while interacting.
+    **params
+        Method parameters, passed to the mapper's setters (see
+        :func:`set_parameters`); an unknown name raises ``TypeError``
+        before anything is added.
 
     Returns
     -------
@@ -106,12 +128,115 @@ def add_volume(plotter, image, method: str = "mip", *, cmap: Union[str, object] 
     mapper.SetInputData(image)
     mapper.SetAutoAdjustSampleDistances(False)
     mapper.SetSampleDistance(check_positive("sample_distance", sample_distance))
+    set_parameters(mapper, **params)
     volume = vtkVolume()
     volume.SetProperty(_volume_property(cmap, (low, high), opacity))
     attach(mapper, volume)
     plotter.renderer.AddVolume(volume)
     plotter.reset_camera()
     return volume
+
+
+def set_parameters(mapper, **params) -> None:
+    """Set method parameters on a mapper through its VTK-style setters.
+
+    ``name=value`` calls ``mapper.SetName(value)``, the name converted from
+    snake_case to CamelCase (``depth_weight`` -> ``SetDepthWeight``); a
+    tuple or list is unpacked (``gaze_point=(0.5, 0.5)`` ->
+    ``SetGazePoint(0.5, 0.5)``).  Every setter of the mapper is reachable,
+    the method's own (:func:`method_parameters`) and VTK's
+    (``image_sample_distance``, ``use_jittering``, ...).  All names are
+    checked before any is set.
+
+    Parameters
+    ----------
+    mapper : vtkVolumeMapper
+        A mapper made by :func:`mipcast.create_mapper` (any VTK mapper works).
+    **params
+        ``name=value`` pairs.
+
+    Raises
+    ------
+    TypeError
+        If a name has no setter on the mapper (the message names it and lists
+        the method's own parameters), or a setter refuses its value.
+
+    Examples
+    --------
+    >>> import mipcast
+    >>> from mipcast.filters import set_parameters
+    >>> mapper = mipcast.create_mapper("mip")
+    >>> set_parameters(mapper, image_sample_distance=2.0, use_jittering=True)
+    >>> mapper.GetImageSampleDistance(), mapper.GetUseJittering()
+    (2.0, 1)
+    >>> set_parameters(mapper, no_such_weight=0.2)
+    Traceback (most recent call last):
+    ...
+    TypeError: MIPVolumeMapper has no parameter 'no_such_weight' (no SetNoSuchWeight): ...
+    """
+    setters = {}
+    for name, value in params.items():
+        setter = getattr(mapper, _setter_name(name), None)
+        if not callable(setter):
+            own = ", ".join(method_parameters(mapper)) or "none"
+            raise TypeError(
+                f"{type(mapper).__name__} has no parameter {name!r} (no {_setter_name(name)}): "
+                f"its method parameters are: {own}; VTK's mapper setters work too, e.g. "
+                "image_sample_distance=2.0 (SetImageSampleDistance) or use_jittering=True")
+        setters[name] = setter
+    for name, value in params.items():
+        arguments = tuple(value) if isinstance(value, (tuple, list)) else (value,)
+        try:
+            setters[name](*arguments)
+        except TypeError as error:
+            raise TypeError(f"{name}={value!r} ({_setter_name(name)}): {error}") from None
+
+
+def method_parameters(mapper) -> Tuple[str, ...]:
+    """Names of the parameters a method adds to VTK's mapper, in snake_case.
+
+    These are the ``Set*`` methods that mipcast's (Python) mapper classes
+    define and VTK's base mapper does not have; VTK's own setters are not
+    listed.  Stock VTK MIP has none.
+
+    Parameters
+    ----------
+    mapper : vtkVolumeMapper
+        Any volume mapper, e.g. from :func:`mipcast.create_mapper`.
+
+    Returns
+    -------
+    tuple of str
+        Sorted names, usable as keyword arguments of :func:`set_parameters`,
+        :func:`render` and :func:`add_volume`.
+
+    Examples
+    --------
+    >>> import mipcast
+    >>> from mipcast.filters import method_parameters
+    >>> method_parameters(mipcast.create_mapper("stock"))
+    ()
+    """
+    vtk_base = next(c for c in type(mapper).__mro__ if c.__module__.startswith("vtkmodules"))
+    names = set()
+    for cls in type(mapper).__mro__:
+        if cls.__module__.startswith("vtkmodules") or cls is object:
+            continue
+        for attribute, value in vars(cls).items():
+            if (attribute.startswith("Set") and len(attribute) > 3 and callable(value)
+                    and not hasattr(vtk_base, attribute)):
+                names.add(_snake_name(attribute[3:]))
+    return tuple(sorted(names))
+
+
+def _setter_name(name: str) -> str:
+    """``depth_weight`` -> ``SetDepthWeight``."""
+    return "Set" + "".join(part[:1].upper() + part[1:] for part in name.split("_"))
+
+
+def _snake_name(camel: str) -> str:
+    """``DepthWeight`` -> ``depth_weight``."""
+    return re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "_", camel).lower()
 
 
 def _volume_property(cmap, clim, opacity):
@@ -140,3 +265,10 @@ def _volume_property(cmap, clim, opacity):
     prop.SetScalarOpacity(opacity_tf)
     prop.SetInterpolationTypeToLinear()
     return prop
+
+
+# Registers grid.mip and plotter.mip (imports pyvista); after the functions it delegates to.
+from .extensions import MipAccessor, MipPlotterComponent  # noqa: E402
+
+__all__ = ["render", "add_volume", "set_parameters", "method_parameters",
+           "MipAccessor", "MipPlotterComponent"]

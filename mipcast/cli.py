@@ -64,6 +64,14 @@ def _parser() -> argparse.ArgumentParser:
     render.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
     render.set_defaults(run=run_render)
 
+    view = sub.add_parser("view", help="open an interactive window (keys m/d switch method/depth mode)")
+    view.add_argument("input", type=Path)
+    view.add_argument("--method", default="mip", choices=sorted(METHODS))
+    view.add_argument("--window", type=float, nargs=2, default=None, metavar=("LOW", "HIGH"),
+                      help="colour limits in data units (default: data range)")
+    view.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
+    view.set_defaults(run=run_view)
+
     bench = sub.add_parser("bench", help="frame-time ratios of every method against stock VTK MIP")
     bench.add_argument("--scenes", nargs="+", default=["vessels"],
                        help="fixture names, 'head' for the head CT, or volume files")
@@ -133,6 +141,31 @@ def run_render(args) -> int:
     args.out.parent.mkdir(parents=True, exist_ok=True)
     write_png(args.out, view.screenshot())
     print(f"wrote {args.out}")
+    return 0
+
+
+def run_view(args) -> int:
+    """Open the interactive viewer on one volume file; without a display, say so and return 2.
+
+    Examples
+    --------
+    Without a display (forced here) nothing is read: it points to ``render``.
+
+    >>> from unittest import mock
+    >>> with mock.patch("mipcast.viewer.has_display", return_value=False):
+    ...     main(["view", "head.nii.gz"])
+    2
+    """
+    from .viewer import has_display, run_viewer
+
+    if not has_display():
+        print(f"mipcast view: no display: use `mipcast render {args.input} --out x.png` "
+              "to render to a file instead", file=sys.stderr)
+        return 2
+    from .io import read_volume
+
+    image = read_volume(args.input, series_uid=args.series)
+    run_viewer(image, args.method, clim=args.window)
     return 0
 
 

@@ -1,0 +1,217 @@
+"""mipcast's pyvista extensions: ``grid.mip`` and ``plotter.mip``.
+
+Registered with pyvista's extension API (0.48+) when :mod:`mipcast.filters`
+is imported:
+
+- :class:`MipAccessor` via ``pyvista.register_dataset_accessor("mip",
+  pyvista.ImageData)``: ``grid.mip.render(...)``;
+- :class:`MipPlotterComponent` via ``pyvista.register_plotter_component("mip")``:
+  ``plotter.mip.add_volume(...)``; pyvista calls its ``__plotter_close__``
+  when the plotter closes, which removes the volumes it added.
+
+Both delegate to the functions of :mod:`mipcast.filters`; nothing else
+happens here.
+"""
+from __future__ import annotations
+
+import weakref
+from typing import Optional, Sequence, Union
+
+import numpy as np
+import pyvista
+
+from . import add_volume, render
+
+
+@pyvista.register_dataset_accessor("mip", pyvista.ImageData)
+class MipAccessor:
+    """Render an ``ImageData`` with a mipcast method: ``grid.mip.render(...)``.
+
+    Parameters
+    ----------
+    grid : pyvista.ImageData
+        The volume (one-component point scalars); pyvista passes it.
+
+    Examples
+    --------
+    >>> import pyvista as pv
+    >>> import mipcast.filters
+    >>> grid = pv.ImageData(dimensions=(8, 8, 8))
+    >>> grid.point_data["values"] = np.arange(grid.n_points, dtype=float)
+    >>> grid.mip.render("analytic", size=(24, 16)).shape
+    (16, 24, 3)
+    """
+
+    def __init__(self, grid) -> None:
+        self._grid = grid
+
+    def render(self, method: str = "mip", *, size: Sequence[int] = (256, 256), view: str = "oblique",
+               sample_distance: Optional[float] = None, window: Optional[Sequence[float]] = None,
+               as_float: bool = False, **params) -> np.ndarray:
+        """Render the grid offscreen with ``method``; see :func:`mipcast.filters.render`.
+
+        Parameters
+        ----------
+        method : str, default: "mip"
+            A name from ``mipcast.METHODS``.
+        size : sequence of int, default: (256, 256)
+            Image (width, height) in pixels.
+        view : str, default: "oblique"
+            A camera preset of ``mipcast.offscreen.VIEWS``.
+        sample_distance : float, optional
+            World units between samples; default one sample per voxel.
+        window : sequence of float, optional
+            Grey window (low, high) in data units; default the data range.
+        as_float : bool, default: False
+            Return each pixel's maximum in data units (float32, NaN where a
+            ray misses) instead of the 8-bit RGB picture.
+        **params
+            Method parameters, e.g. ``depth_weight=0.2`` (see
+            :func:`mipcast.filters.set_parameters`).
+
+        Returns
+        -------
+        numpy.ndarray
+            (height, width, 3) uint8, or (height, width) float32, top row first.
+
+        Examples
+        --------
+        >>> import pyvista as pv
+        >>> import mipcast.filters
+        >>> from mipcast.data_fixtures import make_fixture
+        >>> grid = pv.wrap(make_fixture("vessels", size=24))
+        >>> values = grid.mip.render("mip", size=(32, 32), as_float=True)
+        >>> values.shape, values.dtype
+        ((32, 32), dtype('float32'))
+        """
+        return render(self._grid, method, size=size, view=view, sample_distance=sample_distance,
+                      window=window, as_float=as_float, **params)
+
+
+@pyvista.register_plotter_component("mip")
+class MipPlotterComponent:
+    """Add volumes rendered by mipcast methods to a plotter: ``plotter.mip.add_volume(...)``.
+
+    The component keeps the volumes it added; when the plotter closes it
+    detaches their shader pieces and removes them from their renderers.
+
+    Parameters
+    ----------
+    plotter : pyvista.Plotter
+        The owning plotter; pyvista passes it (held weakly).
+
+    Examples
+    --------
+    >>> import pyvista as pv
+    >>> import mipcast.filters
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> plotter = pv.Plotter(off_screen=True, window_size=(48, 48))
+    >>> volume = plotter.mip.add_volume(pv.wrap(make_fixture("spheres", size=16)), "analytic")
+    >>> plotter.mip.volumes == (volume,)
+    True
+    >>> plotter.close()
+    >>> plotter.mip.volumes
+    ()
+    """
+
+    def __init__(self, plotter) -> None:
+        self._plotter = weakref.proxy(plotter)
+        self._added = []  # (vtkVolume, vtkRenderer) in the order they were added
+
+    @property
+    def volumes(self) -> tuple:
+        """The vtkVolumes this component added and has not removed, oldest first."""
+        return tuple(volume for volume, _ in self._added)
+
+    def add_volume(self, grid, method: str = "mip", *, cmap: Union[str, object] = "gray",
+                   clim: Optional[Sequence[float]] = None, opacity: Union[float, str] = 1.0,
+                   sample_distance: Optional[float] = None, **params):
+        """Add ``grid`` to the plotter's active renderer; see :func:`mipcast.filters.add_volume`.
+
+        Parameters
+        ----------
+        grid : pyvista.ImageData
+            Volume with one-component point scalars.
+        method : str, default: "mip"
+            A name from ``mipcast.METHODS``.
+        cmap : str or matplotlib colormap, default: "gray"
+            Colour map over ``clim``, as in ``Plotter.add_volume``.
+        clim : sequence of float, optional
+            Colour limits (low, high); default the data range.
+        opacity : float or str, default: 1.0
+            A constant opacity or one of pyvista's opacity transfer function
+            names, as in ``Plotter.add_volume``.
+        sample_distance : float, optional
+            World units between samples; default one sample per voxel.
+        **params
+            Method parameters, e.g. ``depth_weight=0.2`` (see
+            :func:`mipcast.filters.set_parameters`).
+
+        Returns
+        -------
+        vtkVolume
+            The added volume; its mapper is ``volume.GetMapper()``.
+
+        Examples
+        --------
+        >>> import pyvista as pv
+        >>> import mipcast.filters
+        >>> from mipcast.data_fixtures import make_fixture
+        >>> plotter = pv.Plotter(off_screen=True, window_size=(64, 48))
+        >>> volume = plotter.mip.add_volume(pv.wrap(make_fixture("vessels", size=24)),
+        ...                                 "mip", cmap="bone", clim=(0.1, 0.9))
+        >>> type(volume.GetMapper()).__name__
+        'MIPVolumeMapper'
+        >>> plotter.screenshot().shape
+        (48, 64, 3)
+        >>> plotter.close()
+        """
+        renderer = self._plotter.renderer
+        volume = add_volume(self._plotter, grid, method, cmap=cmap, clim=clim, opacity=opacity,
+                            sample_distance=sample_distance, **params)
+        self._added.append((volume, renderer))
+        return volume
+
+    def remove_volume(self, volume) -> None:
+        """Remove a volume this component added: detach its mapper, take it off its renderer.
+
+        Parameters
+        ----------
+        volume : vtkVolume
+            A volume returned by :meth:`add_volume`.
+
+        Raises
+        ------
+        ValueError
+            If the volume was not added by this component (or was removed).
+
+        Examples
+        --------
+        >>> import pyvista as pv
+        >>> import mipcast.filters
+        >>> from mipcast.data_fixtures import make_fixture
+        >>> plotter = pv.Plotter(off_screen=True, window_size=(32, 32))
+        >>> volume = plotter.mip.add_volume(pv.wrap(make_fixture("spheres", size=16)))
+        >>> plotter.mip.remove_volume(volume)
+        >>> plotter.renderer.GetVolumes().GetNumberOfItems(), volume.GetMapper().IsAttached()
+        (0, False)
+        >>> plotter.close()
+        """
+        for index, (added, renderer) in enumerate(self._added):
+            if added is volume:
+                del self._added[index]
+                _remove(added, renderer)
+                return
+        raise ValueError("this volume was not added by plotter.mip.add_volume (or was removed already)")
+
+    def __plotter_close__(self) -> None:
+        """Remove every volume this component added (pyvista calls it on ``close``)."""
+        while self._added:
+            _remove(*self._added.pop())
+
+
+def _remove(volume, renderer) -> None:
+    mapper = volume.GetMapper()
+    if hasattr(mapper, "Detach"):
+        mapper.Detach()
+    renderer.RemoveVolume(volume)

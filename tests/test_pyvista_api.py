@@ -1,0 +1,132 @@
+"""pyvista extension API: grid.mip accessor, plotter.mip component, method parameters as keywords."""
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import pyvista as pv
+
+import mipcast
+import mipcast.filters
+from mipcast import METHODS, create_mapper
+from mipcast.data_fixtures import make_fixture
+from mipcast.filters import add_volume, method_parameters, render, set_parameters
+from mipcast.shader_pieces import installed_tags
+
+SIZE = (48, 40)
+
+
+@pytest.fixture(scope="module")
+def grid():
+    return pv.wrap(make_fixture("vessels", size=24))
+
+
+def test_import_mipcast_does_not_import_pyvista():
+    code = "import sys, mipcast; assert 'pyvista' not in sys.modules, 'pyvista imported'; print('ok')"
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0 and "ok" in result.stdout, result.stderr
+
+
+def test_extensions_are_registered_on_import():
+    accessors = {(r.name, r.target) for r in pv.registered_accessors()}
+    assert ("mip", pv.ImageData) in accessors
+    assert "mip" in {r.name for r in pv.registered_plotter_components()}
+    assert isinstance(pv.ImageData(dimensions=(2, 2, 2)).mip, mipcast.filters.MipAccessor)
+
+
+@pytest.mark.parametrize("method", list(METHODS))
+def test_accessor_renders_like_the_function(grid, method):
+    shot = grid.mip.render(method, size=SIZE)
+    assert shot.shape == (SIZE[1], SIZE[0], 3) and shot.dtype == np.uint8
+    assert shot.max() > 100, f"{method} picture is dark"
+    np.testing.assert_array_equal(shot, render(grid, method, size=SIZE))
+
+
+def test_accessor_float_readout(grid):
+    values = grid.mip.render("analytic", size=SIZE, as_float=True)
+    low, high = grid.get_data_range()
+    hit = ~np.isnan(values)
+    assert values.dtype == np.float32 and 0.2 < hit.mean() < 0.95
+    assert low <= values[hit].min() and values[hit].max() <= high + 1e-6 * (high - low)
+
+
+@pytest.mark.parametrize("method", list(METHODS))
+def test_unknown_parameter_is_a_type_error_naming_it(grid, method):
+    with pytest.raises(TypeError, match="'no_such_weight'.*method parameters are: ") as error:
+        grid.mip.render(method, size=SIZE, no_such_weight=0.2)
+    for name in method_parameters(create_mapper(method)):
+        assert name in str(error.value)
+
+
+def test_parameters_reach_the_mapper_setters():
+    mapper = create_mapper("mip")
+    set_parameters(mapper, image_sample_distance=2.0, cropping_region_planes=(0, 1, 0, 2, 0, 3))
+    assert mapper.GetImageSampleDistance() == 2.0
+    assert mapper.GetCroppingRegionPlanes() == (0.0, 1.0, 0.0, 2.0, 0.0, 3.0)
+    with pytest.raises(TypeError, match="image_sample_distance='far'"):
+        set_parameters(mapper, image_sample_distance="far")
+
+
+def test_method_parameters_are_the_methods_own_setters():
+    assert method_parameters(create_mapper("stock")) == ()
+    assert "partitions" not in method_parameters(create_mapper("analytic"))  # overrides a VTK setter
+
+    class Weighted(mipcast.MIPVolumeMapper):
+        def SetDepthWeight(self, value):
+            pass
+
+    assert method_parameters(Weighted()) == ("depth_weight",)
+
+
+@pytest.mark.skipif("demip" not in METHODS, reason="DEMIP is not registered yet")
+def test_demip_parameters_as_keywords(grid):
+    assert {"depth_weight", "sphere_weight", "depth_mode"} <= set(method_parameters(create_mapper("demip")))
+    plain = grid.mip.render("mip", size=SIZE)
+    np.testing.assert_array_equal(grid.mip.render("demip", size=SIZE, depth_weight=0.0), plain)
+    assert np.abs(grid.mip.render("demip", size=SIZE, depth_weight=0.5).astype(int) - plain).max() > 20
+
+
+def test_plotter_component_adds_like_the_function(grid):
+    shots = []
+    for use_component in (True, False):
+        plotter = pv.Plotter(off_screen=True, window_size=SIZE)
+        if use_component:
+            volume = plotter.mip.add_volume(grid, "analytic", cmap="viridis", clim=(0.1, 0.9))
+            assert plotter.mip.volumes == (volume,)
+            assert isinstance(volume.GetMapper(), mipcast.AnalyticMIPVolumeMapper)
+        else:
+            add_volume(plotter, grid, "analytic", cmap="viridis", clim=(0.1, 0.9))
+        shots.append(plotter.screenshot())
+        plotter.close()
+    assert shots[0].std() > 10
+    np.testing.assert_array_equal(shots[0], shots[1])
+
+
+def test_plotter_close_removes_and_detaches(grid):
+    plotter = pv.Plotter(off_screen=True, window_size=SIZE)
+    renderer = plotter.renderer
+    volumes = [plotter.mip.add_volume(grid, method) for method in METHODS]
+    plotter.screenshot()
+    assert renderer.GetVolumes().GetNumberOfItems() == len(METHODS)
+    plotter.close()
+    assert plotter.mip.volumes == ()
+    assert renderer.GetVolumes().GetNumberOfItems() == 0
+    for volume in volumes:
+        assert installed_tags(volume.GetShaderProperty()) == []
+        assert not getattr(volume.GetMapper(), "IsAttached", lambda: False)()
+
+
+def test_bad_arguments_add_nothing(grid):
+    plotter = pv.Plotter(off_screen=True, window_size=SIZE)
+    with pytest.raises(TypeError, match="no_such_weight"):
+        plotter.mip.add_volume(grid, "mip", no_such_weight=1.0)
+    with pytest.raises(ValueError, match="clim"):
+        plotter.mip.add_volume(grid, clim=(1.0, 0.0))
+    with pytest.raises(ValueError, match="unknown method"):
+        plotter.mip.add_volume(grid, "best")
+    assert plotter.mip.volumes == () and plotter.renderer.GetVolumes().GetNumberOfItems() == 0
+    other = pv.Plotter(off_screen=True, window_size=SIZE)
+    with pytest.raises(ValueError, match="not added by plotter.mip"):
+        plotter.mip.remove_volume(other.mip.add_volume(grid))
+    other.close()
+    plotter.close()
