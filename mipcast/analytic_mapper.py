@@ -36,7 +36,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     PIECES = ("mip_globals", "refusal", "amip_cell", "amip_loop", "no_stock_sample", "mip_color")
 
     #: Cells per edge of a skipping block (the coarse level is 1/BLOCK^3 the size).
-    BLOCK = 4
+    BLOCK = 8
 
     def SetPartitions(self, x: int, y: int, z: int) -> None:
         """Recorded so that rendering can refuse it: see :meth:`GetRenderProblem`."""
@@ -92,6 +92,8 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         names = super().GetShaderPieces()
         if self._transfer_floor_ceiling()[0] > 0.0:
             names = tuple("amip_loop_blocks" if n == "amip_loop" else n for n in names)
+        if object_state(self).get("stat") is not None:  # mipcast.amip_stats reads work counters
+            names = tuple("amip_stats_readout" if n == "float_readout" else n for n in names)
         return names
 
     def _transfer_floor_ceiling(self) -> tuple:
@@ -111,7 +113,9 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         uniforms.SetUniformf("u_mc_blockSize", float(self.BLOCK))
 
         floor, ceiling = self._transfer_floor_ceiling()
-        exact = object_state(self).get("exact_readout", False)
+        # the float readout is exact in data units; counting work keeps the display's shortcuts
+        exact = object_state(self).get("exact_readout", False) and object_state(self).get("stat") is None
+        uniforms.SetUniformf("u_mc_stat", float(object_state(self).get("stat") or 0))
         uniforms.SetUniformf("u_mc_floor", -1.0e30 if exact else floor)
         uniforms.SetUniformf("u_mc_ceiling", 1.0e30 if exact else ceiling)
         if image is not None and image.GetNumberOfPoints() > 0:

@@ -7,6 +7,11 @@
 //
 // Index space: point i sits at texture coordinate (i + 0.5) / N, so
 // p(t) = origin + t * dir with t the texture-space length along the ray.
+// Work counters, read by the amip_stats_readout piece (mipcast/amip_stats.py).
+float mc_cellsWalked = 0.0;
+float mc_cellsSolved = 0.0;
+float mc_blocksJumped = 0.0;
+
 struct McRay
 {
   vec3 origin;
@@ -107,8 +112,10 @@ void mcWalkCell(McRay ray, ivec3 cell, float t1, inout float t0, inout vec3 tNex
                  texelFetch(in_volume[0], cell + ivec3(1, 0, 1), 0).r,
                  texelFetch(in_volume[0], cell + ivec3(1, 1, 1), 0).r);
   vec4 corners = max(lo, hi);
+  mc_cellsWalked += 1.0;
   if (max(max(corners.x, corners.y), max(corners.z, corners.w)) > rayMax)
   {
+    mc_cellsSolved += 1.0;
     rayMax = max(rayMax, mcCellMaximum(lo, hi, ray.origin + t0 * ray.dir - vec3(cell), (t1 - t0) * ray.dir));
   }
   tNext += ray.tDelta * vec3(lessThanEqual(tNext, vec3(t1 * (1.0 + 1.0e-6) + 1.0e-7)));

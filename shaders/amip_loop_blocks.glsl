@@ -29,6 +29,7 @@
                          / mix(mc_ray.dir, vec3(1.0), vec3(mc_ray.still)), vec3(1.0e30), vec3(mc_ray.still));
       mc_t0 = max(mc_t1, min(min(min(mc_exit.x, mc_exit.y), mc_exit.z), mc_ray.length));
       mc_tNext = mcPlanesAfter(mc_ray, mc_t0);
+      mc_blocksJumped += 1.0;
       continue;
     }
     mcWalkCell(mc_ray, mc_cell, mc_t1, mc_t0, mc_tNext, mc_rayMax);

@@ -1,0 +1,20 @@
+"""Analytic MIP's work counters: what the walk visits, solves and skips."""
+from mipcast.amip_stats import work_per_ray
+from mipcast.data_fixtures import make_fixture
+from mipcast.offscreen import OffscreenView
+
+
+def test_full_range_walks_every_crossed_cell():
+    scene = OffscreenView(make_fixture("vessels", size=48), "analytic", size=(64, 64))
+    work = work_per_ray(scene)
+    assert abs(work["cells_walked"] - work["cells_crossed"]) < 0.02 * work["cells_crossed"]
+    assert work["blocks_jumped"] == 0.0 and work["texel_fetches"] == 8 * work["cells_walked"]
+    assert 0.1 < work["skipped_cubics"] < 0.9  # the corner bound spares some root solves
+
+
+def test_a_window_above_the_background_skips_most_cells():
+    scene = OffscreenView(make_fixture("vessels", size=48), "analytic", size=(64, 64), window=(0.3, 0.9))
+    work = work_per_ray(scene)
+    assert work["blocks_jumped"] > 1.0
+    assert work["skipped_cells"] > 0.5
+    assert work["texel_fetches"] < 0.5 * 8 * work["cells_crossed"]
