@@ -166,6 +166,33 @@ def _values(scene: OffscreenView) -> np.ndarray:
     return low + grey / 255.0 * (high - low)  # misses: only the reference's hits are compared
 
 
+def measure_scene(image, scene: str, view: str, edge: int, rounds: int = 5, window=None) -> list:
+    """All of :data:`DEFAULT_SETTINGS` on one scene, view and size: bench rows.
+
+    Each row has the time ratio to stock MIP 1x, the error figures of
+    :func:`errors_of_settings`, and for analytic MIP its work per ray
+    (:func:`mipcast.amip_stats.work_per_ray`).
+    """
+    from .amip_stats import work_per_ray
+
+    size = (edge, edge)
+    settings = resolve_settings(image, DEFAULT_SETTINGS, size, view, window)
+    times = time_settings(image, settings, size=size, view=view, rounds=rounds, window=window)
+    errors = errors_of_settings(image, settings, size=size, view=view, window=window)
+    rows = []
+    for setting in settings:
+        error, timing = errors[setting.label], times[setting.label]
+        row = {"scene": scene, "view": view, "size": edge, "setting": setting.label,
+               "median_ms": 1000 * timing["median_s"], "ratio_to_stock": timing["ratio"],
+               "p99_pct": error["p99_pct"], "max_pct": error["max_pct"], "fg_p99_pct": error["fg_p99_pct"],
+               "within_1_grey": error["within_1_grey"], "frames": timing["frames"]}
+        if setting.method == "analytic":
+            work = work_per_ray(_view(image, setting, "analytic", size, view, window))
+            row.update(texel_fetches=work["texel_fetches"], skipped_cells=work["skipped_cells"])
+        rows.append(row)
+    return rows
+
+
 def markdown_table(rows: Iterable[dict], columns: Sequence[str]) -> str:
     """Format dict rows as a Markdown table with the given columns.
 

@@ -74,7 +74,8 @@ def _parser() -> argparse.ArgumentParser:
 
     bench = sub.add_parser("bench", help="frame-time ratios of every method against stock VTK MIP")
     bench.add_argument("--scenes", nargs="+", default=["vessels"],
-                       help="fixture names, 'head' for the head CT, or volume files")
+                       help="fixture names, 'head' for the head CT, or volume files; "
+                            "NAME@LOW,HIGH sets a grey window (e.g. head@100,1500)")
     bench.add_argument("--size", type=int, nargs="+", default=[256, 512])
     bench.add_argument("--volume-size", type=int, default=128, help="edge of synthetic fixtures")
     bench.add_argument("--views", nargs="+", default=["oblique", "perspective"], choices=sorted(VIEWS))
@@ -174,32 +175,21 @@ def run_bench(args) -> int:
     if args.stability:
         return run_stability(args)
     from . import paper_tables
-    from .benchmark import (DEFAULT_SETTINGS, errors_of_settings, markdown_table, resolve_settings,
-                            time_settings, write_chart)
+    from .benchmark import markdown_table, measure_scene, write_chart
 
     args.out.mkdir(parents=True, exist_ok=True)
     rows = []
     started = time.perf_counter()
     jobs = [(scene, view, edge) for scene in args.scenes for view in args.views for edge in args.size]
     for number, (scene, view, edge) in enumerate(jobs, 1):
-        image = load_scene(scene, args.volume_size)
-        size = (edge, edge)
+        image, window = load_scene(scene, args.volume_size)
         print(f"[{number}/{len(jobs)}] {scene} {view} {edge}^2 ...", flush=True)
-        settings = resolve_settings(image, DEFAULT_SETTINGS, size, view)
-        times = time_settings(image, settings, size=size, view=view, rounds=args.rounds)
-        errors = errors_of_settings(image, settings, size=size, view=view)
-        for setting in settings:
-            error = errors[setting.label]
-            rows.append({"scene": scene, "view": view, "size": edge, "setting": setting.label,
-                         "median_ms": 1000 * times[setting.label]["median_s"],
-                         "ratio_to_stock": times[setting.label]["ratio"],
-                         "p99_pct": error["p99_pct"], "max_pct": error["max_pct"],
-                         "fg_p99_pct": error["fg_p99_pct"], "within_1_grey": error["within_1_grey"],
-                         "frames": times[setting.label]["frames"]})
+        new = measure_scene(image, scene, view, edge, rounds=args.rounds, window=window)
+        rows += new
         print("    " + ", ".join(f"{r['setting']} x{r['ratio_to_stock']:.2f} p99 {r['p99_pct']:.3g}%"
-                                 for r in rows[-len(DEFAULT_SETTINGS):]), flush=True)
+                                 for r in new), flush=True)
     columns = ["scene", "view", "size", "setting", "median_ms", "ratio_to_stock", "p99_pct",
-               "fg_p99_pct", "max_pct", "within_1_grey", "frames"]
+               "fg_p99_pct", "max_pct", "within_1_grey", "frames", "texel_fetches", "skipped_cells"]
     (args.out / "bench.json").write_text(json.dumps(rows, indent=2))
     (args.out / "bench.md").write_text(markdown_table(rows, columns) + "\n")
     write_chart(rows, args.out / "bench.png")
@@ -230,15 +220,23 @@ def run_stability(args) -> int:
 
 
 def load_scene(scene: str, volume_size: int):
-    """A fixture name, ``head`` (the head CT) or a volume file -> vtkImageData."""
+    """``NAME[@LOW,HIGH]`` -> (vtkImageData, window or None).
+
+    NAME is a fixture, ``head`` (the head CT) or a volume file; ``@LOW,HIGH``
+    sets the grey window (e.g. ``head@100,1500``, a CT angiography window).
+    """
     from .data_fixtures import FIXTURES, load_head_ct, make_fixture
 
-    if scene in FIXTURES:
-        return make_fixture(scene, size=volume_size)
-    if scene == "head":
-        return load_head_ct()
+    name, _, window_text = scene.partition("@")
+    window = tuple(float(v) for v in window_text.split(",")) if window_text else None
+    if window is not None and len(window) != 2:
+        raise ValueError(f"scene window must be @LOW,HIGH, got {scene!r}")
+    if name in FIXTURES:
+        return make_fixture(name, size=volume_size), window
+    if name == "head":
+        return load_head_ct(), window
     from .io import read_volume
-    return read_volume(Path(scene))
+    return read_volume(Path(name)), window
 
 
 def write_png(path: Path, pixels: np.ndarray) -> None:
