@@ -18,7 +18,7 @@ from typing import Optional, Tuple, Union
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
-from .synthetic import _to_image
+from .synthetic import image_from_array
 
 ENV_VAR = "MIPCAST_HEAD_CT"
 DEBIAN_PATHS = (Path("/usr/share/doc/invesalius-examples/examples/Cranium.inv3"),)
@@ -89,7 +89,7 @@ def load_head_ct(path: Union[str, Path, None] = None) -> vtkImageData:
             f"head CT not found at {where}: run 'apt-get install invesalius-examples' "
             f"or set {ENV_VAR} to a Cranium.inv3 file")
     voxels, spacing = _read_inv3(str(path.resolve()))
-    return _to_image(voxels, "HU", spacing)
+    return image_from_array(voxels, "HU", spacing)
 
 
 @functools.lru_cache(maxsize=2)

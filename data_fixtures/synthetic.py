@@ -78,7 +78,7 @@ def make_fixture(name: str, size: int = 64, seed: int = 0) -> vtkImageData:
     n = int(size)
     rng = np.random.default_rng(seed)
     array = _GENERATORS[name](n, rng)
-    return _to_image(array.astype(np.float32, copy=False), "scalars")
+    return image_from_array(array.astype(np.float32, copy=False), "scalars")
 
 
 def _grid(n: int):
@@ -153,12 +153,33 @@ _GENERATORS = {"vessels": _vessels, "spheres": _spheres, "noise": _noise,
                "frontback": _frontback}
 
 
-def _to_image(array: np.ndarray, name: str, spacing=(1.0, 1.0, 1.0)) -> vtkImageData:
-    """Wrap a ``[k, j, i]`` array as vtkImageData point scalars (deep copy)."""
+def image_from_array(array: np.ndarray, name: str = "values", spacing=(1.0, 1.0, 1.0),
+                     origin=(0.0, 0.0, 0.0), direction=None) -> vtkImageData:
+    """Wrap a ``[k, j, i]`` array as vtkImageData point scalars (deep copy).
+
+    Parameters
+    ----------
+    array : numpy.ndarray, shape (nz, ny, nx)
+        Point values; the dtype is kept.
+    name : str, default: "values"
+        Name of the scalar array.
+    spacing, origin : sequence of float
+        Image geometry.
+    direction : array_like, shape (3, 3), optional
+        Direction matrix (default identity).
+
+    Examples
+    --------
+    >>> image = image_from_array(np.zeros((2, 3, 4), np.float32), spacing=(1.0, 1.0, 2.5))
+    >>> image.GetDimensions(), image.GetSpacing()
+    ((4, 3, 2), (1.0, 1.0, 2.5))
+    """
     image = vtkImageData()
     image.SetDimensions(array.shape[2], array.shape[1], array.shape[0])
     image.SetSpacing(*spacing)
-    image.SetOrigin(0.0, 0.0, 0.0)
+    image.SetOrigin(*origin)
+    if direction is not None:
+        image.SetDirectionMatrix(*np.asarray(direction, dtype=float).ravel())
     scalars = numpy_to_vtk(np.ascontiguousarray(array).ravel(), deep=True)
     scalars.SetName(name)
     image.GetPointData().SetScalars(scalars)

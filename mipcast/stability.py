@@ -10,11 +10,10 @@ from __future__ import annotations
 from typing import Callable, NamedTuple
 
 import numpy as np
-from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from . import reference
-from .data_fixtures import make_fixture
+from .data_fixtures import image_from_array, make_fixture
 from .metrics import summary
 from .offscreen import OffscreenView
 
@@ -29,13 +28,7 @@ class Case(NamedTuple):
 
 
 def _image(values: np.ndarray, spacing=(1.0, 1.0, 1.0)) -> vtkImageData:
-    image = vtkImageData()
-    image.SetDimensions(values.shape[2], values.shape[1], values.shape[0])
-    image.SetSpacing(spacing)
-    array = numpy_to_vtk(np.ascontiguousarray(values, np.float32).ravel(), deep=True)
-    array.SetName("values")
-    image.GetPointData().SetScalars(array)
-    return image
+    return image_from_array(np.asarray(values, np.float32), spacing=spacing)
 
 
 def _random(shape, seed=0, power=1.0):

@@ -1,10 +1,9 @@
 """Analytic MIP on the GPU against the float64 exact reference, on the same rays."""
 import numpy as np
 import pytest
-from vtkmodules.util.numpy_support import numpy_to_vtk
 
 from mipcast import reference
-from mipcast.data_fixtures import head_ct_path, load_head_ct, make_fixture
+from mipcast.data_fixtures import head_ct_path, image_from_array, load_head_ct, make_fixture
 from mipcast.metrics import silhouette
 from mipcast.offscreen import OffscreenView
 
@@ -12,17 +11,7 @@ SIZE = (96, 80)
 
 
 def _image(values, spacing=(1.0, 1.0, 1.0), direction=None):
-    from vtkmodules.vtkCommonDataModel import vtkImageData
-
-    image = vtkImageData()
-    image.SetDimensions(values.shape[2], values.shape[1], values.shape[0])
-    image.SetSpacing(spacing)
-    if direction is not None:
-        image.SetDirectionMatrix(*np.asarray(direction, float).ravel())
-    array = numpy_to_vtk(np.ascontiguousarray(values, np.float32).ravel(), deep=True)
-    array.SetName("values")
-    image.GetPointData().SetScalars(array)
-    return image
+    return image_from_array(np.asarray(values, np.float32), spacing=spacing, direction=direction)
 
 
 def _compare(image, view="oblique", size=SIZE, camera=None):

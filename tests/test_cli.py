@@ -3,7 +3,6 @@ import json
 import subprocess
 import sys
 
-import numpy as np
 import pytest
 from matplotlib import pyplot
 from vtkmodules.vtkIOXML import vtkXMLImageDataWriter

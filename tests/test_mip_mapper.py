@@ -8,15 +8,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonCore import vtkCommand
-from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkRenderingCore import vtkVolume
 
 import mipcast
+from mipcast.data_fixtures import image_from_array
 from mipcast import reference
 from mipcast.metrics import grey_diff
-from mipcast.offscreen import OffscreenView, grey_property
+from mipcast.offscreen import OffscreenView
 from mipcast.shader_pieces import installed_tags
 
 HERE = Path(__file__).resolve().parent
@@ -86,16 +85,7 @@ def _hot_property(view):
 
 
 def _image(values, spacing=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0), direction=None):
-    image = vtkImageData()
-    image.SetDimensions(values.shape[2], values.shape[1], values.shape[0])
-    image.SetSpacing(spacing)
-    image.SetOrigin(origin)
-    if direction is not None:
-        image.SetDirectionMatrix(*np.asarray(direction, dtype=float).ravel())
-    array = numpy_to_vtk(np.ascontiguousarray(values).ravel(), deep=True)
-    array.SetName("values")
-    image.GetPointData().SetScalars(array)
-    return image
+    return image_from_array(values, spacing=spacing, origin=origin, direction=direction)
 
 
 def _rotation(axis, degrees):

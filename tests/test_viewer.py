@@ -7,10 +7,8 @@ import textwrap
 from pathlib import Path
 
 import pytest
-from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
 
 from mipcast.cli import main
-from mipcast.data_fixtures import make_fixture
 from mipcast.viewer import has_display
 
 ROOT = Path(__file__).resolve().parents[1]
