@@ -7,11 +7,13 @@ Examples
 --------
 >>> import mipcast
 >>> sorted(mipcast.METHODS)
-['analytic', 'cpu', 'mip', 'stock']
+['analytic', 'cpu', 'demip', 'mip', 'stock']
 """
 from .analytic_mapper import AnalyticMIPVolumeMapper
+from .demip_mapper import DEMIPVolumeMapper
 from .methods import METHODS, create_mapper
 from .mip_mapper import MIPVolumeMapper
 
 __version__ = "0.1.0"
-__all__ = ["METHODS", "AnalyticMIPVolumeMapper", "MIPVolumeMapper", "create_mapper", "__version__"]
+__all__ = ["METHODS", "AnalyticMIPVolumeMapper", "DEMIPVolumeMapper", "MIPVolumeMapper", "create_mapper",
+           "__version__"]

@@ -5,6 +5,7 @@ from vtkmodules.vtkRenderingVolume import vtkFixedPointVolumeRayCastMapper
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
 from .analytic_mapper import AnalyticMIPVolumeMapper
+from .demip_mapper import DEMIPVolumeMapper
 from .mip_mapper import MIPVolumeMapper
 from .validation import check_choice
 
@@ -29,6 +30,7 @@ METHODS = {
     "cpu": _cpu_mip,
     "mip": MIPVolumeMapper,
     "analytic": AnalyticMIPVolumeMapper,
+    "demip": DEMIPVolumeMapper,
 }
 
 

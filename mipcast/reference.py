@@ -16,8 +16,9 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 from .camera_rays import camera_rays
 from .validation import check_choice, check_image, check_positive, check_size
 
-#: Parameters each method accepts; all of them are required.
-METHODS = {"mip": ("sample_distance",), "exact": ()}
+#: Parameters each method accepts; all of them are required ("demip" also
+#: takes optional ones: :data:`mipcast.reference_demip.PARAMETERS`).
+METHODS = {"mip": ("sample_distance",), "exact": (), "demip": ("sample_distance", "window")}
 
 _RAY_CHUNK = 65536      # rays per chunk
 _BUDGET = 1 << 20       # samples or segments held in memory at once
@@ -51,6 +52,9 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
         restriction, zero-length segments at edges and corners, rays along
         faces) need no special branch: every candidate is a point of the
         segment, so the result never exceeds the true maximum.
+        ``"demip"``: depth-enhanced MIP on the ``"mip"`` samples; returns
+        depth, final colour or maximum (its ``output`` parameter), see
+        :func:`mipcast.reference_demip.render_demip` for its parameters.
     **params
         ``sample_distance : float`` (method ``"mip"``, required): distance
         between samples in world units, > 0.  Method ``"exact"`` takes none.
@@ -92,6 +96,9 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     volume = check_image(image)
     width, height = check_size(size)
     method = check_choice("method", method, tuple(METHODS))
+    if method == "demip":  # depth, colour or maximum: see mipcast.reference_demip
+        from .reference_demip import render_demip
+        return render_demip(image, camera, (width, height), **params)
     allowed = METHODS[method]
     unknown = sorted(set(params) - set(allowed))
     if unknown:
