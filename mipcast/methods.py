@@ -6,6 +6,7 @@ from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
 from .analytic_mapper import AnalyticMIPVolumeMapper
 from .demip_mapper import DEMIPVolumeMapper
+from .foveated_mapper import FoveatedVolumeMapper
 from .mip_mapper import MIPVolumeMapper
 from .validation import check_choice
 
@@ -24,13 +25,15 @@ def _cpu_mip() -> vtkFixedPointVolumeRayCastMapper:
 
 #: Method name -> factory of an unconfigured mapper. "stock" is VTK's own GPU
 #: MIP, "cpu" its CPU peer (vtkFixedPointVolumeRayCastMapper); neither has a
-#: float readout.
+#: float readout. "foveated" renders one of the mipcast methods (default
+#: "mip") gaze-directed: full quality around the gaze point only.
 METHODS = {
     "stock": _stock_mip,
     "cpu": _cpu_mip,
     "mip": MIPVolumeMapper,
     "analytic": AnalyticMIPVolumeMapper,
     "demip": DEMIPVolumeMapper,
+    "foveated": FoveatedVolumeMapper,
 }
 
 

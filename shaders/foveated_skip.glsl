@@ -1,0 +1,17 @@
+// mipcast piece: foveated_skip
+// fills: Base::Init
+// mode: augment
+// Foveated rendering (mipcast/foveation.py): one pyramid level per layer.
+// This level casts a ray only where it contributes to the picture: where
+// the pixel's eccentricity (distance to the gaze in viewport heights,
+// u_mc_fovGaze in normalised viewport coordinates) lies in
+// [u_mc_fovCastFrom, u_mc_fovCastTo). gl_FragCoord is in this level's own
+// (possibly reduced) framebuffer; VTK's window uniforms normalise it.
+  {
+    vec2 mc_fovAt = (gl_FragCoord.xy - in_windowLowerLeftCorner) * in_inverseWindowSize;
+    float mc_fovEcc = length((mc_fovAt - u_mc_fovGaze) * vec2(u_mc_fovAspect, 1.0));
+    if (mc_fovEcc < u_mc_fovCastFrom || mc_fovEcc >= u_mc_fovCastTo)
+    {
+      discard;
+    }
+  }

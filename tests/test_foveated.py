@@ -1,0 +1,355 @@
+"""Foveated rendering: exact fovea, seamless blend, edge cases, pyramid, cost accounting, gaze sources."""
+import numpy as np
+import pytest
+from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.vtkCommonDataModel import vtkImageData
+
+from mipcast import METHODS, FoveatedVolumeMapper
+from mipcast.data_fixtures import make_fixture
+from mipcast.foveated_mapper import layer_methods
+from mipcast.foveation import blend_shares, eccentricity, plan_frame
+from mipcast.offscreen import OffscreenView
+from mipcast.shader_pieces import load_piece
+from mipcast.volume_pyramid import build_max_pyramid, max_reduce_axis
+
+SIZE = (128, 96)
+GAZE = (0.4, 0.6)
+
+
+def _views(image, method="mip", size=SIZE, zoom=1.0, **settings):
+    """(full-quality view, foveated view) of one scene; settings go to the foveated mapper."""
+    full = OffscreenView(image, method, size=size)
+    fov = OffscreenView(image, "foveated", size=size)
+    fov.mapper.SetMethod(method)
+    for view in (full, fov):
+        view.camera.Zoom(zoom)
+        view.renderer.ResetCameraClippingRange()
+    for name, value in settings.items():
+        getattr(fov.mapper, "Set" + name)(*np.atleast_1d(value))
+    return full, fov
+
+
+def _grey_error(a, b):
+    return np.abs(a.astype(int) - b.astype(int)).max(axis=-1)
+
+
+def _fovea(view, radius=None):
+    width, height = view.render_window.GetSize()
+    plan = view.mapper.GetLastPlan()
+    radius = view.mapper.GetFovealRadius() if radius is None else radius
+    return eccentricity((width, height), plan.gaze, width / height) <= radius
+
+
+@pytest.mark.parametrize("method", layer_methods())
+def test_fovea_equals_the_method_at_full_quality(vessels48, method):
+    full, fov = _views(vessels48, method, GazePoint=GAZE, FovealRadius=0.3)
+    reference, picture = full.screenshot(), fov.screenshot()
+    inside = _fovea(fov)
+    error = _grey_error(reference, picture)
+    assert inside.mean() > 0.15 and reference[inside].max() > 200, "fovea must hold lit vessels"
+    assert np.mean(error[inside] <= 1) >= 0.99
+    outside = ~inside & (reference.max(axis=-1) > 0)
+    assert picture[outside].max() > 150, "the periphery is drawn"
+    assert error[outside].mean() > 0.2, "the periphery is coarser (foveation is on)"
+    assert [layer.level for layer in fov.mapper.GetLastPlan().layers] == [2, 1, 0]
+
+
+def test_foveation_off_is_full_quality_everywhere(vessels48):
+    full, fov = _views(vessels48, "analytic", Foveation=False, GazePoint=(0.9, 0.1))
+    assert np.all(_grey_error(full.screenshot(), fov.screenshot()) <= 1)
+    cost = fov.mapper.GetLastFrameCost()
+    assert cost["rays"] == cost["full_rays"] and cost["samples"] == cost["full_samples"]
+
+
+def test_opaque_geometry_stops_the_rays_of_every_level(vessels48):
+    from vtkmodules.vtkFiltersSources import vtkSphereSource
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
+
+    full, fov = _views(vessels48, GazePoint=(0.1, 0.5), FovealRadius=0.2)
+    unoccluded = full.screenshot()
+    for view in (full, fov):
+        sphere = vtkSphereSource()
+        sphere.SetCenter(vessels48.GetCenter())
+        sphere.SetRadius(10.0)
+        mapper = vtkPolyDataMapper()
+        mapper.SetInputConnection(sphere.GetOutputPort())
+        actor = vtkActor()
+        actor.SetMapper(mapper)
+        view.renderer.AddActor(actor)
+        view.renderer.ResetCameraClippingRange()
+    reference, picture = full.screenshot(), fov.screenshot()
+    assert np.mean(_grey_error(reference, picture)[_fovea(fov)] <= 1) >= 0.99
+    # rays that the sphere cuts short (their maximum lay behind it), far out in the periphery
+    cut = (_grey_error(reference, unoccluded) > 40) & ~_fovea(fov, radius=0.35)
+    assert cut.sum() > 30
+    # every level reads the copied depth buffer: there too the rays stop at the sphere
+    to_cut = _grey_error(picture, reference)[cut].mean()
+    to_uncut = _grey_error(picture, unoccluded)[cut].mean()
+    assert to_cut < 0.5 * to_uncut, (to_cut, to_uncut)
+
+
+def test_float_readout_is_the_blended_image(vessels48):
+    from mipcast.metrics import summary
+
+    full, fov = _views(vessels48, GazePoint=GAZE, FovealRadius=0.3)
+    exact, values = full.float_image(), fov.float_image()
+    inside = _fovea(fov)
+    assert np.array_equal(np.isnan(exact[inside]), np.isnan(values[inside]))
+    assert np.nanmax(np.abs(exact - values)[inside]) < 1e-6
+    low, high = vessels48.GetPointData().GetScalars().GetRange(0)
+    stats = summary(values, exact, high - low)  # raises if a hit pixel went missing
+    assert 0 < stats["mean_pct"] < 5
+
+
+def _ring_steps(image, size, zoom, falloff):
+    """Mean |error| in 2-pixel rings either side of each blend-zone edge, and the coarser level's own error."""
+    full, fov = _views(image, size=size, zoom=zoom, FovealRadius=0.15, Falloff=falloff)
+    reference = full.screenshot()[..., 0].astype(float)
+    error = np.abs(fov.screenshot()[..., 0].astype(float) - reference)
+    plan, cost = fov.mapper.GetLastPlan(), fov.mapper.GetLastFrameCost()
+    e = eccentricity(size, plan.gaze, plan.aspect)
+    ring = 2.0 / size[1]
+    steps = []
+    for k in range(plan.top + 1):
+        edge = plan.start + k * plan.width
+        coarser = min(k + 1, plan.top)
+        level = next(entry for entry in cost["levels"] if entry["level"] == coarser)
+        pure = OffscreenView(image, "mip", size=size, sample_distance=level["sample_distance"])
+        pure.camera.Zoom(zoom)
+        pure.renderer.ResetCameraClippingRange()
+        pure.mapper.SetImageSampleDistance(2 ** coarser)
+        inner, outer = (e >= edge - ring) & (e < edge), (e >= edge) & (e < edge + ring)
+        own = np.abs(pure.screenshot()[..., 0].astype(float) - reference)[inner | outer].mean()
+        steps.append((abs(error[outer].mean() - error[inner].mean()), own))
+    return steps
+
+
+def test_no_seam_at_level_borders():
+    # a dense texture (smooth noise) so that every ring has coarse-level error
+    image = make_fixture("noise", size=48)
+    for step, own in _ring_steps(image, (128, 128), 1.6, falloff=0.3):
+        assert own > 0.5, "the coarser level must have an error to compare with"
+        assert step <= 0.5 * own, (step, own)
+    # the same check catches a hard switch (falloff 0): it is not vacuous
+    step, own = _ring_steps(image, (128, 128), 1.6, falloff=0.0)[0]
+    assert step > own
+
+
+def test_blend_shares_are_a_partition_with_full_quality_inside():
+    plan = plan_frame((0, 0, 120, 80), (0.3, 0.6), 0.2, 0.2)
+    shares = blend_shares(plan)
+    assert np.allclose(sum(shares.values()), 1.0)
+    inside = eccentricity((120, 80), plan.gaze, plan.aspect) <= 0.2
+    assert np.all(shares[0][inside] == 1.0)
+    assert all(np.all((s >= 0) & (s <= 1)) for s in shares.values())
+
+
+# -- edge cases -------------------------------------------------------------------------
+@pytest.mark.parametrize("gaze", [(3.0, -2.0), (-0.05, 0.5)])
+def test_gaze_outside_the_viewport(vessels48, gaze):
+    full, fov = _views(vessels48, GazePoint=gaze)
+    picture = fov.screenshot()
+    levels = [layer.level for layer in fov.mapper.GetLastPlan().layers]
+    assert picture.max() > 150
+    if gaze[0] > 1:  # far away: no full-quality rays at all
+        assert levels == [2]
+        cost = fov.mapper.GetLastFrameCost()
+        assert cost["rays"] < cost["full_rays"] / 8
+    else:  # the fovea overlaps the left edge
+        assert levels[-1] == 0
+        inside = _fovea(fov)
+        assert np.mean(_grey_error(full.screenshot(), picture)[inside] <= 1) >= 0.99
+
+
+def test_radius_zero_and_radius_covering_the_view(vessels48):
+    full, small = _views(vessels48, FovealRadius=0.0)
+    reference = full.screenshot()
+    picture = small.screenshot()
+    assert picture.max() > 150 and _grey_error(reference, picture).mean() > 0.5
+    _, whole = _views(vessels48, FovealRadius=0.9, GazePoint=(0.5, 0.5))  # corners at 0.83 of the height
+    assert np.all(_grey_error(reference, whole.screenshot()) <= 1)
+    assert [layer.level for layer in whole.mapper.GetLastPlan().layers] == [0]
+
+
+def test_one_pixel_window(vessels48):
+    full, fov = _views(vessels48, size=(1, 1))
+    assert np.all(_grey_error(full.screenshot(), fov.screenshot()) <= 1)
+    assert [layer.level for layer in fov.mapper.GetLastPlan().layers] == [0]
+
+
+@pytest.mark.parametrize("size, zoom", [((128, 48), 1.5), ((40, 120), 3.0)])
+def test_non_square_windows_measure_eccentricity_in_heights(vessels48, size, zoom):
+    full, fov = _views(vessels48, size=size, zoom=zoom, GazePoint=(0.5, 0.5), FovealRadius=0.25)
+    error = _grey_error(full.screenshot(), fov.screenshot())
+    inside = _fovea(fov)
+    # the fovea is a circle in pixels (clipped by the window): as wide as high where it fits
+    rows, columns = np.nonzero(inside)
+    across = min(size[0], 0.5 * size[1] + 1)
+    assert abs((columns.max() - columns.min() + 1) - min(rows.max() - rows.min() + 1, across)) <= 2
+    assert np.mean(error[inside] <= 1) >= 0.99
+    assert error[~inside].mean() > 0.1
+
+
+def test_window_resize(vessels48):
+    full, fov = _views(vessels48, size=(96, 64), GazePoint=GAZE, FovealRadius=0.3)
+    fov.screenshot()
+    for size in [(64, 112), (128, 96)]:
+        full.render_window.SetSize(*size)
+        fov.render_window.SetSize(*size)
+        picture = fov.screenshot()
+        assert picture.shape[:2] == (size[1], size[0])
+        assert fov.mapper.GetLastPlan().viewport == (0, 0) + size
+        assert np.mean(_grey_error(full.screenshot(), picture)[_fovea(fov)] <= 1) >= 0.99
+        assert picture.max() > 150
+
+
+def _image(values, spacing=(1.0, 1.0, 1.0)):
+    image = vtkImageData()
+    image.SetDimensions(values.shape[2], values.shape[1], values.shape[0])
+    image.SetSpacing(spacing)
+    array = numpy_to_vtk(np.ascontiguousarray(values, np.float32).ravel(), deep=True)
+    array.SetName("values")
+    image.GetPointData().SetScalars(array)
+    return image
+
+
+def test_volume_smaller_than_the_coarsest_pyramid_level():
+    tiny = _image(np.random.default_rng(3).random((3, 2, 3)) + 0.2)
+    assert len(build_max_pyramid(tiny, 3)) == 2  # 3 points shrink to 2, then nothing can
+    assert len(build_max_pyramid(_image(np.ones((2, 2, 2))), 3)) == 1
+    full, fov = _views(tiny, size=(96, 96), GazePoint=(0.9, 0.9), FovealRadius=0.0)
+    picture = fov.screenshot()
+    assert picture.max() > 50
+    full, fov = _views(tiny, size=(96, 96), zoom=0.08, GazePoint=(0.95, 0.95), FovealRadius=0.0)
+    # the volume covers a few pixels, fewer than a level-2 texel: coarse levels would miss it
+    reference, picture = full.screenshot(), fov.screenshot()
+    assert 0 < np.count_nonzero(reference.max(axis=-1)) < 64
+    assert fov.mapper.GetLastPlan().top == 0
+    assert np.all(_grey_error(reference, picture) <= 1)
+
+
+# -- pyramid and sampling -----------------------------------------------------------------
+def test_max_pyramid_keeps_every_peak_within_one_coarse_voxel():
+    rng = np.random.default_rng(5)
+    values = rng.random((17, 12, 9)).astype(np.float32)
+    image = _image(values, spacing=(0.5, 1.0, 2.0))
+    pyramid = build_max_pyramid(image, 4)
+    assert [p.GetBounds() for p in pyramid] == [image.GetBounds()] * len(pyramid)
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    for level in pyramid[1:]:
+        coarse = vtk_to_numpy(level.GetPointData().GetScalars())
+        assert coarse.max() == values.max() and coarse.min() >= values.min()
+    spike = np.zeros(11)
+    spike[5] = 1.0
+    assert max_reduce_axis(spike, 0).max() == 1.0
+
+
+def test_zoomed_out_periphery_reads_the_max_pyramid_and_keeps_vessels():
+    image = make_fixture("vessels", size=64)
+    full, fov = _views(image, size=(64, 64), zoom=0.8, GazePoint=(0.05, 0.05), FovealRadius=0.0)
+    reference, picture = full.screenshot()[..., 0], fov.screenshot()[..., 0]
+    levels = {entry["level"]: entry["volume_level"] for entry in fov.mapper.GetLastFrameCost()["levels"]}
+    assert levels[2] >= 1, levels  # rays 4 px apart, a pixel > 1 voxel: a coarse volume level
+    far = _fovea(fov, radius=0.6) == 0
+    # max filter: peaks are not lowered (a box filter would dim thin vessels)
+    assert picture[far].max() >= reference[far].max() - 2
+
+
+def test_peripheral_sampling_policies():
+    image = make_fixture("vessels", size=48)
+    _, fov = _views(image, size=(96, 96), zoom=1.8, GazePoint=(0.5, 0.5), FovealRadius=0.1)
+    fov.screenshot()
+    footprint = fov.mapper.GetLastFrameCost()
+    fov.mapper.SetPeripheralSampling("rays")
+    fov.screenshot()
+    rays = fov.mapper.GetLastFrameCost()
+    assert rays["samples"] < footprint["samples"] and rays["rays"] == footprint["rays"]
+    with pytest.raises(ValueError, match="footprint"):
+        fov.mapper.SetPeripheralSampling("box")
+
+
+# -- cost accounting ----------------------------------------------------------------------
+def test_cost_counts_rays_of_the_full_quality_image(vessels48):
+    full, fov = _views(vessels48, GazePoint=GAZE)
+    hits = int(np.count_nonzero(~np.isnan(full.float_image())))
+    fov.screenshot()
+    cost = fov.mapper.GetLastFrameCost()
+    assert abs(cost["full_rays"] - hits) <= 0.03 * hits  # the outline may round either way
+    assert cost["rays"] < cost["full_rays"] and cost["samples"] < cost["full_samples"]
+    assert cost["ray_ratio"] == pytest.approx(cost["full_rays"] / cost["rays"])
+    assert sum(level["rays"] for level in cost["levels"]) == cost["rays"]
+    assert cost["unit"] == "samples"
+    fov.mapper.SetMethod("analytic")
+    fov.screenshot()
+    assert fov.mapper.GetLastFrameCost()["unit"] == "cells"
+
+
+# -- settings and gaze sources -------------------------------------------------------------
+def test_settings_are_validated():
+    mapper = FoveatedVolumeMapper()
+    for bad in ("stock", "foveated", "nope"):
+        with pytest.raises(ValueError, match="'mip'"):
+            mapper.SetMethod(bad)
+    with pytest.raises(ValueError):
+        mapper.SetFovealRadius(-0.1)
+    with pytest.raises(ValueError):
+        mapper.SetGazePoint(float("nan"), 0.5)
+    with pytest.raises(ValueError):
+        mapper.SetNumberOfLevels(0)
+    with pytest.raises(ValueError):
+        mapper.SetRegionOfInterest((1, 0, 0, 1, 0, 1))
+    assert "foveated" in METHODS and "foveated" not in layer_methods()
+
+
+def test_level_pieces_fit_every_method():
+    from mipcast.foveated_mapper import _level_class
+
+    for name in layer_methods():
+        tags = [load_piece(n).tag for n in _level_class(METHODS[name])().GetShaderPieces()]
+        assert len(tags) == len(set(tags)), name
+
+
+def test_region_of_interest_moves_the_gaze_and_covers_the_region(vessels48):
+    _, fov = _views(vessels48, size=(96, 96), GazePoint=(0.1, 0.1), FovealRadius=0.05)
+    x0, x1, y0, y1, z0, z1 = vessels48.GetBounds()
+    corner = (x0, x0 + 0.2 * (x1 - x0), y0, y0 + 0.2 * (y1 - y0), z0, z0 + 0.2 * (z1 - z0))
+    fov.mapper.SetRegionOfInterest(corner)
+    fov.screenshot()
+    assert fov.mapper.GetGazeSource() == "region"
+    gaze = fov.mapper.GetGazePoint()
+    display = []
+    for x in corner[0:2]:
+        for y in corner[2:4]:
+            for z in corner[4:6]:
+                fov.renderer.SetWorldPoint(x, y, z, 1.0)
+                fov.renderer.WorldToView()
+                display.append(fov.renderer.GetViewPoint()[:2])
+    display = (np.array(display) + 1.0) / 2.0
+    assert np.allclose(gaze, display.mean(axis=0), atol=0.05)
+    plan = fov.mapper.GetLastPlan()
+    reach = np.hypot(*(display - np.array(gaze)).T).max()
+    assert plan.start >= reach  # the whole region is inside the fovea
+    fov.mapper.SetRegionOfInterest(None)
+    fov.screenshot()
+    assert fov.mapper.GetGazeSource() == "point" and fov.mapper.GetGazePoint() == (0.1, 0.1)
+    fov.mapper.SetGazePoint(0.5, 0.5)
+    assert fov.mapper.GetGazeSource() == "point" and fov.mapper.GetGazePoint() == (0.5, 0.5)
+
+
+def test_gaze_follows_the_mouse(vessels48):
+    from vtkmodules.vtkCommonCore import vtkCommand
+    from vtkmodules.vtkRenderingUI import vtkGenericRenderWindowInteractor
+
+    _, fov = _views(vessels48, size=(100, 80))
+    interactor = vtkGenericRenderWindowInteractor()
+    interactor.SetRenderWindow(fov.render_window)
+    fov.mapper.FollowMouse(interactor)
+    assert fov.mapper.GetGazeSource() == "mouse"
+    frames = []
+    fov.renderer.AddObserver(vtkCommand.EndEvent, lambda *_: frames.append(1))
+    interactor.SetEventPosition(24, 59)
+    interactor.InvokeEvent(vtkCommand.MouseMoveEvent)
+    assert frames, "a mouse move renders a frame"
+    assert fov.mapper.GetGazePoint() == pytest.approx((24.5 / 100, 59.5 / 80))
+    fov.mapper.FollowMouse(None)
+    assert fov.mapper.GetGazeSource() == "point"
