@@ -26,6 +26,7 @@ class Setting(NamedTuple):
     method: str
     samples_per_voxel: Union[float, str, None] = None  # None: no sampling (exact); "auto": chosen per scene
     readout_method: Optional[str] = None               # method whose float readout stands for it
+    settings: tuple = ()                               # (Name, value) pairs for the mapper's SetName
 
 
 #: Stock VTK MIP has no float readout; mipcast's "mip" takes the very same
@@ -38,6 +39,9 @@ DEFAULT_SETTINGS = (
     Setting("mip 1x", "mip", 1),
     Setting("auto", "stock", "auto", "mip"),
     Setting("analytic", "analytic"),
+    Setting("demip", "demip", 1),
+    Setting("demip + sphere", "demip", 1, settings=(("SphereWeight", 0.5),)),
+    Setting("foveated mip", "foveated", 1),
     Setting("cpu 1x", "cpu", 1),
 )
 
@@ -73,7 +77,11 @@ def resolve_settings(image, settings: Sequence[Setting], size, view: str, window
 def _view(image, setting: Setting, method: str, size, view: str, window=None) -> OffscreenView:
     spacing = min(abs(s) for s in image.GetSpacing())
     distance = spacing / setting.samples_per_voxel if setting.samples_per_voxel else spacing
-    return OffscreenView(image, method, size=size, view=view, sample_distance=distance, window=window)
+    scene = OffscreenView(image, method, size=size, view=view, sample_distance=distance, window=window)
+    if method == setting.method:
+        for name, value in setting.settings:
+            getattr(scene.mapper, "Set" + name)(value)
+    return scene
 
 
 def time_settings(image, settings: Sequence[Setting], size=(256, 256), view: str = "oblique",
