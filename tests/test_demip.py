@@ -1,13 +1,11 @@
 """Depth-enhanced MIP: GPU against the float64 reference, depth order, stability, parameters."""
 import numpy as np
 import pytest
-from vtkmodules.util.numpy_support import numpy_to_vtk
-from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkRenderingCore import vtkCoordinate
 
 import mipcast
 from mipcast import reference
-from mipcast.data_fixtures import make_fixture
+from mipcast.data_fixtures import image_from_array, make_fixture
 from mipcast.demip_mapper import DEPTH_MODES, SPHERE_PRESETS, render_depth
 from mipcast.metrics import silhouette
 from mipcast.offscreen import OffscreenView
@@ -16,12 +14,7 @@ SIZE = (96, 80)
 
 
 def _image(values):
-    image = vtkImageData()
-    image.SetDimensions(values.shape[2], values.shape[1], values.shape[0])
-    array = numpy_to_vtk(np.ascontiguousarray(values, np.float32).ravel(), deep=True)
-    array.SetName("values")
-    image.GetPointData().SetScalars(array)
-    return image
+    return image_from_array(np.asarray(values, np.float32))
 
 
 def _scene(image, view="oblique", size=SIZE, window=None, camera=None, **settings):

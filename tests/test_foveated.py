@@ -1,11 +1,9 @@
 """Foveated rendering: exact fovea, seamless blend, edge cases, pyramid, cost accounting, gaze sources."""
 import numpy as np
 import pytest
-from vtkmodules.util.numpy_support import numpy_to_vtk
-from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast import METHODS, FoveatedVolumeMapper
-from mipcast.data_fixtures import make_fixture
+from mipcast.data_fixtures import image_from_array, make_fixture
 from mipcast.foveated_mapper import layer_methods
 from mipcast.foveation import blend_shares, eccentricity, plan_frame
 from mipcast.offscreen import OffscreenView
@@ -204,13 +202,7 @@ def test_window_resize(vessels48):
 
 
 def _image(values, spacing=(1.0, 1.0, 1.0)):
-    image = vtkImageData()
-    image.SetDimensions(values.shape[2], values.shape[1], values.shape[0])
-    image.SetSpacing(spacing)
-    array = numpy_to_vtk(np.ascontiguousarray(values, np.float32).ravel(), deep=True)
-    array.SetName("values")
-    image.GetPointData().SetScalars(array)
-    return image
+    return image_from_array(np.asarray(values, np.float32), spacing=spacing)
 
 
 def test_volume_smaller_than_the_coarsest_pyramid_level():
