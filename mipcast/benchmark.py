@@ -40,6 +40,9 @@ DEFAULT_SETTINGS = (
     Setting("auto", "stock", "auto", "mip"),
     Setting("analytic", "analytic"),
     Setting("demip", "demip", 1),
+    Setting("demip window depth", "demip", 1, settings=(("DepthMode", "window"),)),
+    Setting("demip steps depth", "demip", 1, settings=(("DepthMode", "steps"),)),
+    Setting("demip eye distance", "demip", 1, settings=(("DepthMode", "eye_distance"),)),
     Setting("demip + sphere", "demip", 1, settings=(("SphereWeight", 0.5),)),
     Setting("foveated mip", "foveated", 1),
     Setting("cpu 1x", "cpu", 1),
@@ -180,6 +183,13 @@ def measure_scene(image, scene: str, view: str, edge: int, rounds: int = 5, wind
     Each row has the time ratio to stock MIP 1x, the error figures of
     :func:`errors_of_settings`, and for analytic MIP its work per ray
     (:func:`mipcast.amip_stats.work_per_ray`).
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> rows = measure_scene(make_fixture("spheres", size=12), "spheres", "oblique", 16, rounds=1)
+    >>> [row["setting"] for row in rows][:2], rows[0]["ratio_to_stock"]
+    (['stock 1x', 'stock 2x'], 1.0)
     """
     from .amip_stats import work_per_ray
 
@@ -197,6 +207,11 @@ def measure_scene(image, scene: str, view: str, edge: int, rounds: int = 5, wind
         if setting.method == "analytic":
             work = work_per_ray(_view(image, setting, "analytic", size, view, window))
             row.update(texel_fetches=work["texel_fetches"], skipped_cells=work["skipped_cells"])
+        if setting.method == "foveated":  # the paper's Table I columns
+            foveated = _view(image, setting, "foveated", size, view, window)
+            foveated.screenshot()
+            cost = foveated.mapper.GetLastFrameCost()
+            row.update(ray_ratio=cost["ray_ratio"], sample_ratio=cost["sample_ratio"])
         rows.append(row)
     return rows
 
@@ -238,6 +253,16 @@ def write_chart(rows: Sequence[dict], path, error_key: str = "p99_pct") -> None:
 
     Pareto-optimal settings are circled; an error of 0 is drawn at the
     panel's floor (marked "exact").
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> rows = [{"scene": "s", "view": "v", "size": 8, "setting": name, "ratio_to_stock": r, "p99_pct": e}
+    ...         for name, r, e in [("stock 1x", 1.0, 5.0), ("analytic", 3.0, 0.0)]]
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "chart.png"
+    >>> write_chart(rows, path)
+    >>> path.stat().st_size > 1000
+    True
     """
     import matplotlib
     matplotlib.use("Agg")

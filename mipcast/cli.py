@@ -49,7 +49,7 @@ def _parser() -> argparse.ArgumentParser:
     demo = sub.add_parser("demo", help="render the bundled scene with every method, plus error maps")
     demo.add_argument("--out", type=Path, default=Path("mipcast-demo"), help="output folder")
     demo.add_argument("--size", type=int, default=256, help="image width and height (pixels)")
-    demo.set_defaults(run=run_demo)
+    demo.set_defaults(run=_run_demo)
 
     render = sub.add_parser("render", help="render a volume file (.vti/.nrrd/.nii/.mha/DICOM) to PNG")
     render.add_argument("input", type=Path)
@@ -62,7 +62,7 @@ def _parser() -> argparse.ArgumentParser:
     render.add_argument("--window", type=float, nargs=2, default=None, metavar=("LOW", "HIGH"),
                         help="grey window in data units (default: data range)")
     render.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
-    render.set_defaults(run=run_render)
+    render.set_defaults(run=_run_render)
 
     view = sub.add_parser("view", help="open an interactive window (keys m/d switch method/depth mode)")
     view.add_argument("input", type=Path)
@@ -83,7 +83,7 @@ def _parser() -> argparse.ArgumentParser:
     bench.add_argument("--out", type=Path, default=Path("mipcast-bench"))
     bench.add_argument("--stability", action="store_true",
                        help="instead: measure each method's known weak points (stability.md)")
-    bench.set_defaults(run=run_bench)
+    bench.set_defaults(run=_run_bench)
     return parser
 
 
@@ -92,10 +92,11 @@ def _version() -> str:
     return f"mipcast {__version__}"
 
 
-def run_demo(args) -> int:
+def _run_demo(args) -> int:
     """Render the demo fixture with every method, its float readout and error map."""
     from . import reference
-    from .data_fixtures import make_fixture
+    from .data_fixtures import head_ct_path, load_head_ct, make_fixture
+    from .depth_figure import write_depth_figure
     from .metrics import summary
 
     image = make_fixture(DEMO_FIXTURE, size=DEMO_SIZE)
@@ -107,18 +108,23 @@ def run_demo(args) -> int:
     for method in sorted(METHODS):
         view = OffscreenView(image, method, size=size, view="oblique")
         picture = args.out / f"{method}.png"
-        write_png(picture, view.screenshot())
+        _write_png(picture, view.screenshot())
         if exact is None:
             exact = reference.render(image, view.camera, size, method="exact")
-            write_png(args.out / "reference_exact.png", _grey8(exact, low, high))
+            _write_png(args.out / "reference_exact.png", _grey8(exact, low, high))
         entry = {"png": str(picture)}
         if hasattr(view.mapper, "Attach"):
             values = view.float_image()
             errors = summary(values, exact, high - low)
-            write_error_map(args.out / f"{method}_error.png", values, exact, high - low)
+            _write_error_map(args.out / f"{method}_error.png", values, exact, high - low)
             entry.update(error_png=str(args.out / f"{method}_error.png"),
                          p99_error_pct=errors["p99_pct"], within_1_grey=errors["within_1_grey"])
         report[method] = entry
+    scenes = [("vessels", image, "oblique", None)]
+    if head_ct_path() is not None:
+        scenes.append(("head CT", load_head_ct(), "front", (150.0, 1800.0)))
+    write_depth_figure(args.out / "depth_figure.png", scenes, size=size)
+    report["depth_figure"] = {"png": str(args.out / "depth_figure.png")}
     (args.out / "demo.json").write_text(json.dumps(report, indent=2))
     print(f"mipcast demo: {DEMO_FIXTURE} fixture ({DEMO_SIZE}^3), {size[0]}x{size[1]} pixels")
     for method, entry in report.items():
@@ -127,12 +133,12 @@ def run_demo(args) -> int:
             extra = (f"  error vs exact reference: p99 {entry['p99_error_pct']:.2f}% of range, "
                      f"{100 * entry['within_1_grey']:.1f}% of pixels within 1 grey level")
         print(f"  {method:8s} {entry['png']}{extra}")
-    print(f"wrote {args.out}/ (PNGs, error maps *_error.png, demo.json)")
+    print(f"wrote {args.out}/ (PNGs, error maps *_error.png, depth_figure.png, demo.json)")
     print("speed against accuracy of every method: `mipcast bench` (table and chart in mipcast-bench/)")
     return 0
 
 
-def run_render(args) -> int:
+def _run_render(args) -> int:
     """Render one volume file to a PNG."""
     from .io import read_volume
 
@@ -140,7 +146,7 @@ def run_render(args) -> int:
     view = OffscreenView(image, args.method, size=tuple(args.size), view=args.view,
                          sample_distance=args.sample_distance, window=args.window)
     args.out.parent.mkdir(parents=True, exist_ok=True)
-    write_png(args.out, view.screenshot())
+    _write_png(args.out, view.screenshot())
     print(f"wrote {args.out}")
     return 0
 
@@ -170,10 +176,10 @@ def run_view(args) -> int:
     return 0
 
 
-def run_bench(args) -> int:
+def _run_bench(args) -> int:
     """Time and check every setting against stock VTK MIP on each scene, view and size."""
     if args.stability:
-        return run_stability(args)
+        return _run_stability(args)
     from . import paper_tables
     from .benchmark import markdown_table, measure_scene, write_chart
 
@@ -182,25 +188,27 @@ def run_bench(args) -> int:
     started = time.perf_counter()
     jobs = [(scene, view, edge) for scene in args.scenes for view in args.views for edge in args.size]
     for number, (scene, view, edge) in enumerate(jobs, 1):
-        image, window = load_scene(scene, args.volume_size)
+        image, window = _load_scene(scene, args.volume_size)
         print(f"[{number}/{len(jobs)}] {scene} {view} {edge}^2 ...", flush=True)
         new = measure_scene(image, scene, view, edge, rounds=args.rounds, window=window)
         rows += new
         print("    " + ", ".join(f"{r['setting']} x{r['ratio_to_stock']:.2f} p99 {r['p99_pct']:.3g}%"
                                  for r in new), flush=True)
     columns = ["scene", "view", "size", "setting", "median_ms", "ratio_to_stock", "p99_pct",
-               "fg_p99_pct", "max_pct", "within_1_grey", "frames", "texel_fetches", "skipped_cells"]
+               "fg_p99_pct", "max_pct", "within_1_grey", "frames", "texel_fetches", "skipped_cells",
+               "ray_ratio", "sample_ratio"]
     (args.out / "bench.json").write_text(json.dumps(rows, indent=2))
     (args.out / "bench.md").write_text(markdown_table(rows, columns) + "\n")
     write_chart(rows, args.out / "bench.png")
-    (args.out / "papers.md").write_text(paper_tables.amip_table(rows) + "\n")
+    (args.out / "papers.md").write_text("\n\n".join(
+        [paper_tables.amip_table(rows), paper_tables.demip_table(rows), paper_tables.levoy_table(rows)]) + "\n")
     print(markdown_table(rows, columns))
     print(f"wrote {args.out}/bench.json, bench.md, bench.png, papers.md "
           f"({time.perf_counter() - started:.0f} s)")
     return 0
 
 
-def run_stability(args) -> int:
+def _run_stability(args) -> int:
     """Measure every stability case (:mod:`mipcast.stability`) and write stability.md/json."""
     from .benchmark import markdown_table
     from .stability import CASES, measure
@@ -219,7 +227,7 @@ def run_stability(args) -> int:
     return 0
 
 
-def load_scene(scene: str, volume_size: int):
+def _load_scene(scene: str, volume_size: int):
     """``NAME[@LOW,HIGH]`` -> (vtkImageData, window or None).
 
     NAME is a fixture, ``head`` (the head CT) or a volume file; ``@LOW,HIGH``
@@ -239,7 +247,7 @@ def load_scene(scene: str, volume_size: int):
     return read_volume(Path(name)), window
 
 
-def write_png(path: Path, pixels: np.ndarray) -> None:
+def _write_png(path: Path, pixels: np.ndarray) -> None:
     """Write an (H, W) or (H, W, 3) uint8 array, top row first, as PNG."""
     import matplotlib
     matplotlib.use("Agg")
@@ -248,7 +256,7 @@ def write_png(path: Path, pixels: np.ndarray) -> None:
     pyplot.imsave(path, pixels, cmap="gray" if pixels.ndim == 2 else None, vmin=0, vmax=255)
 
 
-def write_error_map(path: Path, values: np.ndarray, reference_values: np.ndarray, data_range: float) -> None:
+def _write_error_map(path: Path, values: np.ndarray, reference_values: np.ndarray, data_range: float) -> None:
     """Write |values - reference| in percent of the data range as a colour-mapped PNG."""
     import matplotlib
     matplotlib.use("Agg")

@@ -245,12 +245,26 @@ def eccentricity(grid: Sequence[int], gaze: Sequence[float], aspect: float) -> n
 
 
 def desired_level(e: np.ndarray, plan: Plan) -> np.ndarray:
-    """The continuous level ``lam(e)`` of the module docstring."""
+    """The continuous level ``lam(e)`` of the module docstring.
+
+    Examples
+    --------
+    >>> plan = plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.2)
+    >>> float(desired_level(0.0, plan)), float(desired_level(10.0, plan)) == plan.top
+    (0.0, True)
+    """
     return np.clip((np.asarray(e, float) - plan.start) / plan.width, 0.0, float(plan.top))
 
 
 def layer_weight(level: int, lam: np.ndarray, plan: Plan) -> np.ndarray:
-    """Premultiplied weight a level is drawn with (the shader's ``foveated_weight``)."""
+    """Premultiplied weight a level is drawn with (the shader's ``foveated_weight``).
+
+    Examples
+    --------
+    >>> plan = plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.2)
+    >>> layer_weight(0, np.array([0.0, 0.5, 1.0]), plan)
+    array([1. , 0.5, 0. ])
+    """
     return np.clip(level + 1.0 - np.asarray(lam, float), 0.0, 1.0)
 
 
@@ -359,6 +373,13 @@ def composite_values(plan: Plan, values: dict) -> np.ndarray:
     Returns
     -------
     numpy.ndarray, shape (height, width), float64, top row first.
+
+    Examples
+    --------
+    >>> plan = plan_frame((0, 0, 16, 16), (0.5, 0.5), 0.1, 0.2)
+    >>> flat = {layer.level: np.full(layer.grid[::-1], 3.0) for layer in plan.layers}
+    >>> float(np.nanmax(np.abs(composite_values(plan, flat) - 3.0)))
+    0.0
     """
     _, _, width, height = plan.viewport
     total = np.zeros((height, width))

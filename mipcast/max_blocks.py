@@ -51,6 +51,12 @@ def block_maxima_image(values: np.ndarray, block: int, low: float, high: float) 
     The value stored is ``(max - low) / (high - low)``, the same normalised
     scale VTK's ray caster uses for the volume's scalars, so the shader
     compares it with its running maximum directly.
+
+    Examples
+    --------
+    >>> image = block_maxima_image(np.arange(27.0).reshape(3, 3, 3), 2, 0.0, 26.0)
+    >>> image.GetDimensions(), image.GetPointData().GetScalars().GetValue(0)
+    ((1, 1, 1), 1.0)
     """
     maxima = block_maxima(values, block).astype(np.float64)
     normalised = ((maxima - low) / (high - low if high > low else 1.0)).astype(np.float32)

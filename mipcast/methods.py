@@ -49,7 +49,17 @@ def create_mapper(method: str):
 
 
 def attach(mapper, volume) -> None:
-    """Give ``volume`` its mapper: ``Attach`` for mipcast mappers, ``SetMapper`` for stock."""
+    """Give ``volume`` its mapper: ``Attach`` for mipcast mappers, ``SetMapper`` for stock.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkVolume
+    >>> volume = vtkVolume()
+    >>> mapper = create_mapper("stock")
+    >>> attach(mapper, volume)
+    >>> volume.GetMapper() is mapper
+    True
+    """
     if hasattr(mapper, "Attach"):
         mapper.Attach(volume)
     else:

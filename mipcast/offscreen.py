@@ -62,7 +62,17 @@ def grey_property(window: Sequence[float]) -> vtkVolumeProperty:
 
 
 def set_view(renderer, image, view: str) -> None:
-    """Point the renderer's camera at ``image`` from a preset of :data:`VIEWS`."""
+    """Point the renderer's camera at ``image`` from a preset of :data:`VIEWS`.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkRenderer
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> renderer = vtkRenderer()
+    >>> set_view(renderer, make_fixture("spheres", size=16), "front")
+    >>> renderer.GetActiveCamera().GetParallelProjection()
+    1
+    """
     azimuth, elevation, parallel = VIEWS[check_choice("view", view, tuple(VIEWS))]
     camera = renderer.GetActiveCamera()
     camera.SetPosition(0.0, 0.0, 1.0)

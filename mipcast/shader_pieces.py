@@ -158,14 +158,35 @@ def install(shader_property, pieces: Iterable[Piece]) -> None:
 
 
 def uninstall(shader_property) -> None:
-    """Remove every mipcast piece from a shader property, leaving others alone."""
+    """Remove every mipcast piece from a shader property, leaving others alone.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkVolume
+    >>> import vtkmodules.vtkRenderingOpenGL2
+    >>> prop = vtkVolume().GetShaderProperty()
+    >>> install(prop, [load_piece("mip_color")])
+    >>> uninstall(prop)
+    >>> installed_tags(prop)
+    []
+    """
     for tag, text in _fragment_replacements(shader_property):
         if MARKER in text:
             shader_property.ClearFragmentShaderReplacement(tag, True)
 
 
 def installed_tags(shader_property) -> list:
-    """Tags that currently carry a mipcast piece, sorted."""
+    """Tags that currently carry a mipcast piece, sorted.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkVolume
+    >>> import vtkmodules.vtkRenderingOpenGL2
+    >>> prop = vtkVolume().GetShaderProperty()
+    >>> install(prop, [load_piece("mip_globals"), load_piece("mip_color")])
+    >>> installed_tags(prop)
+    ['//VTK::Base::Dec', '//VTK::Shading::Exit']
+    """
     return sorted(tag for tag, text in _fragment_replacements(shader_property) if MARKER in text)
 
 

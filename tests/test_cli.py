@@ -15,7 +15,9 @@ def test_demo_writes_pictures_and_error_maps(tmp_path, capsys):
     assert main(["demo", "--out", str(tmp_path), "--size", "64"]) == 0
     printed = capsys.readouterr().out
     report = json.loads((tmp_path / "demo.json").read_text())
-    assert {"stock", "mip"} <= set(report)
+    assert {"stock", "mip", "analytic", "demip"} <= set(report)
+    figure = pyplot.imread(report.pop("depth_figure")["png"])
+    assert figure.shape[1] > figure.shape[0] and figure[..., :3].std() > 0.05
     for method, entry in report.items():
         picture = pyplot.imread(entry["png"])
         assert picture.shape[:2] == (64, 64)

@@ -423,3 +423,42 @@ def test_settings_change_uniforms_not_shaders():
     second = scene.screenshot()
     assert scene.mapper.GetShaderPieces() == pieces
     assert np.abs(first.astype(int) - second.astype(int)).max() > 20
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(__import__("mipcast.data_fixtures", fromlist=["head_ct_path"]).head_ct_path() is None,
+                    reason="head CT absent: apt-get install invesalius-examples")
+def test_head_ct_face_and_occiput_swap_brightness_with_the_camera():
+    # y runs from the occiput (low y) to the face (high y): look along y from
+    # the face side, then from the back; a pixel's found point is in the face
+    # half when its depth says it is in the near (face view) or far half
+    from mipcast.data_fixtures import load_head_ct
+
+    head = load_head_ct()
+    x0, x1, y0, y1, z0, z1 = head.GetBounds()
+    centre = ((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2)
+    gain = {}
+    for side, sign in (("face", 1.0), ("occiput", -1.0)):
+        def aim(camera):
+            camera.SetFocalPoint(*centre)
+            camera.SetPosition(centre[0], centre[1] + sign * 1000.0, centre[2])
+            camera.SetViewUp(0.0, 0.0, 1.0)
+            camera.SetParallelProjection(True)
+            camera.SetParallelScale(0.55 * (z1 - z0) + 0.3 * (x1 - x0))
+        shots = {}
+        for weight in (0.0, 0.3):
+            scene = _scene(head, "front", size=(96, 96), window=(300.0, 1500.0), depth_weight=weight)
+            aim(scene.camera)
+            scene.renderer.ResetCameraClippingRange()
+            shots[weight] = scene.screenshot()[..., 0].astype(float)
+            if weight:
+                depth = render_depth(scene.render_window, scene.mapper)
+        near = depth < 0.5
+        in_face = near if side == "face" else (depth >= 0.5)
+        brightening = shots[0.3] - shots[0.0]
+        found = ~np.isnan(depth)
+        assert found.sum() > 500 and (found & in_face).sum() > 50 and (found & ~in_face).sum() > 50
+        gain[side] = (brightening[found & in_face].mean(), brightening[found & ~in_face].mean())
+    face_view, occiput_view = gain["face"], gain["occiput"]
+    assert face_view[0] > face_view[1] + 10, "seen from the face, the face is brighter"
+    assert occiput_view[1] > occiput_view[0] + 10, "seen from the back, the occiput is brighter"
