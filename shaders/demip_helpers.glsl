@@ -134,6 +134,17 @@ vec3 mcChromaColor(float depth)
   return clamp(abs(fract(hue + vec3(1.0, 2.0 / 3.0, 1.0 / 3.0)) * 6.0 - 3.0) - 1.0, 0.0, 1.0);
 }
 
+// The first march's bookkeeping (shared by the DEMIP and LMIP loops): the
+// level of the running maximum, where it entered that level, and where it
+// first reached the level below (the second march may start there).
+void mcTrackLevel(float sampleLevel, int i, inout float level, inout int entered, inout int start)
+{
+  bool up = sampleLevel > level;
+  start = up ? (sampleLevel == level + 1.0 ? entered : i) : start;
+  entered = up ? i : entered;
+  level = max(level, sampleLevel);
+}
+
 // March 2: from sample `start` on, the first sample of the same material as
 // the raw maximum `rayMax` (v >= min(rayMax, ceiling) - band && v > low);
 // sets mc_matchIndex, mc_hitTex and mc_depth. The maximum's own sample

@@ -25,11 +25,8 @@
       break;
     }
     mc_rayMax = max(mc_rayMax, mc_value);
-    float mc_sampleLevel = floor(min(mc_value, mc_window.y) * mc_perLevel + mc_levelBias);
-    bool mc_up = mc_sampleLevel > mc_level;
-    mc_start = mc_up ? (mc_sampleLevel == mc_level + 1.0 ? mc_entered : mc_i) : mc_start;
-    mc_entered = mc_up ? mc_i : mc_entered;
-    mc_level = max(mc_level, mc_sampleLevel);
+    mcTrackLevel(floor(min(mc_value, mc_window.y) * mc_perLevel + mc_levelBias), mc_i,
+                 mc_level, mc_entered, mc_start);
   }
   if (mc_rayMax > mc_window.w && u_mc_needDepth > 0.5)
   {
