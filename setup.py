@@ -27,6 +27,7 @@ setup(
         "numpy>=1.24",
         "pydicom>=2.4",
         "matplotlib>=3.6",
+        "tqdm>=4.60",
     ],
     extras_require={"test": ["pytest>=7"]},
     entry_points={"console_scripts": ["mipcast=mipcast.cli:main"]},

@@ -12,7 +12,7 @@ picture is mapped back through the grey window, so its error includes the
 from __future__ import annotations
 
 import statistics
-from typing import Iterable, NamedTuple, Optional, Sequence, Union
+from typing import Callable, Iterable, NamedTuple, Optional, Sequence, Union
 
 import numpy as np
 
@@ -45,6 +45,8 @@ DEFAULT_SETTINGS = (
     Setting("demip eye distance", "demip", 1, settings=(("DepthMode", "eye_distance"),)),
     Setting("demip + sphere", "demip", 1, settings=(("SphereWeight", 0.5),)),
     Setting("foveated mip", "foveated", 1),
+    Setting("foveated mip, gaze at a corner", "foveated", 1, settings=(("GazePoint", (0.1, 0.1)),)),
+    Setting("foveated analytic", "foveated", None, settings=(("Method", "analytic"),)),
     Setting("cpu 1x", "cpu", 1),
 )
 
@@ -83,12 +85,13 @@ def _view(image, setting: Setting, method: str, size, view: str, window=None) ->
     scene = OffscreenView(image, method, size=size, view=view, sample_distance=distance, window=window)
     if method == setting.method:
         for name, value in setting.settings:
-            getattr(scene.mapper, "Set" + name)(value)
+            getattr(scene.mapper, "Set" + name)(*(value if isinstance(value, tuple) else (value,)))
     return scene
 
 
 def time_settings(image, settings: Sequence[Setting], size=(256, 256), view: str = "oblique",
-                  rounds: int = 5, frames: int = 3, warmup: int = 3, window=None) -> dict:
+                  rounds: int = 5, frames: int = 3, warmup: int = 3, window=None,
+                  progress: Optional[Callable[[str], None]] = None) -> dict:
     """Median frame time in seconds of each setting, measured in interleaved rounds.
 
     Parameters
@@ -105,6 +108,8 @@ def time_settings(image, settings: Sequence[Setting], size=(256, 256), view: str
         ``rounds`` x ``frames`` timed frames per setting, after ``warmup``.
     window : tuple of float, optional
         Grey window (default: the data range).
+    progress : callable, optional
+        Called with a short label after each round.
 
     Returns
     -------
@@ -123,17 +128,21 @@ def time_settings(image, settings: Sequence[Setting], size=(256, 256), view: str
     for scene in views.values():
         scene.frame_times(frames=0, warmup=warmup)
     samples: dict = {label: [] for label in views}
-    for _ in range(rounds):
+    for number in range(rounds):
         for label, scene in views.items():
             samples[label].extend(scene.frame_times(frames=frames, warmup=0))
+        if progress is not None:
+            progress(f"timing round {number + 1}/{rounds}")
     baseline = statistics.median(samples[settings[0].label])
     return {label: {"median_s": statistics.median(t), "ratio": statistics.median(t) / baseline,
                     "frames": len(t)} for label, t in samples.items()}
 
 
 def errors_of_settings(image, settings: Sequence[Setting], size=(256, 256), view: str = "oblique",
-                       window=None) -> dict:
+                       window=None, progress: Optional[Callable[[str], None]] = None) -> dict:
     """Error of each setting's float readout against the exact float64 reference.
+
+    ``progress``, if given, is called with the setting's label after each.
 
     Returns
     -------
@@ -164,6 +173,8 @@ def errors_of_settings(image, settings: Sequence[Setting], size=(256, 256), view
             exact = reference.render(image, scene.camera, size, method="exact")
             results["_reference_s"] = time.perf_counter() - started
         results[setting.label] = summary(_values(scene), exact, high - low, window=window)
+        if progress is not None:
+            progress(f"error of {setting.label}")
     return results
 
 
@@ -177,8 +188,13 @@ def _values(scene: OffscreenView) -> np.ndarray:
     return low + grey / 255.0 * (high - low)  # misses: only the reference's hits are compared
 
 
-def measure_scene(image, scene: str, view: str, edge: int, rounds: int = 5, window=None) -> list:
+def measure_scene(image, scene: str, view: str, edge: int, rounds: int = 5, window=None,
+                  progress: Optional[Callable[[str], None]] = None) -> list:
     """All of :data:`DEFAULT_SETTINGS` on one scene, view and size: bench rows.
+
+    ``progress`` (optional) is called with a short label after each of the
+    ``1 + rounds + len(DEFAULT_SETTINGS)`` steps (sampling choice, timing
+    rounds, error of each setting).
 
     Each row has the time ratio to stock MIP 1x, the error figures of
     :func:`errors_of_settings`, and for analytic MIP its work per ray
@@ -195,8 +211,10 @@ def measure_scene(image, scene: str, view: str, edge: int, rounds: int = 5, wind
 
     size = (edge, edge)
     settings = resolve_settings(image, DEFAULT_SETTINGS, size, view, window)
-    times = time_settings(image, settings, size=size, view=view, rounds=rounds, window=window)
-    errors = errors_of_settings(image, settings, size=size, view=view, window=window)
+    if progress is not None:
+        progress("sampling chosen for 'auto'")
+    times = time_settings(image, settings, size=size, view=view, rounds=rounds, window=window, progress=progress)
+    errors = errors_of_settings(image, settings, size=size, view=view, window=window, progress=progress)
     rows = []
     for setting in settings:
         error, timing = errors[setting.label], times[setting.label]

@@ -76,13 +76,19 @@ def _parser() -> argparse.ArgumentParser:
     bench.add_argument("--scenes", nargs="+", default=["vessels"],
                        help="fixture names, 'head' for the head CT, or volume files; "
                             "NAME@LOW,HIGH sets a grey window (e.g. head@100,1500)")
-    bench.add_argument("--size", type=int, nargs="+", default=[256, 512])
+    bench.add_argument("--size", type=int, nargs="+", default=None,
+                       help="square window edges (default: 256 512; with --foveation 512 1024)")
     bench.add_argument("--volume-size", type=int, default=128, help="edge of synthetic fixtures")
     bench.add_argument("--views", nargs="+", default=["oblique", "perspective"], choices=sorted(VIEWS))
     bench.add_argument("--rounds", type=int, default=5)
     bench.add_argument("--out", type=Path, default=Path("mipcast-bench"))
     bench.add_argument("--stability", action="store_true",
                        help="instead: measure each method's known weak points (stability.md)")
+    bench.add_argument("--foveation", action="store_true",
+                       help="instead: foveated variants against full quality, volume filling the view and "
+                            "whole, gaze at the centre and a corner (foveation.md/json/png)")
+    bench.add_argument("--foveation-methods", nargs="+", default=["mip"],
+                       help="methods the foveated variants render with (--foveation)")
     bench.set_defaults(run=_run_bench)
     return parser
 
@@ -180,20 +186,26 @@ def _run_bench(args) -> int:
     """Time and check every setting against stock VTK MIP on each scene, view and size."""
     if args.stability:
         return _run_stability(args)
+    if args.foveation:
+        return _run_foveation(args)
     from . import paper_tables
-    from .benchmark import markdown_table, measure_scene, write_chart
+    from .benchmark import DEFAULT_SETTINGS, markdown_table, measure_scene, write_chart
 
     args.out.mkdir(parents=True, exist_ok=True)
+    sizes = args.size or [256, 512]
     rows = []
     started = time.perf_counter()
-    jobs = [(scene, view, edge) for scene in args.scenes for view in args.views for edge in args.size]
-    for number, (scene, view, edge) in enumerate(jobs, 1):
-        image, window = _load_scene(scene, args.volume_size)
-        print(f"[{number}/{len(jobs)}] {scene} {view} {edge}^2 ...", flush=True)
-        new = measure_scene(image, scene, view, edge, rounds=args.rounds, window=window)
-        rows += new
-        print("    " + ", ".join(f"{r['setting']} x{r['ratio_to_stock']:.2f} p99 {r['p99_pct']:.3g}%"
-                                 for r in new), flush=True)
+    jobs = [(scene, view, edge) for scene in args.scenes for view in args.views for edge in sizes]
+    steps_per_job = 1 + args.rounds + len(DEFAULT_SETTINGS)  # auto's calibration, rounds, error per setting
+    with _progress_bar(len(jobs) * steps_per_job) as bar:
+        for number, (scene, view, edge) in enumerate(jobs, 1):
+            image, window = _load_scene(scene, args.volume_size)
+            bar.set_description(f"[{number}/{len(jobs)}] {scene} {view} {edge}²")
+            new = measure_scene(image, scene, view, edge, rounds=args.rounds, window=window,
+                                progress=lambda label: _advance(bar, label))
+            rows += new
+            bar.write(f"[{number}/{len(jobs)}] {scene} {view} {edge}²: " + ", ".join(
+                f"{r['setting']} x{r['ratio_to_stock']:.2f} p99 {r['p99_pct']:.3g}%" for r in new))
     columns = ["scene", "view", "size", "setting", "median_ms", "ratio_to_stock", "p99_pct",
                "fg_p99_pct", "max_pct", "within_1_grey", "frames", "texel_fetches", "skipped_cells",
                "ray_ratio", "sample_ratio"]
@@ -206,6 +218,45 @@ def _run_bench(args) -> int:
     print(f"wrote {args.out}/bench.json, bench.md, bench.png, papers.md "
           f"({time.perf_counter() - started:.0f} s)")
     return 0
+
+
+def _run_foveation(args) -> int:
+    """Foveated variants against full quality (:mod:`mipcast.foveation_bench`): foveation.md/json/png."""
+    from .foveation_bench import FRAMINGS, GAZES, VARIANTS, foveation_table, measure_foveation, write_ring_chart
+
+    args.out.mkdir(parents=True, exist_ok=True)
+    sizes = args.size or [512, 1024]
+    rounds = min(args.rounds, 3)
+    started = time.perf_counter()
+    jobs = [(scene, method) for scene in args.scenes for method in args.foveation_methods]
+    views = 2 + len(VARIANTS) * len(GAZES)
+    rows = []
+    with _progress_bar(len(jobs) * len(sizes) * len(FRAMINGS) * (rounds + views)) as bar:
+        for scene, method in jobs:
+            image, window = _load_scene(scene, args.volume_size)
+            bar.set_description(f"{scene} {method}")
+            rows += measure_foveation(image, scene, method, sizes=sizes, rounds=rounds, window=window,
+                                      progress=lambda label: _advance(bar, label))
+    (args.out / "foveation.json").write_text(json.dumps(rows, indent=2))
+    table = foveation_table(rows)
+    (args.out / "foveation.md").write_text(table + "\n")
+    write_ring_chart(rows, args.out / "foveation.png")
+    print(table)
+    print(f"wrote {args.out}/foveation.json, foveation.md, foveation.png ({time.perf_counter() - started:.0f} s)")
+    return 0
+
+
+def _progress_bar(total: int):
+    """A tqdm bar on stderr (plain lines when stderr is not a terminal)."""
+    from tqdm import tqdm
+
+    return tqdm(total=total, unit="step", dynamic_ncols=True, mininterval=1.0,
+                bar_format="{desc} {percentage:3.0f}%|{bar}| {n}/{total} [{elapsed}<{remaining}] {postfix}")
+
+
+def _advance(bar, label: str) -> None:
+    bar.set_postfix_str(label[-60:], refresh=False)
+    bar.update(1)
 
 
 def _run_stability(args) -> int:

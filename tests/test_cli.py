@@ -62,6 +62,36 @@ def test_bench_writes_tables(tmp_path):
     assert (tmp_path / "bench.png").stat().st_size > 10000
     assert "mipcast, llvmpipe: vessels@0.2,0.9 oblique 32" in (tmp_path / "papers.md").read_text()
     assert rows["analytic"]["skipped_cells"] > 0.1  # the window lets analytic MIP skip blocks
+    corner = rows["foveated mip, gaze at a corner"]
+    assert corner["ray_ratio"] > rows["foveated mip"]["ray_ratio"]  # the fovea is partly off screen
+    assert rows["foveated analytic"]["p99_pct"] > rows["analytic"]["p99_pct"]  # peripheral levels are coarser
+    assert "gaze at a corner" in (tmp_path / "papers.md").read_text()
+
+
+def test_bench_foveation_writes_table_chart_and_ring_errors(tmp_path, capsys):
+    assert main(["bench", "--foveation", "--scenes", "vessels", "--volume-size", "32", "--size", "96",
+                 "--rounds", "1", "--out", str(tmp_path)]) == 0
+    rows = json.loads((tmp_path / "foveation.json").read_text())
+    assert {row["framing"] for row in rows} == {"fill", "whole"}
+    by = {(row["framing"], row["setting"]): row for row in rows}
+    for framing in ("fill", "whole"):
+        assert by[framing, "full quality"]["speedup"] == 1.0
+        off = by[framing, "foveation off"]
+        assert off["ray_ratio"] == 1.0 and off["mean_grey_error"] == 0.0
+        centre, corner = by[framing, "default | centre"], by[framing, "default | corner"]
+        assert centre["fovea_within_1"] >= 0.99 and corner["fovea_within_1"] >= 0.99
+        assert corner["ray_ratio"] > centre["ray_ratio"] > 1.0
+        assert 1.0 < centre["ceiling"] < corner["ceiling"]
+        # full quality inside the radius, coarser levels outside it
+        inner = [ring for ring in centre["rings"] if ring["e_to"] <= centre["radius"]]
+        outer = [ring for ring in centre["rings"] if ring["e_from"] >= centre["radius"] + centre["falloff"]]
+        assert inner and max(ring["p99"] for ring in inner) <= 1
+        assert outer and max(ring["mean"] for ring in outer) > 0.5
+    # the smaller fovea casts fewer rays than the default one
+    assert by["fill", "radius 0.12 | centre"]["rays"] < by["fill", "default | centre"]["rays"]
+    assert "Levoy & Whitaker" in (tmp_path / "foveation.md").read_text()
+    assert (tmp_path / "foveation.png").stat().st_size > 10000
+    assert "%|" in capsys.readouterr().err  # the progress bar
 
 
 def test_console_script_is_installed():
