@@ -31,13 +31,18 @@ class Setting(NamedTuple):
 
 #: Stock VTK MIP has no float readout; mipcast's "mip" takes the very same
 #: samples (parity tests: identical pictures), so its readout stands for it.
+#: ``auto`` renders with mipcast's "mip": its sample positions are exact
+#: (``g_dataPos + i * step``), as its CPU calibration assumes, while VTK's
+#: stock loop sums its steps and drifts at dense sampling (head CT,
+#: 100-1500 HU, 256^2, 24 samples per voxel: 1.6 % of stock's pixels are
+#: over one grey level from ideal sampling, none of mipcast's).
 DEFAULT_SETTINGS = (
     Setting("stock 1x", "stock", 1, "mip"),
     Setting("stock 2x", "stock", 2, "mip"),
     Setting("stock 4x", "stock", 4, "mip"),
     Setting("stock 8x", "stock", 8, "mip"),
     Setting("mip 1x", "mip", 1),
-    Setting("auto", "stock", "auto", "mip"),
+    Setting("auto", "mip", "auto"),
     Setting("analytic", "analytic"),
     Setting("demip", "demip", 1),
     Setting("demip window depth", "demip", 1, settings=(("DepthMode", "window"),)),
