@@ -97,7 +97,7 @@ def _rotation(axis, degrees):
 
 
 @pytest.mark.parametrize("view", ["oblique", "perspective"])
-@pytest.mark.parametrize("geometry", ["unit", "anisotropic rotated int16"])
+@pytest.mark.parametrize("geometry", ["unit", "anisotropic rotated int16", "dense sampling"])
 def test_float_readout_matches_sampled_reference(view, geometry):
     rng = np.random.default_rng(3)
     if geometry == "unit":
@@ -106,10 +106,14 @@ def test_float_readout_matches_sampled_reference(view, geometry):
         values = (rng.random((24, 36, 30)) ** 6 * 3000 - 1000).astype(np.int16)
         image = _image(values, spacing=(0.8, 0.8, 2.0), origin=(-10.0, 5.0, 3.0),
                        direction=_rotation((1, 2, 0.5), 35))
+    distance = 0.7
+    if geometry == "dense sampling":  # thousands of steps per ray: positions must not drift
+        image = image_from_array(rng.random((64, 64, 64)).astype(np.float32))
+        distance = 1.0 / 32.0
     low, high = image.GetPointData().GetScalars().GetRange(0)
-    gpu = OffscreenView(image, "mip", size=(80, 64), view=view, sample_distance=0.7)
+    gpu = OffscreenView(image, "mip", size=(80, 64), view=view, sample_distance=distance)
     values = gpu.float_image()
-    expected = reference.render(image, gpu.camera, (80, 64), method="mip", sample_distance=0.7)
+    expected = reference.render(image, gpu.camera, (80, 64), method="mip", sample_distance=distance)
     assert np.array_equal(np.isnan(values), np.isnan(expected)), "hit masks differ"
     hits = ~np.isnan(expected)
     assert 0.1 < hits.mean() < 0.95
