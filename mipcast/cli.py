@@ -57,8 +57,9 @@ def _parser() -> argparse.ArgumentParser:
     render.add_argument("--out", type=Path, required=True, help="PNG file to write")
     render.add_argument("--view", default="oblique", choices=sorted(VIEWS))
     render.add_argument("--size", type=int, nargs=2, default=(512, 512), metavar=("W", "H"))
-    render.add_argument("--sample-distance", type=float, default=None,
-                        help="world units between samples (default: one per voxel)")
+    render.add_argument("--sample-distance", type=_distance, default=None,
+                        help="world units between samples (default: one per voxel), or 'auto': the "
+                             "fewest samples that keep 99%% of pixels within one grey level of the exact maximum")
     render.add_argument("--window", type=float, nargs=2, default=None, metavar=("LOW", "HIGH"),
                         help="grey window in data units (default: data range)")
     render.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
@@ -149,12 +150,36 @@ def _run_render(args) -> int:
     from .io import read_volume
 
     image = read_volume(args.input, series_uid=args.series)
+    distance = args.sample_distance
+    if distance == "auto":
+        from .auto_sampling import choose_samples_per_voxel
+
+        camera = OffscreenView(image, "mip", size=tuple(args.size), view=args.view, window=args.window).camera
+        choice = choose_samples_per_voxel(image, camera, tuple(args.size), window=args.window)
+        distance = choice.sample_distance
+        verdict = "meets" if choice.met else "misses (densest candidate used)"
+        print(f"auto sampling: {choice.samples_per_voxel:g} samples per voxel (distance {distance:.4g}); "
+              f"{100 * choice.within_target:.1f}% of {choice.calibration_rays} calibration rays within one "
+              f"grey level: {verdict} the target")
     view = OffscreenView(image, args.method, size=tuple(args.size), view=args.view,
-                         sample_distance=args.sample_distance, window=args.window)
+                         sample_distance=distance, window=args.window)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     _write_png(args.out, view.screenshot())
     print(f"wrote {args.out}")
     return 0
+
+
+def _distance(text: str):
+    """``--sample-distance``: a positive number or ``auto``."""
+    if text == "auto":
+        return text
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number or 'auto', got {text!r}") from None
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"must be > 0, got {text!r}")
+    return value
 
 
 def run_view(args) -> int:

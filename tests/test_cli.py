@@ -3,6 +3,7 @@ import json
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 from matplotlib import pyplot
 from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
@@ -38,6 +39,25 @@ def test_render_a_vti_file(tmp_path):
     assert main(["render", str(source), "--method", "mip", "--out", str(out), "--size", "48", "40"]) == 0
     picture = pyplot.imread(out)
     assert picture.shape[:2] == (40, 48) and picture[..., :3].max() > 0.5
+
+
+def test_render_with_auto_sampling_reports_and_uses_its_choice(tmp_path, capsys):
+    source = tmp_path / "vessels.vti"
+    writer = vtkXMLImageDataWriter()
+    writer.SetFileName(str(source))
+    writer.SetInputData(make_fixture("vessels", size=32))
+    writer.Write()
+    outputs = {}
+    for distance in ("auto", "1.0"):
+        outputs[distance] = tmp_path / f"{distance}.png"
+        assert main(["render", str(source), "--sample-distance", distance, "--out", str(outputs[distance]),
+                     "--size", "64", "64"]) == 0
+    said = capsys.readouterr().out
+    rate = float(said.split("auto sampling: ")[1].split(" samples per voxel")[0])
+    assert rate > 1.0 and "calibration rays within one grey level" in said
+    assert not np.array_equal(pyplot.imread(outputs["auto"]), pyplot.imread(outputs["1.0"]))
+    with pytest.raises(SystemExit):
+        main(["render", str(source), "--sample-distance", "-1", "--out", str(tmp_path / "x.png")])
 
 
 def test_render_errors_are_clear(tmp_path, capsys):
