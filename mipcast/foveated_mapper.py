@@ -89,9 +89,13 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
       disc: halving the radius roughly halves the time that remains.
     - :meth:`SetFalloff` 0.127 of the height: the eccentricity over which the
       ray density falls from full to the coarsest level (6 to 10 degrees in
-      the same geometry: the paper's 20-degree outer circle).  The blend
-      zone next to the fovea is drawn at full resolution too, so a narrower
-      falloff is faster.
+      the same geometry: the paper's 20-degree outer circle).  Within it the
+      ray spacing grows linearly with eccentricity, as the eye's minimum
+      angle of resolution does, so the level (log2 of the spacing) rises
+      fast next to the fovea and slowly further out: with 3 levels, level 1
+      is reached a third of the way out.  The blend zone next to the fovea
+      is drawn at full resolution too, so this narrow first blend, or a
+      narrower falloff, is faster.
     - :meth:`SetNumberOfLevels` 3: full, 1/2 and 1/4 resolution (the paper's
       1, 1/4 and 1/16 of the rays).
     - :meth:`SetPeripheralSampling` ``"footprint"`` (above); ``"rays"``
@@ -190,8 +194,13 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     def SetFalloff(self, width: float) -> None:
         """Eccentricity (viewport heights, >= 0) from the fovea's edge to the coarsest level.
 
-        Each level blends into the next over ``width / (levels - 1)``; 0
-        switches levels abruptly (visible seams).
+        Acuity schedule: the ray spacing grows linearly from 1 to
+        ``2**(levels - 1)`` pixels over ``width`` (the minimum angle of
+        resolution grows linearly with eccentricity), so level ``k`` is
+        reached at ``width * (2**k - 1) / (2**(levels - 1) - 1)`` beyond the
+        fovea's edge: the blends widen outwards and the first, drawn at full
+        resolution, is the narrowest (:func:`mipcast.foveation.level_border`).
+        0 switches levels abruptly (visible seams).
         """
         object_state(self)["falloff"] = _non_negative("falloff", width)
         self.Modified()
@@ -544,7 +553,7 @@ def _set_uniforms(level_volume, plan, layer) -> None:
     uniforms.SetUniformf("u_mc_fovCastFrom", max(layer.cast_from, -_FAR))
     uniforms.SetUniformf("u_mc_fovCastTo", min(layer.cast_to, _FAR))
     uniforms.SetUniformf("u_mc_fovStart", float(plan.start))
-    uniforms.SetUniformf("u_mc_fovWidth", float(plan.width))
+    uniforms.SetUniformf("u_mc_fovGain", float(plan.gain))
     uniforms.SetUniformf("u_mc_fovTop", float(plan.top))
     uniforms.SetUniformf("u_mc_fovLevel", float(layer.level))
 

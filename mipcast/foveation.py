@@ -7,12 +7,26 @@ Foveated rendering after Levoy & Whitaker (1990), METHODS.md §3.  Level
 ``e`` (distance to the gaze point, in viewport heights, so circles stay
 round in any window shape) wants the continuous level::
 
-    lam(e) = clip((e - start) / width, 0, top)
+    lam(e) = clip(log2(1 + gain * max(e - start, 0)), 0, top)
+    gain   = (2**(L - 1) - 1) / falloff        (L levels)
 
 ``start`` is the foveal radius plus a margin of two level-1 texels (the
 reach of level 1's bilinear reconstruction, so that no coarse ray reaches
-into the fovea), ``width`` the falloff per level, ``top`` the coarsest level
-drawn.  Its colour is a lerp between the two bracketing levels.  The levels
+into the fovea), ``falloff`` the eccentricity beyond ``start`` where the
+coarsest level ``L - 1`` is reached, ``top`` the coarsest level drawn
+(below ``L - 1`` in small windows or for tiny volumes).  This follows visual
+acuity: the minimum angle of resolution grows linearly with eccentricity, so
+the ray *spacing* ``2**lam = 1 + gain * (e - start)`` does, and the level,
+its log2, rises fast next to the fovea and slowly further out.  Level ``k``
+is reached at the border (:func:`level_border`)::
+
+    e_k = start + falloff * (2**k - 1) / (2**(L - 1) - 1)
+
+With 3 levels level 1 is reached a third of the way out (a linear schedule
+would reach it half-way) and level 2 at ``start + falloff``: the 0 -> 1 blend
+annulus, drawn at full resolution, is narrower and level 0 casts fewer rays.
+A falloff of 0 switches levels abruptly at ``start`` (it is taken as 1e-6).
+Each pixel's colour is a lerp between the two bracketing levels.  The levels
 are drawn coarsest first, each composited *over* the one below with the
 premultiplied weight ``clip(k + 1 - lam, 0, 1)`` (1 for the coarsest), which
 for opaque colours is exactly that lerp::
@@ -119,7 +133,7 @@ class Plan(NamedTuple):
     gaze: Tuple[float, float]             # normalised viewport coordinates
     aspect: float                         # width / height
     start: float                          # e where lam leaves 0
-    width: float                          # e per level of lam (> 0)
+    gain: float                           # ray spacing 2**lam grows by gain per unit of e - start
     top: int                              # coarsest level drawn
     layers: Tuple[Layer, ...]             # coarsest first (drawing order)
 
@@ -151,7 +165,8 @@ def plan_frame(viewport: Sequence[int], gaze: Sequence[float], radius: float, fa
     radius : float
         Foveal radius (full quality), viewport heights, >= 0.
     falloff : float
-        Eccentricity over which the level rises from 0 to ``levels - 1``,
+        Eccentricity over which the level rises from 0 to ``levels - 1``
+        (the ray spacing growing linearly, see the module docstring),
         viewport heights, >= 0 (0: hard switches).
     levels : int, default: 3
         Pyramid levels available (1 = full quality only).
@@ -168,7 +183,9 @@ def plan_frame(viewport: Sequence[int], gaze: Sequence[float], radius: float, fa
     >>> [(l.level, l.grid) for l in plan.layers]
     [(2, (128, 128)), (1, (256, 256)), (0, (512, 512))]
     >>> plan.layers[-1].scissor, plan.layers[1].scissor  # level 1: its buffer and the window
-    ((171, 171, 170, 170), (70, 70, 300, 300))
+    ((179, 179, 154, 154), (70, 70, 300, 300))
+    >>> round(plan.layers[-1].cast_to - plan.start, 4)  # level 0 stops where lam reaches 1
+    0.0333
     >>> [l.level for l in plan_frame((0, 0, 512, 512), (0.5, 0.5), 2.0, 0.1).layers]
     [0]
     """
@@ -185,17 +202,17 @@ def plan_frame(viewport: Sequence[int], gaze: Sequence[float], radius: float, fa
     reach = [0.0] + [REACH_TEXELS * max(1.0 / g[1], aspect / g[0]) for g in
                      (level_grid(width, height, k, base_sample_distance) for k in range(1, usable + 1))]
     start = radius + (2.0 * reach[1] if usable >= 1 else 0.0)
-    per_level = max(falloff / max(int(levels) - 1, 1), 1e-6)
+    gain = schedule_gain(falloff, levels)
     # eccentricities the viewport spans
     dx = max(0.0, -gx, gx - 1.0) * aspect
     dy = max(0.0, -gy, gy - 1.0)
     e_min = math.hypot(dx, dy)
     e_max = max(math.hypot((cx - gx) * aspect, cy - gy) for cx in (0.0, 1.0) for cy in (0.0, 1.0))
-    top = min(usable, max(0, math.ceil((e_max - start) / per_level))) if usable else 0
+    top = min(usable, max(0, math.ceil(float(_lam(e_max - start, gain))))) if usable else 0
     layers = []
-    for level in range(top, -1, -1):
-        cast_from = -math.inf if level == 0 else start + (level - 1) * per_level - reach[level]
-        cast_to = math.inf if level == top else start + (level + 1) * per_level + reach[level]
+    for level in range(top, -1, -1):  # level k has a weight where k - 1 < lam < k + 1
+        cast_from = -math.inf if level == 0 else _border(start, gain, level - 1) - reach[level]
+        cast_to = math.inf if level == top else _border(start, gain, level + 1) + reach[level]
         if cast_to <= e_min or cast_from > e_max:
             continue
         grid = level_grid(width, height, level, base_sample_distance)
@@ -207,7 +224,50 @@ def plan_frame(viewport: Sequence[int], gaze: Sequence[float], radius: float, fa
             if grid != (width, height):  # drawn into a reduced buffer, then stretched over the window
                 scissor = _union(scissor, _disc_box(0, 0, grid[0], grid[1], gx, gy, cast_to, aspect))
         layers.append(Layer(level, base_sample_distance * 2 ** level, grid, cast_from, cast_to, scissor))
-    return Plan((x0, y0, width, height), (gx, gy), aspect, start, per_level, top, tuple(layers))
+    return Plan((x0, y0, width, height), (gx, gy), aspect, start, gain, top, tuple(layers))
+
+
+def schedule_gain(falloff: float, levels: int) -> float:
+    """``gain`` of the level schedule: ray spacing grows from 1 to ``2**(levels - 1)`` over ``falloff``.
+
+    ``(2**(levels - 1) - 1) / falloff``, the falloff taken as at least 1e-6
+    (0: hard switches); 0 for a single level.
+
+    Examples
+    --------
+    >>> schedule_gain(0.3, 3)
+    10.0
+    """
+    return (2.0 ** (max(int(levels), 1) - 1) - 1.0) / max(float(falloff), 1e-6)
+
+
+def _lam(x, gain):
+    """Unclipped level at ``x = e - start``: ``log2(1 + gain * max(x, 0))`` (foveated_weight.glsl)."""
+    return np.log2(1.0 + gain * np.maximum(x, 0.0))
+
+
+def _border(start: float, gain: float, level: int) -> float:
+    """Eccentricity where ``lam`` reaches ``level`` (inf if it never does)."""
+    if level <= 0:
+        return start
+    return start + (2.0 ** level - 1.0) / gain if gain > 0 else math.inf
+
+
+def level_border(plan: Plan, level: int) -> float:
+    """Eccentricity (viewport heights) at which the unclipped ``lam`` reaches ``level``.
+
+    ``plan.start + (2**level - 1) / plan.gain``: level ``k`` blends with
+    level ``k + 1`` between ``level_border(plan, k)`` and
+    ``level_border(plan, k + 1)``.  Beyond ``plan.top`` lam is clipped, so
+    borders above it are not drawn.
+
+    Examples
+    --------
+    >>> plan = plan_frame((0, 0, 512, 512), (0.5, 0.5), 0.1, 0.3)
+    >>> [round(level_border(plan, k) - plan.start, 6) for k in range(3)]  # a third, then all of 0.3
+    [0.0, 0.1, 0.3]
+    """
+    return _border(plan.start, plan.gain, int(level))
 
 
 def _union(a: tuple, b: Optional[tuple]) -> tuple:
@@ -253,7 +313,7 @@ def desired_level(e: np.ndarray, plan: Plan) -> np.ndarray:
     >>> float(desired_level(0.0, plan)), float(desired_level(10.0, plan)) == plan.top
     (0.0, True)
     """
-    return np.clip((np.asarray(e, float) - plan.start) / plan.width, 0.0, float(plan.top))
+    return np.clip(_lam(np.asarray(e, float) - plan.start, plan.gain), 0.0, float(plan.top))
 
 
 def layer_weight(level: int, lam: np.ndarray, plan: Plan) -> np.ndarray:

@@ -5,7 +5,8 @@ import pytest
 from mipcast import METHODS, FoveatedVolumeMapper
 from mipcast.data_fixtures import image_from_array, make_fixture
 from mipcast.foveated_mapper import layer_methods
-from mipcast.foveation import blend_shares, eccentricity, plan_frame
+from mipcast.foveation import (REACH_TEXELS, blend_shares, desired_level, eccentricity, level_border,
+                               plan_frame)
 from mipcast.offscreen import OffscreenView
 from mipcast.shader_pieces import load_piece
 from mipcast.volume_pyramid import build_max_pyramid, max_reduce_axis
@@ -109,7 +110,7 @@ def _ring_steps(image, size, zoom, falloff):
     ring = 2.0 / size[1]
     steps = []
     for k in range(plan.top + 1):
-        edge = plan.start + k * plan.width
+        edge = level_border(plan, k)
         coarser = min(k + 1, plan.top)
         level = next(entry for entry in cost["levels"] if entry["level"] == coarser)
         pure = OffscreenView(image, "mip", size=size, sample_distance=level["sample_distance"])
@@ -131,6 +132,96 @@ def test_no_seam_at_level_borders():
     # the same check catches a hard switch (falloff 0): it is not vacuous
     step, own = _ring_steps(image, (128, 128), 1.6, falloff=0.0)[0]
     assert step > own
+
+
+@pytest.mark.parametrize("levels", [3, 4])
+def test_level_schedule_follows_acuity(levels):
+    # the ray spacing 2**lam grows linearly with eccentricity (as the minimum angle of
+    # resolution does), from 1 at the fovea's edge to 2**(levels - 1) a falloff further out
+    falloff = 0.127
+    plan = plan_frame((0, 0, 1024, 1024), (0.5, 0.5), 0.188, falloff, levels)
+    top = levels - 1
+    assert plan.top == top
+    x = np.linspace(0.0, falloff, 17)
+    assert np.allclose(2.0 ** desired_level(plan.start + x, plan), 1.0 + (2 ** top - 1) * x / falloff)
+    for k in range(levels):
+        border = level_border(plan, k)
+        assert border == pytest.approx(plan.start + falloff * (2 ** k - 1) / (2 ** top - 1))
+        assert float(desired_level(border, plan)) == pytest.approx(k)
+    assert float(desired_level(plan.start - 0.01, plan)) == 0.0
+    assert float(desired_level(plan.start + 2 * falloff, plan)) == top
+
+
+def test_first_blend_is_narrow_so_level_0_casts_fewer_rays():
+    falloff = 0.127
+    plan = plan_frame((0, 0, 1024, 1024), (0.5, 0.5), 0.188, falloff)
+    assert float(desired_level(plan.start + falloff / 3, plan)) == pytest.approx(1.0)  # linear: 0.67
+    layers = {layer.level: layer for layer in plan.layers}
+    assert layers[0].cast_to == pytest.approx(plan.start + falloff / 3)  # level 0 has no bilinear reach
+    assert layers[1].cast_to == pytest.approx(plan.start + falloff + 1.5 / 512)  # the outer circle is kept
+    e = eccentricity((1024, 1024), plan.gaze, plan.aspect)
+    rays = np.count_nonzero(e < layers[0].cast_to)
+    linear = np.count_nonzero(e < plan.start + falloff / 2)
+    fovea = np.count_nonzero(e < plan.start)
+    assert rays < 0.85 * linear and rays - fovea < 0.7 * (linear - fovea)
+    assert np.all(blend_shares(plan)[0][e >= layers[0].cast_to] == 0.0)
+
+
+@pytest.mark.parametrize("viewport, gaze, radius, falloff, levels", [
+    ((0, 0, 1024, 1024), (0.5, 0.5), 0.188, 0.127, 3),
+    ((0, 0, 300, 200), (0.1, 0.8), 0.1, 0.3, 5),
+    ((10, 20, 64, 160), (0.5, 0.2), 0.05, 0.2, 4),
+    ((0, 0, 256, 256), (0.4, 0.6), 0.1, 0.0, 3),
+    ((0, 0, 256, 256), (0.4, 0.6), 0.1, 0.2, 2),
+    ((0, 0, 256, 256), (1.5, -0.3), 0.1, 0.2, 3),
+])
+def test_levels_cast_rays_wherever_they_have_a_share(viewport, gaze, radius, falloff, levels):
+    plan = plan_frame(viewport, gaze, radius, falloff, levels)
+    _, _, width, height = plan.viewport
+    e = eccentricity((width, height), plan.gaze, plan.aspect)
+    shares = blend_shares(plan)
+    assert np.allclose(sum(shares.values()), 1.0)
+    for layer in plan.layers:
+        grid = layer.grid
+        reach = 0.0 if layer.level == 0 else REACH_TEXELS * max(1.0 / grid[1], plan.aspect / grid[0])
+        used = e[shares[layer.level] > 0]
+        # every texel a used pixel reads (bilinear, up to `reach` away) casts its ray
+        assert np.all(used >= layer.cast_from + reach - 1e-9), layer
+        assert np.all(used < layer.cast_to - reach + 1e-9), layer
+
+
+def test_falloff_zero_switches_levels_at_the_fovea_edge():
+    plan = plan_frame((0, 0, 256, 256), (0.5, 0.5), 0.1, 0.0)
+    assert plan.top == 2
+    assert level_border(plan, 2) == pytest.approx(plan.start, abs=2e-6)  # falloff taken as 1e-6
+    assert float(desired_level(plan.start, plan)) == 0.0
+    assert float(desired_level(plan.start + 1.0 / 256, plan)) == 2.0  # one pixel out
+    assert level_border(plan_frame((0, 0, 256, 256), (0.5, 0.5), 0.1, 0.2, levels=1), 1) == np.inf
+
+
+def test_shader_draws_the_acuity_blend(vessels48):
+    # between the fovea and level 1 the picture is w * level 0 + (1 - w) * level 1:
+    # recover w where the two levels differ and compare with the CPU's 1 - lam
+    size, zoom = (128, 128), 1.6
+    _, fov = _views(vessels48, size=size, zoom=zoom, FovealRadius=0.15, Falloff=0.3)
+    picture = fov.screenshot()[..., 0].astype(float)
+    plan, cost = fov.mapper.GetLastPlan(), fov.mapper.GetLastFrameCost()
+    level0 = OffscreenView(vessels48, "mip", size=size)
+    level1_cost = next(entry for entry in cost["levels"] if entry["level"] == 1)
+    level1 = OffscreenView(vessels48, "mip", size=size, sample_distance=level1_cost["sample_distance"])
+    level1.mapper.SetImageSampleDistance(2)
+    for view in (level0, level1):
+        view.camera.Zoom(zoom)
+        view.renderer.ResetCameraClippingRange()
+    first, second = (view.screenshot()[..., 0].astype(float) for view in (level0, level1))
+    e = eccentricity(size, plan.gaze, plan.aspect)
+    blend = (e > plan.start) & (e < level_border(plan, 1)) & (np.abs(first - second) > 8)
+    assert blend.sum() > 100
+    weight = (picture - second)[blend] / (first - second)[blend]
+    acuity = 1.0 - desired_level(e[blend], plan)
+    linear = np.clip(1.0 - (e[blend] - plan.start) / 0.15, 0.0, 1.0)  # the old schedule
+    assert np.median(np.abs(weight - acuity)) < 0.08
+    assert np.median(np.abs(weight - linear)) > 0.15  # the check tells the schedules apart
 
 
 def test_blend_shares_are_a_partition_with_full_quality_inside():
