@@ -27,9 +27,10 @@ def work_per_ray(scene) -> dict:
         ``cells_crossed`` (cells the ray passes through, counted from the
         voxel planes between entry and exit on the CPU; rays that touch an
         edge or face count a cell more than the walk visits), ``cells_walked``
-        (visited by the walk: 8 texel fetches each), ``cells_solved``
-        (cubic evaluated), ``blocks_jumped``, ``texel_fetches`` (8 per walked
-        cell, plus one block-maximum fetch per step when blocks are used),
+        (visited by the walk), ``cells_solved`` (cubic evaluated),
+        ``blocks_jumped``, ``texel_fetches`` (per walked cell 2 from the
+        packed corners, 8 without packing; plus one block-maximum fetch
+        per step when blocks are used),
         ``skipped_cells`` (share of crossed cells never fetched) and
         ``skipped_cubics`` (share of walked cells whose cubic was skipped).
 
@@ -56,7 +57,8 @@ def work_per_ray(scene) -> dict:
     crossed = _cells_crossed(scene)
     blocks = "amip_loop_blocks" in mapper.GetShaderPieces()
     walked, solved, jumped = (counts[n][hits] for n in _COUNTERS)
-    fetches = 8 * walked + (walked + jumped if blocks else 0)
+    per_cell = 2 if "amip_corners_packed" in mapper.GetShaderPieces() else 8
+    fetches = per_cell * walked + (walked + jumped if blocks else 0)
     return {"cells_crossed": float(crossed[hits].mean()), "cells_walked": float(walked.mean()),
             "cells_solved": float(solved.mean()), "blocks_jumped": float(jumped.mean()),
             "texel_fetches": float(fetches.mean()),

@@ -1,6 +1,9 @@
 """Analytic MIP: the exact maximum of the trilinear interpolant, cell by cell."""
 from __future__ import annotations
 
+from vtkmodules.vtkCommonCore import vtkCommand
+
+from .corner_packing import CornerPacker
 from .max_blocks import block_maxima_image
 from .mip_mapper import MIPVolumeMapper
 from .object_state import object_state
@@ -21,6 +24,17 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     Colour and opacity come from the volume property exactly as in stock MIP;
     interpolation is always trilinear.
 
+    Corner packing (:meth:`SetPackedCorners`, on by default): the GPU gets
+    a four-component copy of the volume holding four corners per texel
+    (:mod:`mipcast.corner_packing`), so each cell costs two fetches instead
+    of eight -- 1.3-1.4x faster here, same pixels -- at four times the
+    texture memory.  The copy is made by a pipeline filter inside the
+    mapper: :meth:`GetInput` still returns your image, which is never
+    modified.  VTK draws the copy with independent components and so gives
+    the volume property default transfer functions for components 1-3
+    (component 0's are the ones used).  Turn packing off on GPUs short of
+    memory.
+
     Examples
     --------
     >>> from vtkmodules.vtkRenderingCore import vtkVolume
@@ -33,10 +47,87 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     True
     """
 
-    PIECES = ("mip_globals", "refusal", "amip_cell", "amip_loop", "no_stock_sample", "mip_color")
+    PIECES = ("mip_globals", "refusal", "amip_corners", "amip_cell", "amip_loop", "no_stock_sample", "mip_color")
 
     #: Cells per edge of a skipping block (the coarse level is 1/BLOCK^3 the size).
     BLOCK = 8
+
+    def __init__(self) -> None:
+        super().__init__()
+        state = object_state(self)
+        state["packer"] = CornerPacker()
+        state["packed"] = True
+        # before MIPVolumeMapper's check (priority 0) updates the input
+        self.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, _route_before_render, 1.0)
+
+    # -- input: the user's image goes through the corner packer ------------
+    def SetInputData(self, *args) -> None:
+        """Render this vtkImageData (``SetInputData(image)`` or ``SetInputData(0, image)``)."""
+        image = args[-1]
+        packer = object_state(self)["packer"]
+        if image is None:
+            packer.RemoveAllInputConnections(0)
+            super().RemoveAllInputConnections(0)
+            return
+        packer.SetInputDataObject(0, image)
+        self._route_input()
+
+    def SetInputConnection(self, *args) -> None:
+        """Render the output of an algorithm port (``SetInputConnection(port)`` or ``(0, port)``)."""
+        port = args[-1]
+        packer = object_state(self)["packer"]
+        if port is None:
+            packer.RemoveAllInputConnections(0)
+            super().RemoveAllInputConnections(0)
+            return
+        packer.SetInputConnection(0, port)
+        self._route_input()
+
+    def GetInput(self):
+        """Your input image (not the packed copy the GPU draws), or None."""
+        packer = object_state(self)["packer"]
+        if packer.GetNumberOfInputConnections(0) == 0:
+            return None
+        return packer.GetInputDataObject(0, 0)
+
+    def SetPackedCorners(self, packed: bool) -> None:
+        """Read four corners per texel from a packed copy of the volume (default True).
+
+        True: two texture fetches per cell, four times the texture memory.
+        False: the volume's own one-component texture, eight fetches per cell.
+        """
+        state = object_state(self)
+        if state["packed"] != bool(packed):
+            state["packed"] = bool(packed)
+            self._route_input()
+            self.Modified()
+
+    def GetPackedCorners(self) -> bool:
+        return object_state(self)["packed"]
+
+    def PackedCornersOn(self) -> None:
+        self.SetPackedCorners(True)
+
+    def PackedCornersOff(self) -> None:
+        self.SetPackedCorners(False)
+
+    def _packing_active(self) -> bool:
+        """Packed corners are set and the attached volume draws components independently."""
+        volume = self.GetAttachedVolume()
+        independent = volume is None or bool(volume.GetProperty().GetIndependentComponents())
+        return object_state(self)["packed"] and independent
+
+    def _route_input(self) -> None:
+        """Feed VTK the packed copy or the user's input itself (only when that changes)."""
+        packer = object_state(self)["packer"]
+        if packer.GetNumberOfInputConnections(0) == 0:
+            return
+        port = packer.GetOutputPort() if self._packing_active() else packer.GetInputConnection(0, 0)
+        if self.GetNumberOfInputConnections(0):
+            current = super().GetInputConnection(0, 0)
+            if current.GetProducer() is port.GetProducer() and current.GetIndex() == port.GetIndex():
+                return
+        super().SetInputConnection(port)
 
     def SetPartitions(self, x: int, y: int, z: int) -> None:
         """Recorded so that rendering can refuse it: see :meth:`GetRenderProblem`."""
@@ -90,6 +181,9 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         the plain loop is used.
         """
         names = super().GetShaderPieces()
+        if self._packing_active():
+            packed = {"amip_corners": "amip_corners_packed", "mip_color": "mip_color_packed"}
+            names = tuple(packed.get(n, n) for n in names)
         if self._transfer_floor_ceiling()[0] > 0.0:
             names = tuple("amip_loop_blocks" if n == "amip_loop" else n for n in names)
         if object_state(self).get("stat") is not None:  # mipcast.amip_stats reads work counters
@@ -131,3 +225,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         self.SetMaskInput(block_maxima_image(check_image(image), self.BLOCK, low, high))
         self.SetMaskTypeToBinary()
         state["blocks_of"] = stamp
+
+
+def _route_before_render(mapper, event) -> None:
+    mapper._route_input()

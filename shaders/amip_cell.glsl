@@ -3,7 +3,9 @@
 // mode: augment
 // Analytic MIP's building blocks, shared by its two ray loops (amip_loop,
 // amip_loop_blocks): the ray in index space, one DDA step over a cell, and
-// the exact maximum of the trilinear interpolant inside a cell.
+// the exact maximum of the trilinear interpolant inside a cell. The cell's
+// corner values come from mcCellCorners (amip_corners or, from a texture
+// holding four corners per texel, amip_corners_packed).
 //
 // Index space: point i sits at texture coordinate (i + 0.5) / N, so
 // p(t) = origin + t * dir with t the texture-space length along the ray.
@@ -103,14 +105,9 @@ ivec3 mcCellOf(McRay ray, float t0, float t1)
 // at edges and corners step together) and t0 moves to t1.
 void mcWalkCell(McRay ray, ivec3 cell, float t1, inout float t0, inout vec3 tNext, inout float rayMax)
 {
-  vec4 lo = vec4(texelFetch(in_volume[0], cell, 0).r,
-                 texelFetch(in_volume[0], cell + ivec3(0, 1, 0), 0).r,
-                 texelFetch(in_volume[0], cell + ivec3(0, 0, 1), 0).r,
-                 texelFetch(in_volume[0], cell + ivec3(0, 1, 1), 0).r);
-  vec4 hi = vec4(texelFetch(in_volume[0], cell + ivec3(1, 0, 0), 0).r,
-                 texelFetch(in_volume[0], cell + ivec3(1, 1, 0), 0).r,
-                 texelFetch(in_volume[0], cell + ivec3(1, 0, 1), 0).r,
-                 texelFetch(in_volume[0], cell + ivec3(1, 1, 1), 0).r);
+  vec4 lo;
+  vec4 hi;
+  mcCellCorners(cell, lo, hi);
   vec4 corners = max(lo, hi);
   mc_cellsWalked += 1.0;
   if (max(max(corners.x, corners.y), max(corners.z, corners.w)) > rayMax)

@@ -167,3 +167,66 @@ def test_volumes_beyond_one_texture_are_refused_with_the_limit():
     assert view.screenshot().max() == 0
     view.mapper.SetPartitions(1, 1, 1)
     assert view.screenshot().max() > 100
+
+
+@pytest.mark.parametrize("window", [None, (0.3, 0.9)])
+def test_packed_corners_draw_the_same_pixels_as_eight_fetches(window):
+    # packing only changes where the corner values come from: pixels and
+    # float readout are identical, the user's image is untouched
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
+
+    from mipcast.amip_stats import work_per_ray
+
+    rng = np.random.default_rng(5)
+    values = (rng.random((20, 28, 24)) ** 4 * 3000 - 1000).astype(np.int16)
+    image = image_from_array(values, spacing=(0.8, 1.0, 2.0))
+    before = vtk_to_numpy(image.GetPointData().GetScalars()).copy()
+    stamp = image.GetMTime()
+    low, high = image.GetPointData().GetScalars().GetRange(0)
+    shown = None if window is None else (low + window[0] * (high - low), low + window[1] * (high - low))
+    results = {}
+    for packed in (True, False):
+        view = OffscreenView(image, "analytic", size=SIZE, window=shown)
+        view.mapper.SetPackedCorners(packed)
+        results[packed] = (view.screenshot(), view.float_image(), work_per_ray(view)["texel_fetches"])
+        assert view.mapper.GetInput() is image
+        drawn = vtkOpenGLGPUVolumeRayCastMapper.GetInput(view.mapper)  # what VTK uploads
+        assert drawn.GetPointData().GetScalars().GetNumberOfComponents() == (4 if packed else 1)
+        assert drawn.GetDimensions() == image.GetDimensions()
+    assert np.array_equal(results[True][0], results[False][0])
+    assert np.array_equal(results[True][1], results[False][1], equal_nan=True)
+    assert results[True][2] < 0.5 * results[False][2]  # 2 fetches per cell instead of 8
+    assert np.array_equal(vtk_to_numpy(image.GetPointData().GetScalars()), before)
+    assert image.GetMTime() == stamp
+
+
+def test_packed_corners_follow_a_pipeline_and_dependent_components():
+    from vtkmodules.vtkImagingCore import vtkImageShiftScale
+
+    image = make_fixture("vessels", size=32)
+    view = OffscreenView(image, "analytic", size=(64, 64))
+    scale = vtkImageShiftScale()
+    scale.SetInputData(image)
+    scale.SetScale(2.0)
+    view.mapper.SetInputConnection(scale.GetOutputPort())
+    view.volume.GetProperty().GetRGBTransferFunction(0).AddRGBPoint(2.0 * image.GetScalarRange()[1], 1, 1, 1)
+    assert view.screenshot().max() > 100
+    assert view.mapper.GetInput().GetScalarRange()[1] == pytest.approx(2.0 * image.GetScalarRange()[1])
+    # dependent components: the one-component volume goes to VTK, which
+    # refuses it in that mode exactly as for stock MIP (no shader is built)
+    from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+
+    log = vtkStringOutputWindow()
+    previous = vtkOutputWindow.GetInstance()
+    vtkOutputWindow.SetInstance(log)
+    try:
+        view.volume.GetProperty().IndependentComponentsOff()
+        assert view.screenshot().max() == 0
+        assert "amip_corners_packed" not in view.mapper.GetShaderPieces()
+        view.volume.GetProperty().IndependentComponentsOn()
+        assert view.screenshot().max() > 100
+    finally:
+        vtkOutputWindow.SetInstance(previous)
+    assert "IndependentComponents is Off" in log.GetOutput()
+    assert "compile" not in log.GetOutput()

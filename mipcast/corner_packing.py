@@ -1,0 +1,83 @@
+"""Four cell corners per texel, so analytic MIP reads a cell in two fetches.
+
+Analytic MIP needs all 8 corner values of every cell a ray crosses.  From
+a one-component 3D texture that is 8 ``texelFetch`` calls, and on llvmpipe
+those dominate its frame time.  :func:`packed_corners` builds a
+four-component copy whose texel ``(x, y, z)`` holds the values at
+``(x, y, z)``, ``(x, y+1, z)``, ``(x, y, z+1)`` and ``(x, y+1, z+1)``
+(clamped at the last row/slice, which no cell reads); the cell's corners
+are then the texels at ``x`` and ``x + 1`` (``shaders/amip_corners_packed.glsl``).
+Values are copied, never converted, so the walk stays exact.  The price is
+memory: the packed texture is four times the volume's.
+
+:class:`CornerPacker` does it inside a VTK pipeline (between the user's
+input and the mapper), so the user's image is never modified and the
+packing reruns only when the input changes.
+"""
+from __future__ import annotations
+
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
+from vtkmodules.vtkCommonDataModel import vtkImageData
+
+
+def packed_corners(values: np.ndarray) -> np.ndarray:
+    """``(nz, ny, nx)`` values -> ``(nz, ny, nx, 4)``: each point with its +y, +z and +y+z neighbours.
+
+    Examples
+    --------
+    >>> values = np.arange(8.0).reshape(2, 2, 2)      # (z, y, x)
+    >>> packed_corners(values)[0, 0, 0].tolist()       # (x, y, z) = 0: itself, +y, +z, +y+z
+    [0.0, 2.0, 4.0, 6.0]
+    >>> packed_corners(values)[1, 1, 1].tolist()       # the last point repeats itself
+    [7.0, 7.0, 7.0, 7.0]
+    """
+    nz, ny, _ = values.shape
+    up_y = np.minimum(np.arange(ny) + 1, ny - 1)
+    up_z = np.minimum(np.arange(nz) + 1, nz - 1)
+    packed = np.empty(values.shape + (4,), dtype=values.dtype)
+    packed[..., 0] = values
+    packed[..., 1] = values[:, up_y]
+    packed[..., 2] = values[up_z]
+    packed[..., 3] = values[up_z][:, up_y]
+    return packed
+
+
+class CornerPacker(VTKPythonAlgorithmBase):
+    """Pipeline filter: one-component vtkImageData in, :func:`packed_corners` out.
+
+    Geometry (extent, spacing, origin, direction) is copied.  Input the
+    packing cannot handle (no scalars, several components, fewer than 2
+    points along an axis) gives a 2x2x2 zero volume with four components,
+    so the packed shader still compiles; the mapper refuses such input
+    itself and draws nothing.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> packer = CornerPacker()
+    >>> packer.SetInputDataObject(make_fixture("spheres", size=8))
+    >>> _ = packer.Update()
+    >>> packer.GetOutputDataObject(0).GetPointData().GetScalars().GetNumberOfComponents()
+    4
+    """
+
+    def __init__(self) -> None:
+        super().__init__(nInputPorts=1, inputType="vtkImageData", nOutputPorts=1, outputType="vtkImageData")
+
+    def RequestData(self, request, in_info, out_info) -> int:
+        source = vtkImageData.GetData(in_info[0])
+        target = vtkImageData.GetData(out_info)
+        scalars = source.GetPointData().GetScalars()
+        dims = source.GetDimensions()
+        if scalars is None or scalars.GetNumberOfComponents() != 1 or min(dims) < 2:
+            target.SetDimensions(2, 2, 2)
+            target.GetPointData().SetScalars(numpy_to_vtk(np.zeros((8, 4), np.float32), deep=True))
+            return 1
+        values = vtk_to_numpy(scalars).reshape(dims[2], dims[1], dims[0])
+        packed = numpy_to_vtk(packed_corners(values).reshape(-1, 4), deep=True)
+        packed.SetName(scalars.GetName() or "scalars")
+        target.CopyStructure(source)
+        target.GetPointData().SetScalars(packed)
+        return 1
