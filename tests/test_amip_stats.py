@@ -17,4 +17,5 @@ def test_a_window_above_the_background_skips_most_cells():
     work = work_per_ray(scene)
     assert work["blocks_jumped"] > 1.0
     assert work["skipped_cells"] > 0.5
-    assert work["texel_fetches"] < 0.5 * 2 * work["cells_crossed"]
+    # fetches: 2 per walked cell + 1 block maximum per step, against 2 per crossed cell without skipping
+    assert work["texel_fetches"] < 0.7 * 2 * work["cells_crossed"]
