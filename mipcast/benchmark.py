@@ -130,6 +130,32 @@ def time_settings(image, settings: Sequence[Setting], size=(256, 256), view: str
     1.0
     """
     views = {s.label: _view(image, s, s.method, size, view, window) for s in settings}
+    samples = interleaved_frame_times(views, rounds, frames, warmup, progress)
+    baseline = statistics.median(samples[settings[0].label])
+    return {label: {"median_s": statistics.median(t), "ratio": statistics.median(t) / baseline,
+                    "frames": len(t)} for label, t in samples.items()}
+
+
+def interleaved_frame_times(views: dict, rounds: int, frames: int, warmup: int,
+                            progress: Optional[Callable[[str], None]] = None) -> dict:
+    """Frame times of several views, measured in interleaved rounds after warm-up.
+
+    Every view renders ``warmup`` frames, then each of ``rounds`` rounds
+    renders ``frames`` frames of every view in turn, so drift on a shared
+    machine touches all views alike.
+
+    Returns
+    -------
+    dict
+        ``{label: [seconds, ...]}`` (``rounds * frames`` times each).
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> views = {"a": OffscreenView(make_fixture("spheres", size=8), "mip", size=(16, 16))}
+    >>> len(interleaved_frame_times(views, rounds=2, frames=3, warmup=1)["a"])
+    6
+    """
     for scene in views.values():
         scene.frame_times(frames=0, warmup=warmup)
     samples: dict = {label: [] for label in views}
@@ -138,9 +164,7 @@ def time_settings(image, settings: Sequence[Setting], size=(256, 256), view: str
             samples[label].extend(scene.frame_times(frames=frames, warmup=0))
         if progress is not None:
             progress(f"timing round {number + 1}/{rounds}")
-    baseline = statistics.median(samples[settings[0].label])
-    return {label: {"median_s": statistics.median(t), "ratio": statistics.median(t) / baseline,
-                    "frames": len(t)} for label, t in samples.items()}
+    return samples
 
 
 def errors_of_settings(image, settings: Sequence[Setting], size=(256, 256), view: str = "oblique",

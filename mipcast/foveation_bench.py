@@ -26,6 +26,7 @@ from typing import Callable, Optional, Sequence
 
 import numpy as np
 
+from .benchmark import interleaved_frame_times
 from .foveation import eccentricity
 from .offscreen import OffscreenView
 from .ray_cost import grid_cost
@@ -193,13 +194,8 @@ def measure_foveation(image, scene: str, method: str = "mip", sizes: Sequence[in
                     for name, value in settings.items():
                         getattr(view.mapper, "Set" + name)(value)
                     view.mapper.SetGazePoint(*gaze)
-            for view in views.values():
-                view.frame_times(frames=0, warmup=warmup)
-            times: dict = {label: [] for label in views}
-            for number in range(rounds):
-                for label, view in views.items():
-                    times[label].extend(view.frame_times(frames=frames, warmup=0))
-                report(f"{scene} {size}² {framing}: timing round {number + 1}/{rounds}")
+            times = interleaved_frame_times(views, rounds, frames, warmup,
+                                            lambda label: report(f"{scene} {size}² {framing}: {label}"))
             base = statistics.median(times["full quality"])
             full_picture = views["full quality"].screenshot()
             for label, view in views.items():
