@@ -7,14 +7,15 @@ Examples
 --------
 >>> import mipcast
 >>> sorted(mipcast.METHODS)
-['analytic', 'cpu', 'demip', 'foveated', 'mip', 'stock']
+['analytic', 'cpu', 'demip', 'demip_two_pass', 'foveated', 'mip', 'stock']
 """
 from .analytic_mapper import AnalyticMIPVolumeMapper
 from .demip_mapper import DEMIPVolumeMapper
+from .demip_two_pass import DEMIPTwoPassVolumeMapper
 from .foveated_mapper import FoveatedVolumeMapper
 from .methods import METHODS, create_mapper
 from .mip_mapper import MIPVolumeMapper
 
 __version__ = "0.1.0"
-__all__ = ["METHODS", "AnalyticMIPVolumeMapper", "DEMIPVolumeMapper", "FoveatedVolumeMapper",
-           "MIPVolumeMapper", "create_mapper", "__version__"]
+__all__ = ["METHODS", "AnalyticMIPVolumeMapper", "DEMIPTwoPassVolumeMapper", "DEMIPVolumeMapper",
+           "FoveatedVolumeMapper", "MIPVolumeMapper", "create_mapper", "__version__"]

@@ -9,13 +9,14 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkCommand, vtkWeakReference
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkCommonMath import vtkMatrix4x4
-from vtkmodules.vtkRenderingCore import vtkCamera, vtkRenderer, vtkVolume
+from vtkmodules.vtkRenderingCore import vtkCamera, vtkVolume
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
 from . import foveation, volume_pyramid
 from .analytic_mapper import AnalyticMIPVolumeMapper
 from .mip_mapper import MIPVolumeMapper
 from .object_state import object_state
+from .private_draw import follow_volume, rendering_renderer
 from .ray_cost import grid_cost
 from .validation import check_choice
 
@@ -382,7 +383,7 @@ def _draw_levels(mapper, event) -> None:
     if mapper.GetRenderProblem() is not None:  # MIPVolumeMapper's observer reported it
         return
     volume = mapper.GetAttachedVolume()
-    renderer = _rendering_renderer(mapper, volume)
+    renderer = rendering_renderer(mapper, volume)
     if renderer is not None:
         _draw(mapper, state, volume, renderer)
     state["own_draw"] = (mapper.GetCropping(), mapper.GetCroppingRegionPlanes())
@@ -530,20 +531,7 @@ def _copy_settings(mapper, volume, level_mapper, level_volume, matrix, distance,
         level_mapper.SetSampleDistance(distance)
     if level_mapper.GetImageSampleDistance() != image_distance:
         level_mapper.SetImageSampleDistance(image_distance)
-    level_mapper.SetUseJittering(mapper.GetUseJittering())
-    level_mapper.SetCropping(mapper.GetCropping())
-    level_mapper.SetCroppingRegionPlanes(mapper.GetCroppingRegionPlanes())
-    level_mapper.SetCroppingRegionFlags(mapper.GetCroppingRegionFlags())
-    if level_mapper.GetClippingPlanes() is not mapper.GetClippingPlanes():
-        level_mapper.SetClippingPlanes(mapper.GetClippingPlanes())
-    if level_volume.GetProperty() is not volume.GetProperty():
-        level_volume.SetProperty(volume.GetProperty())
-    current = volume.GetMatrix()
-    if any(matrix.GetElement(r, c) != current.GetElement(r, c) for r in range(4) for c in range(4)):
-        matrix.DeepCopy(current)
-        level_volume.SetUserMatrix(matrix)
-    elif level_volume.GetUserMatrix() is not matrix:
-        level_volume.SetUserMatrix(matrix)
+    follow_volume(mapper, volume, level_mapper, level_volume, matrix)
 
 
 def _set_uniforms(level_volume, plan, layer) -> None:
@@ -572,36 +560,6 @@ def _level_values(level_mapper, grid) -> np.ndarray:
     values = low + (raw + 2.0) * (high - low)
     values[raw > -0.5] = np.nan
     return values
-
-
-def _rendering_renderer(mapper, volume):
-    """The renderer drawing ``volume`` now: its only consumer, or the one that last started."""
-    renderers = [volume.GetConsumer(i) for i in range(volume.GetNumberOfConsumers())]
-    renderers = [r for r in renderers if isinstance(r, vtkRenderer)]
-    if len(renderers) <= 1:
-        return renderers[0] if renderers else None
-    state = object_state(mapper)
-    hooked = state.setdefault("hooked_renderers", set())
-    link = vtkWeakReference()
-    link.Set(mapper)
-    for renderer in renderers:
-        key = renderer.GetAddressAsString("vtkObjectBase")
-        if key not in hooked:
-            renderer.AddObserver(vtkCommand.StartEvent, _make_start_hook(link))
-            hooked.add(key)
-    current = state.get("current_renderer")
-    current = current.Get() if current is not None else None
-    return current if any(current is r for r in renderers) else renderers[0]
-
-
-def _make_start_hook(mapper_link):
-    def started(renderer, event):
-        mapper = mapper_link.Get()
-        if mapper is not None:
-            link = vtkWeakReference()
-            link.Set(renderer)
-            object_state(mapper)["current_renderer"] = link
-    return started
 
 
 def _current_gaze(state, renderer, camera, viewport):

@@ -1,0 +1,31 @@
+// mipcast piece: demip_two_pass_first_end
+// fills: Terminate::Init
+// mode: replace
+// Two-pass DEMIP, pass 1: VTK's own ray set-up at this tag (end rays at
+// opaque geometry through the scene depth in in_depthSampler), with one
+// fix: pass 1 always renders to image, into a buffer whose lower-left pixel
+// is the viewport's, while VTK's window uniforms still carry the viewport's
+// offset in the window. Pixel coordinates are therefore taken from
+// gl_FragCoord alone (VTK's code is identical when the offset is 0).
+// Also does the refusal piece's job (this tag takes one piece).
+  if (u_mc_refused > 0.5)
+  {
+    discard;
+  }
+  g_terminatePointMax = 0.0;
+  vec2 mc_at = gl_FragCoord.xy * in_inverseWindowSize;
+  float mc_sceneDepth = texture2D(in_depthSampler, mc_at).x;
+  if (gl_FragCoord.z >= mc_sceneDepth)
+  {
+    discard;  // opaque geometry hides the volume here
+  }
+  vec4 mc_termination = vec4(mc_at * 2.0 - 1.0,
+                             (2.0 * mc_sceneDepth - (gl_DepthRange.near + gl_DepthRange.far))
+                             / gl_DepthRange.diff, 1.0);
+  mc_termination = ip_inverseTextureDataAdjusted * in_inverseVolumeMatrix[0] *
+                   in_inverseModelViewMatrix * in_inverseProjectionMatrix * mc_termination;
+  g_rayTermination = mc_termination.xyz / mc_termination.w;
+  g_dataPos = g_rayOrigin;
+  g_terminatePos = g_rayTermination;
+  g_terminatePointMax = length(g_terminatePos.xyz - g_dataPos.xyz) / length(g_dirStep);
+  g_currentT = 0.0;
