@@ -49,6 +49,7 @@ DEFAULT_SETTINGS = (
     Setting("demip steps depth", "demip", 1, settings=(("DepthMode", "steps"),)),
     Setting("demip eye distance", "demip", 1, settings=(("DepthMode", "eye_distance"),)),
     Setting("demip + sphere", "demip", 1, settings=(("SphereWeight", 0.5),)),
+    Setting("demip two passes", "demip_two_pass", 1),
     Setting("foveated mip", "foveated", 1),
     Setting("foveated mip, gaze at a corner", "foveated", 1, settings=(("GazePoint", (0.1, 0.1)),)),
     Setting("foveated analytic", "foveated", None, settings=(("Method", "analytic"),)),

@@ -238,7 +238,8 @@ def _run_bench(args) -> int:
     (args.out / "bench.md").write_text(markdown_table(rows, columns) + "\n")
     write_chart(rows, args.out / "bench.png")
     (args.out / "papers.md").write_text("\n\n".join(
-        [paper_tables.amip_table(rows), paper_tables.demip_table(rows), paper_tables.levoy_table(rows)]) + "\n")
+        [paper_tables.amip_table(rows), paper_tables.demip_table(rows), paper_tables.demip_passes_table(rows),
+         paper_tables.levoy_table(rows)]) + "\n")
     print(markdown_table(rows, columns))
     print(f"wrote {args.out}/bench.json, bench.md, bench.png, papers.md "
           f"({time.perf_counter() - started:.0f} s)")

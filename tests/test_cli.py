@@ -86,6 +86,8 @@ def test_bench_writes_tables(tmp_path):
     assert corner["ray_ratio"] > rows["foveated mip"]["ray_ratio"]  # the fovea is partly off screen
     assert rows["foveated analytic"]["p99_pct"] > rows["analytic"]["p99_pct"]  # peripheral levels are coarser
     assert "gaze at a corner" in (tmp_path / "papers.md").read_text()
+    assert "2 passes / 1 pass" in (tmp_path / "papers.md").read_text()
+    assert rows["demip two passes"]["p99_pct"] == pytest.approx(rows["demip"]["p99_pct"])  # same pictures
 
 
 def test_bench_foveation_writes_table_chart_and_ring_errors(tmp_path, capsys):
