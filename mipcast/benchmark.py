@@ -44,6 +44,7 @@ DEFAULT_SETTINGS = (
     Setting("mip 1x", "mip", 1),
     Setting("auto", "mip", "auto"),
     Setting("analytic", "analytic"),
+    Setting("analytic, no skipping", "analytic", settings=(("Skipping", False),)),
     Setting("demip", "demip", 1),
     Setting("demip window depth", "demip", 1, settings=(("DepthMode", "window"),)),
     Setting("demip steps depth", "demip", 1, settings=(("DepthMode", "steps"),)),

@@ -101,7 +101,7 @@ ivec3 mcCellOf(McRay ray, float t0, float t1)
 
 // One DDA step: the segment [t0, t1] in `cell` raises rayMax to the cell's
 // exact maximum, unless no corner is above rayMax (trilinear values never
-// exceed the corners); then every axis whose plane is reached steps (ties
+// exceed the corners; u_mc_cornerBound 0 turns this skip off, for measuring); then every axis whose plane is reached steps (ties
 // at edges and corners step together) and t0 moves to t1.
 void mcWalkCell(McRay ray, ivec3 cell, float t1, inout float t0, inout vec3 tNext, inout float rayMax)
 {
@@ -110,7 +110,7 @@ void mcWalkCell(McRay ray, ivec3 cell, float t1, inout float t0, inout vec3 tNex
   mcCellCorners(cell, lo, hi);
   vec4 corners = max(lo, hi);
   mc_cellsWalked += 1.0;
-  if (max(max(corners.x, corners.y), max(corners.z, corners.w)) > rayMax)
+  if (u_mc_cornerBound < 0.5 || max(max(corners.x, corners.y), max(corners.z, corners.w)) > rayMax)
   {
     mc_cellsSolved += 1.0;
     rayMax = max(rayMax, mcCellMaximum(lo, hi, ray.origin + t0 * ray.dir - vec3(cell), (t1 - t0) * ray.dir));
