@@ -318,23 +318,35 @@ def write_chart(rows: Sequence[dict], path, error_key: str = "p99_pct") -> None:
     from matplotlib import pyplot
 
     panels = sorted({(r["scene"], r["view"], r["size"]) for r in rows})
-    figure, axes = pyplot.subplots(1, len(panels), figsize=(4.6 * len(panels), 4.2), squeeze=False)
-    for ax, panel in zip(axes[0], panels):
+    settings = list(dict.fromkeys(r["setting"].split(" (")[0] for r in rows))  # "auto (16x)" -> "auto"
+    colours = pyplot.get_cmap("tab20")
+    columns = min(len(panels), 4)
+    lines = -(-len(panels) // columns)
+    figure, axes = pyplot.subplots(lines, columns, figsize=(5.2 * columns, 4.4 * lines + 1.8), squeeze=False)
+    floor = 1e-4
+    for ax, panel in zip(axes.flat, panels):
         chosen = [r for r in rows if (r["scene"], r["view"], r["size"]) == panel]
-        floor = 1e-4
         points = [(r["ratio_to_stock"], max(r[error_key], floor)) for r in chosen]
         front = set(pareto_front(points))
         for index, (row, (x, y)) in enumerate(zip(chosen, points)):
-            ax.scatter(x, y, s=60 if index in front else 30, edgecolors="k" if index in front else "none",
-                       zorder=3)
-            label = row["setting"] + (" (exact)" if row[error_key] < floor else "")
-            ax.annotate(label, (x, y), textcoords="offset points", fontsize=8,
-                        xytext=(5, 4) if index % 2 == 0 else (5, -11))
+            colour = colours(settings.index(row["setting"].split(" (")[0]) % 20)
+            ax.scatter(x, y, s=70 if index in front else 30, color=colour,
+                       edgecolors="k" if index in front else "none", zorder=3)
+            if index in front:  # name the Pareto-optimal settings; the legend names all
+                ax.annotate(row["setting"], (x, y), textcoords="offset points", fontsize=7, xytext=(5, 3))
         ax.set_yscale("log")
-        ax.set_xlabel("frame time / stock VTK MIP 1x")
-        ax.set_ylabel(f"error {error_key} (% of data range)")
+        ax.set_xlabel("frame time / stock VTK MIP 1x", fontsize=8)
+        ax.set_ylabel(f"error {error_key} (% of data range)", fontsize=8)
         ax.set_title(f"{panel[0]}, {panel[1]}, {panel[2]}²", fontsize=10)
         ax.grid(True, which="both", alpha=0.3)
+    for ax in list(axes.flat)[len(panels):]:
+        ax.axis("off")
+    handles = [pyplot.Line2D([], [], marker="o", linestyle="", color=colours(i % 20), label=name)
+               for i, name in enumerate(settings)]
+    figure.legend(handles=handles, loc="lower center", ncol=min(len(settings), 7), fontsize=8,
+                  title=f"circled: Pareto front (nothing both faster and more accurate); "
+                        f"an error of 0 is drawn at {floor:g} %")
     figure.tight_layout()
+    figure.subplots_adjust(bottom=2.2 / (4.4 * lines + 1.8), hspace=0.35)
     figure.savefig(path, dpi=110)
     pyplot.close(figure)

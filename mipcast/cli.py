@@ -141,7 +141,8 @@ def _run_demo(args) -> int:
                      f"{100 * entry['within_1_grey']:.1f}% of pixels within 1 grey level")
         print(f"  {method:8s} {entry['png']}{extra}")
     print(f"wrote {args.out}/ (PNGs, error maps *_error.png, depth_figure.png, demo.json)")
-    print("speed against accuracy of every method: `mipcast bench` (table and chart in mipcast-bench/)")
+    print("speed against accuracy of every method: `mipcast bench` (table and chart in mipcast-bench/); "
+          "foveation against full quality: `mipcast bench --foveation`")
     return 0
 
 
