@@ -296,8 +296,9 @@ def _run_stability(args) -> int:
     for number, case in enumerate(CASES, 1):
         rows.append(measure(case))
         print(f"[{number}/{len(CASES)}] {case.method}: {case.name}: "
-              f"p99 {rows[-1]['p99_pct']:.3g}% of range", flush=True)
-    columns = ["method", "case", "p99_pct", "max_pct", "within_1_grey", "explanation"]
+              f"p99 {rows[-1]['p99_pct']:.3g}% ({rows[-1]['measured']})", flush=True)
+    columns = ["method", "case", "measured", "p99_pct", "max_pct", "within_1_grey", "depth_jump_pct",
+               "fovea_within_1_grey", "explanation"]
     (args.out / "stability.json").write_text(json.dumps(rows, indent=2))
     (args.out / "stability.md").write_text(markdown_table(rows, columns) + "\n")
     print(markdown_table(rows, columns))

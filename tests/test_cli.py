@@ -119,3 +119,22 @@ def test_bench_foveation_writes_table_chart_and_ring_errors(tmp_path, capsys):
 def test_console_script_is_installed():
     run = subprocess.run([sys.executable, "-m", "mipcast.cli", "--version"], capture_output=True, text=True)
     assert run.returncode == 0 and "mipcast" in run.stdout
+
+
+def test_bench_stability_covers_every_method_with_its_own_measure(tmp_path):
+    assert main(["bench", "--stability", "--out", str(tmp_path)]) == 0
+    rows = json.loads((tmp_path / "stability.json").read_text())
+    assert {row["method"] for row in rows} == {"mip", "analytic", "demip", "foveated"}
+    by = {(row["method"], row["case"]): row for row in rows}
+    assert all(row["within_1_grey"] == 1.0 for row in rows if row["method"] == "analytic")
+    assert by["mip", "thin vessels, 1 sample/voxel"]["p99_pct"] > by["mip", "thin vessels, 8 samples/voxel"]["p99_pct"]
+    demip = [row for row in rows if row["method"] == "demip"]
+    assert all(row["p99_pct"] < 1e-3 and row["measured"] == "depth vs DEMIP reference" for row in demip)
+    noisy = [by["demip", name]["depth_jump_pct"] for name in (
+        "noisy background, threshold 1e-4 (depth of the maximum itself)",
+        "noisy background, threshold 0.1 (default)", "noisy background, threshold 0.5")]
+    assert noisy[0] > noisy[1] > 2 * noisy[2]  # a tighter threshold gives noisier depth
+    assert all(row["fovea_within_1_grey"] >= 0.99 for row in rows if row["method"] == "foveated")
+    assert by["foveated", "'level' sampling when zoomed in"]["p99_pct"] > 2 * by[
+        "foveated", "thin vessels, default radius (whole picture)"]["p99_pct"]
+    assert "depth_jump_pct" in (tmp_path / "stability.md").read_text()
