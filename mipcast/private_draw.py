@@ -8,13 +8,15 @@ rebuilt and no texture re-uploaded from frame to frame.
 """
 from __future__ import annotations
 
+from typing import Optional
+
 from vtkmodules.vtkCommonCore import vtkCommand, vtkWeakReference
 from vtkmodules.vtkRenderingCore import vtkRenderer
 
 from .object_state import object_state
 
 
-def rendering_renderer(mapper, volume):
+def rendering_renderer(mapper, volume) -> Optional[vtkRenderer]:
     """The renderer drawing ``volume`` now: its only consumer, or the one whose render started last.
 
     Examples
