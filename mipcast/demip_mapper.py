@@ -367,10 +367,9 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
         other shader once; VTK caches both).  A float readout uses DEMIP's
         own readout piece (value or depth, :meth:`SetReadout`).
         """
-        extra = super().GetShaderPieces()[len(self.PIECES):]  # the float readout, while it renders
         projection = self._settings()["projection"]
         if projection == "mip" and not self._needs_depth():
-            return tuple(MIPVolumeMapper.PIECES) + extra
+            return self._with_readout(MIPVolumeMapper.PIECES)
         swap = {"float_readout": "demip_readout"}
         if projection == "lmip":
             swap["demip_loop"] = "demip_lmip_loop"
@@ -378,7 +377,7 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
             swap["demip_loop"] = "demip_attenuated_loop"
         elif projection == "mida":
             swap.update(demip_loop="demip_mida_loop", demip_color="demip_mida_color")
-        return tuple(swap.get(n, n) for n in tuple(self.PIECES) + extra)
+        return tuple(swap.get(n, n) for n in self._with_readout(self.PIECES))
 
     def _needs_depth(self) -> bool:
         """Whether anything uses the depth: a weight above 0, or a depth readout rendering."""

@@ -41,7 +41,7 @@ class DEMIPFirstPassMapper(MIPVolumeMapper):
     two-pass mapper; not meant to be used on its own.
     """
 
-    PIECES = ("mip_globals", "demip_two_pass_globals", "demip_two_pass_first_end", "demip_helpers",
+    PIECES = ("mip_globals", "demip_two_pass_globals", "image_terminate", "demip_helpers",
               "demip_two_pass_first", "no_stock_sample", "mip_color", "demip_two_pass_store")
 
     def __init__(self) -> None:
@@ -96,7 +96,7 @@ class DEMIPTwoPassVolumeMapper(DEMIPVolumeMapper):
       texel of its own pixel: any image sample distance works.  VTK's
       render-to-image keeps the viewport's offset in the window in its
       pixel uniforms; pass 1 takes pixel positions and the jitter pattern
-      where pass 2 takes them (``shaders/demip_two_pass_first_end.glsl``,
+      where pass 2 takes them (``shaders/image_terminate.glsl``,
       ``shaders/demip_two_pass_first_jitter.glsl``), so renderers that do
       not start at the window's corner (subplots) and jittering work too.
     - **Opaque geometry.**  Pass 2's ``in_depthSampler`` holds pass 1's

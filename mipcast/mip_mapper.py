@@ -72,12 +72,21 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         """Names of the shader pieces (files in ``shaders/``) the mapper needs now.
 
         :data:`PIECES`, plus ``float_readout`` while
-        :func:`mipcast.float_readout.render_float` renders.  Subclasses whose
+        :func:`mipcast.float_readout.render_float` renders (which also swaps
+        ``refusal`` for ``image_terminate``: VTK's render-to-image reads the
+        scene depth at the wrong pixels in renderers that do not start at
+        the window's corner).  Subclasses whose
         pieces depend on their settings override this; the pieces are
         re-installed at the next render when the answer changes.
         """
-        readout = ("float_readout",) if object_state(self).get("exact_readout") else ()
-        return tuple(self.PIECES) + readout
+        return self._with_readout(self.PIECES)
+
+    def _with_readout(self, names) -> tuple:
+        """``names``, adapted for a float readout while one renders (else unchanged)."""
+        if not object_state(self).get("exact_readout"):
+            return tuple(names)
+        # rendering to image: VTK's ray set-up with the viewport-offset fix (it also refuses)
+        return tuple("image_terminate" if n == "refusal" else n for n in names) + ("float_readout",)
 
     def _install_pieces(self, volume) -> None:
         names = self.GetShaderPieces()

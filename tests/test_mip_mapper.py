@@ -205,3 +205,56 @@ def test_attachment_survives_python_wrapper_loss(vessels48):
     assert volume.GetAddressAsString("vtkObjectBase") == address
     assert volume.GetMapper().IsAttached()
     assert volume.GetMapper().GetRenderProblem() is None
+
+
+@pytest.mark.parametrize("method", ["mip", "analytic", "demip"])
+def test_float_readout_in_a_subplot_with_opaque_geometry(method):
+    # VTK's render-to-image keeps the viewport's window offset in its pixel
+    # uniforms: in a renderer that does not start at the window's corner the
+    # rays would end at the scene depth of other pixels
+    from vtkmodules.vtkFiltersSources import vtkPlaneSource
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow
+
+    from mipcast.float_readout import render_float
+    from mipcast.offscreen import grey_property, set_view
+
+    image = mipcast.data_fixtures.make_fixture("vessels", size=32)
+
+    def readout(window_width, viewport):
+        window = vtkRenderWindow()
+        window.SetOffScreenRendering(1)
+        window.SetSize(window_width, 96)
+        window.SetMultiSamples(0)
+        if viewport[0] > 0:
+            left = vtkRenderer()
+            left.SetViewport(0.0, 0.0, viewport[0], 1.0)
+            window.AddRenderer(left)
+        renderer = vtkRenderer()
+        renderer.SetViewport(*viewport)
+        window.AddRenderer(renderer)
+        mapper = mipcast.methods.create_mapper(method)
+        mapper.SetInputData(image)
+        mapper.SetAutoAdjustSampleDistances(False)
+        volume = vtkVolume()
+        mapper.Attach(volume)
+        volume.SetProperty(grey_property((0.2, 0.9)))
+        renderer.AddVolume(volume)
+        plane = vtkPlaneSource()  # an opaque plane through the middle of the volume, over its left part
+        plane.SetOrigin(-5.0, -5.0, 16.0)
+        plane.SetPoint1(16.0, -5.0, 16.0)
+        plane.SetPoint2(-5.0, 40.0, 16.0)
+        plane_mapper = vtkPolyDataMapper()
+        plane_mapper.SetInputConnection(plane.GetOutputPort())
+        actor = vtkActor()
+        actor.SetMapper(plane_mapper)
+        renderer.AddActor(actor)
+        set_view(renderer, image, "front")
+        renderer.GetActiveCamera().Azimuth(20)
+        renderer.ResetCameraClippingRange()
+        return render_float(window, mapper)
+
+    alone = readout(128, (0.0, 0.0, 1.0, 1.0))
+    beside = readout(256, (0.5, 0.0, 1.0, 1.0))
+    assert alone.shape == beside.shape == (96, 128)
+    assert np.array_equal(np.isnan(alone), np.isnan(beside)) and np.isnan(alone).mean() < 0.9
+    assert np.nanmax(np.abs(alone - beside)) < 1e-5

@@ -1,13 +1,15 @@
-// mipcast piece: demip_two_pass_first_end
+// mipcast piece: image_terminate
 // fills: Terminate::Init
 // mode: replace
-// Two-pass DEMIP, pass 1: VTK's own ray set-up at this tag (end rays at
-// opaque geometry through the scene depth in in_depthSampler), with one
-// fix: pass 1 always renders to image, into a buffer whose lower-left pixel
-// is the viewport's, while VTK's window uniforms still carry the viewport's
-// offset in the window. Pixel coordinates are therefore taken from
-// gl_FragCoord alone (VTK's code is identical when the offset is 0).
-// Also does the refusal piece's job (this tag takes one piece).
+// For renders to image (float readout, DEMIP's first pass): VTK's own ray
+// set-up at this tag (end rays at opaque geometry through the scene depth
+// in in_depthSampler), with one fix. The image buffer's lower-left pixel is
+// the viewport's, while VTK's window uniforms still carry the viewport's
+// offset in the window, so in a renderer that does not start at the
+// window's corner VTK would read the scene depth of other pixels. Pixel
+// coordinates are therefore taken from gl_FragCoord alone (VTK's code is
+// identical when the offset is 0). Also does the refusal piece's job (this
+// tag takes one piece).
   if (u_mc_refused > 0.5)
   {
     discard;
