@@ -1,9 +1,10 @@
 """Analytic MIP: the exact maximum of the trilinear interpolant, cell by cell."""
 from __future__ import annotations
 
+from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkCommand
 
-from .corner_packing import CornerPacker
+from .corner_packing import CornerPacker, packable
 from .max_blocks import block_maxima_image
 from .mip_mapper import MIPVolumeMapper
 from .object_state import object_state
@@ -131,10 +132,20 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         return object_state(self)["skipping"]
 
     def _packing_active(self) -> bool:
-        """Packed corners are set and the attached volume draws components independently."""
+        """Packed corners are set, the attached volume draws components independently,
+        and the input's values pack exactly (:func:`mipcast.corner_packing.packable`)."""
+        state = object_state(self)
         volume = self.GetAttachedVolume()
-        independent = volume is None or bool(volume.GetProperty().GetIndependentComponents())
-        return object_state(self)["packed"] and independent
+        if not state["packed"] or (volume is not None and not volume.GetProperty().GetIndependentComponents()):
+            return False
+        image = self.GetInput()
+        scalars = image.GetPointData().GetScalars() if image is not None else None
+        if scalars is None or scalars.GetNumberOfComponents() != 1:
+            return True  # refused elsewhere; the packer draws nothing
+        stamp = (scalars.GetAddressAsString("vtkObjectBase"), scalars.GetMTime())
+        if state.get("packable_of", (None,))[0] != stamp:
+            state["packable_of"] = (stamp, packable(vtk_to_numpy(scalars)))
+        return state["packable_of"][1]
 
     def _route_input(self) -> None:
         """Feed VTK the packed copy or the user's input itself (only when that changes)."""
@@ -250,4 +261,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
 
 
 def _route_before_render(mapper, event) -> None:
+    packer = object_state(mapper)["packer"]
+    if packer.GetNumberOfInputConnections(0):
+        packer.GetInputAlgorithm().Update()  # the user's data, to decide whether it packs exactly
     mapper._route_input()

@@ -7,8 +7,14 @@ four-component copy whose texel ``(x, y, z)`` holds the values at
 ``(x, y, z)``, ``(x, y+1, z)``, ``(x, y, z+1)`` and ``(x, y+1, z+1)``
 (clamped at the last row/slice, which no cell reads); the cell's corners
 are then the texels at ``x`` and ``x + 1`` (``shaders/amip_corners_packed.glsl``).
-Values are copied, never converted, so the walk stays exact.  The price is
-memory: the packed texture is four times the volume's.
+Values are copied, not rescaled, so the walk stays exact.  Only 8/16-bit
+integers and float32 are packed (:func:`packable`): VTK maps those to the
+texture the same way for every component, but rescales 32/64-bit integers
+and float64 per component, by each component's own range, which would break
+the comparison across components (and packing them as float32 ourselves
+would lose the precision VTK's rescaling keeps for data with an offset);
+the mapper draws those unpacked.  The price is memory: the packed texture
+is four times the volume's.
 
 :class:`CornerPacker` does it inside a VTK pipeline (between the user's
 input and the mapper), so the user's image is never modified and the
@@ -22,8 +28,25 @@ from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
 
+#: Types VTK uploads to the texture the same way for every component.
+_UNIFORM_TYPES = (np.int8, np.uint8, np.int16, np.uint16, np.float32)
+
+
+def packable(values: np.ndarray) -> bool:
+    """Whether :class:`CornerPacker` packs these values exactly: 8/16-bit integers and float32.
+
+    Examples
+    --------
+    >>> packable(np.arange(10, dtype=np.int16)), packable(np.arange(10.0))
+    (True, False)
+    """
+    return values.dtype.type in _UNIFORM_TYPES
+
+
 def packed_corners(values: np.ndarray) -> np.ndarray:
     """``(nz, ny, nx)`` values -> ``(nz, ny, nx, 4)``: each point with its +y, +z and +y+z neighbours.
+
+    The type is kept (VTK draws only :func:`packable` types exactly).
 
     Examples
     --------

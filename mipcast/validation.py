@@ -37,7 +37,9 @@ def check_image(image: Any) -> np.ndarray:
         If ``image`` is not image data or the scalar type is unsupported.
     ValueError
         If the volume is empty or thinner than 2 points along an axis, has
-        no point scalars, several components, or NaN/Inf values.
+        no point scalars, several components, NaN/Inf values, or 32/64-bit
+        values whose offset is too large for float32 textures to resolve
+        their range.
 
     Examples
     --------
@@ -82,6 +84,14 @@ def check_image(image: Any) -> np.ndarray:
         raise ValueError(
             f"the scalars contain {bad} NaN/Inf value(s); replace them first "
             "(e.g. numpy.nan_to_num with the data's minimum)")
+    if values.dtype.itemsize >= 4 and values.dtype != np.float32:
+        low, high = float(values.min()), float(values.max())
+        # the GPU holds 32/64-bit data as float32: an offset this large hides the range
+        if max(abs(low), abs(high)) * 2.0 ** -24 > (high - low) / 512.0:
+            raise ValueError(
+                f"the values span {low:g} to {high:g}: an offset this large relative to their "
+                "range cannot be resolved by the GPU's float32 textures (the picture would be "
+                "flat); subtract the offset first (e.g. values - values.min())")
     view = values.reshape(dims[2], dims[1], dims[0])
     view.flags.writeable = False
     return view

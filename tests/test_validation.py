@@ -27,6 +27,7 @@ def _image(values, components=1):
     (lambda: _image(np.ones((4, 4, 4, 3), np.float32), 3), ValueError, "3 components"),
     (lambda: _image(np.full((4, 4, 4), np.inf, np.float32)), ValueError, "NaN/Inf"),
     (lambda: _image(np.ones((4, 4, 4), np.int64)), TypeError, "not supported"),
+    (lambda: _image(1.0e9 + np.random.default_rng(0).random((4, 4, 4))), ValueError, "subtract the offset"),
 ])
 def test_bad_volumes(make, error, words):
     with pytest.raises(error, match=words):
@@ -82,3 +83,18 @@ def test_entry_points_refuse_and_leave_input_untouched():
     reference.render(image, view.camera, (16, 16), method="exact")
     assert np.array_equal(vtk_to_numpy(image.GetPointData().GetScalars()), before)
     assert image.GetDimensions() == (6, 6, 6) and image.GetSpacing() == (1.0, 1.0, 1.0)
+
+
+def test_32_and_64_bit_data_render_exactly_unpacked():
+    # VTK rescales 32/64-bit data per component: analytic MIP draws them unpacked
+    base = np.random.default_rng(1).random((12, 14, 16))
+    for values in (1.0e4 + 10.0 * base, (base * 5000).astype(np.int32)):
+        image = _image(values)
+        check_image(image)
+        view = OffscreenView(image, "analytic", size=(48, 48))
+        assert "amip_corners_packed" not in view.mapper.GetShaderPieces()
+        found = view.float_image()
+        exact = reference.render(image, view.camera, (48, 48), method="exact")
+        hits = ~np.isnan(exact) & ~np.isnan(found)
+        assert hits.mean() > 0.2 and np.mean(np.isnan(found) != np.isnan(exact)) < 0.02  # silhouette only
+        assert np.max(np.abs(found[hits] - exact[hits])) <= 1e-4 * np.ptp(values)
