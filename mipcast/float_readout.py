@@ -10,6 +10,22 @@ from .object_state import object_state
 #: Normalised hits are written shifted by this much (see shaders/float_readout.glsl).
 _SHIFT = -2.0
 
+#: VTK's normalised scalar for 8-bit textures is (k * value - low) / (high - low):
+#: the texel holds value / 255 (uint8) or / 127 (int8), VTK's scale assumes 256 / 128.
+_EIGHT_BIT_SCALE = {"unsigned char": 256.0 / 255.0, "char": 128.0 / 127.0, "signed char": 128.0 / 127.0}
+
+
+def texture_scale(scalars) -> float:
+    """The factor VTK's normalisation puts on values of this scalar type (1 except 8-bit).
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkCommonCore import vtkUnsignedCharArray, vtkFloatArray
+    >>> texture_scale(vtkUnsignedCharArray()), texture_scale(vtkFloatArray())
+    (1.003921568627451, 1.0)
+    """
+    return _EIGHT_BIT_SCALE.get(scalars.GetDataTypeAsString(), 1.0)
+
 
 def render_float(render_window, mapper) -> np.ndarray:
     """Render once and return each pixel's ray maximum in data units.
@@ -63,8 +79,9 @@ def render_float(render_window, mapper) -> np.ndarray:
         return np.full((height, width), np.nan, dtype=np.float32)
     width, height, _ = image.GetDimensions()
     raw = vtk_to_numpy(scalars).reshape(height, width)[::-1]
-    low, high = mapper.GetInput().GetPointData().GetScalars().GetRange(0)
+    scalars = mapper.GetInput().GetPointData().GetScalars()
+    low, high = scalars.GetRange(0)
     normalised = raw.astype(np.float64) - _SHIFT
-    values = low + normalised * (high - low)
+    values = (low + normalised * (high - low)) / texture_scale(scalars)
     values[raw > -0.5] = np.nan
     return values.astype(np.float32)

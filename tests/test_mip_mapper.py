@@ -258,3 +258,25 @@ def test_float_readout_in_a_subplot_with_opaque_geometry(method):
     assert alone.shape == beside.shape == (96, 128)
     assert np.array_equal(np.isnan(alone), np.isnan(beside)) and np.isnan(alone).mean() < 0.9
     assert np.nanmax(np.abs(alone - beside)) < 1e-5
+
+
+@pytest.mark.parametrize("dtype", [np.uint8, np.int8])
+@pytest.mark.parametrize("method", ["mip", "analytic", "foveated"])
+def test_float_readout_of_8_bit_data_is_in_data_units(dtype, method):
+    # VTK normalises 8-bit texels by 256 (128) where they hold value / 255 (127)
+    base = np.random.default_rng(2).random((20, 24, 28))
+    values = (-100 + 150 * base if dtype == np.int8 else 50 + 150 * base).astype(dtype)
+    image = image_from_array(values)
+    view = OffscreenView(image, method, size=(64, 64))
+    if method == "foveated":
+        view.mapper.SetFoveation(False)  # full quality: comparable with the reference
+    found = view.float_image()
+    kind = {"method": "exact"} if method == "analytic" else {"method": "mip", "sample_distance": view.sample_distance}
+    expected = reference.render(image, view.camera, (64, 64), **kind)
+    hits = ~np.isnan(found) & ~np.isnan(expected)
+    assert hits.mean() > 0.2
+    error = found[hits] - expected[hits]
+    if method == "analytic":  # texelFetch: exact texels
+        assert np.max(np.abs(error)) <= 1e-3 * np.ptp(values.astype(float))
+    else:  # the texture unit filters 8-bit texels in 8-bit steps: unbiased, within ~1 unit
+        assert abs(error.mean()) < 0.1 and np.max(np.abs(error)) < 2.0
