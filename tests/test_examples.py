@@ -13,6 +13,7 @@ import pytest
 from matplotlib import pyplot
 
 import mipcast
+from xvfb import run_under_xvfb
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
@@ -93,7 +94,9 @@ def test_vtk_pipeline_swap_vtk97(tmp_path):
 
 @pytest.mark.skipif(not HAVE_PVPYTHON, reason="needs pvpython (ParaView 5.11, VTK 9.2) and xvfb-run")
 def test_vtk_pipeline_swap_vtk92_in_pvpython(tmp_path):
-    result = run(["xvfb-run", "-a", "pvpython", str(SWAP), str(tmp_path / "vtk92.png")], tmp_path)
+    result = run_under_xvfb(["pvpython", str(SWAP), str(tmp_path / "vtk92.png")], cwd=tmp_path,
+                            env=dict(os.environ, PYTHONPATH=str(ROOT)), timeout=180)
+    assert result.returncode == 0, result.stdout + result.stderr
     assert "AnalyticMIPVolumeMapper" in result.stdout
     run([sys.executable, str(SWAP), str(tmp_path / "vtk97.png")], tmp_path)
     vtk92, vtk97 = picture(tmp_path / "vtk92.png"), picture(tmp_path / "vtk97.png")

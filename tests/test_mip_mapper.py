@@ -2,7 +2,6 @@
 import json
 import os
 import shutil
-import subprocess
 import sys
 from pathlib import Path
 
@@ -17,6 +16,7 @@ from mipcast import reference
 from mipcast.metrics import grey_diff
 from mipcast.offscreen import OffscreenView
 from mipcast.shader_pieces import installed_tags
+from xvfb import run_under_xvfb
 
 HERE = Path(__file__).resolve().parent
 
@@ -47,8 +47,7 @@ def test_parity_with_stock_vtk_in_process():
                     reason="ParaView's pvpython (VTK 9.2) not installed: apt-get install paraview xvfb")
 def test_parity_with_stock_vtk_92_in_paraview():
     env = dict(os.environ, PYTHONPATH=str(HERE.parent))
-    run = subprocess.run(["xvfb-run", "-a", "pvpython", str(HERE / "parity_check.py")],
-                         capture_output=True, text=True, timeout=300, env=env)
+    run = run_under_xvfb(["pvpython", str(HERE / "parity_check.py")], timeout=300, env=env)
     assert run.returncode == 0, run.stderr[-2000:]
     result = json.loads(run.stdout.strip().splitlines()[-1])
     assert result["vtk"].startswith("9.2"), result

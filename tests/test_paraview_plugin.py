@@ -11,10 +11,10 @@ python3-paraview xvfb``).
 import json
 import os
 import shutil
-import subprocess
 from pathlib import Path
 
 import pytest
+from xvfb import run_under_xvfb
 
 ROOT = Path(__file__).resolve().parents[1]
 CHECK = ROOT / "tests" / "paraview_plugin_check.py"
@@ -34,9 +34,7 @@ def report():
                     "Debian's paraview, python3-paraview and xvfb")
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     env.pop("PYTHONHOME", None)
-    completed = subprocess.run(
-        ["xvfb-run", "-a", "pvpython", str(CHECK)], cwd=ROOT, env=env,
-        capture_output=True, text=True, timeout=TIMEOUT)
+    completed = run_under_xvfb(["pvpython", str(CHECK)], cwd=ROOT, env=env, timeout=TIMEOUT)
     lines = [line for line in completed.stdout.splitlines() if line.startswith("{")]
     assert completed.returncode == 0 and lines, (
         f"pvpython exited with {completed.returncode}\nstdout:\n{completed.stdout[-3000:]}"

@@ -1,7 +1,6 @@
 """mipcast view: the headless message, and the viewer driven by simulated events under xvfb."""
 import os
 import shutil
-import subprocess
 import sys
 import textwrap
 from pathlib import Path
@@ -10,6 +9,7 @@ import pytest
 
 from mipcast.cli import main
 from mipcast.viewer import has_display
+from xvfb import run_under_xvfb
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -157,7 +157,6 @@ def test_viewer_under_xvfb(tmp_path):
     script = tmp_path / "viewer_check.py"
     script.write_text(VIEWER_SCRIPT)
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    result = subprocess.run(["xvfb-run", "-a", sys.executable, str(script)], cwd=tmp_path, env=env,
-                            capture_output=True, text=True, timeout=240)
+    result = run_under_xvfb([sys.executable, str(script)], cwd=tmp_path, env=env, timeout=240)
     assert result.returncode == 0 and "viewer ok" in result.stdout, result.stdout + result.stderr
     assert "Encountered issue in callback" not in result.stderr, result.stderr
