@@ -14,6 +14,7 @@ from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
 from . import foveation, volume_pyramid
 from .analytic_mapper import AnalyticMIPVolumeMapper
+from .corner_packing import CornerPacker
 from .mip_mapper import MIPVolumeMapper
 from .object_state import object_state
 from .private_draw import follow_volume, rendering_renderer
@@ -432,7 +433,7 @@ def _draw(mapper, state, volume, renderer) -> None:
         if depth is not None and level_mapper.GetDepthTexture() is not depth:
             level_mapper.SetSharedDepthTexture(depth)
         level_input = _pyramid(state, image)[volume_level] if volume_level else image
-        if level_mapper.GetInput() is not level_input:
+        if _share_packer(state, level_mapper, volume_level) or level_mapper.GetInput() is not level_input:
             level_mapper.SetInputData(level_input)
         _copy_settings(mapper, volume, level_mapper, level_volume, entry["matrix"], distance,
                        layer.image_sample_distance)
@@ -497,6 +498,22 @@ def _capture_depth(state, renderer):
     if depth is not None:
         depth.Activate()
     return depth
+
+
+def _share_packer(state, level_mapper, volume_level: int) -> bool:
+    """Levels reading the same volume share one packed copy of it (analytic MIP's corner packing).
+
+    True when the level mapper was given the shared packer now (its input
+    must then be set again, to route through it).
+    """
+    level_state = object_state(level_mapper)
+    if "packer" not in level_state:
+        return False
+    shared = state.setdefault("packers", {}).setdefault(volume_level, CornerPacker())
+    if level_state["packer"] is shared:
+        return False
+    level_state["packer"] = shared
+    return True
 
 
 def _new_level(method: str) -> dict:

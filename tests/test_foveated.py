@@ -436,3 +436,23 @@ def test_gaze_follows_the_mouse(vessels48):
     assert fov.mapper.GetGazePoint() == pytest.approx((24.5 / 100, 59.5 / 80))
     fov.mapper.FollowMouse(None)
     assert fov.mapper.GetGazeSource() == "point"
+
+
+def test_analytic_levels_reading_one_volume_share_its_packed_copy():
+    from mipcast.object_state import object_state
+    from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
+
+    image = make_fixture("vessels", size=32)
+    view = OffscreenView(image, "foveated", size=(128, 128))
+    view.mapper.SetMethod("analytic")
+    view.camera.Zoom(3.0)  # zoomed in: every level reads the full-resolution volume
+    view.renderer.ResetCameraClippingRange()
+    picture = view.screenshot()
+    levels = [layer.level for layer in view.mapper.GetLastPlan().layers]
+    assert len(levels) >= 2 and all(entry["volume_level"] == 0 for entry in view.mapper.GetLastFrameCost()["levels"])
+    mappers = [view.mapper.GetLevelMapper(level) for level in levels]
+    packers = {id(object_state(m)["packer"]) for m in mappers}
+    assert len(packers) == 1  # one packed copy of the volume, not one per level
+    drawn = {vtkOpenGLGPUVolumeRayCastMapper.GetInput(m).GetAddressAsString("vtkObjectBase") for m in mappers}
+    assert len(drawn) == 1
+    assert all(m.GetInput() is image for m in mappers) and picture.max() > 100
