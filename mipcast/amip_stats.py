@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .camera_rays import camera_rays
-from .float_readout import render_float, texture_scale
+from .float_readout import read_normalised
 from .object_state import object_state
 
 _COUNTERS = ("cells_walked", "cells_solved", "blocks_jumped")
@@ -48,11 +48,8 @@ def work_per_ray(scene) -> dict:
     try:
         for index, name in enumerate(_COUNTERS):
             state["stat"] = index
-            scalars = mapper.GetInput().GetPointData().GetScalars()
-            # data units of the encoded count (undo render_float's 8-bit correction)
-            raw = render_float(scene.render_window, mapper) * texture_scale(scalars)
-            low, high = scalars.GetRange(0)
-            counts[name] = np.round((low - raw.astype(np.float64)) / (1.0e-4 * (high - low)))
+            # the shader writes -1e-4 * count as the normalised value (amip_stats_readout.glsl)
+            counts[name] = np.round(-read_normalised(scene.render_window, mapper) / 1.0e-4)
     finally:
         state.pop("stat", None)
     hits = ~np.isnan(counts["cells_walked"])

@@ -6,7 +6,7 @@ from numbers import Real
 
 import numpy as np
 
-from .float_readout import render_float
+from .float_readout import read_normalised
 from .mip_mapper import MIPVolumeMapper
 from .object_state import object_state
 from .transfer_bounds import constant_ends
@@ -458,11 +458,9 @@ def render_depth(render_window, mapper: DEMIPVolumeMapper) -> np.ndarray:
     saved = mapper.GetReadout()
     mapper.SetReadout("depth")
     try:
-        values = render_float(render_window, mapper)
+        return read_normalised(render_window, mapper)  # the depth as the shader wrote it
     finally:
         mapper.SetReadout(saved)
-    low, high = mapper.GetInput().GetPointData().GetScalars().GetRange(0)
-    return (values.astype(np.float64) - low) / (high - low)
 
 
 # -- validation ---------------------------------------------------------------

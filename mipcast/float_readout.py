@@ -27,15 +27,115 @@ def texture_scale(scalars) -> float:
     return _EIGHT_BIT_SCALE.get(scalars.GetDataTypeAsString(), 1.0)
 
 
+def read_normalised(render_window, mapper) -> np.ndarray:
+    """Render once and return each pixel's value as the shader wrote it: VTK's normalised scalar.
+
+    The common step of every readout: the mapper renders into VTK's
+    RenderToImage buffers with a float "depth" image that receives its
+    readout piece's value (shaders/float_readout.glsl: the maximum as VTK's
+    normalised scalar; DEMIP's depth readout: a depth in [0, 1]; analytic
+    MIP's work counters).  The mapper's settings are restored afterwards.
+
+    Returns
+    -------
+    numpy.ndarray, shape (height, width), float64
+        NaN where no ray hit the volume.  Top row first.
+
+    Examples
+    --------
+    >>> from mipcast.offscreen import OffscreenView
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> view = OffscreenView(make_fixture("spheres", size=16), "mip", size=(32, 32))
+    >>> values = read_normalised(view.render_window, view.mapper)
+    >>> bool(0.0 <= np.nanmin(values) and np.nanmax(values) <= 1.0)
+    True
+    """
+    volume = mapper.GetAttachedVolume()
+    if volume is None or not mapper.IsAttached():
+        raise RuntimeError("render_float needs an attached mipcast mapper: call mapper.Attach(volume)")
+    saved = (mapper.GetRenderToImage(), mapper.GetDepthImageScalarType())
+    object_state(mapper)["exact_readout"] = True  # adds the readout piece at the render
+    try:
+        mapper.RenderToImageOn()
+        mapper.SetDepthImageScalarTypeToFloat()
+        render_window.Render()
+        image = vtkImageData()
+        mapper.GetDepthImage(image)
+    finally:
+        object_state(mapper).pop("exact_readout", None)
+        mapper.SetRenderToImage(saved[0])
+        mapper.SetDepthImageScalarType(saved[1])
+    scalars = image.GetPointData().GetScalars()
+    if scalars is None:  # nothing was drawn (volume outside the view or clipped away)
+        width, height = render_window.GetSize()
+        return np.full((height, width), np.nan)
+    width, height, _ = image.GetDimensions()
+    return decode(vtk_to_numpy(scalars).reshape(height, width)[::-1])
+
+
+def decode(raw: np.ndarray) -> np.ndarray:
+    """The readout image's raw values -> normalised values (float64), NaN where no ray hit.
+
+    Examples
+    --------
+    >>> decode(np.array([-1.75, 1.0]))
+    array([0.25,  nan])
+    """
+    raw = np.asarray(raw, dtype=np.float64)
+    return np.where(raw > -0.5, np.nan, raw - _SHIFT)
+
+
+def encode(normalised: np.ndarray) -> np.ndarray:
+    """Inverse of :func:`decode` (NaN -> the miss value 1.0), for mappers that composite readouts.
+
+    Examples
+    --------
+    >>> encode(np.array([0.25, np.nan]))
+    array([-1.75,  1.  ])
+    """
+    normalised = np.asarray(normalised, dtype=np.float64)
+    return np.where(np.isnan(normalised), 1.0, normalised + _SHIFT)
+
+
+def to_data_units(normalised: np.ndarray, scalars) -> np.ndarray:
+    """VTK's normalised scalar of ``scalars`` (a vtkDataArray) -> data units.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkCommonCore import vtkFloatArray
+    >>> scalars = vtkFloatArray()
+    >>> _ = scalars.InsertNextValue(10.0), scalars.InsertNextValue(30.0)
+    >>> to_data_units(np.array([0.5]), scalars)
+    array([20.])
+    """
+    low, high = scalars.GetRange(0)
+    return (low + np.asarray(normalised, dtype=np.float64) * (high - low)) / texture_scale(scalars)
+
+
+def from_data_units(values: np.ndarray, scalars) -> np.ndarray:
+    """Inverse of :func:`to_data_units`.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkCommonCore import vtkFloatArray
+    >>> scalars = vtkFloatArray()
+    >>> _ = scalars.InsertNextValue(10.0), scalars.InsertNextValue(30.0)
+    >>> from_data_units(np.array([20.0]), scalars)
+    array([0.5])
+    """
+    low, high = scalars.GetRange(0)
+    span = high - low if high > low else 1.0
+    return (np.asarray(values, dtype=np.float64) * texture_scale(scalars) - low) / span
+
+
 def render_float(render_window, mapper) -> np.ndarray:
     """Render once and return each pixel's ray maximum in data units.
 
-    The mapper renders into VTK's RenderToImage buffers with a float "depth"
-    image that receives the raw maximum instead of a depth; the value is
-    mapped back from VTK's normalised scalar to data units with the input's
-    scalar range.  Shortcuts that are exact only for the displayed colour
-    (see :mod:`mipcast.transfer_bounds`) are off while it renders.  The
-    mapper's settings are restored afterwards.
+    :func:`read_normalised`, mapped back from VTK's normalised scalar to
+    data units with the input's scalar range (and, for 8-bit data, VTK's
+    normalisation factor, :func:`texture_scale`).  Shortcuts that are exact
+    only for the displayed colour (see :mod:`mipcast.transfer_bounds`) are
+    off while it renders.
 
     Parameters
     ----------
@@ -58,30 +158,5 @@ def render_float(render_window, mapper) -> np.ndarray:
     >>> render_float(view.render_window, view.mapper).shape
     (32, 32)
     """
-    volume = mapper.GetAttachedVolume()
-    if volume is None or not mapper.IsAttached():
-        raise RuntimeError("render_float needs an attached mipcast mapper: call mapper.Attach(volume)")
-    saved = (mapper.GetRenderToImage(), mapper.GetDepthImageScalarType())
-    object_state(mapper)["exact_readout"] = True  # adds the float_readout piece at the render
-    try:
-        mapper.RenderToImageOn()
-        mapper.SetDepthImageScalarTypeToFloat()
-        render_window.Render()
-        image = vtkImageData()
-        mapper.GetDepthImage(image)
-    finally:
-        object_state(mapper).pop("exact_readout", None)
-        mapper.SetRenderToImage(saved[0])
-        mapper.SetDepthImageScalarType(saved[1])
-    scalars = image.GetPointData().GetScalars()
-    if scalars is None:  # nothing was drawn (volume outside the view or clipped away)
-        width, height = render_window.GetSize()
-        return np.full((height, width), np.nan, dtype=np.float32)
-    width, height, _ = image.GetDimensions()
-    raw = vtk_to_numpy(scalars).reshape(height, width)[::-1]
     scalars = mapper.GetInput().GetPointData().GetScalars()
-    low, high = scalars.GetRange(0)
-    normalised = raw.astype(np.float64) - _SHIFT
-    values = (low + normalised * (high - low)) / texture_scale(scalars)
-    values[raw > -0.5] = np.nan
-    return values.astype(np.float32)
+    return to_data_units(read_normalised(render_window, mapper), scalars).astype(np.float32)

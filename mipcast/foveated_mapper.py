@@ -12,7 +12,7 @@ from vtkmodules.vtkCommonMath import vtkMatrix4x4
 from vtkmodules.vtkRenderingCore import vtkCamera, vtkVolume
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
-from . import foveation, volume_pyramid
+from . import float_readout, foveation, volume_pyramid
 from .analytic_mapper import AnalyticMIPVolumeMapper
 from .corner_packing import CornerPacker
 from .mip_mapper import MIPVolumeMapper
@@ -369,9 +369,7 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         plan, values = readout
         _, _, width, height = plan.viewport
         blended = foveation.composite_values(plan, values)
-        low, high = self.GetInput().GetPointData().GetScalars().GetRange(0)
-        span = high - low if high > low else 1.0
-        raw = np.where(np.isnan(blended), 1.0, (blended - low) / span - 2.0)  # float_readout.glsl
+        raw = float_readout.encode(float_readout.from_data_units(blended, self.GetInput().GetPointData().GetScalars()))
         image.SetDimensions(width, height, 1)
         array = numpy_to_vtk(np.ascontiguousarray(raw[::-1], dtype=np.float32).ravel(), deep=True)
         image.GetPointData().SetScalars(array)
@@ -572,11 +570,8 @@ def _level_values(level_mapper, grid) -> np.ndarray:
     if scalars is None:
         return np.full((rows, columns), np.nan)
     columns, rows, _ = image.GetDimensions()
-    raw = vtk_to_numpy(scalars).reshape(rows, columns)[::-1].astype(np.float64)
-    low, high = level_mapper.GetInput().GetPointData().GetScalars().GetRange(0)
-    values = low + (raw + 2.0) * (high - low)
-    values[raw > -0.5] = np.nan
-    return values
+    normalised = float_readout.decode(vtk_to_numpy(scalars).reshape(rows, columns)[::-1])
+    return float_readout.to_data_units(normalised, level_mapper.GetInput().GetPointData().GetScalars())
 
 
 def _current_gaze(state, renderer, camera, viewport):

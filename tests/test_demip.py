@@ -462,3 +462,16 @@ def test_head_ct_face_and_occiput_swap_brightness_with_the_camera():
     face_view, occiput_view = gain["face"], gain["occiput"]
     assert face_view[0] > face_view[1] + 10, "seen from the face, the face is brighter"
     assert occiput_view[1] > occiput_view[0] + 10, "seen from the back, the occiput is brighter"
+
+
+def test_depth_readout_of_8_bit_data_matches_the_same_data_as_float():
+    # the depth is read as the shader writes it: no data-unit conversion (nor
+    # 8-bit texture factor) may touch it
+    values = (np.random.default_rng(4).random((20, 24, 28)) * 200).astype(np.uint8)
+    depths = []
+    for data in (values, values.astype(np.float32)):
+        scene = OffscreenView(image_from_array(data), "demip", size=(48, 48), window=(40.0, 180.0))
+        depths.append(render_depth(scene.render_window, scene.mapper))
+    both = ~np.isnan(depths[0]) & ~np.isnan(depths[1])
+    assert both.mean() > 0.2
+    assert np.median(np.abs(depths[0][both] - depths[1][both])) < 1e-4
