@@ -8,7 +8,7 @@ from .corner_packing import CornerPacker, packable
 from .max_blocks import block_maxima_image
 from .mip_mapper import MIPVolumeMapper
 from .object_state import object_state
-from .transfer_bounds import constant_ends
+from .transfer_bounds import normalised_ends
 from .validation import check_image
 
 
@@ -106,6 +106,16 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
             self._route_input()
             self.Modified()
 
+    def SetCornerPacker(self, packer: CornerPacker) -> None:
+        """Pack through ``packer`` (shared by mappers that draw the same volume) instead of an own one."""
+        state = object_state(self)
+        previous = state["packer"]
+        if previous is not packer:
+            state["packer"] = packer
+            if previous.GetNumberOfInputConnections(0):  # keep the input, now packed by ``packer``
+                packer.SetInputConnection(0, previous.GetInputConnection(0, 0))
+            self._route_input()
+
     def GetPackedCorners(self) -> bool:
         return object_state(self)["packed"]
 
@@ -142,10 +152,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         scalars = image.GetPointData().GetScalars() if image is not None else None
         if scalars is None or scalars.GetNumberOfComponents() != 1:
             return True  # refused elsewhere; the packer draws nothing
-        stamp = (scalars.GetAddressAsString("vtkObjectBase"), scalars.GetMTime())
-        if state.get("packable_of", (None,))[0] != stamp:
-            state["packable_of"] = (stamp, packable(vtk_to_numpy(scalars)))
-        return state["packable_of"][1]
+        return packable(vtk_to_numpy(scalars))  # a view: only its type is read
 
     def _route_input(self) -> None:
         """Feed VTK the packed copy or the user's input itself (only when that changes)."""
@@ -225,10 +232,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         image, volume = self.GetInput(), self.GetAttachedVolume()
         if image is None or volume is None or image.GetPointData().GetScalars() is None:
             return 0.0, 1.0
-        low, high = image.GetPointData().GetScalars().GetRange(0)
-        if not high > low:
-            return 0.0, 1.0
-        return tuple((v - low) / (high - low) for v in constant_ends(volume.GetProperty(), low, high))
+        return normalised_ends(volume.GetProperty(), image.GetPointData().GetScalars()) or (0.0, 1.0)
 
     def _push_uniforms(self, uniforms) -> None:
         image = self.GetInput()

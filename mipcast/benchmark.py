@@ -91,9 +91,23 @@ def _view(image, setting: Setting, method: str, size, view: str, window=None) ->
     distance = spacing / setting.samples_per_voxel if setting.samples_per_voxel else spacing
     scene = OffscreenView(image, method, size=size, view=view, sample_distance=distance, window=window)
     if method == setting.method:
-        for name, value in setting.settings:
-            getattr(scene.mapper, "Set" + name)(*(value if isinstance(value, tuple) else (value,)))
+        apply_settings(scene.mapper, setting.settings)
     return scene
+
+
+def apply_settings(mapper, pairs) -> None:
+    """Call ``mapper.SetName(value)`` for each ``(Name, value)`` pair; a tuple value is spread.
+
+    Examples
+    --------
+    >>> from mipcast import FoveatedVolumeMapper
+    >>> mapper = FoveatedVolumeMapper()
+    >>> apply_settings(mapper, (("GazePoint", (0.2, 0.3)), ("FovealRadius", 0.1)))
+    >>> mapper.GetGazePoint(), mapper.GetFovealRadius()
+    ((0.2, 0.3), 0.1)
+    """
+    for name, value in pairs:
+        getattr(mapper, "Set" + name)(*(value if isinstance(value, tuple) else (value,)))
 
 
 def time_settings(image, settings: Sequence[Setting], size=(256, 256), view: str = "oblique",

@@ -9,7 +9,7 @@ import numpy as np
 from .float_readout import read_normalised
 from .mip_mapper import MIPVolumeMapper
 from .object_state import object_state
-from .transfer_bounds import constant_ends
+from .transfer_bounds import normalised_ends
 from .validation import check_choice
 
 #: Depth measures of the paper (Fig. 3/4), in the order of ``u_mc_depthMode``.
@@ -395,11 +395,8 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
         image, volume = self.GetInput(), self.GetAttachedVolume()
         if image is None or volume is None or image.GetPointData().GetScalars() is None:
             return 0.0, 1.0
-        low, high = image.GetPointData().GetScalars().GetRange(0)
-        if not high > low:
-            return 2.0, 3.0
-        floor, ceiling = ((v - low) / (high - low) for v in constant_ends(volume.GetProperty(), low, high))
-        return (floor, ceiling) if ceiling > floor else (2.0, 3.0)
+        ends = normalised_ends(volume.GetProperty(), image.GetPointData().GetScalars())
+        return ends if ends is not None and ends[1] > ends[0] else (2.0, 3.0)
 
     def _push_uniforms(self, uniforms) -> None:
         settings = self._settings()

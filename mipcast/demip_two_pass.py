@@ -187,7 +187,7 @@ class DEMIPTwoPassVolumeMapper(DEMIPVolumeMapper):
 def _draw_first_pass(mapper, event) -> None:
     """Draw pass 1 into its float image and bind that image as pass 2's ``in_depthSampler``."""
     state = object_state(mapper)
-    if mapper.GetRenderProblem() is not None:  # MIPVolumeMapper's observer reported it
+    if object_state(mapper).get("render_problem") is not None:  # MIPVolumeMapper's observer reported it
         _bind(state, state.get("shared_texture"))  # VTK still sets the sampler: keep it valid
         return
     volume = mapper.GetAttachedVolume()

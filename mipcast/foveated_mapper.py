@@ -379,7 +379,7 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
 def _draw_levels(mapper, event) -> None:
     """Render every pyramid level with the private mappers, then skip the own draw."""
     state = object_state(mapper)
-    if mapper.GetRenderProblem() is not None:  # MIPVolumeMapper's observer reported it
+    if object_state(mapper).get("render_problem") is not None:  # MIPVolumeMapper's observer reported it
         return
     volume = mapper.GetAttachedVolume()
     renderer = rendering_renderer(mapper, volume)
@@ -431,7 +431,9 @@ def _draw(mapper, state, volume, renderer) -> None:
         if depth is not None and level_mapper.GetDepthTexture() is not depth:
             level_mapper.SetSharedDepthTexture(depth)
         level_input = _pyramid(state, image)[volume_level] if volume_level else image
-        if _share_packer(state, level_mapper, volume_level) or level_mapper.GetInput() is not level_input:
+        if isinstance(level_mapper, AnalyticMIPVolumeMapper):  # levels reading one volume share its packed copy
+            level_mapper.SetCornerPacker(state.setdefault("packers", {}).setdefault(volume_level, CornerPacker()))
+        if level_mapper.GetInput() is not level_input:
             level_mapper.SetInputData(level_input)
         _copy_settings(mapper, volume, level_mapper, level_volume, entry["matrix"], distance,
                        layer.image_sample_distance)
@@ -496,22 +498,6 @@ def _capture_depth(state, renderer):
     if depth is not None:
         depth.Activate()
     return depth
-
-
-def _share_packer(state, level_mapper, volume_level: int) -> bool:
-    """Levels reading the same volume share one packed copy of it (analytic MIP's corner packing).
-
-    True when the level mapper was given the shared packer now (its input
-    must then be set again, to route through it).
-    """
-    level_state = object_state(level_mapper)
-    if "packer" not in level_state:
-        return False
-    shared = state.setdefault("packers", {}).setdefault(volume_level, CornerPacker())
-    if level_state["packer"] is shared:
-        return False
-    level_state["packer"] = shared
-    return True
 
 
 def _new_level(method: str) -> dict:

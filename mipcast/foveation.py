@@ -345,7 +345,7 @@ def blend_shares(plan: Plan) -> dict:
     remaining = np.ones_like(lam)
     shares = {}
     for layer in reversed(plan.layers):  # finest first: it is drawn last, on top
-        weight = np.ones_like(lam) if layer.level == plan.top else layer_weight(layer.level, lam, plan)
+        weight = layer_weight(layer.level, lam, plan)  # 1 for the coarsest: lam never exceeds top
         shares[layer.level] = weight * remaining
         remaining = remaining * (1.0 - weight)
     return shares

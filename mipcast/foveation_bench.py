@@ -26,7 +26,7 @@ from typing import Callable, Optional, Sequence
 
 import numpy as np
 
-from .benchmark import interleaved_frame_times
+from .benchmark import apply_settings, interleaved_frame_times
 from .foveation import eccentricity
 from .offscreen import OffscreenView
 from .ray_cost import grid_cost
@@ -64,11 +64,14 @@ def framed_view(image, method: str, size: int, framing: str, window=None) -> Off
     return view
 
 
-def fovea_share(view: OffscreenView, gaze: Sequence[float], radius: float) -> float:
+def fovea_share(view: OffscreenView, gaze: Sequence[float], radius: float,
+                total_samples: Optional[int] = None) -> float:
     """Share of a full-quality frame's samples taken inside the foveal disc.
 
     ``1 / fovea_share`` is the ceiling of full / foveated time for any
-    foveation that renders the disc at full quality.
+    foveation that renders the disc at full quality.  ``total_samples``
+    (the whole frame's, :func:`mipcast.ray_cost.grid_cost`) is counted here
+    unless given, e.g. once for several gazes.
 
     Examples
     --------
@@ -80,10 +83,16 @@ def fovea_share(view: OffscreenView, gaze: Sequence[float], radius: float) -> fl
     width, height = view.render_window.GetSize()
     distance = view.mapper.GetSampleDistance()
     inside = eccentricity((width, height), gaze, width / height) < radius
-    _, total = grid_cost(view.image, view.camera, (width, height), (width, height), sample_distance=distance)
+    total = total_samples if total_samples is not None else _frame_samples(view)
     _, fovea = grid_cost(view.image, view.camera, (width, height), (width, height), sample_distance=distance,
                          cast=inside)
     return fovea / total if total else 0.0
+
+
+def _frame_samples(view: OffscreenView) -> int:
+    width, height = view.render_window.GetSize()
+    return grid_cost(view.image, view.camera, (width, height), (width, height),
+                     sample_distance=view.mapper.GetSampleDistance())[1]
 
 
 def ring_errors(full: np.ndarray, foveated: np.ndarray, gaze: Sequence[float], radius: float,
@@ -190,14 +199,12 @@ def measure_foveation(image, scene: str, method: str = "mip", sizes: Sequence[in
             for variant, settings in variants.items():
                 for gaze_name, gaze in gazes.items():
                     view = views[f"{variant} | {gaze_name}"] = framed_view(image, "foveated", size, framing, window)
-                    view.mapper.SetMethod(method)
-                    for name, value in settings.items():
-                        getattr(view.mapper, "Set" + name)(value)
-                    view.mapper.SetGazePoint(*gaze)
+                    apply_settings(view.mapper, (("Method", method), *settings.items(), ("GazePoint", gaze)))
             times = interleaved_frame_times(views, rounds, frames, warmup,
                                             lambda label: report(f"{scene} {size}² {framing}: {label}"))
             base = statistics.median(times["full quality"])
             full_picture = views["full quality"].screenshot()
+            full_samples = _frame_samples(views["full quality"])
             for label, view in views.items():
                 median = statistics.median(times[label])
                 row = {"scene": scene, "method": method, "size": size, "framing": framing, "setting": label,
@@ -205,7 +212,7 @@ def measure_foveation(image, scene: str, method: str = "mip", sizes: Sequence[in
                 if label != "full quality":
                     variant, _, gaze_name = label.partition(" | ")
                     row.update(variant=variant, gaze_name=gaze_name or "-")
-                    row.update(_foveated_figures(views["full quality"], full_picture, view))
+                    row.update(_foveated_figures(views["full quality"], full_picture, full_samples, view))
                 rows.append(row)
                 report(f"{scene} {size}² {framing}: {label}")
             for view in views.values():
@@ -213,13 +220,14 @@ def measure_foveation(image, scene: str, method: str = "mip", sizes: Sequence[in
     return rows
 
 
-def _foveated_figures(full_view: OffscreenView, full_picture: np.ndarray, view: OffscreenView) -> dict:
+def _foveated_figures(full_view: OffscreenView, full_picture: np.ndarray, full_samples: int,
+                      view: OffscreenView) -> dict:
     picture = view.screenshot()
     mapper = view.mapper
     gaze, radius = mapper.GetGazePoint(), mapper.GetFovealRadius()
     cost = mapper.GetLastFrameCost()
     errors = ring_errors(full_picture, picture, gaze, radius)
-    share = fovea_share(full_view, gaze, radius) if mapper.GetFoveation() else 1.0
+    share = fovea_share(full_view, gaze, radius, full_samples) if mapper.GetFoveation() else 1.0
     return {"gaze": list(gaze), "radius": radius, "falloff": mapper.GetFalloff(),
             "sampling": mapper.GetPeripheralSampling(), "rays": cost["rays"], "samples": cost["samples"],
             "ray_ratio": cost["ray_ratio"], "sample_ratio": cost["sample_ratio"],

@@ -152,6 +152,7 @@ def _check_before_render(mapper, event) -> None:
     A refusal reports a VTK error naming the problem and draws nothing.
     """
     problem = mapper.GetRenderProblem()
+    object_state(mapper)["render_problem"] = problem  # for later observers of the same render
     volume = mapper.GetAttachedVolume()
     if mapper.IsAttached():
         uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()

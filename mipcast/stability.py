@@ -24,6 +24,7 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 from . import reference
 from .data_fixtures import image_from_array, make_fixture
 from .metrics import summary
+from .benchmark import apply_settings
 from .offscreen import OffscreenView
 
 
@@ -136,8 +137,7 @@ def measure(case: Case, size=None) -> dict:
     spacing = min(abs(s) for s in image.GetSpacing())
     scene = OffscreenView(image, case.method, size=size, view=view,
                           sample_distance=spacing / rate if rate else None)
-    for name, value in case.settings:
-        getattr(scene.mapper, "Set" + name)(value)
+    apply_settings(scene.mapper, case.settings)
     if adjust is not None:
         adjust(scene.camera)
         scene.renderer.ResetCameraClippingRange()

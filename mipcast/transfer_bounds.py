@@ -7,7 +7,7 @@ about values below it; likewise above a *ceiling*.
 """
 from __future__ import annotations
 
-from typing import Tuple
+from typing import Optional, Tuple
 
 import numpy as np
 
@@ -42,6 +42,36 @@ def constant_ends(prop, low: float, high: float) -> Tuple[float, float]:
     floor = stops[int(np.argmin(same_as_low)) - 1] if not same_as_low.all() else float(high)
     ceiling = stops[len(stops) - int(np.argmin(same_as_high[::-1]))] if not same_as_high.all() else float(low)
     return floor, ceiling
+
+
+_NORMALISED: dict = {}
+
+
+def normalised_ends(prop, scalars) -> Optional[Tuple[float, float]]:
+    """:func:`constant_ends` over the scalars' range, as fractions of it; None for a constant range.
+
+    Cached on the property's and the scalars' identity and modification
+    time (a property's MTime includes its transfer functions), so render
+    hooks may ask every frame.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkCommonCore import vtkFloatArray
+    >>> from mipcast.offscreen import grey_property
+    >>> scalars = vtkFloatArray()
+    >>> _ = scalars.InsertNextValue(0.0), scalars.InsertNextValue(1000.0)
+    >>> normalised_ends(grey_property((100.0, 400.0)), scalars)
+    (0.1, 0.4)
+    """
+    key = (prop.GetAddressAsString("vtkObjectBase"), prop.GetMTime(),
+           scalars.GetAddressAsString("vtkObjectBase"), scalars.GetMTime())
+    if key not in _NORMALISED:
+        if len(_NORMALISED) > 256:
+            _NORMALISED.clear()
+        low, high = scalars.GetRange(0)
+        _NORMALISED[key] = (tuple((v - low) / (high - low) for v in constant_ends(prop, low, high))
+                            if high > low else None)
+    return _NORMALISED[key]
 
 
 def _node_positions(prop):

@@ -14,7 +14,7 @@ _NO_DISPLAY = ("bad X server connection", "CreateAWindow", "cannot open display"
 
 def run_under_xvfb(command, **kwargs) -> subprocess.CompletedProcess:
     """``subprocess.run(SERVER + command, capture_output=True, text=True, **kwargs)``, retried once if X failed."""
-    for attempt in range(2):
+    for _ in range(2):
         result = subprocess.run(SERVER + list(command), capture_output=True, text=True, **kwargs)
         if result.returncode == 0 or not any(text in result.stderr for text in _NO_DISPLAY):
             return result
