@@ -25,5 +25,4 @@
   }
   mc_rayMax = u_mc_floor + mc_best * (u_mc_ceiling - u_mc_floor);
   mc_matchIndex = -1;
-  mc_rayHit = true;
   g_exit = true;

@@ -40,5 +40,4 @@
     mcFindSameMaterial(mc_start, mc_count, mc_rayMax, mc_window);
   }
   mc_rayMax = mc_rayMax * in_volume_scale[0].r + in_volume_bias[0].r;
-  mc_rayHit = true;
   g_exit = true;

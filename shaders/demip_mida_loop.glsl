@@ -32,5 +32,4 @@
   mc_composite = mc_sum;
   mc_rayMax = mc_rayMax * in_volume_scale[0].r + in_volume_bias[0].r;
   mc_matchIndex = -1;
-  mc_rayHit = true;
   g_exit = true;

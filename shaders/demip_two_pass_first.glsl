@@ -26,5 +26,4 @@
   mc_firstStart = mc_firstPacked ? mc_start : 0;
   mc_firstMax = mc_maxAt;
   mc_rayMax = mc_rayMax * in_volume_scale[0].r + in_volume_bias[0].r;
-  mc_rayHit = true;
   g_exit = true;

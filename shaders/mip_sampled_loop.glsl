@@ -21,5 +21,4 @@
     mc_rayMax = max(mc_rayMax, mc_value);
   }
   mc_rayMax = mc_rayMax * in_volume_scale[0].r + in_volume_bias[0].r;
-  mc_rayHit = true;
   g_exit = true;
