@@ -63,7 +63,7 @@ def packed_corners(values: np.ndarray) -> np.ndarray:
     packed[..., 0] = values
     packed[..., 1] = values[:, up_y]
     packed[..., 2] = values[up_z]
-    packed[..., 3] = values[up_z][:, up_y]
+    packed[..., 3] = packed[..., 2][:, up_y]  # the +z values, shifted by +y
     return packed
 
 
