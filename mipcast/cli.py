@@ -256,7 +256,7 @@ def _run_foveation(args) -> int:
     rounds = min(args.rounds, 3)
     started = time.perf_counter()
     jobs = [(scene, method) for scene in args.scenes for method in args.foveation_methods]
-    views = 2 + len(VARIANTS) * len(GAZES)
+    views = 3 + len(VARIANTS) * len(GAZES)  # full, off, variants, periphery alone
     rows = []
     with _progress_bar(len(jobs) * len(sizes) * len(FRAMINGS) * (rounds + views)) as bar:
         for scene, method in jobs:

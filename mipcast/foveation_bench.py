@@ -41,7 +41,13 @@ VARIANTS = {
     "radius 0.12": {"FovealRadius": 0.12},
     "radius 0.05, falloff 0.04": {"FovealRadius": 0.05, "Falloff": 0.04},
     "default, 'level' sampling": {"PeripheralSampling": "level"},
+    "default, 4 levels": {"NumberOfLevels": 4},
 }
+#: A gaze far outside the viewport: every pixel at the coarsest level.  Its
+#: row times the periphery alone, a floor under any gaze's frame time where
+#: the periphery covers most of the view (a corner gaze).
+OFF_SCREEN = (-100.0, -100.0)
+PERIPHERY_ONLY = "periphery alone | off-screen"
 #: Width of an eccentricity ring, viewport heights.
 RING = 0.025
 
@@ -172,7 +178,8 @@ def measure_foveation(image, scene: str, method: str = "mip", sizes: Sequence[in
     Returns
     -------
     list of dict
-        One row per size, framing and setting: ``median_ms``, ``speedup``
+        One row per size, framing and setting (the last, :data:`PERIPHERY_ONLY`,
+        with the gaze off-screen): ``median_ms``, ``speedup``
         (full / this), and for foveated rows ``gaze``, ``radius``, ``rays``,
         ``samples``, ``ray_ratio``, ``sample_ratio`` (full / foveated),
         ``ceiling``, ``fovea_within_1``, ``mean_grey_error``, ``rings``.
@@ -184,7 +191,7 @@ def measure_foveation(image, scene: str, method: str = "mip", sizes: Sequence[in
     ...                          variants={"default": {}}, gazes={"centre": (0.5, 0.5)}, rounds=1, frames=1,
     ...                          warmup=1)
     >>> [row["setting"] for row in rows], rows[0]["speedup"]
-    (['full quality', 'foveation off', 'default | centre'], 1.0)
+    (['full quality', 'foveation off', 'default | centre', 'periphery alone | off-screen'], 1.0)
     """
     variants = VARIANTS if variants is None else variants
     gazes = GAZES if gazes is None else gazes
@@ -200,6 +207,8 @@ def measure_foveation(image, scene: str, method: str = "mip", sizes: Sequence[in
                 for gaze_name, gaze in gazes.items():
                     view = views[f"{variant} | {gaze_name}"] = framed_view(image, "foveated", size, framing, window)
                     apply_settings(view.mapper, (("Method", method), *settings.items(), ("GazePoint", gaze)))
+            floor = views[PERIPHERY_ONLY] = framed_view(image, "foveated", size, framing, window)
+            apply_settings(floor.mapper, (("Method", method), ("GazePoint", OFF_SCREEN)))
             times = interleaved_frame_times(views, rounds, frames, warmup,
                                             lambda label: report(f"{scene} {size}² {framing}: {label}"))
             base = statistics.median(times["full quality"])
@@ -260,8 +269,13 @@ def foveation_table(rows: Sequence[dict]) -> str:
         setting = row["setting"].replace("|", "\\|")
         lines.append(f"| {row['scene']} {row['method']} {row['size']}² {row['framing']} | {setting} | "
                      f"{row['ray_ratio']:.2f} | {row['sample_ratio']:.2f} | {row['speedup']:.2f} | "
-                     f"{row['ceiling']:.1f} | {100 * row['fovea_within_1']:.1f} % | {row['mean_grey_error']:.2f} |")
+                     f"{row['ceiling']:.1f} | {_share(row['fovea_within_1'])} | {row['mean_grey_error']:.2f} |")
     return "\n".join(lines)
+
+
+def _share(fraction: float) -> str:
+    """A fraction as a percentage; "-" when undefined (no fovea in view)."""
+    return f"{100 * fraction:.1f} %" if np.isfinite(fraction) else "-"
 
 
 def write_ring_chart(rows: Sequence[dict], path) -> None:
@@ -286,7 +300,7 @@ def write_ring_chart(rows: Sequence[dict], path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    chosen = [r for r in rows if r.get("rings") and r.get("gaze_name", "-") != "-"]
+    chosen = [r for r in rows if r.get("rings") and r.get("gaze_name", "-") != "-" and r.get("setting") != PERIPHERY_ONLY]
     panels = sorted({(r["scene"], r["method"], r["size"], r["framing"]) for r in chosen})
     gazes = sorted({r["gaze_name"] for r in chosen})
     variants = list(dict.fromkeys(r["variant"] for r in chosen))

@@ -109,6 +109,10 @@ def test_bench_foveation_writes_table_chart_and_ring_errors(tmp_path, capsys):
         outer = [ring for ring in centre["rings"] if ring["e_from"] >= centre["radius"] + centre["falloff"]]
         assert inner and max(ring["p99"] for ring in inner) <= 1
         assert outer and max(ring["mean"] for ring in outer) > 0.5
+        # off-screen gaze: the coarsest level alone casts fewer rays than any gaze; a 4th level fewer than 3
+        alone = by[framing, "periphery alone | off-screen"]
+        assert alone["ray_ratio"] > corner["ray_ratio"] and alone["ceiling"] == float("inf")
+        assert by[framing, "default, 4 levels | corner"]["ray_ratio"] > corner["ray_ratio"]
     # the smaller fovea casts fewer rays than the default one
     assert by["fill", "radius 0.12 | centre"]["rays"] < by["fill", "default | centre"]["rays"]
     assert "Levoy & Whitaker" in (tmp_path / "foveation.md").read_text()
