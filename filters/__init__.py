@@ -27,9 +27,9 @@ from ..offscreen import OffscreenView
 from ..validation import check_image, check_positive
 
 
-def render(image, method: str = "mip", *, size: Sequence[int] = (256, 256), view: str = "oblique",
-           sample_distance: Optional[float] = None, window: Optional[Sequence[float]] = None,
-           as_float: bool = False, **params) -> np.ndarray:
+def render(image, method: str = "mip", *, scalars: Optional[str] = None, size: Sequence[int] = (256, 256),
+           view: str = "oblique", sample_distance: Optional[float] = None,
+           window: Optional[Sequence[float]] = None, as_float: bool = False, **params) -> np.ndarray:
     """Render ``image`` offscreen with a mipcast method.
 
     Parameters
@@ -38,6 +38,9 @@ def render(image, method: str = "mip", *, size: Sequence[int] = (256, 256), view
         Volume with one-component point scalars.
     method : str, default: "mip"
         A name from ``mipcast.METHODS``.
+    scalars : str, optional
+        Name of the point array to project; default the active scalars.
+        The image itself is not modified.
     size : sequence of int, default: (256, 256)
         Image (width, height) in pixels.
     view : str, default: "oblique"
@@ -69,15 +72,16 @@ def render(image, method: str = "mip", *, size: Sequence[int] = (256, 256), view
     >>> render(grid, "mip", size=(32, 32), as_float=True, image_sample_distance=2.0).dtype
     dtype('float32')
     """
-    scene = OffscreenView(image, method, size=size, view=view,
+    scene = OffscreenView(with_scalars(image, scalars), method, size=size, view=view,
                           sample_distance=sample_distance, window=window)
     set_parameters(scene.mapper, **params)
     return scene.float_image() if as_float else scene.screenshot()
 
 
-def add_volume(plotter, image, method: str = "mip", *, cmap: Union[str, object] = "gray",
-               clim: Optional[Sequence[float]] = None, opacity: Union[float, str] = 1.0,
-               sample_distance: Optional[float] = None, **params):
+def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = None,
+               cmap: Union[str, object] = "gray", clim: Optional[Sequence[float]] = None,
+               opacity: Union[float, str] = 1.0, sample_distance: Optional[float] = None,
+               name: Optional[str] = None, reset_camera: Optional[bool] = None, **params):
     """Add ``image`` to a pyvista ``Plotter``, rendered by a mipcast method.
 
     Parameters
@@ -88,6 +92,9 @@ def add_volume(plotter, image, method: str = "mip", *, cmap: Union[str, object] 
         Volume with one-component point scalars.
     method : str, default: "mip"
         A name from ``mipcast.METHODS``.
+    scalars : str, optional
+        Name of the point array to project; default the active scalars.
+        The image itself is not modified.
     cmap : str or matplotlib colormap, default: "gray"
         Colour map over ``clim``, as in ``Plotter.add_volume``.
     clim : sequence of float, optional
@@ -98,6 +105,12 @@ def add_volume(plotter, image, method: str = "mip", *, cmap: Union[str, object] 
     sample_distance : float, optional
         World units between samples; default one sample per voxel.
         Auto-adjust is off so the setting holds while interacting.
+    name : str, optional
+        Actor name, as in pyvista: adding again under the same name replaces
+        the earlier volume, and ``plotter.remove_actor(name)`` removes it.
+    reset_camera : bool, optional
+        As in pyvista: by default the camera is reset only if it has not
+        been set yet (a ``camera_position`` set before is kept).
     **params
         Method parameters, passed to the mapper's setters (see
         :func:`set_parameters`); an unknown name raises ``TypeError``
@@ -105,8 +118,8 @@ def add_volume(plotter, image, method: str = "mip", *, cmap: Union[str, object] 
 
     Returns
     -------
-    vtkVolume
-        The added volume; its mapper is ``volume.GetMapper()``.
+    pyvista.Volume
+        The added volume (a ``vtkVolume``); its mapper is ``volume.mapper``.
 
     Examples
     --------
@@ -118,8 +131,9 @@ def add_volume(plotter, image, method: str = "mip", *, cmap: Union[str, object] 
     >>> plotter.screenshot().shape
     (64, 64, 3)
     """
-    from vtkmodules.vtkRenderingCore import vtkVolume
+    import pyvista
 
+    image = with_scalars(image, scalars)
     check_image(image)
     low, high = clim if clim is not None else image.GetPointData().GetScalars().GetRange(0)
     if sample_distance is None:
@@ -129,12 +143,54 @@ def add_volume(plotter, image, method: str = "mip", *, cmap: Union[str, object] 
     mapper.SetAutoAdjustSampleDistances(False)
     mapper.SetSampleDistance(check_positive("sample_distance", sample_distance))
     set_parameters(mapper, **params)
-    volume = vtkVolume()
+    volume = pyvista.Volume()
     volume.SetProperty(_volume_property(cmap, (low, high), opacity))
     attach(mapper, volume)
-    plotter.renderer.AddVolume(volume)
-    plotter.reset_camera()
+    plotter.add_actor(volume, reset_camera=reset_camera, name=name)
     return volume
+
+
+def with_scalars(image, scalars: Optional[str] = None):
+    """``image``, or a shallow copy of it whose active point scalars are ``scalars``.
+
+    The copy shares the arrays; the image given is not modified.
+
+    Parameters
+    ----------
+    image : pyvista.ImageData or vtkImageData
+        The volume.
+    scalars : str, optional
+        Name of a point array of ``image``; ``None`` returns ``image`` itself.
+
+    Raises
+    ------
+    ValueError
+        If ``image`` has no point array of that name (the message lists the
+        point arrays, and says how to convert a cell array).
+
+    Examples
+    --------
+    >>> import numpy as np, pyvista as pv
+    >>> from mipcast.filters import with_scalars
+    >>> grid = pv.ImageData(dimensions=(4, 4, 4))
+    >>> grid.point_data["a"] = np.zeros(64); grid.point_data["b"] = np.ones(64)
+    >>> grid.point_data.active_scalars_name
+    'a'
+    >>> with_scalars(grid, "b").GetPointData().GetScalars().GetName(), grid.point_data.active_scalars_name
+    ('b', 'a')
+    """
+    if scalars is None:
+        return image
+    points, cells = image.GetPointData(), image.GetCellData()
+    if points.GetArray(scalars) is None:
+        names = [points.GetArrayName(i) for i in range(points.GetNumberOfArrays())]
+        fix = ("it is a cell array: convert it with grid.cell_data_to_point_data()"
+               if cells.GetArray(scalars) is not None else f"point arrays: {names}")
+        raise ValueError(f"scalars {scalars!r} is not a point array of the image; {fix}")
+    copy = image.NewInstance()
+    copy.ShallowCopy(image)
+    copy.GetPointData().SetActiveScalars(scalars)
+    return copy
 
 
 def set_parameters(mapper, **params) -> None:
@@ -270,5 +326,5 @@ def _volume_property(cmap, clim, opacity):
 # Registers grid.mip and plotter.mip (imports pyvista); after the functions it delegates to.
 from .extensions import MipAccessor, MipPlotterComponent  # noqa: E402
 
-__all__ = ["render", "add_volume", "set_parameters", "method_parameters",
+__all__ = ["render", "add_volume", "with_scalars", "set_parameters", "method_parameters",
            "MipAccessor", "MipPlotterComponent"]

@@ -45,15 +45,17 @@ class MipAccessor:
     def __init__(self, grid) -> None:
         self._grid = grid
 
-    def render(self, method: str = "mip", *, size: Sequence[int] = (256, 256), view: str = "oblique",
-               sample_distance: Optional[float] = None, window: Optional[Sequence[float]] = None,
-               as_float: bool = False, **params) -> np.ndarray:
+    def render(self, method: str = "mip", *, scalars: Optional[str] = None, size: Sequence[int] = (256, 256),
+               view: str = "oblique", sample_distance: Optional[float] = None,
+               window: Optional[Sequence[float]] = None, as_float: bool = False, **params) -> np.ndarray:
         """Render the grid offscreen with ``method``; see :func:`mipcast.filters.render`.
 
         Parameters
         ----------
         method : str, default: "mip"
             A name from ``mipcast.METHODS``.
+        scalars : str, optional
+            Name of the point array to project; default the active scalars.
         size : sequence of int, default: (256, 256)
             Image (width, height) in pixels.
         view : str, default: "oblique"
@@ -84,7 +86,7 @@ class MipAccessor:
         >>> values.shape, values.dtype
         ((32, 32), dtype('float32'))
         """
-        return render(self._grid, method, size=size, view=view, sample_distance=sample_distance,
+        return render(self._grid, method, scalars=scalars, size=size, view=view, sample_distance=sample_distance,
                       window=window, as_float=as_float, **params)
 
 
@@ -120,12 +122,22 @@ class MipPlotterComponent:
 
     @property
     def volumes(self) -> tuple:
-        """The vtkVolumes this component added and has not removed, oldest first."""
+        """The volumes this component added that are still shown, oldest first."""
+        self._forget_removed()
         return tuple(volume for volume, _ in self._added)
 
-    def add_volume(self, grid, method: str = "mip", *, cmap: Union[str, object] = "gray",
-                   clim: Optional[Sequence[float]] = None, opacity: Union[float, str] = 1.0,
-                   sample_distance: Optional[float] = None, **params):
+    def _forget_removed(self) -> None:
+        """Detach and forget volumes pyvista took away (``remove_actor``, or replaced by name)."""
+        shown = [(volume, renderer) for volume, renderer in self._added if renderer.GetVolumes().IsItemPresent(volume)]
+        for volume, renderer in self._added:
+            if (volume, renderer) not in shown:
+                _remove(volume, renderer)
+        self._added = shown
+
+    def add_volume(self, grid, method: str = "mip", *, scalars: Optional[str] = None,
+                   cmap: Union[str, object] = "gray", clim: Optional[Sequence[float]] = None,
+                   opacity: Union[float, str] = 1.0, sample_distance: Optional[float] = None,
+                   name: Optional[str] = None, reset_camera: Optional[bool] = None, **params):
         """Add ``grid`` to the plotter's active renderer; see :func:`mipcast.filters.add_volume`.
 
         Parameters
@@ -134,6 +146,8 @@ class MipPlotterComponent:
             Volume with one-component point scalars.
         method : str, default: "mip"
             A name from ``mipcast.METHODS``.
+        scalars : str, optional
+            Name of the point array to project; default the active scalars.
         cmap : str or matplotlib colormap, default: "gray"
             Colour map over ``clim``, as in ``Plotter.add_volume``.
         clim : sequence of float, optional
@@ -143,14 +157,18 @@ class MipPlotterComponent:
             names, as in ``Plotter.add_volume``.
         sample_distance : float, optional
             World units between samples; default one sample per voxel.
+        name : str, optional
+            Actor name, as in pyvista (the same name replaces).
+        reset_camera : bool, optional
+            As in pyvista: by default only if the camera has not been set.
         **params
             Method parameters, e.g. ``depth_weight=0.2`` (see
             :func:`mipcast.filters.set_parameters`).
 
         Returns
         -------
-        vtkVolume
-            The added volume; its mapper is ``volume.GetMapper()``.
+        pyvista.Volume
+            The added volume; its mapper is ``volume.mapper``.
 
         Examples
         --------
@@ -167,9 +185,10 @@ class MipPlotterComponent:
         >>> plotter.close()
         """
         renderer = self._plotter.renderer
-        volume = add_volume(self._plotter, grid, method, cmap=cmap, clim=clim, opacity=opacity,
-                            sample_distance=sample_distance, **params)
+        volume = add_volume(self._plotter, grid, method, scalars=scalars, cmap=cmap, clim=clim, opacity=opacity,
+                            sample_distance=sample_distance, name=name, reset_camera=reset_camera, **params)
         self._added.append((volume, renderer))
+        self._forget_removed()
         return volume
 
     def remove_volume(self, volume) -> None:

@@ -45,3 +45,69 @@ def test_plotter_bad_parameters(grid):
     with pytest.raises(ValueError, match="unknown method"):
         add_volume(plotter, grid, method="best")
     plotter.close()
+
+
+def _two_arrays(grid):
+    """``grid`` with a second point array, ``flipped`` (the vessels upside down), active scalars unchanged."""
+    both = grid.copy()
+    values = np.asarray(grid.point_data.active_scalars)
+    both.point_data["flipped"] = values.reshape(grid.dimensions[::-1])[::-1].ravel().copy()
+    both.point_data.active_scalars_name = grid.point_data.active_scalars_name
+    return both
+
+
+def test_scalars_chooses_the_array_without_modifying_the_grid(grid):
+    both = _two_arrays(grid)
+    active = both.point_data.active_scalars_name
+    only_flipped = pv.ImageData(dimensions=grid.dimensions, spacing=grid.spacing, origin=grid.origin)
+    only_flipped.point_data["flipped"] = both.point_data["flipped"]
+    chosen = render(both, "analytic", scalars="flipped", size=(48, 48), as_float=True)
+    expected = render(only_flipped, "analytic", size=(48, 48), as_float=True)
+    default = render(both, "analytic", size=(48, 48), as_float=True)
+    assert np.array_equal(np.isnan(chosen), np.isnan(expected))
+    assert np.nanmax(np.abs(chosen - expected)) < 1e-6
+    assert np.nanmax(np.abs(chosen - default)) > 0.1  # a different picture from the active array
+    assert both.point_data.active_scalars_name == active
+    plotter = pv.Plotter(off_screen=True, window_size=(48, 48))
+    volume = plotter.mip.add_volume(both, "mip", scalars="flipped")
+    assert volume.mapper.GetInput().GetPointData().GetScalars().GetName() == "flipped"
+    assert both.point_data.active_scalars_name == active
+    plotter.close()
+
+
+def test_scalars_that_are_not_a_point_array_are_refused(grid):
+    both = _two_arrays(grid)
+    both.cell_data["cells"] = np.zeros(both.n_cells)
+    with pytest.raises(ValueError, match=r"'nope' is not a point array.*flipped"):
+        render(both, scalars="nope")
+    plotter = pv.Plotter(off_screen=True, window_size=(32, 32))
+    with pytest.raises(ValueError, match="cell_data_to_point_data"):
+        add_volume(plotter, both, scalars="cells")
+    assert plotter.renderer.GetVolumes().GetNumberOfItems() == 0
+    plotter.close()
+
+
+def test_add_volume_behaves_like_pyvistas(grid):
+    plotter = pv.Plotter(off_screen=True, window_size=(64, 64))
+    plotter.camera_position = [(120.0, 40.0, 30.0), (16.0, 16.0, 16.0), (0.0, 0.0, 1.0)]
+    before = plotter.camera_position
+    first = add_volume(plotter, grid, "mip", name="vessels")
+    assert isinstance(first, pv.Volume) and first.mapper is first.GetMapper()
+    assert plotter.camera_position == before  # a camera the user set is kept
+    second = add_volume(plotter, grid, "analytic", name="vessels")  # same name: replaces
+    assert plotter.renderer.GetVolumes().GetNumberOfItems() == 1
+    assert plotter.renderer.GetVolumes().GetItemAsObject(0) is second
+    assert plotter.screenshot().std() > 5
+    plotter.remove_actor("vessels")
+    assert plotter.renderer.GetVolumes().GetNumberOfItems() == 0
+    # the plotter component forgets (and detaches) what pyvista removed
+    third = plotter.mip.add_volume(grid, "mip", name="again")
+    replacing = plotter.mip.add_volume(grid, "analytic", name="again")
+    assert plotter.mip.volumes == (replacing,) and not third.mapper.IsAttached()
+    plotter.remove_actor("again")
+    assert plotter.mip.volumes == () and not replacing.mapper.IsAttached()
+    other = pv.Plotter(off_screen=True, window_size=(64, 64))
+    add_volume(other, grid, "mip")  # no camera set: reset to the volume, as pyvista does
+    assert np.allclose(other.camera.focal_point, grid.center)
+    plotter.close()
+    other.close()
