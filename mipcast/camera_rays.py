@@ -7,10 +7,11 @@ clipping planes.  This covers orthographic and perspective cameras alike.
 """
 from __future__ import annotations
 
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, Union
 
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkCommonMath import vtkMatrix3x3, vtkMatrix4x4
 
 from .validation import check_size
 
@@ -42,9 +43,41 @@ class Rays(NamedTuple):
     hit: np.ndarray
 
 
-def _to_numpy(matrix: Any) -> np.ndarray:
-    """Return a ``vtkMatrix4x4`` as a float64 (4, 4) array."""
-    return np.array([[matrix.GetElement(r, c) for c in range(4)] for r in range(4)],
+def matrix_array(vtk_matrix: Union[vtkMatrix4x4, vtkMatrix3x3]) -> np.ndarray:
+    """Return a VTK matrix as a float64 numpy array (a copy).
+
+    Parameters
+    ----------
+    vtk_matrix : vtkMatrix4x4 or vtkMatrix3x3
+        The matrix (read only).
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, 4) or (3, 3), float64
+        ``out[r, c] == vtk_matrix.GetElement(r, c)``.
+
+    Raises
+    ------
+    TypeError
+        If ``vtk_matrix`` is neither a vtkMatrix4x4 nor a vtkMatrix3x3.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkCommonMath import vtkMatrix3x3, vtkMatrix4x4
+    >>> shift = vtkMatrix4x4()
+    >>> shift.SetElement(0, 3, 2.5)
+    >>> matrix_array(shift)[0]
+    array([1. , 0. , 0. , 2.5])
+    >>> matrix_array(vtkMatrix3x3()).shape, matrix_array(vtkMatrix3x3()).dtype
+    ((3, 3), dtype('float64'))
+    """
+    if isinstance(vtk_matrix, vtkMatrix4x4):
+        size = 4
+    elif isinstance(vtk_matrix, vtkMatrix3x3):
+        size = 3
+    else:
+        raise TypeError(f"expected vtkMatrix4x4 or vtkMatrix3x3, got {type(vtk_matrix).__name__}")
+    return np.array([[vtk_matrix.GetElement(r, c) for c in range(size)] for r in range(size)],
                     dtype=np.float64)
 
 
@@ -113,7 +146,7 @@ def camera_rays(image: vtkImageData, camera: Any, size: tuple) -> Rays:
     if not isinstance(image, vtkImageData):
         raise TypeError(f"expected vtkImageData or pyvista.ImageData, got {type(image).__name__}")
     width, height = check_size(size)
-    world_to_ndc = _to_numpy(camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
+    world_to_ndc = matrix_array(camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
     ndc_to_world = np.linalg.inv(world_to_ndc)
 
     x = 2.0 * (np.arange(width) + 0.5) / width - 1.0
@@ -130,7 +163,7 @@ def camera_rays(image: vtkImageData, camera: Any, size: tuple) -> Rays:
     world_dir = (far - near) / length[..., None]
 
     extent = image.GetExtent()
-    to_index = _to_numpy(image.GetPhysicalToIndexMatrix())
+    to_index = matrix_array(image.GetPhysicalToIndexMatrix())
     origin = near @ to_index[:3, :3].T + to_index[:3, 3] - np.array(extent[0::2], float)
     direction = world_dir @ to_index[:3, :3].T
     upper = np.array(image.GetDimensions(), float) - 1.0

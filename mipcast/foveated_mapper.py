@@ -14,6 +14,7 @@ from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
 from . import float_readout, foveation, volume_pyramid
 from .analytic_mapper import AnalyticMIPVolumeMapper
+from .camera_rays import matrix_array
 from .corner_packing import CornerPacker
 from .mip_mapper import MIPVolumeMapper
 from .object_state import object_state
@@ -579,7 +580,7 @@ def _current_gaze(state, renderer, camera, viewport):
 
 def _project_region(bounds, camera, aspect):
     """Projected centre (normalised viewport) and radius (viewport heights) of a world box."""
-    matrix = _numpy_matrix(camera.GetCompositeProjectionTransformMatrix(aspect, -1, 1))
+    matrix = matrix_array(camera.GetCompositeProjectionTransformMatrix(aspect, -1, 1))
     corners = np.array([[x, y, z, 1.0] for x in bounds[0:2] for y in bounds[2:4] for z in bounds[4:6]])
     centre = np.array([0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
                        0.5 * (bounds[4] + bounds[5]), 1.0])
@@ -595,7 +596,7 @@ def _level_cap(image, volume, camera, viewport) -> int:
     """Coarsest image level whose texels still fit MIN_TEXELS times into the volume's projection."""
     x0, y0, width, height = viewport
     bounds = volume.GetBounds()
-    matrix = _numpy_matrix(camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
+    matrix = matrix_array(camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
     corners = np.array([[x, y, z, 1.0] for x in bounds[0:2] for y in bounds[2:4] for z in bounds[4:6]])
     points = corners @ matrix.T
     if np.any(points[:, 3] <= 0):
@@ -619,15 +620,15 @@ def _world_per_pixel(camera, volume, viewport) -> float:
         direction = np.array(camera.GetDirectionOfProjection())
         depth = abs(float(np.dot(centre - np.array(camera.GetPosition()), direction)))
         world = 2.0 * depth * math.tan(math.radians(camera.GetViewAngle()) / 2.0) / height
-    matrix = _numpy_matrix(volume.GetMatrix())[:3, :3]
+    matrix = matrix_array(volume.GetMatrix())[:3, :3]
     scale = float(np.cbrt(abs(np.linalg.det(matrix)))) or 1.0
     return world / scale
 
 
 def _auto_sample_distance(image, volume) -> float:
     """VTK's auto-adjusted sample distance without time-based reduction: the smallest world spacing."""
-    matrix = _numpy_matrix(volume.GetMatrix())[:3, :3]
-    direction = _numpy_matrix_3(image.GetDirectionMatrix())
+    matrix = matrix_array(volume.GetMatrix())[:3, :3]
+    direction = matrix_array(image.GetDirectionMatrix())
     columns = matrix @ direction
     return min(abs(s) * float(np.linalg.norm(columns[:, i])) for i, s in enumerate(image.GetSpacing()))
 
@@ -670,14 +671,6 @@ def _frame_cost(frame) -> dict:
             "ray_ratio": full_rays / rays if rays else math.inf,
             "sample_ratio": full_samples / samples if samples else math.inf,
             "levels": rows}
-
-
-def _numpy_matrix(vtk_matrix) -> np.ndarray:
-    return np.array([[vtk_matrix.GetElement(r, c) for c in range(4)] for r in range(4)], float)
-
-
-def _numpy_matrix_3(vtk_matrix) -> np.ndarray:
-    return np.array([[vtk_matrix.GetElement(r, c) for c in range(3)] for r in range(3)], float)
 
 
 def _finite(name: str, value) -> float:

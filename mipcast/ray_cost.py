@@ -17,9 +17,7 @@ from typing import Optional, Sequence, Tuple
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
-
-def _matrix(vtk_matrix) -> np.ndarray:
-    return np.array([[vtk_matrix.GetElement(r, c) for c in range(4)] for r in range(4)], float)
+from .camera_rays import matrix_array
 
 
 def grid_cost(image: vtkImageData, camera, size: Sequence[int], grid: Sequence[int], *,
@@ -69,8 +67,8 @@ def grid_cost(image: vtkImageData, camera, size: Sequence[int], grid: Sequence[i
     columns, rows = (int(v) for v in grid)
     if columns < 1 or rows < 1:
         return 0, 0
-    world_to_ndc = _matrix(camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
-    model_to_world = np.eye(4) if volume_matrix is None else _matrix(volume_matrix)
+    world_to_ndc = matrix_array(camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
+    model_to_world = np.eye(4) if volume_matrix is None else matrix_array(volume_matrix)
     ndc_to_model = np.linalg.inv(world_to_ndc @ model_to_world)
     x = 2.0 * (np.arange(columns) + 0.5) / columns - 1.0
     y = 2.0 * (np.arange(rows)[::-1] + 0.5) / rows - 1.0
@@ -85,7 +83,7 @@ def grid_cost(image: vtkImageData, camera, size: Sequence[int], grid: Sequence[i
     ends[:, :, 3] = 1.0
     model = ends @ ndc_to_model.T
     model = model[..., :3] / model[..., 3:]
-    to_index = _matrix(image.GetPhysicalToIndexMatrix())
+    to_index = matrix_array(image.GetPhysicalToIndexMatrix())
     index = model @ to_index[:3, :3].T + to_index[:3, 3] - np.array(image.GetExtent()[0::2], float)
     start, delta = index[0], index[1] - index[0]
     upper = np.array(image.GetDimensions(), float) - 1.0

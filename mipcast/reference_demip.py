@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .camera_rays import camera_rays
+from .camera_rays import camera_rays, matrix_array
 from .demip_mapper import (_DEFAULTS, DEPTH_MODES, DEPTH_OF, FLOOR_TOLERANCE, PROJECTIONS, _non_negative,
                            _rotation, _sphere_colors, _unit)
 from .reference import _BUDGET, _trilinear
@@ -270,11 +270,11 @@ class _Geometry:
     """Index <-> world <-> eye for one image and camera; the box's depth range."""
 
     def __init__(self, image, camera, aspect: float) -> None:
-        to_index = _matrix(image.GetPhysicalToIndexMatrix())
+        to_index = matrix_array(image.GetPhysicalToIndexMatrix())
         to_index[:3, 3] -= np.array(image.GetExtent()[0::2], float)  # index counted from the extent start
         self.to_world = np.linalg.inv(to_index)
-        self.view = _matrix(camera.GetViewTransformMatrix())
-        self.projection = _matrix(camera.GetProjectionTransformMatrix(aspect, -1, 1))
+        self.view = matrix_array(camera.GetViewTransformMatrix())
+        self.projection = matrix_array(camera.GetProjectionTransformMatrix(aspect, -1, 1))
         self.parallel = bool(camera.GetParallelProjection())
         upper = np.array(image.GetDimensions(), float) - 1.0
         self.upper = upper
@@ -320,7 +320,3 @@ class _Geometry:
         size = np.linalg.norm(offset, axis=1)
         along = np.where(size > 0, (offset @ axis) / np.where(size > 0, size, 1.0), 0.0)
         return back + (front - back) * (0.5 + 0.5 * along)[:, None]
-
-
-def _matrix(matrix: Any) -> np.ndarray:
-    return np.array([[matrix.GetElement(r, c) for c in range(4)] for r in range(4)], dtype=np.float64)

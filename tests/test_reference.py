@@ -10,7 +10,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkRenderingCore import vtkCamera
 
-from mipcast.camera_rays import camera_rays
+from mipcast.camera_rays import camera_rays, matrix_array
 from mipcast.reference import render
 
 
@@ -438,6 +438,23 @@ def test_extent_start_does_not_move_the_volume():
     plain = make_image(RNG_VOLUME, spacing=spacing, origin=origin)
     np.testing.assert_allclose(render(shifted, camera, (10, 10), method="exact"),
                                render(plain, camera, (10, 10), method="exact"), atol=1e-12)
+
+
+def test_matrix_array_rows_and_columns():
+    from vtkmodules.vtkCommonMath import vtkMatrix3x3, vtkMatrix4x4
+
+    for vtk_class, size in ((vtkMatrix4x4, 4), (vtkMatrix3x3, 3)):
+        vtk_matrix = vtk_class()
+        expected = np.arange(size * size, dtype=float).reshape(size, size) / 7.0
+        for r in range(size):
+            for c in range(size):
+                vtk_matrix.SetElement(r, c, expected[r, c])
+        array = matrix_array(vtk_matrix)
+        assert array.dtype == np.float64 and np.array_equal(array, expected)
+        array[0, 0] = -1.0  # a copy
+        assert vtk_matrix.GetElement(0, 0) == 0.0
+    with pytest.raises(TypeError, match="vtkMatrix4x4 or vtkMatrix3x3"):
+        matrix_array(np.eye(4))
 
 
 # ---------------------------------------------------------------- bad input
