@@ -20,7 +20,7 @@ from .mip_mapper import MIPVolumeMapper
 from .object_state import object_state
 from .private_draw import follow_volume, rendering_renderer
 from .ray_cost import grid_cost
-from .validation import check_choice
+from .validation import check_choice, check_finite, check_non_negative
 
 #: Stand-in for an unbounded eccentricity in the shader's uniforms.
 _FAR = 1.0e30
@@ -172,7 +172,7 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         Points outside [0, 1] are allowed (the fovea is then partly or wholly
         off screen).  Stops following the mouse or a region of interest.
         """
-        gaze = (_finite("x", x), _finite("y", y))
+        gaze = (check_finite("x", x), check_finite("y", y))
         state = object_state(self)
         state["point"] = state["gaze"] = gaze
         state["gaze_source"] = "point"
@@ -188,7 +188,7 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
 
     def SetFovealRadius(self, radius: float) -> None:
         """Radius of full quality around the gaze, in viewport heights (>= 0)."""
-        object_state(self)["radius"] = _non_negative("radius", radius)
+        object_state(self)["radius"] = check_non_negative("radius", radius)
         self.Modified()
 
     def GetFovealRadius(self) -> float:
@@ -205,7 +205,7 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         resolution, is the narrowest (:func:`mipcast.foveation.level_border`).
         0 switches levels abruptly (visible seams).
         """
-        object_state(self)["falloff"] = _non_negative("falloff", width)
+        object_state(self)["falloff"] = check_non_negative("falloff", width)
         self.Modified()
 
     def GetFalloff(self) -> float:
@@ -302,7 +302,7 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
             if state["gaze_source"] == "region":
                 state["gaze_source"] = "point"
             return
-        values = [_finite("region", v) for v in region]
+        values = [check_finite("region", v) for v in region]
         if len(values) == 3:
             values = [values[0], values[0], values[1], values[1], values[2], values[2]]
         if len(values) != 6 or any(values[2 * i] > values[2 * i + 1] for i in range(3)):
@@ -671,20 +671,3 @@ def _frame_cost(frame) -> dict:
             "ray_ratio": full_rays / rays if rays else math.inf,
             "sample_ratio": full_samples / samples if samples else math.inf,
             "levels": rows}
-
-
-def _finite(name: str, value) -> float:
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name} must be a number, got {value!r}") from None
-    if not math.isfinite(number):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    return number
-
-
-def _non_negative(name: str, value) -> float:
-    number = _finite(name, value)
-    if number < 0:
-        raise ValueError(f"{name} must be >= 0, got {value!r}")
-    return number

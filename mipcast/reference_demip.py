@@ -14,10 +14,10 @@ from typing import Any
 import numpy as np
 
 from .camera_rays import camera_rays, matrix_array
-from .demip_mapper import (_DEFAULTS, DEPTH_MODES, DEPTH_OF, FLOOR_TOLERANCE, PROJECTIONS, _non_negative,
-                           _rotation, _sphere_colors, _unit)
+from .demip_mapper import _DEFAULTS, DEPTH_MODES, DEPTH_OF, FLOOR_TOLERANCE, PROJECTIONS, _rotation, _sphere_colors
 from .reference import _BUDGET, _trilinear
-from .validation import check_choice, check_image, check_positive, check_size
+from .validation import (check_choice, check_image, check_non_negative, check_positive, check_size,
+                         check_unit)
 
 #: What :func:`render_demip` can return.
 OUTPUTS = ("depth", "rgb", "value")
@@ -119,20 +119,20 @@ def render_demip(image: Any, camera: Any, size: tuple, **params: Any) -> np.ndar
     p = {**PARAMETERS, **params}
     step = check_positive("sample_distance", p["sample_distance"])
     low, high = _window(p["window"])
-    depth_weight = _unit("depth_weight", p["depth_weight"])
-    eps = _unit("material_threshold", p["material_threshold"], open_low=True)
+    depth_weight = check_unit("depth_weight", p["depth_weight"])
+    eps = check_unit("material_threshold", p["material_threshold"], open_low=True)
     mode = check_choice("depth_mode", p["depth_mode"], DEPTH_MODES)
-    sphere_weight = _unit("sphere_weight", p["sphere_weight"])
+    sphere_weight = check_unit("sphere_weight", p["sphere_weight"])
     colors = p["sphere_colors"]
     front, back = _sphere_colors((colors,) if isinstance(colors, str) else tuple(colors))
     orientation = np.array(_rotation((p["sphere_orientation"],)))
-    chroma_weight = _unit("chroma_depth_weight", p["chroma_depth_weight"])
+    chroma_weight = check_unit("chroma_depth_weight", p["chroma_depth_weight"])
     if check_choice("depth_of", p["depth_of"], DEPTH_OF) == "maximum":
         eps = 0.0
     projection = check_choice("projection", p["projection"], PROJECTIONS)
-    local = low + _unit("local_threshold", p["local_threshold"]) * (high - low)
+    local = low + check_unit("local_threshold", p["local_threshold"]) * (high - low)
     local = local if projection == "lmip" else np.inf
-    attenuation = _non_negative("attenuation", p["attenuation"])
+    attenuation = check_non_negative("attenuation", p["attenuation"], numbers_only=True)
     voxels_per_step = step / min(abs(v) for v in image.GetSpacing())
     output = check_choice("output", p["output"], OUTPUTS)
 
