@@ -13,9 +13,9 @@ from typing import Any
 
 import numpy as np
 
-from .camera_rays import camera_rays, matrix_array
+from .camera_rays import matrix_array
 from .demip_mapper import _DEFAULTS, DEPTH_MODES, DEPTH_OF, FLOOR_TOLERANCE, PROJECTIONS, _rotation, _sphere_colors
-from .reference import _BUDGET, _trilinear
+from .reference import _BUDGET, _hit_rays, _scatter, _trilinear
 from .validation import (check_choice, check_image, check_non_negative, check_positive, check_size,
                          check_unit)
 
@@ -136,13 +136,8 @@ def render_demip(image: Any, camera: Any, size: tuple, **params: Any) -> np.ndar
     voxels_per_step = step / min(abs(v) for v in image.GetSpacing())
     output = check_choice("output", p["output"], OUTPUTS)
 
-    rays = camera_rays(image, camera, (width, height))
+    hit, entry, direction, length = _hit_rays(image, camera, (width, height))
     values = np.array(volume, dtype=np.float64)
-    hit = rays.hit.ravel()
-    t_enter = rays.t_enter.ravel()[hit]
-    length = rays.t_exit.ravel()[hit] - t_enter
-    direction = rays.direction.reshape(-1, 3)[hit]
-    entry = rays.origin.reshape(-1, 3)[hit] + t_enter[:, None] * direction
 
     count = np.maximum(1, np.floor(length / step + 1e-9)).astype(np.int64)
     maximum = np.empty(len(count))
@@ -181,9 +176,7 @@ def render_demip(image: Any, camera: Any, size: tuple, **params: Any) -> np.ndar
         enhanced = enhanced * (1.0 - sphere_weight) + sphere * sphere_weight
     enhanced = enhanced * (1.0 - chroma_weight) + chroma_color(known) * chroma_weight
     color = np.where(term[:, None], np.clip(enhanced, 0.0, 1.0), color)
-    out = np.full((width * height, 3), np.nan)
-    out[hit] = color
-    return out.reshape(height, width, 3)
+    return _scatter(color, hit, height, width)
 
 
 def _window(window: Any) -> tuple:
@@ -194,12 +187,6 @@ def _window(window: Any) -> tuple:
     if not (np.isfinite(low) and np.isfinite(high) and high > low):
         raise ValueError(f"window must be (low, high) with high > low, got {window!r}")
     return low, high
-
-
-def _scatter(found: np.ndarray, hit: np.ndarray, height: int, width: int) -> np.ndarray:
-    out = np.full(width * height, np.nan)
-    out[hit] = found
-    return out.reshape(height, width)
 
 
 def chroma_color(depth: np.ndarray) -> np.ndarray:
