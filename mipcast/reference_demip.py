@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from .camera_rays import matrix_array
+from .camera_rays import index_space, matrix_array
 from .demip_mapper import _DEFAULTS, DEPTH_MODES, DEPTH_OF, FLOOR_TOLERANCE, PROJECTIONS, _rotation, _sphere_colors
 from .reference import _BUDGET, _hit_rays, _scatter, _trilinear
 from .validation import (check_choice, check_image, check_non_negative, check_positive, check_size,
@@ -257,13 +257,11 @@ class _Geometry:
     """Index <-> world <-> eye for one image and camera; the box's depth range."""
 
     def __init__(self, image, camera, aspect: float) -> None:
-        to_index = matrix_array(image.GetPhysicalToIndexMatrix())
-        to_index[:3, 3] -= np.array(image.GetExtent()[0::2], float)  # index counted from the extent start
+        to_index, upper = index_space(image)
         self.to_world = np.linalg.inv(to_index)
         self.view = matrix_array(camera.GetViewTransformMatrix())
         self.projection = matrix_array(camera.GetProjectionTransformMatrix(aspect, -1, 1))
         self.parallel = bool(camera.GetParallelProjection())
-        upper = np.array(image.GetDimensions(), float) - 1.0
         self.upper = upper
         corners = np.array([[x, y, z] for x in (0, upper[0]) for y in (0, upper[1]) for z in (0, upper[2])])
         corner_eye = self.eye(corners)
