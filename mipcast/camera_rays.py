@@ -7,10 +7,11 @@ clipping planes.  This covers orthographic and perspective cameras alike.
 """
 from __future__ import annotations
 
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, Union
 
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkCommonMath import vtkMatrix3x3, vtkMatrix4x4
 
 from .validation import check_size
 
@@ -42,18 +43,127 @@ class Rays(NamedTuple):
     hit: np.ndarray
 
 
-def _to_numpy(matrix: Any) -> np.ndarray:
-    """Return a ``vtkMatrix4x4`` as a float64 (4, 4) array."""
-    return np.array([[matrix.GetElement(r, c) for c in range(4)] for r in range(4)],
+def matrix_array(vtk_matrix: Union[vtkMatrix4x4, vtkMatrix3x3]) -> np.ndarray:
+    """Return a VTK matrix as a float64 numpy array (a copy).
+
+    Parameters
+    ----------
+    vtk_matrix : vtkMatrix4x4 or vtkMatrix3x3
+        The matrix (read only).
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, 4) or (3, 3), float64
+        ``out[r, c] == vtk_matrix.GetElement(r, c)``.
+
+    Raises
+    ------
+    TypeError
+        If ``vtk_matrix`` is neither a vtkMatrix4x4 nor a vtkMatrix3x3.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkCommonMath import vtkMatrix3x3, vtkMatrix4x4
+    >>> shift = vtkMatrix4x4()
+    >>> shift.SetElement(0, 3, 2.5)
+    >>> matrix_array(shift)[0]
+    array([1. , 0. , 0. , 2.5])
+    >>> matrix_array(vtkMatrix3x3()).shape, matrix_array(vtkMatrix3x3()).dtype
+    ((3, 3), dtype('float64'))
+    """
+    if isinstance(vtk_matrix, vtkMatrix4x4):
+        size = 4
+    elif isinstance(vtk_matrix, vtkMatrix3x3):
+        size = 3
+    else:
+        raise TypeError(f"expected vtkMatrix4x4 or vtkMatrix3x3, got {type(vtk_matrix).__name__}")
+    return np.array([[vtk_matrix.GetElement(r, c) for c in range(size)] for r in range(size)],
                     dtype=np.float64)
 
 
-def _slab(origin: np.ndarray, direction: np.ndarray, upper: np.ndarray,
-          margin: float) -> tuple:
+def pixel_centres(columns: int, rows: int) -> tuple:
+    """NDC x of the column centres (left to right) and y of the row centres (top row first).
+
+    Examples
+    --------
+    >>> x, y = pixel_centres(4, 2)
+    >>> x.tolist(), y.tolist()
+    ([-0.75, -0.25, 0.25, 0.75], [0.5, -0.5])
+    """
+    x = 2.0 * (np.arange(columns) + 0.5) / columns - 1.0
+    y = 2.0 * (np.arange(rows)[::-1] + 0.5) / rows - 1.0  # top row first
+    return x, y
+
+
+def unproject(ndc_to_space: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """The points under NDC ``(x, y)`` on the near (NDC z = -1) and far (z = +1) planes.
+
+    Parameters
+    ----------
+    ndc_to_space : numpy.ndarray, shape (4, 4)
+        Inverse of the projection into NDC (e.g. of the camera's composite
+        projection matrix).
+    x, y : numpy.ndarray
+        NDC coordinates, broadcast against each other to a shape ``S``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (2, *S, 3)
+        ``[0]`` on the near plane, ``[1]`` on the far plane.
+
+    Examples
+    --------
+    >>> unproject(np.eye(4), np.array([0.5]), np.array([-0.5])).tolist()
+    [[[0.5, -0.5, -1.0]], [[0.5, -0.5, 1.0]]]
+    """
+    ndc = np.empty((2,) + np.broadcast(x, y).shape + (4,))
+    ndc[..., 0] = x
+    ndc[..., 1] = y
+    ndc[0, ..., 2], ndc[1, ..., 2] = -1.0, 1.0
+    ndc[..., 3] = 1.0
+    points = ndc @ ndc_to_space.T
+    return points[..., :3] / points[..., 3:]
+
+
+def index_space(image: vtkImageData) -> tuple:
+    """The mapping into the image's continuous index space and its box there.
+
+    Returns
+    -------
+    to_index : numpy.ndarray, shape (4, 4)
+        Physical (world) -> index coordinates, point ``(i, j, k)`` counted
+        from the first point of the extent.
+    upper : numpy.ndarray, shape (3,)
+        The far corner of the point-bounds box ``[0, upper]``: dimensions - 1.
+
+    Examples
+    --------
+    >>> image = vtkImageData()
+    >>> image.SetExtent(2, 5, 0, 3, 0, 1)
+    >>> image.SetSpacing(0.5, 1.0, 1.0)
+    >>> to_index, upper = index_space(image)
+    >>> (to_index @ [1.0, 0.0, 0.0, 1.0]).tolist(), upper.tolist()
+    ([0.0, 0.0, 0.0, 1.0], [3.0, 3.0, 1.0])
+    """
+    to_index = matrix_array(image.GetPhysicalToIndexMatrix())
+    to_index[:3, 3] -= np.array(image.GetExtent()[0::2], float)
+    return to_index, np.array(image.GetDimensions(), float) - 1.0
+
+
+def box_interval(origin: np.ndarray, direction: np.ndarray, upper: np.ndarray,
+                 margin: float = 0.0) -> tuple:
     """Ray parameters where rays enter/leave the box [-margin, upper + margin].
 
-    A zero direction component keeps the whole line inside that slab when
-    the origin lies in it (bounds inclusive) and excludes it otherwise.
+    ``origin`` and ``direction`` are (..., 3); the returned ``t_near`` and
+    ``t_far`` (...) are unclipped (``t_near > t_far`` on a miss).  A zero
+    direction component keeps the whole line inside that slab when the
+    origin lies in it (bounds inclusive) and excludes it otherwise.
+
+    Examples
+    --------
+    >>> t_near, t_far = box_interval(np.array([-1.0, 0.5, 0.5]), np.array([1.0, 0.0, 0.0]), np.ones(3))
+    >>> float(t_near), float(t_far)
+    (1.0, 2.0)
     """
     lo_box, hi_box = -margin, upper + margin
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -113,32 +223,22 @@ def camera_rays(image: vtkImageData, camera: Any, size: tuple) -> Rays:
     if not isinstance(image, vtkImageData):
         raise TypeError(f"expected vtkImageData or pyvista.ImageData, got {type(image).__name__}")
     width, height = check_size(size)
-    world_to_ndc = _to_numpy(camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
+    world_to_ndc = matrix_array(camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
     ndc_to_world = np.linalg.inv(world_to_ndc)
 
-    x = 2.0 * (np.arange(width) + 0.5) / width - 1.0
-    y = 2.0 * (np.arange(height)[::-1] + 0.5) / height - 1.0  # top row first
-    ndc = np.empty((2, height, width, 4))
-    ndc[..., 0] = x[None, None, :]
-    ndc[..., 1] = y[None, :, None]
-    ndc[0, ..., 2], ndc[1, ..., 2] = -1.0, 1.0
-    ndc[..., 3] = 1.0
-    world = ndc @ ndc_to_world.T
-    world = world[..., :3] / world[..., 3:]
-    near, far = world[0], world[1]
+    x, y = pixel_centres(width, height)
+    near, far = unproject(ndc_to_world, x[None, :], y[:, None])
     length = np.linalg.norm(far - near, axis=-1)
     world_dir = (far - near) / length[..., None]
 
-    extent = image.GetExtent()
-    to_index = _to_numpy(image.GetPhysicalToIndexMatrix())
-    origin = near @ to_index[:3, :3].T + to_index[:3, 3] - np.array(extent[0::2], float)
+    to_index, upper = index_space(image)
+    origin = near @ to_index[:3, :3].T + to_index[:3, 3]
     direction = world_dir @ to_index[:3, :3].T
-    upper = np.array(image.GetDimensions(), float) - 1.0
 
-    t_enter, t_exit = _slab(origin, direction, upper, 0.0)
+    t_enter, t_exit = box_interval(origin, direction, upper)
     t_enter, t_exit = np.maximum(t_enter, 0.0), np.minimum(t_exit, length)
     hit = t_enter <= t_exit
-    loose_enter, loose_exit = _slab(origin, direction, upper, TOUCH_TOLERANCE)
+    loose_enter, loose_exit = box_interval(origin, direction, upper, TOUCH_TOLERANCE)
     loose_enter, loose_exit = np.maximum(loose_enter, 0.0), np.minimum(loose_exit, length)
     touch = ~hit & (loose_enter <= loose_exit)
     t_enter = np.where(hit, t_enter, np.where(touch, loose_enter, np.nan))

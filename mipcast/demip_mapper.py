@@ -1,16 +1,13 @@
 """Depth-enhanced MIP (DEMIP, Díaz & Vázquez): MIP with depth shading and a colour sphere."""
 from __future__ import annotations
 
-import math
-from numbers import Real
-
 import numpy as np
 
 from .float_readout import read_normalised
 from .mip_mapper import MIPVolumeMapper
 from .object_state import object_state
 from .transfer_bounds import normalised_ends
-from .validation import check_choice
+from .validation import check_choice, check_non_negative, check_unit
 
 #: Depth measures of the paper (Fig. 3/4), in the order of ``u_mc_depthMode``.
 DEPTH_MODES = ("window", "steps", "entry_plus_length", "eye_distance")
@@ -190,7 +187,7 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
 
         0 is plain MIP; larger values brighten near and darken far structures.
         """
-        self._set("depth_weight", _unit("depth_weight", weight))
+        self._set("depth_weight", check_unit("depth_weight", weight))
 
     def GetDepthWeight(self) -> float:
         """The depth weight ``d_w``."""
@@ -202,7 +199,7 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
         Default 0.1.  Near 0 the depth is that of the maximum's own sample
         (noisy on noisy data); 1 accepts the first sample above the floor.
         """
-        self._set("material_threshold", _unit("material_threshold", eps, open_low=True))
+        self._set("material_threshold", check_unit("material_threshold", eps, open_low=True))
 
     def GetMaterialThreshold(self) -> float:
         """The material threshold ``eps``."""
@@ -218,7 +215,7 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
 
     def SetSphereWeight(self, weight: float) -> None:
         """Weight ``sph_w`` of the colour sphere in Eq. 2, in [0, 1]; default 0 (off)."""
-        self._set("sphere_weight", _unit("sphere_weight", weight))
+        self._set("sphere_weight", check_unit("sphere_weight", weight))
 
     def GetSphereWeight(self) -> float:
         """The colour sphere weight ``sph_w``."""
@@ -274,7 +271,7 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
         the same-material sample; for pseudo-chromadepth on plain MIP use
         ``SetDepthWeight(0)`` and ``SetDepthOf("maximum")``.
         """
-        self._set("chroma_depth_weight", _unit("chroma_depth_weight", weight))
+        self._set("chroma_depth_weight", check_unit("chroma_depth_weight", weight))
 
     def GetChromaDepthWeight(self) -> float:
         """The pseudo-chromadepth weight."""
@@ -320,7 +317,7 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
 
     def SetLocalThreshold(self, threshold: float) -> None:
         """LMIP's threshold as a material (place in the window), in [0, 1]; default 0.5."""
-        self._set("local_threshold", _unit("local_threshold", threshold))
+        self._set("local_threshold", check_unit("local_threshold", threshold))
 
     def GetLocalThreshold(self) -> float:
         """LMIP's threshold."""
@@ -331,7 +328,7 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
 
         0 gives the MIP picture.
         """
-        self._set("attenuation", _non_negative("attenuation", attenuation))
+        self._set("attenuation", check_non_negative("attenuation", attenuation, numbers_only=True))
 
     def GetAttenuation(self) -> float:
         """Attenuated MIP's attenuation."""
@@ -461,25 +458,6 @@ def render_depth(render_window, mapper: DEMIPVolumeMapper) -> np.ndarray:
 
 
 # -- validation ---------------------------------------------------------------
-def _unit(name: str, value, open_low: bool = False) -> float:
-    """``value`` as a float in [0, 1] ((0, 1] with ``open_low``), or raise naming ``name``."""
-    if isinstance(value, bool) or not isinstance(value, (Real, np.number)):
-        raise TypeError(f"{name} must be a number in {'(0, 1]' if open_low else '[0, 1]'}, got {value!r}")
-    number = float(value)
-    if not math.isfinite(number) or number > 1.0 or number < 0.0 or (open_low and number == 0.0):
-        raise ValueError(f"{name} must be in {'(0, 1]' if open_low else '[0, 1]'}, got {value!r}")
-    return number
-
-
-def _non_negative(name: str, value) -> float:
-    """``value`` as a finite float >= 0, or raise naming ``name``."""
-    if isinstance(value, bool) or not isinstance(value, (Real, np.number)):
-        raise TypeError(f"{name} must be a number >= 0, got {value!r}")
-    if not (math.isfinite(float(value)) and float(value) >= 0.0):
-        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
-    return float(value)
-
-
 def _rgb(name: str, value) -> tuple:
     try:
         rgb = tuple(float(c) for c in value)

@@ -14,12 +14,13 @@ from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
 from . import float_readout, foveation, volume_pyramid
 from .analytic_mapper import AnalyticMIPVolumeMapper
+from .camera_rays import matrix_array
 from .corner_packing import CornerPacker
 from .mip_mapper import MIPVolumeMapper
 from .object_state import object_state
 from .private_draw import follow_volume, rendering_renderer
 from .ray_cost import grid_cost
-from .validation import check_choice
+from .validation import check_choice, check_finite, check_non_negative
 
 #: Stand-in for an unbounded eccentricity in the shader's uniforms.
 _FAR = 1.0e30
@@ -171,7 +172,7 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         Points outside [0, 1] are allowed (the fovea is then partly or wholly
         off screen).  Stops following the mouse or a region of interest.
         """
-        gaze = (_finite("x", x), _finite("y", y))
+        gaze = (check_finite("x", x), check_finite("y", y))
         state = object_state(self)
         state["point"] = state["gaze"] = gaze
         state["gaze_source"] = "point"
@@ -187,7 +188,7 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
 
     def SetFovealRadius(self, radius: float) -> None:
         """Radius of full quality around the gaze, in viewport heights (>= 0)."""
-        object_state(self)["radius"] = _non_negative("radius", radius)
+        object_state(self)["radius"] = check_non_negative("radius", radius)
         self.Modified()
 
     def GetFovealRadius(self) -> float:
@@ -204,7 +205,7 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         resolution, is the narrowest (:func:`mipcast.foveation.level_border`).
         0 switches levels abruptly (visible seams).
         """
-        object_state(self)["falloff"] = _non_negative("falloff", width)
+        object_state(self)["falloff"] = check_non_negative("falloff", width)
         self.Modified()
 
     def GetFalloff(self) -> float:
@@ -301,7 +302,7 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
             if state["gaze_source"] == "region":
                 state["gaze_source"] = "point"
             return
-        values = [_finite("region", v) for v in region]
+        values = [check_finite("region", v) for v in region]
         if len(values) == 3:
             values = [values[0], values[0], values[1], values[1], values[2], values[2]]
         if len(values) != 6 or any(values[2 * i] > values[2 * i + 1] for i in range(3)):
@@ -579,7 +580,7 @@ def _current_gaze(state, renderer, camera, viewport):
 
 def _project_region(bounds, camera, aspect):
     """Projected centre (normalised viewport) and radius (viewport heights) of a world box."""
-    matrix = _numpy_matrix(camera.GetCompositeProjectionTransformMatrix(aspect, -1, 1))
+    matrix = matrix_array(camera.GetCompositeProjectionTransformMatrix(aspect, -1, 1))
     corners = np.array([[x, y, z, 1.0] for x in bounds[0:2] for y in bounds[2:4] for z in bounds[4:6]])
     centre = np.array([0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
                        0.5 * (bounds[4] + bounds[5]), 1.0])
@@ -595,7 +596,7 @@ def _level_cap(image, volume, camera, viewport) -> int:
     """Coarsest image level whose texels still fit MIN_TEXELS times into the volume's projection."""
     x0, y0, width, height = viewport
     bounds = volume.GetBounds()
-    matrix = _numpy_matrix(camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
+    matrix = matrix_array(camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
     corners = np.array([[x, y, z, 1.0] for x in bounds[0:2] for y in bounds[2:4] for z in bounds[4:6]])
     points = corners @ matrix.T
     if np.any(points[:, 3] <= 0):
@@ -619,15 +620,15 @@ def _world_per_pixel(camera, volume, viewport) -> float:
         direction = np.array(camera.GetDirectionOfProjection())
         depth = abs(float(np.dot(centre - np.array(camera.GetPosition()), direction)))
         world = 2.0 * depth * math.tan(math.radians(camera.GetViewAngle()) / 2.0) / height
-    matrix = _numpy_matrix(volume.GetMatrix())[:3, :3]
+    matrix = matrix_array(volume.GetMatrix())[:3, :3]
     scale = float(np.cbrt(abs(np.linalg.det(matrix)))) or 1.0
     return world / scale
 
 
 def _auto_sample_distance(image, volume) -> float:
     """VTK's auto-adjusted sample distance without time-based reduction: the smallest world spacing."""
-    matrix = _numpy_matrix(volume.GetMatrix())[:3, :3]
-    direction = _numpy_matrix_3(image.GetDirectionMatrix())
+    matrix = matrix_array(volume.GetMatrix())[:3, :3]
+    direction = matrix_array(image.GetDirectionMatrix())
     columns = matrix @ direction
     return min(abs(s) * float(np.linalg.norm(columns[:, i])) for i, s in enumerate(image.GetSpacing()))
 
@@ -670,28 +671,3 @@ def _frame_cost(frame) -> dict:
             "ray_ratio": full_rays / rays if rays else math.inf,
             "sample_ratio": full_samples / samples if samples else math.inf,
             "levels": rows}
-
-
-def _numpy_matrix(vtk_matrix) -> np.ndarray:
-    return np.array([[vtk_matrix.GetElement(r, c) for c in range(4)] for r in range(4)], float)
-
-
-def _numpy_matrix_3(vtk_matrix) -> np.ndarray:
-    return np.array([[vtk_matrix.GetElement(r, c) for c in range(3)] for r in range(3)], float)
-
-
-def _finite(name: str, value) -> float:
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise TypeError(f"{name} must be a number, got {value!r}") from None
-    if not math.isfinite(number):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    return number
-
-
-def _non_negative(name: str, value) -> float:
-    number = _finite(name, value)
-    if number < 0:
-        raise ValueError(f"{name} must be >= 0, got {value!r}")
-    return number

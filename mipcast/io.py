@@ -39,6 +39,7 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkIOImage import vtkMetaImageReader, vtkNIFTIImageReader, vtkNrrdReader
 from vtkmodules.vtkIOXML import vtkXMLImageDataReader
 
+from .camera_rays import matrix_array
 from .dicom import integer_dtype
 from .validation import check_image
 
@@ -234,11 +235,6 @@ def _set_geometry(image: vtkImageData, origin, spacing, direction) -> None:
     image.SetDirectionMatrix(*np.asarray(direction, dtype=float).ravel())
 
 
-def _direction(image: vtkImageData) -> np.ndarray:
-    matrix = image.GetDirectionMatrix()
-    return np.array([[matrix.GetElement(r, c) for c in range(3)] for r in range(3)])
-
-
 def _split(columns: np.ndarray) -> Optional[Tuple[np.ndarray, np.ndarray]]:
     """(unit directions, lengths) of the columns of a 3x3 matrix, or None if sheared."""
     lengths = np.linalg.norm(columns, axis=0)
@@ -252,7 +248,7 @@ def _split(columns: np.ndarray) -> Optional[Tuple[np.ndarray, np.ndarray]]:
 
 def _right_handed(image: vtkImageData) -> vtkImageData:
     """Reverse the slices if the direction matrix is left-handed (same geometry)."""
-    direction = _direction(image)
+    direction = matrix_array(image.GetDirectionMatrix())
     if np.linalg.det(direction) > 0:
         return image
     nx, ny, nz = image.GetDimensions()
@@ -302,12 +298,12 @@ def _read_nifti(path: Path) -> vtkImageData:
     geometry = None
     sform, qform = reader.GetSFormMatrix(), reader.GetQFormMatrix()
     if header.GetSFormCode() > 0 and sform is not None:
-        matrix = _matrix4(sform)
+        matrix = matrix_array(sform)
         split = _split(matrix[:3, :3])
         if split is not None:
             geometry = (matrix[:3, 3], spacing * split[1], split[0])
     if geometry is None and header.GetQFormCode() > 0 and qform is not None:
-        matrix = _matrix4(qform)
+        matrix = matrix_array(qform)
         split = _split(matrix[:3, :3])
         if split is not None:
             geometry = (matrix[:3, 3], spacing * split[1], split[0])
@@ -322,10 +318,6 @@ def _read_nifti(path: Path) -> vtkImageData:
     if np.isfinite(slope) and slope != 0 and (slope != 1 or intercept != 0):
         _rescale(image, slope, intercept)
     return image
-
-
-def _matrix4(matrix) -> np.ndarray:
-    return np.array([[matrix.GetElement(r, c) for c in range(4)] for r in range(4)])
 
 
 def _rescale(image: vtkImageData, slope: float, intercept: float) -> None:

@@ -17,9 +17,7 @@ from typing import Optional, Sequence, Tuple
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
-
-def _matrix(vtk_matrix) -> np.ndarray:
-    return np.array([[vtk_matrix.GetElement(r, c) for c in range(4)] for r in range(4)], float)
+from .camera_rays import box_interval, index_space, matrix_array, pixel_centres, unproject
 
 
 def grid_cost(image: vtkImageData, camera, size: Sequence[int], grid: Sequence[int], *,
@@ -69,32 +67,19 @@ def grid_cost(image: vtkImageData, camera, size: Sequence[int], grid: Sequence[i
     columns, rows = (int(v) for v in grid)
     if columns < 1 or rows < 1:
         return 0, 0
-    world_to_ndc = _matrix(camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
-    model_to_world = np.eye(4) if volume_matrix is None else _matrix(volume_matrix)
+    world_to_ndc = matrix_array(camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
+    model_to_world = np.eye(4) if volume_matrix is None else matrix_array(volume_matrix)
     ndc_to_model = np.linalg.inv(world_to_ndc @ model_to_world)
-    x = 2.0 * (np.arange(columns) + 0.5) / columns - 1.0
-    y = 2.0 * (np.arange(rows)[::-1] + 0.5) / rows - 1.0
+    x, y = pixel_centres(columns, rows)
     keep = np.ones((rows, columns), bool) if cast is None else np.asarray(cast, bool)
     ys, xs = np.nonzero(keep)
     if xs.size == 0:
         return 0, 0
-    ends = np.empty((2, xs.size, 4))
-    ends[:, :, 0] = x[xs]
-    ends[:, :, 1] = y[ys]
-    ends[0, :, 2], ends[1, :, 2] = -1.0, 1.0
-    ends[:, :, 3] = 1.0
-    model = ends @ ndc_to_model.T
-    model = model[..., :3] / model[..., 3:]
-    to_index = _matrix(image.GetPhysicalToIndexMatrix())
-    index = model @ to_index[:3, :3].T + to_index[:3, 3] - np.array(image.GetExtent()[0::2], float)
+    model = unproject(ndc_to_model, x[xs], y[ys])
+    to_index, upper = index_space(image)
+    index = model @ to_index[:3, :3].T + to_index[:3, 3]
     start, delta = index[0], index[1] - index[0]
-    upper = np.array(image.GetDimensions(), float) - 1.0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t_a, t_b = (0.0 - start) / delta, (upper - start) / delta
-    still = delta == 0
-    inside = (start >= 0.0) & (start <= upper)
-    t_near = np.where(still, np.where(inside, -np.inf, np.inf), np.minimum(t_a, t_b)).max(axis=1)
-    t_far = np.where(still, np.where(inside, np.inf, -np.inf), np.maximum(t_a, t_b)).min(axis=1)
+    t_near, t_far = box_interval(start, delta, upper)  # t = 0 on the near plane, 1 on the far plane
     t_near, t_far = np.maximum(t_near, 0.0), np.minimum(t_far, 1.0)
     hit = t_near <= t_far
     rays = int(np.count_nonzero(hit))

@@ -110,13 +110,8 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     if method == "mip":
         step = check_positive("sample_distance", params["sample_distance"])
 
-    rays = camera_rays(image, camera, (width, height))
+    hit, entry, direction, length = _hit_rays(image, camera, (width, height))
     values = np.array(volume, dtype=np.float64)
-    hit = rays.hit.ravel()
-    t_enter = rays.t_enter.ravel()[hit]
-    length = rays.t_exit.ravel()[hit] - t_enter
-    direction = rays.direction.reshape(-1, 3)[hit]
-    entry = rays.origin.reshape(-1, 3)[hit] + t_enter[:, None] * direction
 
     if method == "mip":
         chunk, kernel = _RAY_CHUNK, partial(_mip, step=step)
@@ -126,9 +121,30 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     for start in range(0, len(length), chunk):
         part = slice(start, start + chunk)
         found[part] = kernel(values, entry[part], direction[part], length[part])
-    out = np.full(width * height, np.nan)
+    return _scatter(found, hit, height, width)
+
+
+def _hit_rays(image: vtkImageData, camera: Any, size: tuple) -> tuple:
+    """The pixels' rays that meet the volume, in index space.
+
+    Returns ``hit`` (bool, H*W, row-major, top row first) and, per hit ray,
+    its ``entry`` point (N, 3), ``direction`` (N, 3, per unit world length)
+    and ``length`` (N,) inside the box (world units).
+    """
+    rays = camera_rays(image, camera, size)
+    hit = rays.hit.ravel()
+    t_enter = rays.t_enter.ravel()[hit]
+    length = rays.t_exit.ravel()[hit] - t_enter
+    direction = rays.direction.reshape(-1, 3)[hit]
+    entry = rays.origin.reshape(-1, 3)[hit] + t_enter[:, None] * direction
+    return hit, entry, direction, length
+
+
+def _scatter(found: np.ndarray, hit: np.ndarray, height: int, width: int) -> np.ndarray:
+    """Per-hit-ray results (N, ...) as an (H, W, ...) image, NaN where the ray misses."""
+    out = np.full((width * height,) + found.shape[1:], np.nan)
     out[hit] = found
-    return out.reshape(height, width)
+    return out.reshape((height, width) + found.shape[1:])
 
 
 def _gather(values: np.ndarray, cell: np.ndarray) -> np.ndarray:

@@ -13,11 +13,11 @@ from typing import Any
 
 import numpy as np
 
-from .camera_rays import camera_rays
-from .demip_mapper import (_DEFAULTS, DEPTH_MODES, DEPTH_OF, FLOOR_TOLERANCE, PROJECTIONS, _non_negative,
-                           _rotation, _sphere_colors, _unit)
-from .reference import _BUDGET, _trilinear
-from .validation import check_choice, check_image, check_positive, check_size
+from .camera_rays import index_space, matrix_array
+from .demip_mapper import _DEFAULTS, DEPTH_MODES, DEPTH_OF, FLOOR_TOLERANCE, PROJECTIONS, _rotation, _sphere_colors
+from .reference import _BUDGET, _hit_rays, _scatter, _trilinear
+from .validation import (check_choice, check_image, check_non_negative, check_positive, check_size,
+                         check_unit)
 
 #: What :func:`render_demip` can return.
 OUTPUTS = ("depth", "rgb", "value")
@@ -119,30 +119,25 @@ def render_demip(image: Any, camera: Any, size: tuple, **params: Any) -> np.ndar
     p = {**PARAMETERS, **params}
     step = check_positive("sample_distance", p["sample_distance"])
     low, high = _window(p["window"])
-    depth_weight = _unit("depth_weight", p["depth_weight"])
-    eps = _unit("material_threshold", p["material_threshold"], open_low=True)
+    depth_weight = check_unit("depth_weight", p["depth_weight"])
+    eps = check_unit("material_threshold", p["material_threshold"], open_low=True)
     mode = check_choice("depth_mode", p["depth_mode"], DEPTH_MODES)
-    sphere_weight = _unit("sphere_weight", p["sphere_weight"])
+    sphere_weight = check_unit("sphere_weight", p["sphere_weight"])
     colors = p["sphere_colors"]
     front, back = _sphere_colors((colors,) if isinstance(colors, str) else tuple(colors))
     orientation = np.array(_rotation((p["sphere_orientation"],)))
-    chroma_weight = _unit("chroma_depth_weight", p["chroma_depth_weight"])
+    chroma_weight = check_unit("chroma_depth_weight", p["chroma_depth_weight"])
     if check_choice("depth_of", p["depth_of"], DEPTH_OF) == "maximum":
         eps = 0.0
     projection = check_choice("projection", p["projection"], PROJECTIONS)
-    local = low + _unit("local_threshold", p["local_threshold"]) * (high - low)
+    local = low + check_unit("local_threshold", p["local_threshold"]) * (high - low)
     local = local if projection == "lmip" else np.inf
-    attenuation = _non_negative("attenuation", p["attenuation"])
+    attenuation = check_non_negative("attenuation", p["attenuation"], numbers_only=True)
     voxels_per_step = step / min(abs(v) for v in image.GetSpacing())
     output = check_choice("output", p["output"], OUTPUTS)
 
-    rays = camera_rays(image, camera, (width, height))
+    hit, entry, direction, length = _hit_rays(image, camera, (width, height))
     values = np.array(volume, dtype=np.float64)
-    hit = rays.hit.ravel()
-    t_enter = rays.t_enter.ravel()[hit]
-    length = rays.t_exit.ravel()[hit] - t_enter
-    direction = rays.direction.reshape(-1, 3)[hit]
-    entry = rays.origin.reshape(-1, 3)[hit] + t_enter[:, None] * direction
 
     count = np.maximum(1, np.floor(length / step + 1e-9)).astype(np.int64)
     maximum = np.empty(len(count))
@@ -181,9 +176,7 @@ def render_demip(image: Any, camera: Any, size: tuple, **params: Any) -> np.ndar
         enhanced = enhanced * (1.0 - sphere_weight) + sphere * sphere_weight
     enhanced = enhanced * (1.0 - chroma_weight) + chroma_color(known) * chroma_weight
     color = np.where(term[:, None], np.clip(enhanced, 0.0, 1.0), color)
-    out = np.full((width * height, 3), np.nan)
-    out[hit] = color
-    return out.reshape(height, width, 3)
+    return _scatter(color, hit, height, width)
 
 
 def _window(window: Any) -> tuple:
@@ -194,12 +187,6 @@ def _window(window: Any) -> tuple:
     if not (np.isfinite(low) and np.isfinite(high) and high > low):
         raise ValueError(f"window must be (low, high) with high > low, got {window!r}")
     return low, high
-
-
-def _scatter(found: np.ndarray, hit: np.ndarray, height: int, width: int) -> np.ndarray:
-    out = np.full(width * height, np.nan)
-    out[hit] = found
-    return out.reshape(height, width)
 
 
 def chroma_color(depth: np.ndarray) -> np.ndarray:
@@ -270,13 +257,11 @@ class _Geometry:
     """Index <-> world <-> eye for one image and camera; the box's depth range."""
 
     def __init__(self, image, camera, aspect: float) -> None:
-        to_index = _matrix(image.GetPhysicalToIndexMatrix())
-        to_index[:3, 3] -= np.array(image.GetExtent()[0::2], float)  # index counted from the extent start
+        to_index, upper = index_space(image)
         self.to_world = np.linalg.inv(to_index)
-        self.view = _matrix(camera.GetViewTransformMatrix())
-        self.projection = _matrix(camera.GetProjectionTransformMatrix(aspect, -1, 1))
+        self.view = matrix_array(camera.GetViewTransformMatrix())
+        self.projection = matrix_array(camera.GetProjectionTransformMatrix(aspect, -1, 1))
         self.parallel = bool(camera.GetParallelProjection())
-        upper = np.array(image.GetDimensions(), float) - 1.0
         self.upper = upper
         corners = np.array([[x, y, z] for x in (0, upper[0]) for y in (0, upper[1]) for z in (0, upper[2])])
         corner_eye = self.eye(corners)
@@ -320,7 +305,3 @@ class _Geometry:
         size = np.linalg.norm(offset, axis=1)
         along = np.where(size > 0, (offset @ axis) / np.where(size > 0, size, 1.0), 0.0)
         return back + (front - back) * (0.5 + 0.5 * along)[:, None]
-
-
-def _matrix(matrix: Any) -> np.ndarray:
-    return np.array([[matrix.GetElement(r, c) for c in range(4)] for r in range(4)], dtype=np.float64)

@@ -47,20 +47,19 @@ def _random(shape, seed=0, power=1.0):
     return np.random.default_rng(seed).random(shape) ** power
 
 
-def _along_grid_lines(camera):
-    camera.SetFocalPoint(8.0, 8.0, 8.0)
-    camera.SetPosition(8.0, 8.0, 60.0)
-    camera.SetViewUp(0.0, 1.0, 0.0)
-    camera.SetParallelProjection(True)
-    camera.SetParallelScale(8.25)
+def _orthographic(focal, position, up, scale) -> Callable:
+    """A camera adjustment: look at ``focal`` from ``position``, orthographic with parallel ``scale``."""
+    def adjust(camera):
+        camera.SetFocalPoint(*focal)
+        camera.SetPosition(*position)
+        camera.SetViewUp(*up)
+        camera.SetParallelProjection(True)
+        camera.SetParallelScale(scale)
+    return adjust
 
 
-def _grazing(camera):
-    camera.SetFocalPoint(8.0, 8.0, 4.0)
-    camera.SetPosition(48.0, 48.0, 4.0)
-    camera.SetViewUp(0.0, 0.0, 1.0)
-    camera.SetParallelProjection(True)
-    camera.SetParallelScale(6.0)
+_along_grid_lines = _orthographic((8.0, 8.0, 8.0), (8.0, 8.0, 60.0), (0.0, 1.0, 0.0), 8.25)
+_grazing = _orthographic((8.0, 8.0, 4.0), (48.0, 48.0, 4.0), (0.0, 0.0, 1.0), 6.0)
 
 
 def _zoom_in(camera):

@@ -6,6 +6,7 @@ problem and the fix.  Nothing passed in is modified.
 from __future__ import annotations
 
 import math
+from numbers import Real
 from typing import Any
 
 import numpy as np
@@ -112,6 +113,82 @@ def check_positive(name: str, value: Any) -> float:
     if not math.isfinite(number) or number <= 0:
         raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
     return number
+
+
+def check_finite(name: str, value: Any) -> float:
+    """Return ``value`` as a finite float, or raise naming ``name``.
+
+    Anything ``float()`` accepts is taken, as by :func:`check_positive`.
+
+    Examples
+    --------
+    >>> check_finite("x", -2)
+    -2.0
+    """
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a number, got {value!r}") from None
+    if not math.isfinite(number):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return number
+
+
+def check_non_negative(name: str, value: Any, *, numbers_only: bool = False) -> float:
+    """Return ``value`` as a finite float >= 0, or raise naming ``name``.
+
+    By default anything ``float()`` accepts is taken (as by
+    :func:`check_finite`) and the messages say "must be a number", "must be
+    finite" or "must be >= 0".  With ``numbers_only`` only real numbers are
+    taken (not bool, not strings), as by :func:`check_unit`, and the
+    messages say "must be a number >= 0" or "must be a finite number >= 0".
+
+    Examples
+    --------
+    >>> check_non_negative("radius", "0.25")
+    0.25
+    >>> check_non_negative("attenuation", 0, numbers_only=True)
+    0.0
+    """
+    if not numbers_only:
+        number = check_finite(name, value)
+        if number < 0:
+            raise ValueError(f"{name} must be >= 0, got {value!r}")
+        return number
+    if not _is_number(value):
+        raise TypeError(f"{name} must be a number >= 0, got {value!r}")
+    number = float(value)
+    if not (math.isfinite(number) and number >= 0.0):
+        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+    return number
+
+
+def check_unit(name: str, value: Any, open_low: bool = False) -> float:
+    """Return ``value`` as a float in [0, 1] ((0, 1] with ``open_low``), or raise naming ``name``.
+
+    Only real numbers are taken (not bool, not strings).
+
+    Examples
+    --------
+    >>> check_unit("depth_weight", 0.25)
+    0.25
+    >>> check_unit("material_threshold", 0.0, open_low=True)
+    Traceback (most recent call last):
+    ...
+    ValueError: material_threshold must be in (0, 1], got 0.0
+    """
+    interval = "(0, 1]" if open_low else "[0, 1]"
+    if not _is_number(value):
+        raise TypeError(f"{name} must be a number in {interval}, got {value!r}")
+    number = float(value)
+    if not math.isfinite(number) or number > 1.0 or number < 0.0 or (open_low and number == 0.0):
+        raise ValueError(f"{name} must be in {interval}, got {value!r}")
+    return number
+
+
+def _is_number(value: Any) -> bool:
+    """Whether ``value`` is a real number (Python or numpy), not a bool."""
+    return not isinstance(value, bool) and isinstance(value, (Real, np.number))
 
 
 def check_choice(name: str, value: Any, choices: tuple) -> str:

@@ -10,7 +10,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkRenderingCore import vtkCamera
 
-from mipcast.camera_rays import camera_rays
+from mipcast.camera_rays import box_interval, camera_rays, index_space, matrix_array
 from mipcast.reference import render
 
 
@@ -438,6 +438,42 @@ def test_extent_start_does_not_move_the_volume():
     plain = make_image(RNG_VOLUME, spacing=spacing, origin=origin)
     np.testing.assert_allclose(render(shifted, camera, (10, 10), method="exact"),
                                render(plain, camera, (10, 10), method="exact"), atol=1e-12)
+
+
+def test_matrix_array_rows_and_columns():
+    from vtkmodules.vtkCommonMath import vtkMatrix3x3, vtkMatrix4x4
+
+    for vtk_class, size in ((vtkMatrix4x4, 4), (vtkMatrix3x3, 3)):
+        vtk_matrix = vtk_class()
+        expected = np.arange(size * size, dtype=float).reshape(size, size) / 7.0
+        for r in range(size):
+            for c in range(size):
+                vtk_matrix.SetElement(r, c, expected[r, c])
+        array = matrix_array(vtk_matrix)
+        assert array.dtype == np.float64 and np.array_equal(array, expected)
+        array[0, 0] = -1.0  # a copy
+        assert vtk_matrix.GetElement(0, 0) == 0.0
+    with pytest.raises(TypeError, match="vtkMatrix4x4 or vtkMatrix3x3"):
+        matrix_array(np.eye(4))
+
+
+def test_index_space_counts_from_the_extent_start():
+    rotation = random_rotation(np.random.default_rng(4))
+    image = make_image(RNG_VOLUME, spacing=(1.2, 0.7, 1.5), origin=(3.0, -1.0, 2.0), direction=rotation,
+                       extent_start=(2, 5, 1))
+    to_index, upper = index_space(image)
+    point = [0.0, 0.0, 0.0]
+    image.TransformContinuousIndexToPhysicalPoint(3.25, 6.5, 2.0, point)
+    np.testing.assert_allclose(to_index @ np.append(point, 1.0), [1.25, 1.5, 1.0, 1.0], atol=1e-12)
+    assert upper.tolist() == [float(n - 1) for n in image.GetDimensions()]
+
+
+def test_box_interval_parallel_rays_inside_or_outside():
+    origin = np.array([[0.5, 0.0, 0.5], [0.5, 1.0, 0.5], [0.5, 1.5, 0.5]])
+    t_near, t_far = box_interval(origin, np.array([1.0, 0.0, 0.0]), np.ones(3))
+    assert t_near.tolist() == [-0.5, -0.5, np.inf] and t_far.tolist() == [0.5, 0.5, -np.inf]
+    t_near, t_far = box_interval(origin[2:], np.array([1.0, 0.0, 0.0]), np.ones(3), margin=0.5)
+    assert (t_near.tolist(), t_far.tolist()) == ([-1.0], [1.0])
 
 
 # ---------------------------------------------------------------- bad input

@@ -6,7 +6,8 @@ from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPolyData
 
 from mipcast import reference
 from mipcast.offscreen import OffscreenView
-from mipcast.validation import check_choice, check_image, check_positive, check_size
+from mipcast.validation import (check_choice, check_finite, check_image, check_non_negative, check_positive,
+                                check_size, check_unit)
 
 
 def _image(values, components=1):
@@ -66,6 +67,41 @@ def test_choices_and_sizes():
         with pytest.raises((TypeError, ValueError)):
             check_size(bad)
 
+
+
+@pytest.mark.parametrize("check, value, error, message", [
+    (check_finite, "far", TypeError, "x must be a number, got 'far'"),
+    (check_finite, float("inf"), ValueError, "x must be finite, got inf"),
+    (check_non_negative, None, TypeError, "x must be a number, got None"),
+    (check_non_negative, float("nan"), ValueError, "x must be finite, got nan"),
+    (check_non_negative, -1, ValueError, "x must be >= 0, got -1"),
+    (lambda n, v: check_non_negative(n, v, numbers_only=True), True, TypeError, "x must be a number >= 0, got True"),
+    (lambda n, v: check_non_negative(n, v, numbers_only=True), "1", TypeError, "x must be a number >= 0, got '1'"),
+    (lambda n, v: check_non_negative(n, v, numbers_only=True), -0.5, ValueError,
+     "x must be a finite number >= 0, got -0.5"),
+    (lambda n, v: check_non_negative(n, v, numbers_only=True), float("inf"), ValueError,
+     "x must be a finite number >= 0, got inf"),
+    (check_unit, "0.5", TypeError, "x must be a number in [0, 1], got '0.5'"),
+    (check_unit, False, TypeError, "x must be a number in [0, 1], got False"),
+    (check_unit, 1.5, ValueError, "x must be in [0, 1], got 1.5"),
+    (check_unit, float("nan"), ValueError, "x must be in [0, 1], got nan"),
+    (lambda n, v: check_unit(n, v, open_low=True), 0, ValueError, "x must be in (0, 1], got 0"),
+    (lambda n, v: check_unit(n, v, open_low=True), None, TypeError, "x must be a number in (0, 1], got None"),
+])
+def test_number_checks_name_the_parameter(check, value, error, message):
+    with pytest.raises(error) as caught:
+        check("x", value)
+    assert str(caught.value) == message
+
+
+def test_number_checks_return_floats():
+    assert check_finite("x", "-2.5") == -2.5 and check_finite("x", True) == 1.0
+    assert check_non_negative("x", "0") == 0.0 and check_non_negative("x", 3) == 3.0
+    assert check_non_negative("x", np.float32(0.5), numbers_only=True) == 0.5
+    assert check_unit("x", np.int64(1)) == 1.0 and check_unit("x", 0) == 0.0
+    assert check_unit("x", 1e-9, open_low=True) == 1e-9
+    assert all(type(v) is float for v in (check_finite("x", np.float32(1)), check_unit("x", np.float64(0.5)),
+                                           check_non_negative("x", 2, numbers_only=True)))
 
 def test_entry_points_refuse_and_leave_input_untouched():
     values = np.random.default_rng(0).random((6, 6, 6)).astype(np.float32)
