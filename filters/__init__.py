@@ -13,16 +13,17 @@ extension API, see :mod:`mipcast.filters.extensions`):
 
 Method parameters are keyword arguments passed to the mapper's VTK-style
 setters: ``depth_weight=0.2`` calls ``mapper.SetDepthWeight(0.2)`` (see
-:func:`set_parameters`).
+:func:`mipcast.parameters.set_parameters`).
 """
 from __future__ import annotations
 
-import re
-from typing import Optional, Sequence, Tuple, Union
+from typing import Optional, Sequence, Union
 
 import numpy as np
 
+from ..io import with_scalars
 from ..methods import attach, create_mapper
+from ..parameters import method_parameters, set_parameters
 from ..offscreen import OffscreenView
 from ..validation import check_image, check_positive
 
@@ -54,7 +55,7 @@ def render(image, method: str = "mip", *, scalars: Optional[str] = None, size: S
         misses) instead of the 8-bit RGB picture.
     **params
         Method parameters, passed to the mapper's setters (see
-        :func:`set_parameters`); an unknown name raises ``TypeError``.
+        :func:`mipcast.parameters.set_parameters`); an unknown name raises ``TypeError``.
 
     Returns
     -------
@@ -113,7 +114,7 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
         been set yet (a ``camera_position`` set before is kept).
     **params
         Method parameters, passed to the mapper's setters (see
-        :func:`set_parameters`); an unknown name raises ``TypeError``
+        :func:`mipcast.parameters.set_parameters`); an unknown name raises ``TypeError``
         before anything is added.
 
     Returns
@@ -148,151 +149,6 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
     attach(mapper, volume)
     plotter.add_actor(volume, reset_camera=reset_camera, name=name)
     return volume
-
-
-def with_scalars(image, scalars: Optional[str] = None):
-    """``image``, or a shallow copy of it whose active point scalars are ``scalars``.
-
-    The copy shares the arrays; the image given is not modified.
-
-    Parameters
-    ----------
-    image : pyvista.ImageData or vtkImageData
-        The volume.
-    scalars : str, optional
-        Name of a point array of ``image``; ``None`` returns ``image`` itself.
-
-    Raises
-    ------
-    ValueError
-        If ``image`` has no point array of that name (the message lists the
-        point arrays, and says how to convert a cell array).
-
-    Examples
-    --------
-    >>> import numpy as np, pyvista as pv
-    >>> from mipcast.filters import with_scalars
-    >>> grid = pv.ImageData(dimensions=(4, 4, 4))
-    >>> grid.point_data["a"] = np.zeros(64); grid.point_data["b"] = np.ones(64)
-    >>> grid.point_data.active_scalars_name
-    'a'
-    >>> with_scalars(grid, "b").GetPointData().GetScalars().GetName(), grid.point_data.active_scalars_name
-    ('b', 'a')
-    """
-    if scalars is None:
-        return image
-    points, cells = image.GetPointData(), image.GetCellData()
-    if points.GetArray(scalars) is None:
-        names = [points.GetArrayName(i) for i in range(points.GetNumberOfArrays())]
-        fix = ("it is a cell array: convert it with grid.cell_data_to_point_data()"
-               if cells.GetArray(scalars) is not None else f"point arrays: {names}")
-        raise ValueError(f"scalars {scalars!r} is not a point array of the image; {fix}")
-    copy = image.NewInstance()
-    copy.ShallowCopy(image)
-    copy.GetPointData().SetActiveScalars(scalars)
-    return copy
-
-
-def set_parameters(mapper, **params) -> None:
-    """Set method parameters on a mapper through its VTK-style setters.
-
-    ``name=value`` calls ``mapper.SetName(value)``, the name converted from
-    snake_case to CamelCase (``depth_weight`` -> ``SetDepthWeight``); a
-    tuple or list is unpacked (``gaze_point=(0.5, 0.5)`` ->
-    ``SetGazePoint(0.5, 0.5)``).  Every setter of the mapper is reachable,
-    the method's own (:func:`method_parameters`) and VTK's
-    (``image_sample_distance``, ``use_jittering``, ...).  All names are
-    checked before any is set.
-
-    Parameters
-    ----------
-    mapper : vtkVolumeMapper
-        A mapper made by :func:`mipcast.create_mapper` (any VTK mapper works).
-    **params
-        ``name=value`` pairs.
-
-    Raises
-    ------
-    TypeError
-        If a name has no setter on the mapper (the message names it and lists
-        the method's own parameters), or a setter refuses its value.
-
-    Examples
-    --------
-    >>> import mipcast
-    >>> from mipcast.filters import set_parameters
-    >>> mapper = mipcast.create_mapper("mip")
-    >>> set_parameters(mapper, image_sample_distance=2.0, use_jittering=True)
-    >>> mapper.GetImageSampleDistance(), mapper.GetUseJittering()
-    (2.0, 1)
-    >>> set_parameters(mapper, no_such_weight=0.2)
-    Traceback (most recent call last):
-    ...
-    TypeError: MIPVolumeMapper has no parameter 'no_such_weight' (no SetNoSuchWeight): ...
-    """
-    setters = {}
-    for name, value in params.items():
-        setter = getattr(mapper, _setter_name(name), None)
-        if not callable(setter):
-            own = ", ".join(method_parameters(mapper)) or "none"
-            raise TypeError(
-                f"{type(mapper).__name__} has no parameter {name!r} (no {_setter_name(name)}): "
-                f"its method parameters are: {own}; VTK's mapper setters work too, e.g. "
-                "image_sample_distance=2.0 (SetImageSampleDistance) or use_jittering=True")
-        setters[name] = setter
-    for name, value in params.items():
-        arguments = tuple(value) if isinstance(value, (tuple, list)) else (value,)
-        try:
-            setters[name](*arguments)
-        except TypeError as error:
-            raise TypeError(f"{name}={value!r} ({_setter_name(name)}): {error}") from None
-
-
-def method_parameters(mapper) -> Tuple[str, ...]:
-    """Names of the parameters a method adds to VTK's mapper, in snake_case.
-
-    These are the ``Set*`` methods that mipcast's (Python) mapper classes
-    define and VTK's base mapper does not have; VTK's own setters are not
-    listed.  Stock VTK MIP has none.
-
-    Parameters
-    ----------
-    mapper : vtkVolumeMapper
-        Any volume mapper, e.g. from :func:`mipcast.create_mapper`.
-
-    Returns
-    -------
-    tuple of str
-        Sorted names, usable as keyword arguments of :func:`set_parameters`,
-        :func:`render` and :func:`add_volume`.
-
-    Examples
-    --------
-    >>> import mipcast
-    >>> from mipcast.filters import method_parameters
-    >>> method_parameters(mipcast.create_mapper("stock"))
-    ()
-    """
-    vtk_base = next(c for c in type(mapper).__mro__ if c.__module__.startswith("vtkmodules"))
-    names = set()
-    for cls in type(mapper).__mro__:
-        if cls.__module__.startswith("vtkmodules") or cls is object:
-            continue
-        for attribute, value in vars(cls).items():
-            if (attribute.startswith("Set") and len(attribute) > 3 and callable(value)
-                    and not hasattr(vtk_base, attribute)):
-                names.add(_snake_name(attribute[3:]))
-    return tuple(sorted(names))
-
-
-def _setter_name(name: str) -> str:
-    """``depth_weight`` -> ``SetDepthWeight``."""
-    return "Set" + "".join(part[:1].upper() + part[1:] for part in name.split("_"))
-
-
-def _snake_name(camel: str) -> str:
-    """``DepthWeight`` -> ``depth_weight``."""
-    return re.sub(r"(?<=[a-z0-9])(?=[A-Z])", "_", camel).lower()
 
 
 def _volume_property(cmap, clim, opacity):

@@ -30,7 +30,17 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     2
     """
     parser = _parser()
-    args = parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra and args.command not in ("render", "view"):
+        parser.error(f"unrecognized arguments: {' '.join(extra)}")
+    if args.command in ("render", "view"):
+        from .parameters import parse_options
+
+        try:
+            args.params = parse_options(extra)
+        except ValueError as error:
+            print(f"mipcast {args.command}: error: {error}", file=sys.stderr)
+            return 2
     if args.command is None:
         parser.print_help()
         return 2
@@ -51,7 +61,9 @@ def _parser() -> argparse.ArgumentParser:
     demo.add_argument("--size", type=int, default=256, help="image width and height (pixels)")
     demo.set_defaults(run=_run_demo)
 
-    render = sub.add_parser("render", help="render a volume file (.vti/.nrrd/.nii/.mha/DICOM) to PNG")
+    render = sub.add_parser("render", help="render a volume file (.vti/.nrrd/.nii/.mha/DICOM) to PNG",
+                            epilog=_parameters_help(), formatter_class=argparse.RawDescriptionHelpFormatter,
+                            allow_abbrev=False)
     render.add_argument("input", type=Path)
     render.add_argument("--method", default="mip", choices=sorted(METHODS))
     render.add_argument("--out", type=Path, required=True, help="PNG file to write")
@@ -63,14 +75,18 @@ def _parser() -> argparse.ArgumentParser:
     render.add_argument("--window", type=float, nargs=2, default=None, metavar=("LOW", "HIGH"),
                         help="grey window in data units (default: data range)")
     render.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
+    render.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
     render.set_defaults(run=_run_render)
 
-    view = sub.add_parser("view", help="open an interactive window (keys m/d switch method/depth mode)")
+    view = sub.add_parser("view", help="open an interactive window (keys m/d switch method/depth mode)",
+                          epilog=_parameters_help(), formatter_class=argparse.RawDescriptionHelpFormatter,
+                          allow_abbrev=False)
     view.add_argument("input", type=Path)
     view.add_argument("--method", default="mip", choices=sorted(METHODS))
     view.add_argument("--window", type=float, nargs=2, default=None, metavar=("LOW", "HIGH"),
                       help="colour limits in data units (default: data range)")
     view.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
+    view.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
     view.set_defaults(run=run_view)
 
     bench = sub.add_parser("bench", help="frame-time ratios of every method against stock VTK MIP")
@@ -92,6 +108,23 @@ def _parser() -> argparse.ArgumentParser:
                        help="methods the foveated variants render with (--foveation)")
     bench.set_defaults(run=_run_bench)
     return parser
+
+
+def _parameters_help() -> str:
+    """The epilog of ``render`` and ``view``: how to set method parameters, and each method's own."""
+    from .parameters import method_parameters
+
+    lines = ["method parameters: --NAME VALUE [VALUE ...] calls the mapper's SetName(VALUE, ...),",
+             "e.g. --depth-weight 0.3, --gaze-point 0.2 0.8, --foveation off; --mapper-NAME where the",
+             "command has a --NAME of its own (--mapper-method analytic). Each method's own:"]
+    own_options = {"method", "window", "view", "size", "out", "series", "scalars", "sample_distance"}
+    for name, factory in METHODS.items():
+        options = ["--" + ("mapper-" if option in own_options else "") + option.replace("_", "-")
+                   for option in method_parameters(factory())]
+        if options:
+            lines.append(f"  {name}: " + ", ".join(options))
+    lines.append("VTK's mapper setters work too, e.g. --image-sample-distance 2.")
+    return "\n".join(lines)
 
 
 def _version() -> str:
@@ -148,9 +181,10 @@ def _run_demo(args) -> int:
 
 def _run_render(args) -> int:
     """Render one volume file to a PNG."""
-    from .io import read_volume
+    from .io import read_volume, with_scalars
+    from .parameters import set_parameters
 
-    image = read_volume(args.input, series_uid=args.series)
+    image = with_scalars(read_volume(args.input, series_uid=args.series), args.scalars)
     distance = args.sample_distance
     if distance == "auto":
         from .auto_sampling import choose_samples_per_voxel
@@ -164,6 +198,7 @@ def _run_render(args) -> int:
               f"grey level: {verdict} the target")
     view = OffscreenView(image, args.method, size=tuple(args.size), view=args.view,
                          sample_distance=distance, window=args.window)
+    set_parameters(view.mapper, **args.params)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     _write_png(args.out, view.screenshot())
     print(f"wrote {args.out}")
@@ -201,10 +236,12 @@ def run_view(args) -> int:
         print(f"mipcast view: no display: use `mipcast render {args.input} --out x.png` "
               "to render to a file instead", file=sys.stderr)
         return 2
-    from .io import read_volume
+    from .io import read_volume, with_scalars
+    from .parameters import set_parameters
 
-    image = read_volume(args.input, series_uid=args.series)
-    run_viewer(image, args.method, clim=args.window)
+    image = with_scalars(read_volume(args.input, series_uid=args.series), args.scalars)
+    set_parameters(METHODS[args.method](), **args.params)  # refuse a bad name before the window opens
+    run_viewer(image, args.method, clim=args.window, params=args.params)
     return 0
 
 

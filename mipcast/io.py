@@ -387,3 +387,49 @@ def _nrrd_header(path: Path) -> dict:
         key, value = line.split(": ", 1)
         fields[key.strip().lower()] = value.strip()
     return fields
+
+
+def with_scalars(image, scalars: Optional[str] = None):
+    """``image``, or a shallow copy of it whose active point scalars are ``scalars``.
+
+    The copy shares the arrays; the image given is not modified.
+
+    Parameters
+    ----------
+    image : vtkImageData
+        The volume (a pyvista.ImageData is one).
+    scalars : str, optional
+        Name of a point array of ``image``; ``None`` returns ``image`` itself.
+
+    Raises
+    ------
+    ValueError
+        If ``image`` has no point array of that name (the message lists the
+        point arrays, and says how to convert a cell array).
+
+    Examples
+    --------
+    >>> from vtkmodules.util.numpy_support import numpy_to_vtk
+    >>> image = vtkImageData()
+    >>> image.SetDimensions(4, 4, 4)
+    >>> for name in ("a", "b"):
+    ...     array = numpy_to_vtk(np.zeros(64))
+    ...     array.SetName(name)
+    ...     index = image.GetPointData().AddArray(array)
+    >>> image.GetPointData().SetActiveScalars("a")
+    0
+    >>> with_scalars(image, "b").GetPointData().GetScalars().GetName(), image.GetPointData().GetScalars().GetName()
+    ('b', 'a')
+    """
+    if scalars is None:
+        return image
+    points, cells = image.GetPointData(), image.GetCellData()
+    if points.GetArray(scalars) is None:
+        names = [points.GetArrayName(i) for i in range(points.GetNumberOfArrays())]
+        fix = ("it is a cell array: convert it with grid.cell_data_to_point_data()"
+               if cells.GetArray(scalars) is not None else f"point arrays: {names}")
+        raise ValueError(f"scalars {scalars!r} is not a point array of the image; {fix}")
+    copy = image.NewInstance()
+    copy.ShallowCopy(image)
+    copy.GetPointData().SetActiveScalars(scalars)
+    return copy

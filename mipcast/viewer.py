@@ -36,6 +36,7 @@ working in ParaView's Python.
 """
 from __future__ import annotations
 
+import importlib
 import os
 import sys
 from typing import Optional, Sequence
@@ -43,6 +44,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from . import METHODS
+from .parameters import set_parameters, setter_name
 from .validation import check_choice
 
 #: Normalised (x0, y0, x1, y1) of the colour-sphere legend in the window.
@@ -79,7 +81,8 @@ def has_display(environ=None, platform: Optional[str] = None) -> bool:
 
 
 def build_viewer(image, method: str = "mip", *, cmap="gray", clim: Optional[Sequence[float]] = None,
-                 window_size: Sequence[int] = (900, 800), off_screen: bool = False):
+                 window_size: Sequence[int] = (900, 800), off_screen: bool = False,
+                 params: Optional[dict] = None):
     """Build the interactive viewer's plotter without showing it.
 
     The volume is added through ``plotter.mip.add_volume`` on a black
@@ -102,6 +105,10 @@ def build_viewer(image, method: str = "mip", *, cmap="gray", clim: Optional[Sequ
         Window (width, height) in pixels.
     off_screen : bool, default: False
         Render offscreen (no interaction).
+    params : dict, optional
+        Method parameters to start with (``{"depth_weight": 0.5}``, see
+        :func:`mipcast.parameters.set_parameters`); carried over to other
+        methods that have them.
 
     Returns
     -------
@@ -134,7 +141,7 @@ def run_viewer(image, method: str = "mip", **options) -> None:
         The first method, a name from ``mipcast.METHODS``.
     **options
         Keyword arguments of :func:`build_viewer` (``cmap``, ``clim``,
-        ``window_size``).
+        ``window_size``, ``params``).
 
     Raises
     ------
@@ -160,18 +167,17 @@ class _Viewer:
     """The viewer's state: plotter, current method and volume, widgets, parameter values."""
 
     def __init__(self, image, method, *, cmap="gray", clim=None, window_size=(900, 800),
-                 off_screen=False) -> None:
+                 off_screen=False, params=None) -> None:
         import pyvista
 
-        from . import filters  # registers plotter.mip
+        importlib.import_module("mipcast.filters")  # registers plotter.mip
 
-        self._filters = filters
         self.grid = pyvista.wrap(image)
         self.cmap = cmap
         self.clim = tuple(clim) if clim is not None else self.grid.GetPointData().GetScalars().GetRange(0)
         self.voxel = min(abs(s) for s in self.grid.GetSpacing())
         self.sample_voxels = 1.0
-        self.params = {}  # parameter name -> value, carried from method to method
+        self.params = dict(params or {})  # parameter name -> value, carried from method to method
         self.volume = None
         self.legend = None
         self.plotter = pyvista.Plotter(off_screen=off_screen, window_size=list(window_size))
@@ -200,7 +206,7 @@ class _Viewer:
         for name, value in self.params.items():  # carry over what the new method accepts
             if self._has(name):
                 try:
-                    self._filters.set_parameters(self.mapper, **{name: value})
+                    set_parameters(self.mapper, **{name: value})
                 except (TypeError, ValueError):
                     pass  # e.g. a depth mode this method does not have: keep its default
         if camera is not None:
@@ -236,11 +242,11 @@ class _Viewer:
 
     # -- helpers --------------------------------------------------------------
     def _has(self, name: str) -> bool:
-        return callable(getattr(self.mapper, self._filters._setter_name(name), None))
+        return callable(getattr(self.mapper, setter_name(name), None))
 
     def _set_param(self, name: str, value) -> None:
         self.params[name] = value
-        self._filters.set_parameters(self.mapper, **{name: value})
+        set_parameters(self.mapper, **{name: value})
 
     def _set_sample_voxels(self, value: float) -> None:
         self.sample_voxels = float(value)
@@ -259,7 +265,7 @@ class _Viewer:
                             self._set_sample_voxels))
         for name, rng in SLIDERS.items():
             if self._has(name):
-                getter = getattr(self.mapper, "Get" + self._filters._setter_name(name)[3:], None)
+                getter = getattr(self.mapper, "Get" + setter_name(name)[3:], None)
                 value = self.params.get(name, getter() if callable(getter) else rng[0])
                 sliders.append((name.replace("_", " "), rng, value,
                                 lambda v, name=name: self._set_weight(name, v)))

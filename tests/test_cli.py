@@ -142,3 +142,78 @@ def test_bench_stability_covers_every_method_with_its_own_measure(tmp_path):
     assert by["foveated", "'level' sampling when zoomed in"]["p99_pct"] > 2 * by[
         "foveated", "thin vessels, default radius (whole picture)"]["p99_pct"]
     assert "depth_jump_pct" in (tmp_path / "stability.md").read_text()
+
+
+def _vti(tmp_path, image, name="volume.vti"):
+    path = tmp_path / name
+    writer = vtkXMLImageDataWriter()
+    writer.SetFileName(str(path))
+    writer.SetInputData(image)
+    writer.Write()
+    return path
+
+
+def _offscreen_png(tmp_path, image, method, name, **settings):
+    """The picture OffscreenView draws with the mapper set through its own setters."""
+    from mipcast.cli import _write_png
+    from mipcast.offscreen import OffscreenView
+
+    view = OffscreenView(image, method, size=(48, 48))
+    for setter, value in settings.items():
+        getattr(view.mapper, setter)(*value)
+    _write_png(tmp_path / name, view.screenshot())
+    return pyplot.imread(tmp_path / name)
+
+
+def test_render_sets_method_parameters_from_options(tmp_path):
+    image = make_fixture("vessels", size=32)
+    source = _vti(tmp_path, image)
+    pictures = {}
+    for weight in ("0.0", "0.9"):
+        out = tmp_path / f"demip_{weight}.png"
+        assert main(["render", str(source), "--method", "demip", "--out", str(out), "--size", "48", "48",
+                     "--depth-weight", weight, "--depth-mode", "window"]) == 0
+        pictures[weight] = pyplot.imread(out)
+    assert not np.array_equal(pictures["0.0"], pictures["0.9"])
+    expected = _offscreen_png(tmp_path, image, "demip", "expected.png",
+                              SetDepthWeight=(0.9,), SetDepthMode=("window",))
+    assert np.array_equal(pictures["0.9"], expected)
+    # a name the command also has goes through --mapper-NAME; several values are unpacked
+    out = tmp_path / "foveated.png"
+    assert main(["render", str(source), "--method", "foveated", "--out", str(out), "--size", "48", "48",
+                 "--mapper-method", "analytic", "--gaze-point", "0.1", "0.1", "--foveal-radius", "0.1"]) == 0
+    expected = _offscreen_png(tmp_path, image, "foveated", "expected_foveated.png", SetMethod=("analytic",),
+                              SetGazePoint=(0.1, 0.1), SetFovealRadius=(0.1,))
+    assert np.array_equal(pyplot.imread(out), expected)
+
+
+def test_render_refuses_unknown_or_repeated_parameters(tmp_path, capsys):
+    source = _vti(tmp_path, make_fixture("spheres", size=16))
+    out = tmp_path / "x.png"
+    assert main(["render", str(source), "--method", "demip", "--out", str(out), "--depth-wieght", "0.3"]) == 2
+    said = capsys.readouterr().err
+    assert "no parameter 'depth_wieght'" in said and "depth_weight" in said
+    assert main(["render", str(source), "--out", str(out), "--falloff", "0.1", "--falloff", "0.2"]) == 2
+    assert "given twice" in capsys.readouterr().err
+    assert not out.exists()
+    with pytest.raises(SystemExit):  # other commands take no parameters
+        main(["demo", "--depth-weight", "0.3"])
+
+
+def test_render_scalars_picks_the_array(tmp_path, capsys):
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+
+    image = make_fixture("vessels", size=24)
+    values = vtk_to_numpy(image.GetPointData().GetScalars())
+    flipped = numpy_to_vtk(np.ascontiguousarray(values.reshape(24, 24, 24)[::-1].ravel()), deep=True)
+    flipped.SetName("flipped")
+    image.GetPointData().AddArray(flipped)
+    source = _vti(tmp_path, image)
+    outputs = {}
+    for scalars in (None, "flipped"):
+        outputs[scalars] = tmp_path / f"{scalars}.png"
+        chosen = [] if scalars is None else ["--scalars", scalars]
+        assert main(["render", str(source), "--out", str(outputs[scalars]), "--size", "48", "48", *chosen]) == 0
+    assert not np.array_equal(pyplot.imread(outputs[None]), pyplot.imread(outputs["flipped"]))
+    assert main(["render", str(source), "--out", str(tmp_path / "x.png"), "--scalars", "nope"]) == 2
+    assert "'nope' is not a point array" in capsys.readouterr().err
