@@ -51,6 +51,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     """
 
     PIECES = ("mip_globals", "refusal", "amip_corners", "amip_cell", "amip_loop", "no_stock_sample", "mip_color")
+    WALKS_CELLS = True
 
     #: Cells per edge of a skipping block (the coarse level is 1/BLOCK^3 the size).
     BLOCK = 8

@@ -636,8 +636,7 @@ def _auto_sample_distance(image, volume) -> float:
 def _walks_cells(method: str) -> bool:
     from .methods import METHODS
 
-    factory = METHODS[method]
-    return isinstance(factory, type) and issubclass(factory, AnalyticMIPVolumeMapper)
+    return bool(getattr(METHODS[method], "WALKS_CELLS", False))
 
 
 def _pyramid(state, image) -> list:

@@ -37,6 +37,10 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
 
     #: Shader pieces this method installs (file names in ``shaders/``).
     PIECES = ("mip_globals", "refusal", "mip_sampled_loop", "no_stock_sample", "mip_color")
+    #: The method walks the cells a ray crosses instead of sampling it: the
+    #: sample distance plays no part (the viewer hides its slider, foveation
+    #: picks levels for it by pyramid level only).
+    WALKS_CELLS = False
 
     def __init__(self) -> None:
         super().__init__()

@@ -27,9 +27,9 @@ Legend
 
 Depth modes are listed by the mapper class as ``DEPTH_MODES`` (the values
 ``SetDepthMode`` takes), or by VTK-style ``GetDepthModeMinValue`` /
-``GetDepthModeMaxValue``.  A method that does not sample along the ray says
-so with a class attribute ``USES_SAMPLE_DISTANCE = False``
-(:class:`mipcast.AnalyticMIPVolumeMapper` is known not to).
+``GetDepthModeMaxValue``.  A method that does not sample along the ray
+(:class:`mipcast.AnalyticMIPVolumeMapper`) says so with the class attribute
+``WALKS_CELLS = True``: it gets no sample-distance slider.
 
 pyvista is imported inside the functions only, so the core package keeps
 working in ParaView's Python.
@@ -315,13 +315,7 @@ class _Viewer:
 
 
 def _uses_sample_distance(method: str) -> bool:
-    from .analytic_mapper import AnalyticMIPVolumeMapper
-
-    factory = METHODS[method]
-    if isinstance(factory, type):
-        default = not issubclass(factory, AnalyticMIPVolumeMapper)
-        return bool(getattr(factory, "USES_SAMPLE_DISTANCE", default))
-    return True  # a factory function, e.g. stock VTK MIP
+    return not getattr(METHODS[method], "WALKS_CELLS", False)  # factory functions (stock VTK) sample
 
 
 def _depth_modes(mapper) -> tuple:
