@@ -22,6 +22,8 @@ packing reruns only when the input changes.
 """
 from __future__ import annotations
 
+from typing import Optional
+
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
@@ -43,10 +45,12 @@ def packable(values: np.ndarray) -> bool:
     return values.dtype.type in _UNIFORM_TYPES
 
 
-def packed_corners(values: np.ndarray) -> np.ndarray:
+def packed_corners(values: np.ndarray, out: Optional[np.ndarray] = None) -> np.ndarray:
     """``(nz, ny, nx)`` values -> ``(nz, ny, nx, 4)``: each point with its +y, +z and +y+z neighbours.
 
     The type is kept (VTK draws only :func:`packable` types exactly).
+    ``out`` (that shape and type, e.g. a view of a VTK array) receives the
+    result instead of a new array; slices, no gathers, no temporaries.
 
     Examples
     --------
@@ -56,14 +60,24 @@ def packed_corners(values: np.ndarray) -> np.ndarray:
     >>> packed_corners(values)[1, 1, 1].tolist()       # the last point repeats itself
     [7.0, 7.0, 7.0, 7.0]
     """
-    nz, ny, _ = values.shape
-    up_y = np.minimum(np.arange(ny) + 1, ny - 1)
-    up_z = np.minimum(np.arange(nz) + 1, nz - 1)
-    packed = np.empty(values.shape + (4,), dtype=values.dtype)
+    packed = np.empty(values.shape + (4,), dtype=values.dtype) if out is None else out
+    if packed.shape != values.shape + (4,) or packed.dtype != values.dtype:
+        raise ValueError(f"out must be {values.shape + (4,)} {values.dtype}, got {packed.shape} {packed.dtype}")
+    nz, ny = values.shape[:2]
     packed[..., 0] = values
-    packed[..., 1] = values[:, up_y]
-    packed[..., 2] = values[up_z]
-    packed[..., 3] = packed[..., 2][:, up_y]  # the +z values, shifted by +y
+    if nz < 2 or ny < 2:  # degenerate (the mapper refuses such volumes): clamp by index
+        up_y, up_z = np.minimum(np.arange(ny) + 1, ny - 1), np.minimum(np.arange(nz) + 1, nz - 1)
+        packed[..., 1], packed[..., 2] = values[:, up_y], values[up_z]
+        packed[..., 3] = values[up_z][:, up_y]
+        return packed
+    for component, (dz, dy) in enumerate(((0, 1), (1, 0), (1, 1)), start=1):
+        # the neighbour dz, dy further on; the last row/slice repeats the one before (no cell reads it)
+        target = packed[..., component]
+        target[:nz - dz, :ny - dy] = values[dz:, dy:]
+        if dy:
+            target[:nz - dz, -1] = target[:nz - dz, -2]
+        if dz:
+            target[-1] = target[-2]
     return packed
 
 
@@ -99,7 +113,10 @@ class CornerPacker(VTKPythonAlgorithmBase):
             target.GetPointData().SetScalars(numpy_to_vtk(np.zeros((8, 4), np.float32), deep=True))
             return 1
         values = vtk_to_numpy(scalars).reshape(dims[2], dims[1], dims[0])
-        packed = numpy_to_vtk(packed_corners(values).reshape(-1, 4), deep=True)
+        packed = scalars.NewInstance()  # same type; filled in place (no copy of a 4x volume)
+        packed.SetNumberOfComponents(4)
+        packed.SetNumberOfTuples(scalars.GetNumberOfTuples())
+        packed_corners(values, out=vtk_to_numpy(packed).reshape(values.shape + (4,)))
         packed.SetName(scalars.GetName() or "scalars")
         target.CopyStructure(source)
         target.GetPointData().SetScalars(packed)
