@@ -54,11 +54,12 @@ class ShownVolume(NamedTuple):
 class _Entry:
     """Everything :func:`hide` needs to undo :func:`show`."""
 
-    def __init__(self, shown: ShownVolume, renderer, view_object, assign) -> None:
+    def __init__(self, shown: ShownVolume, view_object, assign) -> None:
         self.shown = shown
-        self.renderer = renderer
         self.view_object = view_object
         self.assign = assign
+        # before each frame: drop the volume if its source or view was deleted
+        self.observer = view_object.GetRenderer().AddObserver("StartEvent", _prune_deleted)
 
 
 def show(source=None, view=None, method: str = "mip", array: Optional[str] = None, *,
@@ -174,20 +175,18 @@ def show(source=None, view=None, method: str = "mip", array: Optional[str] = Non
     prop.SetInterpolationTypeToLinear()
     prop.ShadeOff()
 
+    _prune_deleted()
     key = _key(view, source)
-    previous = _SHOWN.get(key)
+    previous = _SHOWN.pop(key, None)
     volume = previous.shown.volume if previous is not None else vtkVolume()
     if previous is not None:
-        old = volume.GetMapper()
-        if hasattr(old, "Detach"):
-            old.Detach()
+        _remove(previous, keep_volume=True)
     volume.SetProperty(prop)
     volume.PickableOff()  # ParaView's selection works on representations only
     attach(mapper, volume)
     if previous is None:
         view_object.AddPropToRenderer(volume)
-    _SHOWN[key] = _Entry(ShownVolume(source, view, method, name, volume),
-                         view_object.GetRenderer(), view_object, assign)
+    _SHOWN[key] = _Entry(ShownVolume(source, view, method, name, volume), view_object, assign)
     return volume
 
 
@@ -218,6 +217,7 @@ def hide(source=None, view=None) -> bool:
     """
     source = _source(source)
     view, _ = _view(view)
+    _prune_deleted()
     entry = _SHOWN.pop(_key(view, source), None)
     if entry is None:
         return False
@@ -247,6 +247,7 @@ def shown(view=None) -> Tuple[ShownVolume, ...]:
         [(s.method, s.array) for s in shown()]     # [('analytic', 'RTData')]
     """
     view, _ = _view(view)
+    _prune_deleted()
     prefix = view.GetGlobalIDAsString()
     return tuple(entry.shown for (view_id, _), entry in _SHOWN.items() if view_id == prefix)
 
@@ -334,9 +335,26 @@ def _key(view, source) -> tuple:
     return view.GetGlobalIDAsString(), source.GetGlobalIDAsString()
 
 
-def _remove(entry: _Entry) -> None:
+def _remove(entry: _Entry, keep_volume: bool = False) -> None:
     volume = entry.shown.volume
     mapper = volume.GetMapper()
     if hasattr(mapper, "Detach"):
         mapper.Detach()
-    entry.view_object.RemovePropFromRenderer(volume)
+    entry.view_object.GetRenderer().RemoveObserver(entry.observer)
+    if not keep_volume:
+        entry.view_object.RemovePropFromRenderer(volume)
+
+
+def _registered(proxy, group: str) -> bool:
+    """Whether ``proxy`` is still registered (not deleted) in the session's proxy manager."""
+    manager = proxy.SMProxy.GetSessionProxyManager()
+    return manager is not None and bool(manager.GetProxyName(group, proxy.SMProxy))
+
+
+def _prune_deleted(*_event) -> None:
+    """Remove the volumes whose source or view was deleted (``Delete``, the GUI's delete)."""
+    for key, entry in list(_SHOWN.items()):
+        if not (_registered(entry.shown.source, "sources")
+                and _registered(entry.shown.view, "views")):
+            del _SHOWN[key]
+            _remove(entry)

@@ -346,10 +346,13 @@ def colour_map_report(reader, image, view, png):
 
 
 def upstream_report(view, png):
-    """A Wavelet shown, then its extent changed: the volume follows without show() again."""
+    """A Wavelet shown, then its extent changed: the volume follows without show() again.
+
+    Then the Wavelet is deleted: its volume must go at the next render.
+    """
     from mipcast.plugin.render_view import hide, show, shown
-    from paraview.simple import GetColorTransferFunction, GetDisplayProperties, \
-        GetOpacityTransferFunction, Hide, Wavelet
+    from paraview.simple import Delete, GetColorTransferFunction, GetDisplayProperties, \
+        GetOpacityTransferFunction, Render, Wavelet
 
     for entry in shown(view):  # the wavelet alone
         hide(entry.source, view)
@@ -370,8 +373,12 @@ def upstream_report(view, png):
     result = compare(after, ref)
     result["changed_share"] = changed_share(before, after)
     result["coloured_by"] = coloured_by
-    Hide(wavelet, view)
-    hide(wavelet, view)
+    # deleting the source (the pipeline browser's Delete) takes the volume away at the next render
+    volume = shown(view)[0].volume
+    Delete(wavelet)
+    Render(view)
+    in_renderer = count_in_renderer(view, [volume])  # before shown(), which prunes too
+    result["after_delete"] = {"shown": len(shown(view)), "volumes_in_renderer": in_renderer}
     return result
 
 

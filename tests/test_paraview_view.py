@@ -112,6 +112,10 @@ def test_upstream_changes_flow_through(report):
     assert result["coloured_by"] == ["POINTS", "RTData"]
 
 
+def test_deleting_the_source_removes_its_volume(report):
+    assert report["upstream"]["after_delete"] == {"shown": 0, "volumes_in_renderer": 0}
+
+
 def test_paraview_passes(report):
     passes = report["passes"]
     _matches(passes["no_depth_peeling"])
