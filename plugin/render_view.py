@@ -164,7 +164,8 @@ def show(source=None, view=None, method: str = "mip", array: Optional[str] = Non
     if outline:
         display = simple.Show(source, view)
         display.SetRepresentationType("Outline")
-        simple.ColorBy(display, ("POINTS", name))
+        # not simple.ColorBy: it rescales even a colour range the user locked
+        display.SetScalarColoring(name, simple.servermanager.GetAssociationFromString("POINTS"))
     if lut.AutomaticRescaleRangeMode != "Never":  # a range the user locked stays
         lut.RescaleTransferFunction(low, high)
         pwf.RescaleTransferFunction(low, high)

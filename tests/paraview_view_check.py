@@ -339,6 +339,20 @@ def colour_map_report(reader, image, view, png):
                        actors=[flat_actor(outline_of(image), (1.0, 1.0, 0.0))])
     result = compare(after, ref)
     result["changed_share"] = changed_share(before, after)
+    # a range the user locked (colour map editor: custom range, or mode "Never") stays
+    lut.AutomaticRescaleRangeMode = "Never"
+    show(reader, view, method="analytic")
+    result["locked_points_kept"] = list(lut.RGBPoints) == [
+        low, 0.0, 0.0, 0.3, middle, 0.0, 0.8, 0.2, high, 1.0, 1.0, 0.9]
+    lut.RescaleTransferFunction(middle, high)
+    pwf.RescaleTransferFunction(middle, high)
+    show(reader, view, method="analytic")
+    result["locked_range"] = [lut.RGBPoints[0], lut.RGBPoints[-4]]
+    result["locked_range_expected"] = [middle, high]
+    lut.AutomaticRescaleRangeMode = "Grow and update on 'Apply'"
+    show(reader, view, method="analytic")
+    result["unlocked_range"] = [lut.RGBPoints[0], lut.RGBPoints[-4]]
+    result["data_range"] = [low, high]
     result["same_object"] = (
         view.GetClientSideObject().GetRenderer().GetVolumes().GetItemAsObject(0)
         .GetProperty().GetRGBTransferFunction(0) is lut.GetClientSideObject())

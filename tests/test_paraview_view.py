@@ -105,6 +105,13 @@ def test_colour_map_edits_reach_the_volume(report):
     assert result["same_object"]
 
 
+def test_locked_colour_range_is_kept(report):
+    result = report["colour_map"]
+    assert result["locked_points_kept"]
+    assert result["locked_range"] == pytest.approx(result["locked_range_expected"])
+    assert result["unlocked_range"] == pytest.approx(result["data_range"])
+
+
 def test_upstream_changes_flow_through(report):
     result = report["upstream"]
     _matches(result)
