@@ -249,6 +249,52 @@ def methods_report(reader, image, view, png):
     return report
 
 
+def interactive_report(reader, image, view, png):
+    """An interactive render (what ParaView draws while the mouse rotates), LOD forced on."""
+    from mipcast.plugin.render_view import show
+    from paraview.simple import GetColorTransferFunction, GetDisplayProperties, \
+        GetOpacityTransferFunction
+    from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
+
+    show(reader, view, method="analytic")
+    flat(GetDisplayProperties(reader, view), (1.0, 1.0, 0.0))
+    set_camera(view, azimuth=-20.0, elevation=40.0)
+    threshold = view.LODThreshold
+    view.LODThreshold = 0.0  # every representation switches to its LOD while interacting
+    view.InteractiveRender()
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(view.GetRenderWindow())
+    grab.SetInputBufferTypeToRGB()
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    output = grab.GetOutput()
+    width, height, _ = output.GetDimensions()
+    pv = vtk_to_numpy(output.GetPointData().GetScalars()).reshape(height, width, 3)[::-1].copy()
+    view.LODThreshold = threshold
+    ref, _ = reference(image, "analytic", view, GetColorTransferFunction("scalars"),
+                       GetOpacityTransferFunction("scalars"),
+                       actors=[flat_actor(outline_of(image), (1.0, 1.0, 0.0))])
+    write_png(png("view_interactive"), pv)
+    result = compare(pv, ref)
+    result["size"] = [width, height]
+    return result
+
+
+def write_png(path, rgb):
+    """Write a top-row-first uint8 (H, W, 3) array as a PNG."""
+    from vtkmodules.vtkIOImage import vtkPNGWriter
+
+    height, width = rgb.shape[:2]
+    image = vtkImageData()
+    image.SetDimensions(width, height, 1)
+    image.GetPointData().SetScalars(
+        numpy_to_vtk(np.ascontiguousarray(rgb[::-1]).reshape(-1, 3), deep=True))
+    writer = vtkPNGWriter()
+    writer.SetFileName(path)
+    writer.SetInputData(image)
+    writer.Write()
+
+
 def without_volume(reader, view, png):
     """The same scene with the volume hidden: what show() adds."""
     from mipcast.plugin.render_view import hide, show, shown
@@ -554,6 +600,7 @@ def main(argv):
         view = plain_view()
         report = {"size": [WIDTH, HEIGHT], "volume": list(image.GetDimensions())}
         report["methods"] = methods_report(reader, image, view, png)
+        report["interactive"] = interactive_report(reader, image, view, png)
         report["hidden"] = without_volume(reader, view, png)
         report["sphere"] = sphere_report(reader, image, view, png)
         report["passes"] = passes_report(reader, image, view, png)

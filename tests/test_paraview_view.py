@@ -77,6 +77,10 @@ def test_outline_coloured_by_the_array_and_functions_rescaled(report):
     assert result["clipping"] == pytest.approx(result["ref_clipping"])
 
 
+def test_interactive_render_with_lod_draws_the_volume(report):
+    _matches(report["interactive"])
+
+
 def test_hide_removes_the_volume(report):
     hidden = report["hidden"]
     assert hidden["removed"] and not hidden["again"]
