@@ -28,7 +28,10 @@ Nothing from ParaView is imported at module level: the functions import
 """
 from __future__ import annotations
 
-from typing import Any, NamedTuple, Optional, Tuple
+from typing import TYPE_CHECKING, Any, NamedTuple, Optional, Tuple
+
+if TYPE_CHECKING:  # for annotations only: importing VTK here is not needed
+    from vtkmodules.vtkRenderingCore import vtkVolume
 
 __all__ = ["show", "hide", "shown", "ShownVolume"]
 
@@ -62,8 +65,8 @@ class _Entry:
         self.observer = view_object.GetRenderer().AddObserver("StartEvent", _prune_deleted)
 
 
-def show(source=None, view=None, method: str = "mip", array: Optional[str] = None, *,
-         outline: bool = True, **settings):
+def show(source: Any = None, view: Any = None, method: str = "mip",
+         array: Optional[str] = None, *, outline: bool = True, **settings: Any) -> "vtkVolume":
     """Render a source's volume with a mipcast method in a ParaView render view.
 
     Adds a ``vtkVolume`` with the mipcast mapper for ``method`` to the render
@@ -131,8 +134,7 @@ def show(source=None, view=None, method: str = "mip", array: Optional[str] = Non
     from mipcast.parameters import set_parameters
     from mipcast.validation import check_image, check_positive
 
-    import paraview.simple as simple
-
+    simple = _simple()
     source = _source(source)
     view, view_object = _view(view)
     _refuse_remote(view)
@@ -191,7 +193,7 @@ def show(source=None, view=None, method: str = "mip", array: Optional[str] = Non
     return volume
 
 
-def hide(source=None, view=None) -> bool:
+def hide(source: Any = None, view: Any = None) -> bool:
     """Remove the volume :func:`show` added for ``source`` in ``view``.
 
     Parameters
@@ -226,7 +228,7 @@ def hide(source=None, view=None) -> bool:
     return True
 
 
-def shown(view=None) -> Tuple[ShownVolume, ...]:
+def shown(view: Any = None) -> Tuple[ShownVolume, ...]:
     """The volumes :func:`show` added to ``view`` and that are still there.
 
     Parameters
@@ -254,8 +256,20 @@ def shown(view=None) -> Tuple[ShownVolume, ...]:
 
 
 # -- helpers ------------------------------------------------------------------------------
+def _simple():
+    """``paraview.simple``, or an ImportError that says where to run this."""
+    try:
+        import paraview.simple as simple
+    except ImportError as error:
+        raise ImportError(
+            "mipcast.plugin.render_view needs ParaView's Python: run it in pvpython or in "
+            "the ParaView GUI's Python shell or macros (for plain VTK or pyvista use "
+            f"mipcast.create_mapper / mipcast.filters.add_volume) ({error})") from None
+    return simple
+
+
 def _source(source):
-    import paraview.simple as simple
+    simple = _simple()
 
     if source is None:
         source = simple.GetActiveSource()
@@ -272,7 +286,7 @@ def _source(source):
 
 def _view(view):
     """(render view proxy, its client-side vtkPVRenderView)."""
-    import paraview.simple as simple
+    simple = _simple()
 
     if view is None:
         view = simple.GetActiveView()

@@ -40,6 +40,22 @@ def report():
     return json.loads(lines[-1])
 
 
+def test_module_imports_without_paraview_and_says_where_to_run():
+    import importlib.util
+    import subprocess
+    import sys
+
+    if importlib.util.find_spec("paraview") is not None:
+        pytest.skip("paraview is importable here")
+    code = ("import sys, mipcast.plugin.render_view as rv\n"
+            "assert 'paraview' not in sys.modules\n"
+            "try:\n    rv.show()\nexcept ImportError as e:\n    print(e)\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          env=dict(os.environ, PYTHONPATH=str(ROOT)), timeout=60)
+    assert done.returncode == 0, done.stderr
+    assert "pvpython" in done.stdout
+
+
 def _matches(result):
     assert result["within_1_share"] >= MATCH, result
     # a black or empty picture would match a black reference: demand a lit one
