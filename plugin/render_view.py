@@ -7,16 +7,15 @@ connection) the render view's ``vtkRenderer`` lives in the same process.
 
 - its input is the source's client-side output port (through a
   ``vtkAssignAttribute`` that makes the chosen point array the active
-  scalars), so upstream changes (*Apply*, time steps) flow through;
+  scalars), so upstream changes (*Apply*, changed properties) flow through;
 - its colour and opacity are ParaView's own transfer functions for that
   array (``GetColorTransferFunction(name)`` / ``GetOpacityTransferFunction(name)``,
   the client-side objects themselves), so the colour map editor changes the
   mipcast picture live;
 - the source keeps a representation of its own, an *Outline* coloured by the
-  same array: ParaView computes the camera's bounds and clipping range from
-  its representations only (never from props added by hand), and the
-  colour map editor and colour legend follow the active representation's
-  array.
+  same array: ParaView's *Reset Camera* works from its representations'
+  bounds, and the colour map editor and colour legend follow the active
+  representation's array.
 
 The volume is not a ParaView representation: it has no eye toggle in the
 pipeline browser, state files do not save it, and remote (client-server)
