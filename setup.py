@@ -20,7 +20,7 @@ setup(
         "mipcast.data_fixtures",
         "mipcast.plugin",
     ],
-    package_data={"mipcast.shaders": ["*.glsl"], "mipcast.data_fixtures": ["*.md"], "mipcast.plugin": ["*.xml"]},
+    package_data={"mipcast.shaders": ["*.glsl"], "mipcast.data_fixtures": ["*.md"], "mipcast.plugin": ["*.xml", "*.md", "macros/*.py"]},
     install_requires=[
         "vtk>=9.2",
         "pyvista>=0.48",

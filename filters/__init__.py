@@ -23,8 +23,8 @@ import numpy as np
 
 from ..io import with_scalars
 from ..methods import attach, create_mapper
-from ..parameters import method_parameters, set_parameters
 from ..offscreen import OffscreenView
+from ..parameters import method_parameters, set_parameters
 from ..validation import check_image, check_positive
 
 

@@ -1,9 +1,11 @@
 """Method parameters by name: ``depth_weight=0.3`` -> ``mapper.SetDepthWeight(0.3)``.
 
 One naming rule for every front end: the pyvista filters' keyword
-arguments, the command line's ``--depth-weight 0.3`` and the interactive
-viewer all go through :func:`set_parameters`, which checks every name
-against the mapper's setters before it sets any.
+arguments, the command line's ``--depth-weight 0.3``, the interactive
+viewer and ParaView's render view all go through :func:`set_parameters`,
+which checks every name against the mapper's setters before it sets any.
+Needs nothing but the standard library, so it also runs inside ParaView's
+Python (which has no pyvista).
 """
 from __future__ import annotations
 

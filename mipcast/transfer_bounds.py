@@ -87,7 +87,11 @@ def _node_positions(prop):
 def _premultiplied(prop, x: float) -> np.ndarray:
     alpha = prop.GetScalarOpacity(0).GetValue(x)
     if prop.GetColorChannels(0) == 3:
-        rgb = np.array(prop.GetRGBTransferFunction(0).GetColor(x))
+        rgb = [0.0, 0.0, 0.0]
+        # the two-argument form: subclasses (vtkDiscretizableColorTransferFunction,
+        # ParaView's colour maps) override it, which hides the one-argument form
+        prop.GetRGBTransferFunction(0).GetColor(x, rgb)
+        rgb = np.array(rgb)
     else:
         rgb = np.full(3, prop.GetGrayTransferFunction(0).GetValue(x))
     return np.append(rgb * alpha, alpha)

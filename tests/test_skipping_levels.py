@@ -19,8 +19,8 @@ def test_block_maxima_bound_every_cell_of_the_block(shape, block):
         assert maxima[index] == values[region].max()
 
 
-def _property(colour_points, opacity_points):
-    colour, opacity = vtkColorTransferFunction(), vtkPiecewiseFunction()
+def _property(colour_points, opacity_points, colour_class=vtkColorTransferFunction):
+    colour, opacity = colour_class(), vtkPiecewiseFunction()
     for x, r, g, b in colour_points:
         colour.AddRGBPoint(x, r, g, b)
     for x, a in opacity_points:
@@ -47,3 +47,14 @@ def test_window_outside_the_data_range():
     prop = _property([(2, 0, 0, 0), (3, 1, 1, 1)], [(2, 1), (3, 1)])
     floor, ceiling = constant_ends(prop, 0.0, 1.0)  # all data below the window: one colour
     assert floor == 1.0 and ceiling == 0.0
+
+
+def test_discretizable_colour_maps_work_too():
+    # ParaView's colour maps are vtkDiscretizableColorTransferFunction subclasses, whose
+    # GetColor override hides the one-argument form in Python
+    from vtkmodules.vtkRenderingCore import vtkDiscretizableColorTransferFunction
+
+    points = ([(0, 0, 0, 0), (300, 1, 0, 0), (600, 1, 1, 0), (900, 1, 1, 1)],
+              [(-1000, 0), (150, 0), (400, 1), (3000, 1)])
+    prop = _property(*points, colour_class=vtkDiscretizableColorTransferFunction)
+    assert constant_ends(prop, -1000.0, 3000.0) == constant_ends(_property(*points), -1000.0, 3000.0)
