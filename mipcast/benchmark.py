@@ -112,7 +112,7 @@ def apply_settings(mapper, pairs) -> None:
 
 def time_settings(image, settings: Sequence[Setting], size=(256, 256), view: str = "oblique",
                   rounds: int = 5, frames: int = 3, warmup: int = 3, window=None,
-                  progress: Optional[Callable[[str], None]] = None) -> dict:
+                  progress: Optional[Callable[[str], None]] = None, views: Optional[dict] = None) -> dict:
     """Median frame time in seconds of each setting, measured in interleaved rounds.
 
     Parameters
@@ -131,6 +131,9 @@ def time_settings(image, settings: Sequence[Setting], size=(256, 256), view: str
         Grey window (default: the data range).
     progress : callable, optional
         Called with a short label after each round.
+    views : dict, optional
+        ``{label: OffscreenView}`` already built for these settings
+        (:func:`setting_views`); default: built here.
 
     Returns
     -------
@@ -145,11 +148,25 @@ def time_settings(image, settings: Sequence[Setting], size=(256, 256), view: str
     >>> times["stock 1x"]["ratio"]
     1.0
     """
-    views = {s.label: _view(image, s, s.method, size, view, window) for s in settings}
+    views = views if views is not None else setting_views(image, settings, size, view, window)
     samples = interleaved_frame_times(views, rounds, frames, warmup, progress)
     baseline = statistics.median(samples[settings[0].label])
     return {label: {"median_s": statistics.median(t), "ratio": statistics.median(t) / baseline,
                     "frames": len(t)} for label, t in samples.items()}
+
+
+def setting_views(image, settings: Sequence[Setting], size=(256, 256), view: str = "oblique",
+                  window=None) -> dict:
+    """``{label: OffscreenView}``: each setting's view, built once for timing, errors and counters.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> views = setting_views(make_fixture("spheres", size=8), DEFAULT_SETTINGS[:2], size=(16, 16))
+    >>> sorted(views), views["stock 2x"].sample_distance
+    (['stock 1x', 'stock 2x'], 0.5)
+    """
+    return {s.label: _view(image, s, s.method, size, view, window) for s in settings}
 
 
 def interleaved_frame_times(views: dict, rounds: int, frames: int, warmup: int,
@@ -184,10 +201,14 @@ def interleaved_frame_times(views: dict, rounds: int, frames: int, warmup: int,
 
 
 def errors_of_settings(image, settings: Sequence[Setting], size=(256, 256), view: str = "oblique",
-                       window=None, progress: Optional[Callable[[str], None]] = None) -> dict:
+                       window=None, progress: Optional[Callable[[str], None]] = None,
+                       views: Optional[dict] = None) -> dict:
     """Error of each setting's float readout against the exact float64 reference.
 
     ``progress``, if given, is called with the setting's label after each.
+    ``views`` (:func:`setting_views`) are used where the setting reads its
+    own values; a setting whose ``readout_method`` differs gets a view of
+    that method.
 
     Returns
     -------
@@ -212,7 +233,10 @@ def errors_of_settings(image, settings: Sequence[Setting], size=(256, 256), view
     exact = None
     low, high = image.GetPointData().GetScalars().GetRange(0)
     for setting in settings:
-        scene = _view(image, setting, setting.readout_method or setting.method, size, view, window)
+        if views is not None and setting.readout_method in (None, setting.method):
+            scene = views[setting.label]
+        else:
+            scene = _view(image, setting, setting.readout_method or setting.method, size, view, window)
         if exact is None:
             started = time.perf_counter()
             exact = reference.render(image, scene.camera, size, method="exact")
@@ -258,8 +282,11 @@ def measure_scene(image, scene: str, view: str, edge: int, rounds: int = 5, wind
     settings = resolve_settings(image, DEFAULT_SETTINGS, size, view, window)
     if progress is not None:
         progress("sampling chosen for 'auto'")
-    times = time_settings(image, settings, size=size, view=view, rounds=rounds, window=window, progress=progress)
-    errors = errors_of_settings(image, settings, size=size, view=view, window=window, progress=progress)
+    views = setting_views(image, settings, size, view, window)
+    times = time_settings(image, settings, size=size, view=view, rounds=rounds, window=window, progress=progress,
+                          views=views)
+    errors = errors_of_settings(image, settings, size=size, view=view, window=window, progress=progress,
+                                views=views)
     rows = []
     for setting in settings:
         error, timing = errors[setting.label], times[setting.label]
@@ -268,14 +295,15 @@ def measure_scene(image, scene: str, view: str, edge: int, rounds: int = 5, wind
                "p99_pct": error["p99_pct"], "max_pct": error["max_pct"], "fg_p99_pct": error["fg_p99_pct"],
                "within_1_grey": error["within_1_grey"], "frames": timing["frames"]}
         if setting.method == "analytic":
-            work = work_per_ray(_view(image, setting, "analytic", size, view, window))
+            work = work_per_ray(views[setting.label])
             row.update(texel_fetches=work["texel_fetches"], skipped_cells=work["skipped_cells"])
         if setting.method == "foveated":  # the paper's Table I columns
-            foveated = _view(image, setting, "foveated", size, view, window)
-            foveated.screenshot()
-            cost = foveated.mapper.GetLastFrameCost()
+            views[setting.label].screenshot()
+            cost = views[setting.label].mapper.GetLastFrameCost()
             row.update(ray_ratio=cost["ray_ratio"], sample_ratio=cost["sample_ratio"])
         rows.append(row)
+    for scene_view in views.values():
+        scene_view.render_window.Finalize()
     return rows
 
 
