@@ -25,6 +25,7 @@ from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
 import mipcast.plugin
+from vtk_png import write_png
 from mipcast import METHODS
 from mipcast.data_fixtures import make_fixture
 from mipcast.offscreen import OffscreenView
@@ -217,21 +218,6 @@ def main(argv):
         write_png(argv[argv.index("--png") + 1], picture)
     print(json.dumps(report))
     sys.stdout.flush()
-
-
-def write_png(path, rgb):
-    """Write a top-row-first uint8 (H, W, 3) array as a PNG."""
-    from vtkmodules.vtkIOImage import vtkPNGWriter
-
-    height, width = rgb.shape[:2]
-    image = vtkImageData()
-    image.SetDimensions(width, height, 1)
-    image.GetPointData().SetScalars(
-        numpy_to_vtk(np.ascontiguousarray(rgb[::-1]).reshape(-1, 3), deep=True))
-    writer = vtkPNGWriter()
-    writer.SetFileName(path)
-    writer.SetInputData(image)
-    writer.Write()
 
 
 if __name__ == "__main__":

@@ -34,6 +34,7 @@ from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction
 from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolumeProperty
 
 import mipcast.plugin
+from vtk_png import write_png
 from mipcast.data_fixtures import make_fixture
 from mipcast.offscreen import OffscreenView
 
@@ -278,21 +279,6 @@ def interactive_report(reader, image, view, png):
     result = compare(pv, ref)
     result["size"] = [width, height]
     return result
-
-
-def write_png(path, rgb):
-    """Write a top-row-first uint8 (H, W, 3) array as a PNG."""
-    from vtkmodules.vtkIOImage import vtkPNGWriter
-
-    height, width = rgb.shape[:2]
-    image = vtkImageData()
-    image.SetDimensions(width, height, 1)
-    image.GetPointData().SetScalars(
-        numpy_to_vtk(np.ascontiguousarray(rgb[::-1]).reshape(-1, 3), deep=True))
-    writer = vtkPNGWriter()
-    writer.SetFileName(path)
-    writer.SetInputData(image)
-    writer.Write()
 
 
 def without_volume(reader, view, png):

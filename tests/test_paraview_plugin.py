@@ -8,13 +8,10 @@ every method of ``mipcast.METHODS``, compares the output with a direct
 or ``xvfb-run`` is not installed (Debian: ``apt-get install paraview
 python3-paraview xvfb``).
 """
-import json
-import os
-import shutil
 from pathlib import Path
 
 import pytest
-from xvfb import run_under_xvfb
+from xvfb import pvpython_report
 
 ROOT = Path(__file__).resolve().parents[1]
 CHECK = ROOT / "tests" / "paraview_plugin_check.py"
@@ -22,24 +19,9 @@ WIDTH, HEIGHT = 96, 80
 TIMEOUT = 240
 
 
-def _missing_tools():
-    return [tool for tool in ("pvpython", "xvfb-run") if shutil.which(tool) is None]
-
-
 @pytest.fixture(scope="module")
 def report():
-    missing = _missing_tools()
-    if missing:
-        pytest.skip(f"{' and '.join(missing)} not on PATH: ParaView plugin test needs "
-                    "Debian's paraview, python3-paraview and xvfb")
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
-    env.pop("PYTHONHOME", None)
-    completed = run_under_xvfb(["pvpython", str(CHECK)], cwd=ROOT, env=env, timeout=TIMEOUT)
-    lines = [line for line in completed.stdout.splitlines() if line.startswith("{")]
-    assert completed.returncode == 0 and lines, (
-        f"pvpython exited with {completed.returncode}\nstdout:\n{completed.stdout[-3000:]}"
-        f"\nstderr:\n{completed.stderr[-3000:]}")
-    return json.loads(lines[-1])
+    return pvpython_report(CHECK.name, "the ParaView plugin test", TIMEOUT)
 
 
 def test_output_is_an_image_of_the_requested_size(report):

@@ -9,13 +9,11 @@ ParaView, transfer functions rebuilt from the proxies' values, the same
 flat-coloured geometry).  Skipped when ``pvpython`` or ``xvfb-run`` is not
 installed (Debian: ``apt-get install paraview python3-paraview xvfb``).
 """
-import json
 import os
-import shutil
 from pathlib import Path
 
 import pytest
-from xvfb import run_under_xvfb
+from xvfb import pvpython_report
 
 ROOT = Path(__file__).resolve().parents[1]
 CHECK = ROOT / "tests" / "paraview_view_check.py"
@@ -26,18 +24,7 @@ MATCH = 0.99
 
 @pytest.fixture(scope="module")
 def report():
-    missing = [tool for tool in ("pvpython", "xvfb-run") if shutil.which(tool) is None]
-    if missing:
-        pytest.skip(f"{' and '.join(missing)} not on PATH: the ParaView render view test needs "
-                    "Debian's paraview, python3-paraview and xvfb")
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
-    env.pop("PYTHONHOME", None)
-    completed = run_under_xvfb(["pvpython", str(CHECK)], cwd=ROOT, env=env, timeout=TIMEOUT)
-    lines = [line for line in completed.stdout.splitlines() if line.startswith("{")]
-    assert completed.returncode == 0 and lines, (
-        f"pvpython exited with {completed.returncode}\nstdout:\n{completed.stdout[-3000:]}"
-        f"\nstderr:\n{completed.stderr[-3000:]}")
-    return json.loads(lines[-1])
+    return pvpython_report(CHECK.name, "the ParaView render view test", TIMEOUT)
 
 
 def test_module_imports_without_paraview_and_says_where_to_run():

@@ -5,7 +5,14 @@ busy machine: VTK then aborts in ``vtkXOpenGLRenderWindow::CreateAWindow``
 ("bad X server connection") before any of our code runs.  That one failure
 is retried once; any other failure is returned as it is.
 """
+import json
+import os
+import shutil
 import subprocess
+from pathlib import Path
+
+#: The repository (the checks run with it on PYTHONPATH).
+ROOT = Path(__file__).resolve().parents[1]
 
 #: A 24-bit screen: GLX needs a true-colour visual (xvfb-run's default is 8-bit).
 SERVER = ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24"]
@@ -19,3 +26,26 @@ def run_under_xvfb(command, **kwargs) -> subprocess.CompletedProcess:
         if result.returncode == 0 or not any(text in result.stderr for text in _NO_DISPLAY):
             return result
     return result
+
+
+def pvpython_report(check, what: str, timeout: float = 240) -> dict:
+    """Run ``tests/<check>`` in pvpython under xvfb and return the JSON of its last ``{`` line.
+
+    Skips the calling test (``pytest.skip``) when pvpython or xvfb-run is
+    missing; ``what`` names the test in that message.  Fails with the
+    script's output if it exits non-zero or prints no report.
+    """
+    import pytest
+
+    missing = [tool for tool in ("pvpython", "xvfb-run") if shutil.which(tool) is None]
+    if missing:
+        pytest.skip(f"{' and '.join(missing)} not on PATH: {what} needs "
+                    "Debian's paraview, python3-paraview and xvfb")
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    env.pop("PYTHONHOME", None)
+    completed = run_under_xvfb(["pvpython", str(ROOT / "tests" / check)], cwd=ROOT, env=env, timeout=timeout)
+    lines = [line for line in completed.stdout.splitlines() if line.startswith("{")]
+    assert completed.returncode == 0 and lines, (
+        f"pvpython exited with {completed.returncode}\nstdout:\n{completed.stdout[-3000:]}"
+        f"\nstderr:\n{completed.stderr[-3000:]}")
+    return json.loads(lines[-1])
