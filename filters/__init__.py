@@ -151,6 +151,51 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
     return volume
 
 
+def plot(image, method: str = "mip", *, off_screen: Optional[bool] = None,
+         window_size: Optional[Sequence[int]] = None, screenshot=None, **kwargs):
+    """Show ``image`` in a new pyvista ``Plotter`` with a mipcast method, like ``grid.plot(volume=True)``.
+
+    Parameters
+    ----------
+    image : pyvista.ImageData
+        Volume with one-component point scalars.
+    method : str, default: "mip"
+        A name from ``mipcast.METHODS``.
+    off_screen, window_size, screenshot
+        As in ``pyvista.Plotter`` and ``Plotter.show`` (``screenshot``: a PNG
+        path to write).
+    **kwargs
+        Keyword arguments of :func:`add_volume` (``cmap``, ``clim``,
+        ``scalars``, ... and method parameters such as ``depth_weight``).
+
+    Returns
+    -------
+    object
+        What ``Plotter.show`` returns (the camera position by default).
+
+    Examples
+    --------
+    >>> import pyvista as pv
+    >>> from mipcast.filters import plot
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> import tempfile, os
+    >>> path = os.path.join(tempfile.mkdtemp(), "analytic.png")
+    >>> _ = plot(pv.wrap(make_fixture("vessels", size=24)), "analytic", off_screen=True,
+    ...          window_size=(64, 64), screenshot=path)
+    >>> os.path.getsize(path) > 0
+    True
+    """
+    import pyvista
+
+    plotter = pyvista.Plotter(off_screen=off_screen, window_size=window_size)
+    try:
+        add_volume(plotter, image, method, **kwargs)
+    except BaseException:
+        plotter.close()
+        raise
+    return plotter.show(screenshot=screenshot)
+
+
 def _volume_property(cmap, clim, opacity):
     import pyvista
     from matplotlib import colormaps
@@ -182,5 +227,5 @@ def _volume_property(cmap, clim, opacity):
 # Registers grid.mip and plotter.mip (imports pyvista); after the functions it delegates to.
 from .extensions import MipAccessor, MipPlotterComponent  # noqa: E402
 
-__all__ = ["render", "add_volume", "with_scalars", "set_parameters", "method_parameters",
+__all__ = ["render", "add_volume", "plot", "with_scalars", "set_parameters", "method_parameters",
            "MipAccessor", "MipPlotterComponent"]

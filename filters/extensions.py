@@ -20,7 +20,7 @@ from typing import Optional, Sequence, Union
 import numpy as np
 import pyvista
 
-from . import add_volume, render
+from . import add_volume, plot, render
 
 
 @pyvista.register_dataset_accessor("mip", pyvista.ImageData)
@@ -88,6 +88,24 @@ class MipAccessor:
         """
         return render(self._grid, method, scalars=scalars, size=size, view=view, sample_distance=sample_distance,
                       window=window, as_float=as_float, **params)
+
+    def plot(self, method: str = "mip", *, off_screen: Optional[bool] = None,
+             window_size: Optional[Sequence[int]] = None, screenshot=None, **kwargs):
+        """Show the grid in a new plotter with ``method``; see :func:`mipcast.filters.plot`.
+
+        Examples
+        --------
+        >>> import pyvista as pv
+        >>> import mipcast.filters
+        >>> from mipcast.data_fixtures import make_fixture
+        >>> grid = pv.wrap(make_fixture("vessels", size=24))
+        >>> image = grid.mip.plot("demip", off_screen=True, window_size=(48, 48), screenshot=True,
+        ...                       depth_weight=0.5)
+        >>> image.shape
+        (48, 48, 3)
+        """
+        return plot(self._grid, method, off_screen=off_screen, window_size=window_size,
+                    screenshot=screenshot, **kwargs)
 
 
 @pyvista.register_plotter_component("mip")

@@ -130,3 +130,16 @@ def test_bad_arguments_add_nothing(grid):
         plotter.mip.remove_volume(other.mip.add_volume(grid))
     other.close()
     plotter.close()
+
+
+def test_accessor_plot_shows_what_add_volume_shows(grid):
+    shown = grid.mip.plot("demip", off_screen=True, window_size=SIZE, screenshot=True,
+                          cmap="bone", depth_weight=0.5)
+    plotter = pv.Plotter(off_screen=True, window_size=SIZE)
+    add_volume(plotter, grid, "demip", cmap="bone", depth_weight=0.5)
+    expected = plotter.screenshot()
+    plotter.close()
+    assert shown.shape == expected.shape and shown.std() > 5
+    assert np.array_equal(shown, expected)
+    with pytest.raises(TypeError, match="depth_wieght"):
+        grid.mip.plot("demip", off_screen=True, window_size=SIZE, depth_wieght=0.5)
