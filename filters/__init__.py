@@ -7,7 +7,7 @@ never by the core package.
 Importing this module also registers two pyvista extensions (pyvista 0.48+
 extension API, see :mod:`mipcast.filters.extensions`):
 
-- ``grid.mip.render(...)`` on every ``pyvista.ImageData``;
+- ``grid.mip.render(...)`` and ``grid.mip.plot(...)`` on every ``pyvista.ImageData``;
 - ``plotter.mip.add_volume(...)`` on every pyvista plotter, with the added
   volumes removed (and their shader pieces detached) when the plotter closes.
 

@@ -4,7 +4,7 @@ Registered with pyvista's extension API (0.48+) when :mod:`mipcast.filters`
 is imported:
 
 - :class:`MipAccessor` via ``pyvista.register_dataset_accessor("mip",
-  pyvista.ImageData)``: ``grid.mip.render(...)``;
+  pyvista.ImageData)``: ``grid.mip.render(...)``, ``grid.mip.plot(...)``;
 - :class:`MipPlotterComponent` via ``pyvista.register_plotter_component("mip")``:
   ``plotter.mip.add_volume(...)``; pyvista calls its ``__plotter_close__``
   when the plotter closes, which removes the volumes it added.
