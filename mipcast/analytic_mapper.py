@@ -152,7 +152,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         image = self.GetInput()
         scalars = image.GetPointData().GetScalars() if image is not None else None
         if scalars is None or scalars.GetNumberOfComponents() != 1:
-            return True  # refused elsewhere; the packer draws nothing
+            return False  # refused (GetRenderProblem); VTK's own checks then see the input as it is
         return packable(vtk_to_numpy(scalars))  # a view: only its type is read
 
     def _route_input(self) -> None:

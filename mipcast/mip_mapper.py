@@ -168,14 +168,19 @@ def _check_before_render(mapper, event) -> None:
         return
     vtkOutputWindow.GetInstance().DisplayErrorText(f"{type(mapper).__name__}: {problem}\n")
     mapper.InvokeEvent(vtkCommand.ErrorEvent)
-    if not mapper.IsAttached():  # stock shaders would draw: crop everything away
-        object_state(mapper)["refused"] = (mapper.GetCropping(), mapper.GetCroppingRegionFlags())
-        mapper.SetCropping(True)
-        mapper.SetCroppingRegionFlags(0)
+    # Keep VTK from touching the input at all: with cropping on and an empty
+    # cropping box, vtkGPUVolumeRayCastMapper::ValidateRender silently skips
+    # the render before it reads the input.  (Letting VTK draw refused input
+    # with the refusal piece discarding every fragment is not enough: VTK 9.7
+    # itself segfaults when scalars go from one component to three, or
+    # vanish, between two renders.)  Restored at VolumeMapperRenderEndEvent.
+    object_state(mapper)["refused"] = (mapper.GetCropping(), mapper.GetCroppingRegionPlanes())
+    mapper.SetCropping(True)
+    mapper.SetCroppingRegionPlanes(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
 def _restore_after_refused_render(mapper, event) -> None:
     refused = object_state(mapper).pop("refused", None)
     if refused is not None:
         mapper.SetCropping(refused[0])
-        mapper.SetCroppingRegionFlags(refused[1])
+        mapper.SetCroppingRegionPlanes(*refused[1])

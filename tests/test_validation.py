@@ -134,3 +134,44 @@ def test_32_and_64_bit_data_render_exactly_unpacked():
         hits = ~np.isnan(exact) & ~np.isnan(found)
         assert hits.mean() > 0.2 and np.mean(np.isnan(found) != np.isnan(exact)) < 0.02  # silhouette only
         assert np.max(np.abs(found[hits] - exact[hits])) <= 1e-4 * np.ptp(values)
+
+
+_SCALARS_VANISH = r"""
+import sys
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk
+from mipcast.data_fixtures import make_fixture
+from mipcast.offscreen import OffscreenView
+
+image = make_fixture("vessels", size=24)
+view = OffscreenView(image, sys.argv[1], size=(48, 48))
+before = view.screenshot()
+name = image.GetPointData().GetScalars().GetName()
+values = image.GetPointData().GetScalars()
+image.GetPointData().RemoveArray(name)          # upstream: the array is renamed or dropped
+image.Modified()
+gone = view.screenshot()
+three = numpy_to_vtk(np.repeat(np.zeros(image.GetNumberOfPoints(), np.float32)[:, None], 3, axis=1), deep=True)
+three.SetName("rgb")
+image.GetPointData().SetScalars(three)          # then several components
+image.Modified()
+several = view.screenshot()
+image.GetPointData().SetScalars(values)         # and back
+image.Modified()
+again = view.screenshot()
+print(int(before.max()), int(gone.max()), int(several.max()), int(np.abs(again.astype(int) - before).max()))
+"""
+
+
+@pytest.mark.parametrize("method", ["mip", "analytic", "demip", "demip_two_pass", "foveated"])
+def test_scalars_that_vanish_after_a_render_are_refused_not_a_crash(method):
+    """The input passes at first, then loses its scalars (an upstream rename): an error, nothing drawn, no segfault."""
+    import subprocess
+    import sys
+
+    completed = subprocess.run([sys.executable, "-c", _SCALARS_VANISH, method], capture_output=True, text=True,
+                               timeout=120)
+    assert completed.returncode == 0, completed.stderr[-2000:]  # was SIGSEGV (139) for analytic
+    before, gone, several, again = map(int, completed.stdout.split()[-4:])
+    assert before > 100 and gone == 0 and several == 0 and again == 0
+    assert "no active point scalars" in completed.stderr and "components" in completed.stderr
