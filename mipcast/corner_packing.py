@@ -27,6 +27,7 @@ from typing import Optional
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
+from vtkmodules.vtkCommonCore import vtkDataArray
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
 
@@ -113,8 +114,8 @@ class CornerPacker(VTKPythonAlgorithmBase):
             target.GetPointData().SetScalars(numpy_to_vtk(np.zeros((8, 4), np.float32), deep=True))
             return 1
         values = vtk_to_numpy(scalars).reshape(dims[2], dims[1], dims[0])
-        packed = scalars.NewInstance()  # same type; filled in place (no copy of a 4x volume)
-        packed.SetNumberOfComponents(4)
+        packed = vtkDataArray.CreateDataArray(scalars.GetDataType())  # same type, standard (AOS) layout,
+        packed.SetNumberOfComponents(4)                                # filled in place: no copy of a 4x volume
         packed.SetNumberOfTuples(scalars.GetNumberOfTuples())
         packed_corners(values, out=vtk_to_numpy(packed).reshape(values.shape + (4,)))
         packed.SetName(scalars.GetName() or "scalars")

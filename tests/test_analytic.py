@@ -201,6 +201,30 @@ def test_packed_corners_draw_the_same_pixels_as_eight_fetches(window):
     assert image.GetMTime() == stamp
 
 
+def test_packed_corners_of_a_non_standard_array_layout():
+    """VTK's one-buffer-per-component (SOA) arrays pack like plain ones (the packed copy is a standard array)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkCommonCore import vtkSOADataArrayTemplate
+
+    plain = make_fixture("vessels", size=24)
+    values = (vtk_to_numpy(plain.GetPointData().GetScalars()) * 1000).astype(np.int16)
+    soa = vtkSOADataArrayTemplate["int16"]()
+    soa.SetNumberOfComponents(1)
+    soa.SetNumberOfTuples(values.size)
+    for index, value in enumerate(values.tolist()):
+        soa.SetValue(index, value)
+    soa.SetName("values")
+    pictures = []
+    for array in (soa, None):
+        image = image_from_array(values.reshape(24, 24, 24))  # int16, standard layout
+        if array is not None:
+            image.GetPointData().SetScalars(array)
+        pictures.append(OffscreenView(image, "analytic", size=(48, 48)).float_image())
+    assert np.nanmax(pictures[1]) > 500
+    assert np.array_equal(np.isnan(pictures[0]), np.isnan(pictures[1]))
+    assert np.nanmax(np.abs(pictures[0] - pictures[1])) == 0.0
+
+
 def test_packed_corners_follow_a_pipeline_and_dependent_components():
     from vtkmodules.vtkImagingCore import vtkImageShiftScale
 
