@@ -82,7 +82,8 @@ def render(image, method: str = "mip", *, scalars: Optional[str] = None, size: S
 def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = None,
                cmap: Union[str, object] = "gray", clim: Optional[Sequence[float]] = None,
                opacity: Union[float, str] = 1.0, sample_distance: Optional[float] = None,
-               name: Optional[str] = None, reset_camera: Optional[bool] = None, **params):
+               name: Optional[str] = None, reset_camera: Optional[bool] = None, render: bool = True,
+               **params):
     """Add ``image`` to a pyvista ``Plotter``, rendered by a mipcast method.
 
     Parameters
@@ -112,6 +113,8 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
     reset_camera : bool, optional
         As in pyvista: by default the camera is reset only if it has not
         been set yet (a ``camera_position`` set before is kept).
+    render : bool, default: True
+        As in pyvista: render a shown window after adding.
     **params
         Method parameters, passed to the mapper's setters (see
         :func:`mipcast.parameters.set_parameters`); an unknown name raises ``TypeError``
@@ -147,7 +150,7 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
     volume = pyvista.Volume()
     volume.SetProperty(_volume_property(cmap, (low, high), opacity))
     attach(mapper, volume)
-    plotter.add_actor(volume, reset_camera=reset_camera, name=name)
+    plotter.add_actor(volume, reset_camera=reset_camera, name=name, render=render)
     return volume
 
 
@@ -171,7 +174,8 @@ def plot(image, method: str = "mip", *, off_screen: Optional[bool] = None,
     Returns
     -------
     object
-        What ``Plotter.show`` returns (the camera position by default).
+        What ``Plotter.show`` returns: the image (numpy array) when
+        ``screenshot=True``, else ``None``.
 
     Examples
     --------

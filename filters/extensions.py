@@ -113,7 +113,9 @@ class MipPlotterComponent:
     """Add volumes rendered by mipcast methods to a plotter: ``plotter.mip.add_volume(...)``.
 
     The component keeps the volumes it added; when the plotter closes it
-    detaches their shader pieces and removes them from their renderers.
+    detaches their shader pieces and removes them from their renderers.  A
+    volume pyvista takes away (``remove_actor``, or another added under its
+    name) is detached too: to show one again, add it with ``add_volume``.
 
     Parameters
     ----------
@@ -155,7 +157,8 @@ class MipPlotterComponent:
     def add_volume(self, grid, method: str = "mip", *, scalars: Optional[str] = None,
                    cmap: Union[str, object] = "gray", clim: Optional[Sequence[float]] = None,
                    opacity: Union[float, str] = 1.0, sample_distance: Optional[float] = None,
-                   name: Optional[str] = None, reset_camera: Optional[bool] = None, **params):
+                   name: Optional[str] = None, reset_camera: Optional[bool] = None, render: bool = True,
+                   **params):
         """Add ``grid`` to the plotter's active renderer; see :func:`mipcast.filters.add_volume`.
 
         Parameters
@@ -179,6 +182,8 @@ class MipPlotterComponent:
             Actor name, as in pyvista (the same name replaces).
         reset_camera : bool, optional
             As in pyvista: by default only if the camera has not been set.
+        render : bool, default: True
+            As in pyvista: render a shown window after adding.
         **params
             Method parameters, e.g. ``depth_weight=0.2`` (see
             :func:`mipcast.filters.set_parameters`).
@@ -204,7 +209,8 @@ class MipPlotterComponent:
         """
         renderer = self._plotter.renderer
         volume = add_volume(self._plotter, grid, method, scalars=scalars, cmap=cmap, clim=clim, opacity=opacity,
-                            sample_distance=sample_distance, name=name, reset_camera=reset_camera, **params)
+                            sample_distance=sample_distance, name=name, reset_camera=reset_camera, render=render,
+                            **params)
         self._added.append((volume, renderer))
         self._forget_removed()
         return volume

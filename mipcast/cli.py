@@ -37,6 +37,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         from .parameters import parse_options
 
         try:
+            _check_input_not_a_value(parser, args, argv)
             args.params = parse_options(extra)
         except ValueError as error:
             print(f"mipcast {args.command}: error: {error}", file=sys.stderr)
@@ -62,8 +63,7 @@ def _parser() -> argparse.ArgumentParser:
     demo.set_defaults(run=_run_demo)
 
     render = sub.add_parser("render", help="render a volume file (.vti/.nrrd/.nii/.mha/DICOM) to PNG",
-                            epilog=_parameters_help(), formatter_class=argparse.RawDescriptionHelpFormatter,
-                            allow_abbrev=False)
+                            formatter_class=argparse.RawDescriptionHelpFormatter, allow_abbrev=False)
     render.add_argument("input", type=Path)
     render.add_argument("--method", default="mip", choices=sorted(METHODS))
     render.add_argument("--out", type=Path, required=True, help="PNG file to write")
@@ -77,10 +77,10 @@ def _parser() -> argparse.ArgumentParser:
     render.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
     render.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
     render.set_defaults(run=_run_render)
+    render.epilog = _parameters_help(render)
 
     view = sub.add_parser("view", help="open an interactive window (keys m/d switch method/depth mode)",
-                          epilog=_parameters_help(), formatter_class=argparse.RawDescriptionHelpFormatter,
-                          allow_abbrev=False)
+                          formatter_class=argparse.RawDescriptionHelpFormatter, allow_abbrev=False)
     view.add_argument("input", type=Path)
     view.add_argument("--method", default="mip", choices=sorted(METHODS))
     view.add_argument("--window", type=float, nargs=2, default=None, metavar=("LOW", "HIGH"),
@@ -88,6 +88,7 @@ def _parser() -> argparse.ArgumentParser:
     view.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
     view.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
     view.set_defaults(run=run_view)
+    view.epilog = _parameters_help(view)
 
     bench = sub.add_parser("bench", help="frame-time ratios of every method against stock VTK MIP")
     bench.add_argument("--scenes", nargs="+", default=["vessels"],
@@ -110,14 +111,31 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
-def _parameters_help() -> str:
+def _check_input_not_a_value(parser, args, argv) -> None:
+    """Refuse ``render --depth-weight 0.3 INPUT``: argparse would take ``0.3`` as the input.
+
+    Method parameters are unknown to argparse, so a value right after one is
+    a positional to it; they must come after INPUT.
+    """
+    tokens = list(sys.argv[1:] if argv is None else argv)
+    known = parser._subparsers._group_actions[0].choices[args.command]._option_string_actions  # the command's own
+    text = str(args.input)
+    for before, token in zip(tokens, tokens[1:]):
+        if token == text and before.startswith("--") and "=" not in before and before not in known:
+            raise ValueError(f"{text!r} was read as INPUT, but it is the value of {before}: "
+                             f"method parameters go after the input (mipcast {args.command} INPUT {before} {text})")
+        if token == text:
+            return
+
+
+def _parameters_help(command: argparse.ArgumentParser) -> str:
     """The epilog of ``render`` and ``view``: how to set method parameters, and each method's own."""
     from .parameters import method_parameters
 
     lines = ["method parameters: --NAME VALUE [VALUE ...] calls the mapper's SetName(VALUE, ...),",
              "e.g. --depth-weight 0.3, --gaze-point 0.2 0.8, --foveation off; --mapper-NAME where the",
              "command has a --NAME of its own (--mapper-method analytic). Each method's own:"]
-    own_options = {"method", "window", "view", "size", "out", "series", "scalars", "sample_distance"}
+    own_options = {option[2:].replace("-", "_") for option in command._option_string_actions}
     for name, factory in METHODS.items():
         options = ["--" + ("mapper-" if option in own_options else "") + option.replace("_", "-")
                    for option in method_parameters(factory())]
@@ -237,11 +255,9 @@ def run_view(args) -> int:
               "to render to a file instead", file=sys.stderr)
         return 2
     from .io import read_volume, with_scalars
-    from .parameters import set_parameters
 
     image = with_scalars(read_volume(args.input, series_uid=args.series), args.scalars)
-    set_parameters(METHODS[args.method](), **args.params)  # refuse a bad name before the window opens
-    run_viewer(image, args.method, clim=args.window, params=args.params)
+    run_viewer(image, args.method, clim=args.window, params=args.params)  # checks params before the window
     return 0
 
 

@@ -392,7 +392,9 @@ def _nrrd_header(path: Path) -> dict:
 def with_scalars(image, scalars: Optional[str] = None):
     """``image``, or a shallow copy of it whose active point scalars are ``scalars``.
 
-    The copy shares the arrays; the image given is not modified.
+    The copy shares the arrays; the image given is not modified.  It is a
+    snapshot of the image's array *list*: values changed in place show, but
+    an array replaced or added later does not (render or add again).
 
     Parameters
     ----------
@@ -425,10 +427,14 @@ def with_scalars(image, scalars: Optional[str] = None):
         return image
     points, cells = image.GetPointData(), image.GetCellData()
     if points.GetArray(scalars) is None:
-        names = [points.GetArrayName(i) for i in range(points.GetNumberOfArrays())]
-        fix = ("it is a cell array: convert it with grid.cell_data_to_point_data()"
-               if cells.GetArray(scalars) is not None else f"point arrays: {names}")
-        raise ValueError(f"scalars {scalars!r} is not a point array of the image; {fix}")
+        names = [points.GetArrayName(i) for i in range(points.GetNumberOfArrays()) if points.GetArray(i)]
+        if cells.GetArray(scalars) is not None:
+            fix = "it is a cell array: convert it with grid.cell_data_to_point_data()"
+        elif points.GetAbstractArray(scalars) is not None:
+            fix = f"it is not numeric; numeric point arrays: {names}"
+        else:
+            fix = f"point arrays: {names}"
+        raise ValueError(f"scalars {scalars!r} is not a numeric point array of the image; {fix}")
     copy = image.NewInstance()
     copy.ShallowCopy(image)
     copy.GetPointData().SetActiveScalars(scalars)

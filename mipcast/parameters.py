@@ -9,6 +9,7 @@ Python (which has no pyvista).
 """
 from __future__ import annotations
 
+import inspect
 import re
 from typing import Any, Dict, Sequence, Tuple
 
@@ -61,11 +62,24 @@ def set_parameters(mapper, **params) -> None:
                 "image_sample_distance=2.0 (SetImageSampleDistance) or use_jittering=True")
         setters[name] = setter
     for name, value in params.items():
-        arguments = tuple(value) if isinstance(value, (tuple, list)) else (value,)
+        unpack = isinstance(value, (tuple, list)) and not _takes_one_value(setters[name])
         try:
-            setters[name](*arguments)
-        except TypeError as error:
+            setters[name](*(tuple(value) if unpack else (value,)))
+        except (TypeError, AttributeError) as error:  # AttributeError: e.g. text where an object is wanted
             raise TypeError(f"{name}={value!r} ({setter_name(name)}): {error}") from None
+
+
+def _takes_one_value(setter) -> bool:
+    """A Python setter with a single parameter (``SetRegionOfInterest(region)``) gets a sequence whole.
+
+    VTK's wrapped C++ setters have no Python signature; they get it unpacked.
+    """
+    try:
+        parameters = inspect.signature(setter).parameters.values()
+    except (TypeError, ValueError):
+        return False
+    kinds = [p.kind for p in parameters]
+    return kinds == [inspect.Parameter.POSITIONAL_OR_KEYWORD]
 
 
 def method_parameters(mapper) -> Tuple[str, ...]:
@@ -141,7 +155,8 @@ def parse_options(tokens: Sequence[str]) -> Dict[str, Any]:
     Raises
     ------
     ValueError
-        If a value comes before any ``--name``, or a name is given twice.
+        If a value comes before any ``--name``, a name is given twice, or
+        ``--name=`` has nothing after the ``=``.
 
     Examples
     --------
@@ -154,12 +169,14 @@ def parse_options(tokens: Sequence[str]) -> Dict[str, Any]:
     name = None
     for token in tokens:
         if token.startswith("--") and len(token) > 2 and not _is_number(token):
-            name, _, value = token[2:].partition("=")
-            name = name.replace("-", "_")
+            option, equals, value = token[2:].partition("=")
+            if equals and not value:
+                raise ValueError(f"--{option}= has no value (e.g. --{option}=0.3, or --{option} 0.3)")
+            name = option.replace("-", "_")
             name = name[len(MAPPER_PREFIX):] if name.startswith(MAPPER_PREFIX) else name
             if name in options:
-                raise ValueError(f"--{token[2:].partition('=')[0]} is given twice")
-            options[name] = [value] if value else []
+                raise ValueError(f"--{option} is given twice")
+            options[name] = [value] if equals else []
         elif name is None:
             raise ValueError(f"{token!r} is not a --name of a method parameter (e.g. --depth-weight 0.3)")
         else:

@@ -127,7 +127,7 @@ def build_viewer(image, method: str = "mip", *, cmap="gray", clim: Optional[Sequ
     >>> plotter.close()
     """
     return _Viewer(image, method, cmap=cmap, clim=clim, window_size=window_size,
-                   off_screen=off_screen).plotter
+                   off_screen=off_screen, params=params).plotter
 
 
 def run_viewer(image, method: str = "mip", **options) -> None:
@@ -172,12 +172,12 @@ class _Viewer:
 
         importlib.import_module("mipcast.filters")  # registers plotter.mip
 
+        self.params = _checked_params(method, dict(params or {}))  # name -> value, carried across methods
         self.grid = pyvista.wrap(image)
         self.cmap = cmap
         self.clim = tuple(clim) if clim is not None else self.grid.GetPointData().GetScalars().GetRange(0)
         self.voxel = min(abs(s) for s in self.grid.GetSpacing())
         self.sample_voxels = 1.0
-        self.params = dict(params or {})  # parameter name -> value, carried from method to method
         self.volume = None
         self.legend = None
         self.plotter = pyvista.Plotter(off_screen=off_screen, window_size=list(window_size))
@@ -201,7 +201,7 @@ class _Viewer:
             self.plotter.mip.remove_volume(self.volume)
         sample_distance = self.sample_voxels * self.voxel if _uses_sample_distance(method) else None
         self.volume = self.plotter.mip.add_volume(self.grid, method, cmap=self.cmap, clim=self.clim,
-                                                  sample_distance=sample_distance)
+                                                  sample_distance=sample_distance, render=False)
         self.method = method
         for name, value in self.params.items():  # carry over what the new method accepts
             if self._has(name):
@@ -312,6 +312,22 @@ class _Viewer:
         gaze_y = min(max((y / height - y0) / (y1 - y0), 0.0), 1.0)
         self.mapper.SetGazePoint(gaze_x, gaze_y)
         self.plotter.render()
+
+
+def _checked_params(method: str, params: dict) -> dict:
+    """``params``, refused unless every name is some method's parameter and the first method takes its values.
+
+    Names of other methods are kept for when the viewer switches to them.
+    """
+    mappers = {name: METHODS[name]() for name in METHODS}
+    for name in params:
+        if not any(callable(getattr(mapper, setter_name(name), None)) for mapper in mappers.values()):
+            raise TypeError(f"no method has a parameter {name!r} (no {setter_name(name)}); "
+                            f"see `mipcast view --help` for each method's")
+    first = mappers[method]
+    set_parameters(first, **{name: value for name, value in params.items()
+                             if callable(getattr(first, setter_name(name), None))})
+    return params
 
 
 def _uses_sample_distance(method: str) -> bool:

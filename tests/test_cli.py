@@ -216,4 +216,17 @@ def test_render_scalars_picks_the_array(tmp_path, capsys):
         assert main(["render", str(source), "--out", str(outputs[scalars]), "--size", "48", "48", *chosen]) == 0
     assert not np.array_equal(pyplot.imread(outputs[None]), pyplot.imread(outputs["flipped"]))
     assert main(["render", str(source), "--out", str(tmp_path / "x.png"), "--scalars", "nope"]) == 2
-    assert "'nope' is not a point array" in capsys.readouterr().err
+    assert "'nope' is not a numeric point array" in capsys.readouterr().err
+
+
+def test_render_parameters_must_follow_the_input(tmp_path, capsys):
+    source = _vti(tmp_path, make_fixture("spheres", size=16))
+    out = tmp_path / "x.png"
+    assert main(["render", "--depth-weight", "0.3", str(source), "--method", "demip", "--out", str(out)]) == 2
+    assert "method parameters go after the input" in capsys.readouterr().err
+    assert main(["render", str(source), "--method", "demip", "--out", str(out), "--depth-weight="]) == 2
+    assert "has no value" in capsys.readouterr().err
+    # a setter that takes one sequence gets the values whole: SetRegionOfInterest((x, y, z))
+    assert main(["render", str(source), "--method", "foveated", "--out", str(out), "--size", "32", "32",
+                 "--region-of-interest", "8", "8", "8"]) == 0
+    assert out.exists()

@@ -78,7 +78,7 @@ def test_scalars_chooses_the_array_without_modifying_the_grid(grid):
 def test_scalars_that_are_not_a_point_array_are_refused(grid):
     both = _two_arrays(grid)
     both.cell_data["cells"] = np.zeros(both.n_cells)
-    with pytest.raises(ValueError, match=r"'nope' is not a point array.*flipped"):
+    with pytest.raises(ValueError, match=r"'nope' is not a numeric point array.*flipped"):
         render(both, scalars="nope")
     plotter = pv.Plotter(off_screen=True, window_size=(32, 32))
     with pytest.raises(ValueError, match="cell_data_to_point_data"):

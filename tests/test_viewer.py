@@ -160,3 +160,18 @@ def test_viewer_under_xvfb(tmp_path):
     result = run_under_xvfb([sys.executable, str(script)], cwd=tmp_path, env=env, timeout=240)
     assert result.returncode == 0 and "viewer ok" in result.stdout, result.stdout + result.stderr
     assert "Encountered issue in callback" not in result.stderr, result.stderr
+
+
+def test_viewer_params_reach_the_mapper_and_bad_ones_are_refused():
+    from mipcast.data_fixtures import make_fixture
+    from mipcast.viewer import build_viewer
+
+    image = make_fixture("vessels", size=16)
+    plotter = build_viewer(image, "demip", off_screen=True, window_size=(48, 48),
+                           params={"depth_weight": 0.5, "gaze_point": (0.2, 0.8)})  # a foveated one, kept for later
+    assert plotter.mip.volumes[0].GetMapper().GetDepthWeight() == 0.5
+    plotter.close()
+    with pytest.raises(TypeError, match="depth_wieght"):
+        build_viewer(image, "demip", off_screen=True, window_size=(48, 48), params={"depth_wieght": 0.5})
+    with pytest.raises(ValueError):
+        build_viewer(image, "demip", off_screen=True, window_size=(48, 48), params={"depth_weight": 5.0})
