@@ -128,6 +128,26 @@ def _check_input_not_a_value(parser, args, argv) -> None:
             return
 
 
+def _strict_json(value) -> str:
+    """JSON that strict parsers accept: NaN and infinities (e.g. a ceiling with no fovea in view) become null.
+
+    Examples
+    --------
+    >>> json.loads(_strict_json({"ceiling": float("inf"), "share": float("nan"), "ratio": [1.5]}))
+    {'ceiling': None, 'share': None, 'ratio': [1.5]}
+    """
+    def finite(item):
+        if isinstance(item, float) and not np.isfinite(item):
+            return None
+        if isinstance(item, dict):
+            return {key: finite(entry) for key, entry in item.items()}
+        if isinstance(item, (list, tuple)):
+            return [finite(entry) for entry in item]
+        return item
+
+    return json.dumps(finite(value), indent=2, allow_nan=False)
+
+
 def _parameters_help(command: argparse.ArgumentParser) -> str:
     """The epilog of ``render`` and ``view``: how to set method parameters, and each method's own."""
     from .parameters import method_parameters
@@ -183,7 +203,7 @@ def _run_demo(args) -> int:
         scenes.append(("head CT", load_head_ct(), "front", (150.0, 1800.0)))
     write_depth_figure(args.out / "depth_figure.png", scenes, size=size)
     report["depth_figure"] = {"png": str(args.out / "depth_figure.png")}
-    (args.out / "demo.json").write_text(json.dumps(report, indent=2))
+    (args.out / "demo.json").write_text(_strict_json(report))
     print(f"mipcast demo: {DEMO_FIXTURE} fixture ({DEMO_SIZE}^3), {size[0]}x{size[1]} pixels")
     for method, entry in report.items():
         extra = ""
@@ -288,7 +308,7 @@ def _run_bench(args) -> int:
     columns = ["scene", "view", "size", "setting", "median_ms", "ratio_to_stock", "p99_pct",
                "fg_p99_pct", "max_pct", "within_1_grey", "frames", "texel_fetches", "skipped_cells",
                "ray_ratio", "sample_ratio"]
-    (args.out / "bench.json").write_text(json.dumps(rows, indent=2))
+    (args.out / "bench.json").write_text(_strict_json(rows))
     (args.out / "bench.md").write_text(markdown_table(rows, columns) + "\n")
     write_chart(rows, args.out / "bench.png")
     (args.out / "papers.md").write_text("\n\n".join(
@@ -317,7 +337,7 @@ def _run_foveation(args) -> int:
             bar.set_description(f"{scene} {method}")
             rows += measure_foveation(image, scene, method, sizes=sizes, rounds=rounds, window=window,
                                       progress=lambda label: _advance(bar, label))
-    (args.out / "foveation.json").write_text(json.dumps(rows, indent=2))
+    (args.out / "foveation.json").write_text(_strict_json(rows))
     table = foveation_table(rows)
     (args.out / "foveation.md").write_text(table + "\n")
     write_ring_chart(rows, args.out / "foveation.png")
@@ -352,7 +372,7 @@ def _run_stability(args) -> int:
               f"p99 {rows[-1]['p99_pct']:.3g}% ({rows[-1]['measured']})", flush=True)
     columns = ["method", "case", "measured", "p99_pct", "max_pct", "within_1_grey", "depth_jump_pct",
                "fovea_within_1_grey", "explanation"]
-    (args.out / "stability.json").write_text(json.dumps(rows, indent=2))
+    (args.out / "stability.json").write_text(_strict_json(rows))
     (args.out / "stability.md").write_text(markdown_table(rows, columns) + "\n")
     print(markdown_table(rows, columns))
     print(f"wrote {args.out}/stability.json and stability.md")
