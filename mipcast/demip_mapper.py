@@ -226,8 +226,9 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
 
         Presets (:data:`SPHERE_PRESETS`): ``"red-blue"`` (default),
         ``"green-red"``, ``"green-blue"``.  Any two colours suit users who
-        tell other pairs apart better: ``SetSphereColors((1, 0.5, 0), (0, 0.6, 1))``
-        or ``SetSphereColors([front, back])``.
+        tell other pairs apart better: ``SetSphereColors((1, 0.5, 0), (0, 0.6, 1))``,
+        ``SetSphereColors([front, back])`` or six numbers
+        (``mipcast render ... --sphere-colors 1 0.5 0 0 0.6 1``).
         """
         self._set("sphere_colors", _sphere_colors(colors))
 
@@ -475,6 +476,8 @@ def _sphere_colors(colors: tuple) -> tuple:
         return SPHERE_PRESETS[check_choice("sphere_colors", colors[0], tuple(SPHERE_PRESETS))]
     if len(colors) == 1 and not isinstance(colors[0], str):
         colors = tuple(colors[0]) if hasattr(colors[0], "__len__") else colors
+    if len(colors) == 6 and not any(hasattr(c, "__len__") for c in colors):  # six numbers (command line)
+        colors = (colors[:3], colors[3:])
     if len(colors) != 2:
         raise TypeError(f"sphere_colors must be a preset ({', '.join(map(repr, SPHERE_PRESETS))}) "
                         f"or two RGB triplets (front, back), got {colors!r}")

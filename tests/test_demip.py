@@ -335,6 +335,8 @@ def test_defaults_and_getters():
     assert mapper.GetSphereColors() == ((0.0, 1.0, 0.0), (1.0, 0.0, 0.0))
     mapper.SetSphereColors((1, 0.5, 0), (0, 0.6, 1))
     assert mapper.GetSphereColors() == ((1.0, 0.5, 0.0), (0.0, 0.6, 1.0))
+    mapper.SetSphereColors(0, 1, 0, 1, 0, 0)  # six numbers, as the command line passes them
+    assert mapper.GetSphereColors() == ((0.0, 1.0, 0.0), (1.0, 0.0, 0.0))
     mapper.SetSphereOrientation(0, 90, 0)
     assert np.allclose(mapper.GetSphereOrientation(), [[0, 0, 1], [0, 1, 0], [-1, 0, 0]])
     mapper.SetSphereOrientation(np.eye(3)[[1, 0, 2]] * [[1], [-1], [1]])
