@@ -36,6 +36,8 @@ __all__ = ["show", "hide", "shown", "ShownVolume"]
 
 #: (view GlobalID, source GlobalID) -> _Entry, for every volume :func:`show` added.
 _SHOWN: dict = {}
+#: view GlobalID -> (its vtkRenderer, the tag of our one StartEvent observer on it).
+_OBSERVED: dict = {}
 
 
 class ShownVolume(NamedTuple):
@@ -54,14 +56,19 @@ class ShownVolume(NamedTuple):
 
 
 class _Entry:
-    """Everything :func:`hide` needs to undo :func:`show`."""
+    """Everything :func:`hide` needs to undo :func:`show`, and the per-frame work."""
 
     def __init__(self, shown: ShownVolume, view_object, assign) -> None:
         self.shown = shown
         self.view_object = view_object
         self.assign = assign
-        # before each frame: drop the volume if its source or view was deleted
-        self.observer = view_object.GetRenderer().AddObserver("StartEvent", _prune_deleted)
+
+    def before_frame(self) -> None:
+        """Bring the volume's input up to date: the view's time (time series)."""
+        from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
+
+        self.assign.GetOutputInformation(0).Set(
+            vtkStreamingDemandDrivenPipeline.UPDATE_TIME_STEP(), self.view_object.GetViewTime())
 
 
 def show(source: Any = None, view: Any = None, method: str = "mip",
@@ -189,6 +196,7 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
     if previous is None:
         view_object.AddPropToRenderer(volume)
     _SHOWN[key] = _Entry(ShownVolume(source, view, method, name, volume), view_object, assign)
+    _observe(key[0], view_object.GetRenderer())
     return volume
 
 
@@ -350,13 +358,31 @@ def _key(view, source) -> tuple:
 
 
 def _remove(entry: _Entry, keep_volume: bool = False) -> None:
+    """Undo what :func:`show` did in the renderer (``entry`` is already out of ``_SHOWN``)."""
     volume = entry.shown.volume
     mapper = volume.GetMapper()
     if hasattr(mapper, "Detach"):
         mapper.Detach()
-    entry.view_object.GetRenderer().RemoveObserver(entry.observer)
     if not keep_volume:
         entry.view_object.RemovePropFromRenderer(volume)
+    view_id = entry.shown.view.GetGlobalIDAsString()
+    if view_id in _OBSERVED and not any(key[0] == view_id for key in _SHOWN):
+        renderer, tag = _OBSERVED.pop(view_id)
+        renderer.RemoveObserver(tag)
+
+
+def _observe(view_id: str, renderer) -> None:
+    """One StartEvent observer per view renderer: the per-frame work for its volumes."""
+    if view_id in _OBSERVED:
+        return
+
+    def before_frame(*_event) -> None:  # holds the view's id only, never the view
+        _prune_deleted()
+        for (key_view, _), entry in list(_SHOWN.items()):
+            if key_view == view_id:
+                entry.before_frame()
+
+    _OBSERVED[view_id] = (renderer, renderer.AddObserver("StartEvent", before_frame))
 
 
 def _registered(proxy, group: str) -> bool:

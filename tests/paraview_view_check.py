@@ -18,7 +18,8 @@ Diffuse 0) so that ParaView's light kit and VTK's headlight agree.
 
 Measured: each method; a parallel projection; an opaque sphere through the
 volume (rays must stop at it); the colour map edited through the proxies;
-an upstream change (a Wavelet's extent); replacing and hiding; the macros;
+an upstream change (a Wavelet's extent); a time series animated (3 .vti
+files); replacing and hiding; the macros;
 refused inputs; the effect of ParaView's FXAA and of translucent geometry
 with depth peeling for volumes.  Prints one JSON object on the last line of
 stdout; used by tests/test_paraview_view.py.
@@ -428,6 +429,64 @@ def upstream_report(view, png):
     return result
 
 
+def write_vti(image, path):
+    from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
+
+    writer = vtkXMLImageDataWriter()
+    writer.SetFileName(path)
+    writer.SetInputData(image)
+    writer.Write()
+    return path
+
+
+def blob_series(folder, steps=3, size=24):
+    """``steps`` .vti files of a Gaussian blob moving along x; returns (paths, images)."""
+    z, y, x = np.mgrid[0:size, 0:size, 0:size].astype(np.float32)
+    paths, images = [], []
+    for step in range(steps):
+        centre = 5.0 + step * (size - 10.0) / max(steps - 1, 1)
+        values = 100.0 * np.exp(-((x - centre) ** 2 + (y - size / 2) ** 2 + (z - size / 2) ** 2) / 10.0)
+        image = vtkImageData()
+        image.SetDimensions(size, size, size)
+        array = numpy_to_vtk(values.astype(np.float32).ravel(), deep=True)
+        array.SetName("blob")
+        image.GetPointData().SetScalars(array)
+        paths.append(write_vti(image, os.path.join(folder, f"blob_{step}.vti")))
+        images.append(image)
+    return paths, images
+
+
+def time_report(folder, png):
+    """A 3-file time series animated as the GUI does (AnimationTime, then Render)."""
+    from mipcast.plugin.render_view import show
+    from paraview.simple import Delete, GetAnimationScene, GetColorTransferFunction, \
+        GetDisplayProperties, GetOpacityTransferFunction, XMLImageDataReader
+
+    paths, images = blob_series(folder)
+    reader = XMLImageDataReader(FileName=paths)
+    scene = GetAnimationScene()
+    scene.UpdateAnimationUsingDataTimeSteps()
+    view = plain_view()
+    show(reader, view, method="mip")
+    flat(GetDisplayProperties(reader, view), (1.0, 1.0, 0.0))
+    set_camera(view, azimuth=10.0, elevation=20.0)
+    lut, pwf = GetColorTransferFunction("blob"), GetOpacityTransferFunction("blob")
+    outline = flat_actor(outline_of(images[0]), (1.0, 1.0, 0.0))
+    result, first = {}, None
+    for step in (0, 1, 2, 0):
+        scene.AnimationTime = float(step)
+        pv = screenshot(view, png(f"view_time_{step}"))
+        ref, _ = reference(images[step], "mip", view, lut, pwf, actors=[outline])
+        first = ref if first is None else first
+        entry = compare(pv, ref)
+        entry["ref_changed_from_step_0"] = changed_share(ref, first)
+        result[str(step)] = entry  # the last 0: back to the first step
+    scene.AnimationTime = 0.0
+    Delete(view)
+    Delete(reader)
+    return result
+
+
 def macros_report(reader, view):
     """Run the macro files as ParaView runs them (exec in the Python shell's namespace)."""
     from mipcast.plugin.render_view import shown
@@ -576,11 +635,7 @@ def main(argv):
 
         image = make_fixture("vessels", size=48)
         path = os.path.join(folder, "vessels.vti")
-        from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
-        writer = vtkXMLImageDataWriter()
-        writer.SetFileName(path)
-        writer.SetInputData(image)
-        writer.Write()
+        write_vti(image, path)
         reader = XMLImageDataReader(FileName=[path])
         reader.UpdatePipeline()
         view = plain_view()
@@ -595,6 +650,7 @@ def main(argv):
         report["upstream"] = upstream_report(view, png)
         report["macros"] = macros_report(reader, view)
         report["errors"] = errors_report(view)
+        report["time"] = time_report(folder, png)
         Delete(view)
     report["remote"] = remote_report()
     print(json.dumps(report))

@@ -126,6 +126,17 @@ def test_upstream_changes_flow_through(report):
     assert result["coloured_by"] == ["POINTS", "RTData"]
 
 
+def test_time_series_follows_the_animation_time(report):
+    """A 3-file .vti series animated as the GUI does: each frame is that step's volume."""
+    result = report["time"]
+    for step in ("0", "1", "2"):
+        assert result[step]["within_1_share"] >= MATCH, (step, result)
+        assert result[step]["lit_share"] > 0.05, (step, result)
+    # the steps differ: a volume stuck on step 0 cannot match steps 1 and 2
+    assert result["1"]["ref_changed_from_step_0"] > 0.05
+    assert result["2"]["ref_changed_from_step_0"] > 0.05
+
+
 def test_deleting_the_source_removes_its_volume(report):
     assert report["upstream"]["after_delete"] == {"shown": 0, "volumes_in_renderer": 0}
 
