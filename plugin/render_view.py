@@ -62,13 +62,34 @@ class _Entry:
         self.shown = shown
         self.view_object = view_object
         self.assign = assign
+        self.problem: Optional[str] = None  # why the volume is hidden, if it is
 
     def before_frame(self) -> None:
-        """Bring the volume's input up to date: the view's time (time series)."""
+        """Bring the volume's input up to date at the view's time; hide it while unusable.
+
+        VTK's mappers must never see an input without one-component point
+        scalars (VTK's CPU mapper segfaults), e.g. after the array was
+        renamed upstream: the volume is hidden until the array is back.
+        """
+        from vtkmodules.vtkCommonCore import vtkOutputWindow
         from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
         self.assign.GetOutputInformation(0).Set(
             vtkStreamingDemandDrivenPipeline.UPDATE_TIME_STEP(), self.view_object.GetViewTime())
+        self.assign.Update()
+        problem = _problem(self.assign.GetOutputDataObject(0), self.shown.array)
+        self.shown.volume.SetVisibility(problem is None)
+        if problem != self.problem:  # reported once per change
+            self.problem = problem
+            source = _name(self.shown.source, "sources")
+            if problem is None:
+                vtkOutputWindow.GetInstance().DisplayText(
+                    f"mipcast: the {self.shown.method!r} volume of {source} is shown again\n")
+            else:
+                vtkOutputWindow.GetInstance().DisplayWarningText(
+                    f"mipcast: the {self.shown.method!r} volume of {source} is hidden: {problem}. "
+                    f"It comes back when the array does; or show another array with "
+                    f"mipcast.plugin.render_view.show(array=...), or remove it with hide()\n")
 
 
 def show(source: Any = None, view: Any = None, method: str = "mip",
@@ -383,6 +404,28 @@ def _observe(view_id: str, renderer) -> None:
                 entry.before_frame()
 
     _OBSERVED[view_id] = (renderer, renderer.AddObserver("StartEvent", before_frame))
+
+
+def _problem(data, name: str) -> Optional[str]:
+    """Why ``data`` cannot be rendered (None if it can): image data, one-component scalars."""
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    if not isinstance(data, vtkImageData):
+        kind = "nothing" if data is None else type(data).__name__
+        return f"the source's output is {kind}, not image data (vtkImageData)"
+    scalars = data.GetPointData().GetScalars()
+    if scalars is None:
+        return f"the source's output has no point array {name!r} any more (renamed or removed upstream)"
+    if scalars.GetNumberOfComponents() != 1:
+        return (f"point array {name!r} has {scalars.GetNumberOfComponents()} components "
+                "(one is needed)")
+    return None
+
+
+def _name(proxy, group: str) -> str:
+    """The name ``proxy`` has in the Pipeline Browser (or its class)."""
+    manager = proxy.SMProxy.GetSessionProxyManager()
+    return (manager and manager.GetProxyName(group, proxy.SMProxy)) or proxy.GetXMLName()
 
 
 def _registered(proxy, group: str) -> bool:

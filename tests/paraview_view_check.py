@@ -19,7 +19,7 @@ Diffuse 0) so that ParaView's light kit and VTK's headlight agree.
 Measured: each method; a parallel projection; an opaque sphere through the
 volume (rays must stop at it); the colour map edited through the proxies;
 an upstream change (a Wavelet's extent); a time series animated (3 .vti
-files); replacing and hiding; the macros;
+files); the shown array renamed upstream and back; replacing and hiding; the macros;
 refused inputs; the effect of ParaView's FXAA and of translucent geometry
 with depth peeling for volumes.  Prints one JSON object on the last line of
 stdout; used by tests/test_paraview_view.py.
@@ -429,6 +429,51 @@ def upstream_report(view, png):
     return result
 
 
+def rename_report(png):
+    """The shown array renamed upstream (a Calculator's result), then renamed back."""
+    from mipcast.plugin.render_view import show
+    from paraview.simple import Calculator, Delete, GetDisplayProperties, Wavelet
+    from vtkmodules.util.misc import calldata_type
+    from vtkmodules.util.vtkConstants import VTK_STRING
+    from vtkmodules.vtkCommonCore import vtkOutputWindow
+
+    warnings = []
+
+    @calldata_type(VTK_STRING)
+    def on_warning(_window, _event, text):
+        warnings.append(text)
+
+    window = vtkOutputWindow.GetInstance()
+    tag = window.AddObserver("WarningEvent", on_warning)
+    wavelet = Wavelet(WholeExtent=[-10, 10, -10, 10, -10, 10])
+    calc = Calculator(Input=wavelet, ResultArrayName="inv", Function="300-RTData")
+    view = plain_view()
+    result = {}
+    for method in ("mip", "analytic", "demip", "stock", "cpu"):
+        volume = show(calc, view, method=method, array="inv")
+        flat(GetDisplayProperties(calc, view), (1.0, 1.0, 0.0))
+        set_camera(view)
+        before = screenshot(view, png(f"view_rename_{method}_0"))
+        del warnings[:]
+        calc.ResultArrayName = "renamed"
+        renamed = screenshot(view, png(f"view_rename_{method}_1"))
+        hidden = {"visible": volume.GetVisibility(),
+                  "lit_share": float(np.mean(renamed.max(axis=-1) > 8)),
+                  "warnings": list(warnings)}
+        screenshot(view, png(f"view_rename_{method}_1b"))  # a second frame: no second message
+        hidden["warnings_after_second_frame"] = len(warnings)
+        calc.ResultArrayName = "inv"
+        back = screenshot(view, png(f"view_rename_{method}_2"))
+        result[method] = {"before_lit_share": float(np.mean(before.max(axis=-1) > 8)),
+                          "renamed": hidden, "visible_again": volume.GetVisibility(),
+                          "back": compare(back, before)}
+    window.RemoveObserver(tag)
+    Delete(view)
+    Delete(calc)
+    Delete(wavelet)
+    return result
+
+
 def write_vti(image, path):
     from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
 
@@ -651,6 +696,7 @@ def main(argv):
         report["macros"] = macros_report(reader, view)
         report["errors"] = errors_report(view)
         report["time"] = time_report(folder, png)
+        report["rename"] = rename_report(png)
         Delete(view)
     report["remote"] = remote_report()
     print(json.dumps(report))

@@ -137,6 +137,22 @@ def test_time_series_follows_the_animation_time(report):
     assert result["2"]["ref_changed_from_step_0"] > 0.05
 
 
+@pytest.mark.parametrize("method", ["mip", "analytic", "demip", "stock", "cpu"])
+def test_array_renamed_upstream_hides_the_volume_until_it_is_back(report, method):
+    """Was a segfault for "cpu" (VTK's own CPU mapper given no scalars)."""
+    result = report["rename"][method]
+    assert result["before_lit_share"] > 0.25, result
+    renamed = result["renamed"]
+    assert renamed["visible"] == 0 and renamed["lit_share"] < 0.10, result  # the outline only
+    assert len(renamed["warnings"]) == 1, result
+    message = renamed["warnings"][0]
+    for word in ("mipcast", method, "hidden", "'inv'", "show(array=", "hide()"):
+        assert word in message, message
+    assert renamed["warnings_after_second_frame"] == 1, result  # once per change
+    assert result["visible_again"] == 1
+    assert result["back"]["within_1_share"] >= MATCH, result
+
+
 def test_deleting_the_source_removes_its_volume(report):
     assert report["upstream"]["after_delete"] == {"shown": 0, "volumes_in_renderer": 0}
 
