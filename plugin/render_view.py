@@ -15,7 +15,13 @@ connection) the render view's ``vtkRenderer`` lives in the same process.
 - the source keeps a representation of its own, an *Outline* coloured by the
   same array: ParaView's *Reset Camera* works from its representations'
   bounds, and the colour map editor and colour legend follow the active
-  representation's array.
+  representation's array.  Re-colour the outline by another point array
+  (Properties panel, ``ColorBy``) and the volume renders that array at the
+  next frame;
+- before each frame the volume's input asks for the view's time (time
+  series follow the animation) and the volume is hidden, with one warning in
+  ParaView's output window, while its input is unusable (e.g. the array was
+  renamed upstream).
 
 The volume is not a ParaView representation: it has no eye toggle in the
 pipeline browser, state files do not save it, and remote (client-server)
@@ -58,10 +64,11 @@ class ShownVolume(NamedTuple):
 class _Entry:
     """Everything :func:`hide` needs to undo :func:`show`, and the per-frame work."""
 
-    def __init__(self, shown: ShownVolume, view_object, assign) -> None:
+    def __init__(self, shown: ShownVolume, view_object, assign, outline) -> None:
         self.shown = shown
         self.view_object = view_object
         self.assign = assign
+        self.outline = outline  # the display show() made an Outline, or None
         self.problem: Optional[str] = None  # why the volume is hidden, if it is
 
     def before_frame(self) -> None:
@@ -74,6 +81,11 @@ class _Entry:
         from vtkmodules.vtkCommonCore import vtkOutputWindow
         from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
 
+        if self.outline is not None:  # re-coloured (Properties panel, ColorBy)? follow
+            association, name = self.outline.ColorArrayName
+            if association == "POINTS" and name and name != self.shown.array:
+                self.shown = self.shown._replace(array=name)
+                _link(self.assign, self.shown.volume, name)
         self.assign.GetOutputInformation(0).Set(
             vtkStreamingDemandDrivenPipeline.UPDATE_TIME_STEP(), self.view_object.GetViewTime())
         self.assign.Update()
@@ -116,8 +128,10 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
     outline : bool, default: True
         Show the source itself as an Outline coloured by ``array`` (the
         colour map editor and colour legend then show the volume's colours,
-        and ParaView's camera knows the volume's bounds).  False leaves the
-        source's representation as it is.
+        and ParaView's camera knows the volume's bounds); re-colouring that
+        outline by another point array re-colours the volume too.  False
+        leaves the source's representation as it is (and the volume keeps
+        ``array``).
     **settings
         Mapper settings as keyword arguments, ``name=value`` calling
         ``mapper.SetName(value)`` (see :func:`mipcast.parameters.set_parameters`),
@@ -155,7 +169,7 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
         hide(wavelet)
     """
     from vtkmodules.vtkFiltersCore import vtkAssignAttribute
-    from vtkmodules.vtkRenderingCore import vtkVolume, vtkVolumeProperty
+    from vtkmodules.vtkRenderingCore import vtkVolume
 
     from mipcast.methods import attach, create_mapper
     from mipcast.parameters import set_parameters
@@ -173,7 +187,7 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
 
     assign = vtkAssignAttribute()
     assign.SetInputConnection(algorithm.GetOutputPort(0))
-    assign.Assign(name, "SCALARS", "POINT_DATA")
+    assign.Assign(name, "SCALARS", "POINT_DATA")  # for check_image; _link sets it again
     assign.Update()
     image = assign.GetOutputDataObject(0)
     check_image(image)  # raises naming the problem and the fix
@@ -190,6 +204,7 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
 
     lut = simple.GetColorTransferFunction(name)
     pwf = simple.GetOpacityTransferFunction(name)
+    display = None
     if outline:
         display = simple.Show(source, view)
         display.SetRepresentationType("Outline")
@@ -199,24 +214,19 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
         lut.RescaleTransferFunction(low, high)
         pwf.RescaleTransferFunction(low, high)
 
-    prop = vtkVolumeProperty()
-    prop.SetColor(lut.GetClientSideObject())
-    prop.SetScalarOpacity(pwf.GetClientSideObject())
-    prop.SetInterpolationTypeToLinear()
-    prop.ShadeOff()
-
     _prune_deleted()
     key = _key(view, source)
     previous = _SHOWN.pop(key, None)
     volume = previous.shown.volume if previous is not None else vtkVolume()
     if previous is not None:
         _remove(previous, keep_volume=True)
-    volume.SetProperty(prop)
+    _link(assign, volume, name)
     volume.PickableOff()  # ParaView's selection works on representations only
     attach(mapper, volume)
     if previous is None:
         view_object.AddPropToRenderer(volume)
-    _SHOWN[key] = _Entry(ShownVolume(source, view, method, name, volume), view_object, assign)
+    _SHOWN[key] = _Entry(ShownVolume(source, view, method, name, volume), view_object, assign,
+                         display)
     _observe(key[0], view_object.GetRenderer())
     return volume
 
@@ -404,6 +414,20 @@ def _observe(view_id: str, renderer) -> None:
                 entry.before_frame()
 
     _OBSERVED[view_id] = (renderer, renderer.AddObserver("StartEvent", before_frame))
+
+
+def _link(assign, volume, name: str) -> None:
+    """Render point array ``name``: the active scalars, coloured by ParaView's functions for it."""
+    from vtkmodules.vtkRenderingCore import vtkVolumeProperty
+
+    simple = _simple()
+    assign.Assign(name, "SCALARS", "POINT_DATA")
+    prop = vtkVolumeProperty()
+    prop.SetColor(simple.GetColorTransferFunction(name).GetClientSideObject())
+    prop.SetScalarOpacity(simple.GetOpacityTransferFunction(name).GetClientSideObject())
+    prop.SetInterpolationTypeToLinear()
+    prop.ShadeOff()
+    volume.SetProperty(prop)
 
 
 def _problem(data, name: str) -> Optional[str]:

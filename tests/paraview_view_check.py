@@ -19,7 +19,8 @@ Diffuse 0) so that ParaView's light kit and VTK's headlight agree.
 Measured: each method; a parallel projection; an opaque sphere through the
 volume (rays must stop at it); the colour map edited through the proxies;
 an upstream change (a Wavelet's extent); a time series animated (3 .vti
-files); the shown array renamed upstream and back; replacing and hiding; the macros;
+files); the shown array renamed upstream and back; the outline re-coloured by
+another array; replacing and hiding; the macros;
 refused inputs; the effect of ParaView's FXAA and of translucent geometry
 with depth peeling for volumes.  Prints one JSON object on the last line of
 stdout; used by tests/test_paraview_view.py.
@@ -474,6 +475,42 @@ def rename_report(png):
     return result
 
 
+def recolour_report(png):
+    """The outline re-coloured by another array (the Properties panel's Coloring, ColorBy)."""
+    from mipcast.plugin.render_view import show, shown
+    from paraview.simple import Calculator, ColorBy, Delete, GetColorTransferFunction, \
+        GetDisplayProperties, GetOpacityTransferFunction, Hide, Wavelet
+
+    wavelet = Wavelet(WholeExtent=[-10, 10, -10, 10, -10, 10])
+    calc = Calculator(Input=wavelet, ResultArrayName="inv", Function="300-RTData")
+    view = plain_view()
+    volume = show(calc, view, method="mip", array="RTData")
+    display = GetDisplayProperties(calc, view)
+    Hide(calc, view)  # the volume alone; the hidden outline keeps its colouring
+    set_camera(view)
+    before = screenshot(view, png("view_recolour_rtdata"))
+    ColorBy(display, ("POINTS", "inv"))
+    lut, pwf = GetColorTransferFunction("inv"), GetOpacityTransferFunction("inv")
+    lut.ApplyPreset("Grayscale", True)  # what the colour map editor now shows
+    after = screenshot(view, png("view_recolour_inv"))
+    calc.UpdatePipeline()
+    image = vtkImageData()
+    image.ShallowCopy(calc.GetClientSideObject().GetOutputDataObject(0))
+    image.GetPointData().SetActiveScalars("inv")
+    ref, _ = reference(image, "mip", view, lut, pwf)
+    result = compare(after, ref)
+    result["changed_share"] = changed_share(before, after)
+    result["shown_array"] = shown(view)[0].array
+    result["same_lut"] = volume.GetProperty().GetRGBTransferFunction(0) is lut.GetClientSideObject()
+    ColorBy(display, None)  # solid colour: the volume keeps its array
+    screenshot(view, png("view_recolour_solid"))
+    result["after_solid_colour"] = shown(view)[0].array
+    Delete(view)
+    Delete(calc)
+    Delete(wavelet)
+    return result
+
+
 def write_vti(image, path):
     from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
 
@@ -697,6 +734,7 @@ def main(argv):
         report["errors"] = errors_report(view)
         report["time"] = time_report(folder, png)
         report["rename"] = rename_report(png)
+        report["recolour"] = recolour_report(png)
         Delete(view)
     report["remote"] = remote_report()
     print(json.dumps(report))

@@ -153,6 +153,16 @@ def test_array_renamed_upstream_hides_the_volume_until_it_is_back(report, method
     assert result["back"]["within_1_share"] >= MATCH, result
 
 
+def test_volume_follows_the_outline_colouring(report):
+    """ColorBy on the outline: the volume renders that array with its (edited) colour map."""
+    result = report["recolour"]
+    assert result["shown_array"] == "inv"
+    assert result["same_lut"]
+    _matches(result)
+    assert result["changed_share"] > 0.25
+    assert result["after_solid_colour"] == "inv"  # solid colour: nothing to follow
+
+
 def test_deleting_the_source_removes_its_volume(report):
     assert report["upstream"]["after_delete"] == {"shown": 0, "volumes_in_renderer": 0}
 
