@@ -64,11 +64,12 @@ class ShownVolume(NamedTuple):
 class _Entry:
     """Everything :func:`hide` needs to undo :func:`show`, and the per-frame work."""
 
-    def __init__(self, shown: ShownVolume, view_object, assign, outline) -> None:
+    def __init__(self, shown: ShownVolume, view_object, assign, outline, saved) -> None:
         self.shown = shown
         self.view_object = view_object
         self.assign = assign
         self.outline = outline  # the display show() made an Outline, or None
+        self.saved = saved  # (visible, representation, colouring) before that, or None
         self.problem: Optional[str] = None  # why the volume is hidden, if it is
 
     def before_frame(self) -> None:
@@ -204,9 +205,17 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
 
     lut = simple.GetColorTransferFunction(name)
     pwf = simple.GetOpacityTransferFunction(name)
-    display = None
+    _prune_deleted()
+    key = _key(view, source)
+    previous = _SHOWN.get(key)
+    display, saved = None, previous.saved if previous is not None else None
     if outline:
+        existing = simple.servermanager.GetRepresentation(source, view)
+        visible = existing is not None and bool(existing.Visibility)
         display = simple.Show(source, view)
+        if saved is None:  # what hide() restores
+            saved = (visible, display.SMProxy.GetProperty("Representation").GetElement(0),
+                     list(display.ColorArrayName))
         display.SetRepresentationType("Outline")
         # not simple.ColorBy: it rescales even a colour range the user locked
         display.SetScalarColoring(name, simple.servermanager.GetAssociationFromString("POINTS"))
@@ -214,9 +223,7 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
         lut.RescaleTransferFunction(low, high)
         pwf.RescaleTransferFunction(low, high)
 
-    _prune_deleted()
-    key = _key(view, source)
-    previous = _SHOWN.pop(key, None)
+    _SHOWN.pop(key, None)
     volume = previous.shown.volume if previous is not None else vtkVolume()
     if previous is not None:
         _remove(previous, keep_volume=True)
@@ -226,13 +233,17 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
     if previous is None:
         view_object.AddPropToRenderer(volume)
     _SHOWN[key] = _Entry(ShownVolume(source, view, method, name, volume), view_object, assign,
-                         display)
+                         display, saved)
     _observe(key[0], view_object.GetRenderer())
     return volume
 
 
 def hide(source: Any = None, view: Any = None) -> bool:
     """Remove the volume :func:`show` added for ``source`` in ``view``.
+
+    The source's own representation in ``view`` gets back the visibility,
+    representation type and colouring it had before :func:`show` made it an
+    Outline.
 
     Parameters
     ----------
@@ -263,6 +274,8 @@ def hide(source: Any = None, view: Any = None) -> bool:
     if entry is None:
         return False
     _remove(entry)
+    if entry.saved is not None:
+        _restore(entry.outline or _simple().GetDisplayProperties(source, view), *entry.saved)
     return True
 
 
@@ -414,6 +427,18 @@ def _observe(view_id: str, renderer) -> None:
                 entry.before_frame()
 
     _OBSERVED[view_id] = (renderer, renderer.AddObserver("StartEvent", before_frame))
+
+
+def _restore(display, visible: bool, representation: str, colouring: list) -> None:
+    """Give ``display`` back the state :func:`show` saved."""
+    simple = _simple()
+    association, name = colouring
+    display.SetRepresentationType(representation)
+    if name:
+        display.SetScalarColoring(name, simple.servermanager.GetAssociationFromString(association))
+    else:
+        display.ColorArrayName = [association, ""]
+    display.Visibility = int(visible)
 
 
 def _link(assign, volume, name: str) -> None:

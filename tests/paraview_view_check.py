@@ -20,7 +20,8 @@ Measured: each method; a parallel projection; an opaque sphere through the
 volume (rays must stop at it); the colour map edited through the proxies;
 an upstream change (a Wavelet's extent); a time series animated (3 .vti
 files); the shown array renamed upstream and back; the outline re-coloured by
-another array; replacing and hiding; the macros;
+another array; replacing and hiding (the source's representation
+restored); the macros;
 refused inputs; the effect of ParaView's FXAA and of translucent geometry
 with depth peeling for volumes.  Prints one JSON object on the last line of
 stdout; used by tests/test_paraview_view.py.
@@ -511,6 +512,35 @@ def recolour_report(png):
     return result
 
 
+def restore_report(view):
+    """hide() gives the source's representation back the state it had before show()."""
+    from mipcast.plugin.render_view import hide, show
+    from paraview.simple import ColorBy, Delete, GetDisplayProperties, Show, Wavelet
+
+    def state(source):
+        display = GetDisplayProperties(source, view)
+        kind = display.SMProxy.GetProperty("Representation").GetElement(0)
+        return [int(display.Visibility), kind, list(display.ColorArrayName)]
+
+    surface = Wavelet(WholeExtent=[-6, 6, -6, 6, -6, 6])
+    display = Show(surface, view)
+    display.SetRepresentationType("Surface")
+    ColorBy(display, None)
+    result = {"before": state(surface)}
+    show(surface, view, method="mip")
+    result["shown"] = state(surface)
+    show(surface, view, method="analytic")  # replacing keeps the first saved state
+    hide(surface, view)
+    result["hidden"] = state(surface)
+    never = Wavelet(WholeExtent=[-6, 6, -6, 6, -6, 6])  # never shown in this view
+    show(never, view, method="mip")
+    hide(never, view)
+    result["never_shown_visible_after_hide"] = int(GetDisplayProperties(never, view).Visibility)
+    Delete(surface)
+    Delete(never)
+    return result
+
+
 def write_vti(image, path):
     from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
 
@@ -730,6 +760,7 @@ def main(argv):
         report["colour_map"] = colour_map_report(reader, image, view, png)
         report["parallel"] = parallel_report(reader, image, view, png)
         report["upstream"] = upstream_report(view, png)
+        report["restore"] = restore_report(view)
         report["macros"] = macros_report(reader, view)
         report["errors"] = errors_report(view)
         report["time"] = time_report(folder, png)

@@ -92,6 +92,14 @@ def test_hide_removes_the_volume(report):
     assert hidden["lit_share"] < 0.10      # only the outline is left
 
 
+def test_hide_restores_the_representation(report):
+    result = report["restore"]
+    assert result["before"] == [1, "Surface", ["POINTS", ""]]
+    assert result["shown"] == [1, "Outline", ["POINTS", "RTData"]]
+    assert result["hidden"] == result["before"]
+    assert result["never_shown_visible_after_hide"] == 0
+
+
 def test_parallel_projection_without_outline(report):
     _matches(report["parallel"])
     assert report["parallel"]["volume_in_clipping_range"]
