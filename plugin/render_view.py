@@ -44,6 +44,8 @@ __all__ = ["show", "hide", "shown", "ShownVolume"]
 _SHOWN: dict = {}
 #: view GlobalID -> (its vtkRenderer, the tag of our one StartEvent observer on it).
 _OBSERVED: dict = {}
+#: (session proxy manager, tag of our UnRegisterEvent observer): Delete() prunes at once.
+_MANAGERS: list = []
 
 
 class ShownVolume(NamedTuple):
@@ -234,7 +236,7 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
         view_object.AddPropToRenderer(volume)
     _SHOWN[key] = _Entry(ShownVolume(source, view, method, name, volume), view_object, assign,
                          display, saved)
-    _observe(key[0], view_object.GetRenderer())
+    _observe(key[0], view_object.GetRenderer(), view.SMProxy.GetSessionProxyManager())
     return volume
 
 
@@ -415,8 +417,15 @@ def _remove(entry: _Entry, keep_volume: bool = False) -> None:
         renderer.RemoveObserver(tag)
 
 
-def _observe(view_id: str, renderer) -> None:
-    """One StartEvent observer per view renderer: the per-frame work for its volumes."""
+def _observe(view_id: str, renderer, manager) -> None:
+    """One StartEvent observer per view renderer: the per-frame work for its volumes.
+
+    And one UnRegisterEvent observer per session proxy manager: deleting a
+    source or view (``Delete``, the GUI) drops its volumes at once, so
+    nothing here keeps a deleted view alive.
+    """
+    if not any(known is manager for known, _ in _MANAGERS):
+        _MANAGERS.append((manager, manager.AddObserver("UnRegisterEvent", _prune_deleted)))
     if view_id in _OBSERVED:
         return
 

@@ -21,7 +21,7 @@ volume (rays must stop at it); the colour map edited through the proxies;
 an upstream change (a Wavelet's extent); a time series animated (3 .vti
 files); the shown array renamed upstream and back; the outline re-coloured by
 another array; replacing and hiding (the source's representation
-restored); the macros;
+restored); deleting a view or source (no render afterwards); the macros;
 refused inputs; the effect of ParaView's FXAA and of translucent geometry
 with depth peeling for volumes.  Prints one JSON object on the last line of
 stdout; used by tests/test_paraview_view.py.
@@ -397,7 +397,7 @@ def colour_map_report(reader, image, view, png):
 def upstream_report(view, png):
     """A Wavelet shown, then its extent changed: the volume follows without show() again.
 
-    Then the Wavelet is deleted: its volume must go at the next render.
+    Then the Wavelet is deleted: its volume must be gone after the next render.
     """
     from mipcast.plugin.render_view import hide, show, shown
     from paraview.simple import Delete, GetColorTransferFunction, GetDisplayProperties, \
@@ -538,6 +538,41 @@ def restore_report(view):
     result["never_shown_visible_after_hide"] = int(GetDisplayProperties(never, view).Visibility)
     Delete(surface)
     Delete(never)
+    return result
+
+
+def deletion_report():
+    """Delete(view) / Delete(source) without a later render: the volume and its view are let go."""
+    import gc
+
+    from mipcast.plugin import render_view
+    from mipcast.plugin.render_view import show
+    from paraview.simple import Delete, Render, Wavelet
+    from vtkmodules.vtkCommonCore import vtkWeakReference
+
+    def entries(proxy, index):
+        return sum(1 for key in render_view._SHOWN if key[index] == proxy.GetGlobalIDAsString())
+
+    source = Wavelet(WholeExtent=[-6, 6, -6, 6, -6, 6])
+    view = plain_view()
+    show(source, view, method="mip")
+    Render(view)
+    weak = vtkWeakReference()
+    weak.Set(view.GetClientSideObject())
+    view_id = view.GetGlobalIDAsString()
+    result = {"entries_before": entries(view, 0)}
+    Delete(view)
+    result["entries_after_delete"] = sum(1 for key in render_view._SHOWN if key[0] == view_id)
+    result["observed_after_delete"] = view_id in render_view._OBSERVED
+    del view
+    gc.collect()
+    result["view_object_released"] = weak.Get() is None
+    other = plain_view()  # deleting the source, no render afterwards
+    volume = show(source, other, method="mip")
+    Delete(source)
+    result["source_entries_after_delete"] = entries(source, 1)
+    result["volume_in_renderer_after_source_delete"] = count_in_renderer(other, [volume])
+    Delete(other)
     return result
 
 
@@ -761,6 +796,7 @@ def main(argv):
         report["parallel"] = parallel_report(reader, image, view, png)
         report["upstream"] = upstream_report(view, png)
         report["restore"] = restore_report(view)
+        report["deletion"] = deletion_report()
         report["macros"] = macros_report(reader, view)
         report["errors"] = errors_report(view)
         report["time"] = time_report(folder, png)

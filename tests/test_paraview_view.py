@@ -175,6 +175,16 @@ def test_deleting_the_source_removes_its_volume(report):
     assert report["upstream"]["after_delete"] == {"shown": 0, "volumes_in_renderer": 0}
 
 
+def test_deleting_the_view_or_source_lets_go_at_once(report):
+    """Was: the entry (and the deleted vtkPVRenderView) stayed until a render of that view."""
+    result = report["deletion"]
+    assert result["entries_before"] == 1
+    assert result["entries_after_delete"] == 0 and not result["observed_after_delete"]
+    assert result["view_object_released"]
+    assert result["source_entries_after_delete"] == 0
+    assert result["volume_in_renderer_after_source_delete"] == 0
+
+
 def test_paraview_passes(report):
     passes = report["passes"]
     _matches(passes["no_depth_peeling"])
