@@ -620,14 +620,14 @@ def time_report(folder, png):
     lut, pwf = GetColorTransferFunction("blob"), GetOpacityTransferFunction("blob")
     outline = flat_actor(outline_of(images[0]), (1.0, 1.0, 0.0))
     result, first = {}, None
-    for step in (0, 1, 2, 0):
+    for key, step in (("0", 0), ("1", 1), ("2", 2), ("0_again", 0)):
         scene.AnimationTime = float(step)
-        pv = screenshot(view, png(f"view_time_{step}"))
+        pv = screenshot(view, png(f"view_time_{key}"))
         ref, _ = reference(images[step], "mip", view, lut, pwf, actors=[outline])
         first = ref if first is None else first
         entry = compare(pv, ref)
         entry["ref_changed_from_step_0"] = changed_share(ref, first)
-        result[str(step)] = entry  # the last 0: back to the first step
+        result[key] = entry
     scene.AnimationTime = 0.0
     Delete(view)
     Delete(reader)

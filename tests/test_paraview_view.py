@@ -137,7 +137,7 @@ def test_upstream_changes_flow_through(report):
 def test_time_series_follows_the_animation_time(report):
     """A 3-file .vti series animated as the GUI does: each frame is that step's volume."""
     result = report["time"]
-    for step in ("0", "1", "2"):
+    for step in ("0", "1", "2", "0_again"):
         assert result[step]["within_1_share"] >= MATCH, (step, result)
         assert result[step]["lit_share"] > 0.05, (step, result)
     # the steps differ: a volume stuck on step 0 cannot match steps 1 and 2
