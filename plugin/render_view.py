@@ -15,7 +15,13 @@ connection) the render view's ``vtkRenderer`` lives in the same process.
 - the source keeps a representation of its own, an *Outline* coloured by the
   same array: ParaView's *Reset Camera* works from its representations'
   bounds, and the colour map editor and colour legend follow the active
-  representation's array.
+  representation's array.  Re-colour the outline by another point array
+  (Properties panel, ``ColorBy``) and the volume renders that array at the
+  next frame;
+- before each frame the volume's input asks for the view's time (time
+  series follow the animation) and the volume is hidden, with one warning in
+  ParaView's output window, while its input is unusable (e.g. the array was
+  renamed upstream).
 
 The volume is not a ParaView representation: it has no eye toggle in the
 pipeline browser, state files do not save it, and remote (client-server)
@@ -36,6 +42,10 @@ __all__ = ["show", "hide", "shown", "ShownVolume"]
 
 #: (view GlobalID, source GlobalID) -> _Entry, for every volume :func:`show` added.
 _SHOWN: dict = {}
+#: view GlobalID -> (its vtkRenderer, the tag of our one StartEvent observer on it).
+_OBSERVED: dict = {}
+#: (session proxy manager, tag of our UnRegisterEvent observer): Delete() prunes at once.
+_MANAGERS: list = []
 
 
 class ShownVolume(NamedTuple):
@@ -54,14 +64,47 @@ class ShownVolume(NamedTuple):
 
 
 class _Entry:
-    """Everything :func:`hide` needs to undo :func:`show`."""
+    """Everything :func:`hide` needs to undo :func:`show`, and the per-frame work."""
 
-    def __init__(self, shown: ShownVolume, view_object, assign) -> None:
+    def __init__(self, shown: ShownVolume, view_object, assign, outline, saved) -> None:
         self.shown = shown
         self.view_object = view_object
         self.assign = assign
-        # before each frame: drop the volume if its source or view was deleted
-        self.observer = view_object.GetRenderer().AddObserver("StartEvent", _prune_deleted)
+        self.outline = outline  # the display show() made an Outline, or None
+        self.saved = saved  # (visible, representation, colouring) before that, or None
+        self.problem: Optional[str] = None  # why the volume is hidden, if it is
+
+    def before_frame(self) -> None:
+        """Bring the volume's input up to date at the view's time; hide it while unusable.
+
+        VTK's mappers must never see an input without one-component point
+        scalars (VTK's CPU mapper segfaults), e.g. after the array was
+        renamed upstream: the volume is hidden until the array is back.
+        """
+        from vtkmodules.vtkCommonCore import vtkOutputWindow
+        from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
+
+        if self.outline is not None:  # re-coloured (Properties panel, ColorBy)? follow
+            association, name = self.outline.ColorArrayName
+            if association == "POINTS" and name and name != self.shown.array:
+                self.shown = self.shown._replace(array=name)
+                _link(self.assign, self.shown.volume, name)
+        self.assign.GetOutputInformation(0).Set(
+            vtkStreamingDemandDrivenPipeline.UPDATE_TIME_STEP(), self.view_object.GetViewTime())
+        self.assign.Update()
+        problem = _problem(self.assign.GetOutputDataObject(0), self.shown.array)
+        self.shown.volume.SetVisibility(problem is None)
+        if problem != self.problem:  # reported once per change
+            self.problem = problem
+            source = _name(self.shown.source, "sources")
+            if problem is None:
+                vtkOutputWindow.GetInstance().DisplayText(
+                    f"mipcast: the {self.shown.method!r} volume of {source} is shown again\n")
+            else:
+                vtkOutputWindow.GetInstance().DisplayWarningText(
+                    f"mipcast: the {self.shown.method!r} volume of {source} is hidden: {problem}. "
+                    f"It comes back when the array does; or show another array with "
+                    f"mipcast.plugin.render_view.show(array=...), or remove it with hide()\n")
 
 
 def show(source: Any = None, view: Any = None, method: str = "mip",
@@ -88,8 +131,10 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
     outline : bool, default: True
         Show the source itself as an Outline coloured by ``array`` (the
         colour map editor and colour legend then show the volume's colours,
-        and ParaView's camera knows the volume's bounds).  False leaves the
-        source's representation as it is.
+        and ParaView's camera knows the volume's bounds); re-colouring that
+        outline by another point array re-colours the volume too.  False
+        leaves the source's representation as it is (and the volume keeps
+        ``array``).
     **settings
         Mapper settings as keyword arguments, ``name=value`` calling
         ``mapper.SetName(value)`` (see :func:`mipcast.parameters.set_parameters`),
@@ -127,7 +172,7 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
         hide(wavelet)
     """
     from vtkmodules.vtkFiltersCore import vtkAssignAttribute
-    from vtkmodules.vtkRenderingCore import vtkVolume, vtkVolumeProperty
+    from vtkmodules.vtkRenderingCore import vtkVolume
 
     from mipcast.methods import attach, create_mapper
     from mipcast.parameters import set_parameters
@@ -145,7 +190,7 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
 
     assign = vtkAssignAttribute()
     assign.SetInputConnection(algorithm.GetOutputPort(0))
-    assign.Assign(name, "SCALARS", "POINT_DATA")
+    assign.Assign(name, "SCALARS", "POINT_DATA")  # for check_image; _link sets it again
     assign.Update()
     image = assign.GetOutputDataObject(0)
     check_image(image)  # raises naming the problem and the fix
@@ -162,8 +207,17 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
 
     lut = simple.GetColorTransferFunction(name)
     pwf = simple.GetOpacityTransferFunction(name)
+    _prune_deleted()
+    key = _key(view, source)
+    previous = _SHOWN.get(key)
+    display, saved = None, previous.saved if previous is not None else None
     if outline:
+        existing = simple.servermanager.GetRepresentation(source, view)
+        visible = existing is not None and bool(existing.Visibility)
         display = simple.Show(source, view)
+        if saved is None:  # what hide() restores
+            saved = (visible, display.SMProxy.GetProperty("Representation").GetElement(0),
+                     list(display.ColorArrayName))
         display.SetRepresentationType("Outline")
         # not simple.ColorBy: it rescales even a colour range the user locked
         display.SetScalarColoring(name, simple.servermanager.GetAssociationFromString("POINTS"))
@@ -171,29 +225,27 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
         lut.RescaleTransferFunction(low, high)
         pwf.RescaleTransferFunction(low, high)
 
-    prop = vtkVolumeProperty()
-    prop.SetColor(lut.GetClientSideObject())
-    prop.SetScalarOpacity(pwf.GetClientSideObject())
-    prop.SetInterpolationTypeToLinear()
-    prop.ShadeOff()
-
-    _prune_deleted()
-    key = _key(view, source)
-    previous = _SHOWN.pop(key, None)
+    _SHOWN.pop(key, None)
     volume = previous.shown.volume if previous is not None else vtkVolume()
     if previous is not None:
         _remove(previous, keep_volume=True)
-    volume.SetProperty(prop)
+    _link(assign, volume, name)
     volume.PickableOff()  # ParaView's selection works on representations only
     attach(mapper, volume)
     if previous is None:
         view_object.AddPropToRenderer(volume)
-    _SHOWN[key] = _Entry(ShownVolume(source, view, method, name, volume), view_object, assign)
+    _SHOWN[key] = _Entry(ShownVolume(source, view, method, name, volume), view_object, assign,
+                         display, saved)
+    _observe(key[0], view_object.GetRenderer(), view.SMProxy.GetSessionProxyManager())
     return volume
 
 
 def hide(source: Any = None, view: Any = None) -> bool:
     """Remove the volume :func:`show` added for ``source`` in ``view``.
+
+    The source's own representation in ``view`` gets back the visibility,
+    representation type and colouring it had before :func:`show` made it an
+    Outline.
 
     Parameters
     ----------
@@ -224,6 +276,8 @@ def hide(source: Any = None, view: Any = None) -> bool:
     if entry is None:
         return False
     _remove(entry)
+    if entry.saved is not None:
+        _restore(entry.outline or _simple().GetDisplayProperties(source, view), *entry.saved)
     return True
 
 
@@ -350,13 +404,86 @@ def _key(view, source) -> tuple:
 
 
 def _remove(entry: _Entry, keep_volume: bool = False) -> None:
+    """Undo what :func:`show` did in the renderer (``entry`` is already out of ``_SHOWN``)."""
     volume = entry.shown.volume
     mapper = volume.GetMapper()
     if hasattr(mapper, "Detach"):
         mapper.Detach()
-    entry.view_object.GetRenderer().RemoveObserver(entry.observer)
     if not keep_volume:
         entry.view_object.RemovePropFromRenderer(volume)
+    view_id = entry.shown.view.GetGlobalIDAsString()
+    if view_id in _OBSERVED and not any(key[0] == view_id for key in _SHOWN):
+        renderer, tag = _OBSERVED.pop(view_id)
+        renderer.RemoveObserver(tag)
+
+
+def _observe(view_id: str, renderer, manager) -> None:
+    """One StartEvent observer per view renderer: the per-frame work for its volumes.
+
+    And one UnRegisterEvent observer per session proxy manager: deleting a
+    source or view (``Delete``, the GUI) drops its volumes at once, so
+    nothing here keeps a deleted view alive.
+    """
+    if not any(known is manager for known, _ in _MANAGERS):
+        _MANAGERS.append((manager, manager.AddObserver("UnRegisterEvent", _prune_deleted)))
+    if view_id in _OBSERVED:
+        return
+
+    def before_frame(*_event) -> None:  # holds the view's id only, never the view
+        _prune_deleted()
+        for (key_view, _), entry in list(_SHOWN.items()):
+            if key_view == view_id:
+                entry.before_frame()
+
+    _OBSERVED[view_id] = (renderer, renderer.AddObserver("StartEvent", before_frame))
+
+
+def _restore(display, visible: bool, representation: str, colouring: list) -> None:
+    """Give ``display`` back the state :func:`show` saved."""
+    simple = _simple()
+    association, name = colouring
+    display.SetRepresentationType(representation)
+    if name:
+        display.SetScalarColoring(name, simple.servermanager.GetAssociationFromString(association))
+    else:
+        display.ColorArrayName = [association, ""]
+    display.Visibility = int(visible)
+
+
+def _link(assign, volume, name: str) -> None:
+    """Render point array ``name``: the active scalars, coloured by ParaView's functions for it."""
+    from vtkmodules.vtkRenderingCore import vtkVolumeProperty
+
+    simple = _simple()
+    assign.Assign(name, "SCALARS", "POINT_DATA")
+    prop = vtkVolumeProperty()
+    prop.SetColor(simple.GetColorTransferFunction(name).GetClientSideObject())
+    prop.SetScalarOpacity(simple.GetOpacityTransferFunction(name).GetClientSideObject())
+    prop.SetInterpolationTypeToLinear()
+    prop.ShadeOff()
+    volume.SetProperty(prop)
+
+
+def _problem(data, name: str) -> Optional[str]:
+    """Why ``data`` cannot be rendered (None if it can): image data, one-component scalars."""
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    if not isinstance(data, vtkImageData):
+        kind = "nothing" if data is None else type(data).__name__
+        return f"the source's output is {kind}, not image data (vtkImageData)"
+    scalars = data.GetPointData().GetScalars()
+    if scalars is None:
+        return f"the source's output has no point array {name!r} any more (renamed or removed upstream)"
+    if scalars.GetNumberOfComponents() != 1:
+        return (f"point array {name!r} has {scalars.GetNumberOfComponents()} components "
+                "(one is needed)")
+    return None
+
+
+def _name(proxy, group: str) -> str:
+    """The name ``proxy`` has in the Pipeline Browser (or its class)."""
+    manager = proxy.SMProxy.GetSessionProxyManager()
+    return (manager and manager.GetProxyName(group, proxy.SMProxy)) or proxy.GetXMLName()
 
 
 def _registered(proxy, group: str) -> bool:

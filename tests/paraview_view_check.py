@@ -18,7 +18,10 @@ Diffuse 0) so that ParaView's light kit and VTK's headlight agree.
 
 Measured: each method; a parallel projection; an opaque sphere through the
 volume (rays must stop at it); the colour map edited through the proxies;
-an upstream change (a Wavelet's extent); replacing and hiding; the macros;
+an upstream change (a Wavelet's extent); a time series animated (3 .vti
+files); the shown array renamed upstream and back; the outline re-coloured by
+another array; replacing and hiding (the source's representation
+restored); deleting a view or source (no render afterwards); the macros;
 refused inputs; the effect of ParaView's FXAA and of translucent geometry
 with depth peeling for volumes.  Prints one JSON object on the last line of
 stdout; used by tests/test_paraview_view.py.
@@ -394,7 +397,7 @@ def colour_map_report(reader, image, view, png):
 def upstream_report(view, png):
     """A Wavelet shown, then its extent changed: the volume follows without show() again.
 
-    Then the Wavelet is deleted: its volume must go at the next render.
+    Then the Wavelet is deleted: its volume must be gone after the next render.
     """
     from mipcast.plugin.render_view import hide, show, shown
     from paraview.simple import Delete, GetColorTransferFunction, GetDisplayProperties, \
@@ -425,6 +428,209 @@ def upstream_report(view, png):
     Render(view)
     in_renderer = count_in_renderer(view, [volume])  # before shown(), which prunes too
     result["after_delete"] = {"shown": len(shown(view)), "volumes_in_renderer": in_renderer}
+    return result
+
+
+def rename_report(png):
+    """The shown array renamed upstream (a Calculator's result), then renamed back."""
+    from mipcast.plugin.render_view import show
+    from paraview.simple import Calculator, Delete, GetDisplayProperties, Wavelet
+    from vtkmodules.util.misc import calldata_type
+    from vtkmodules.util.vtkConstants import VTK_STRING
+    from vtkmodules.vtkCommonCore import vtkOutputWindow
+
+    warnings = []
+
+    @calldata_type(VTK_STRING)
+    def on_warning(_window, _event, text):
+        warnings.append(text)
+
+    window = vtkOutputWindow.GetInstance()
+    tag = window.AddObserver("WarningEvent", on_warning)
+    wavelet = Wavelet(WholeExtent=[-10, 10, -10, 10, -10, 10])
+    calc = Calculator(Input=wavelet, ResultArrayName="inv", Function="300-RTData")
+    view = plain_view()
+    result = {}
+    for method in ("mip", "analytic", "demip", "stock", "cpu"):
+        volume = show(calc, view, method=method, array="inv")
+        flat(GetDisplayProperties(calc, view), (1.0, 1.0, 0.0))
+        set_camera(view)
+        before = screenshot(view, png(f"view_rename_{method}_0"))
+        del warnings[:]
+        calc.ResultArrayName = "renamed"
+        renamed = screenshot(view, png(f"view_rename_{method}_1"))
+        hidden = {"visible": volume.GetVisibility(),
+                  "lit_share": float(np.mean(renamed.max(axis=-1) > 8)),
+                  "warnings": list(warnings)}
+        screenshot(view, png(f"view_rename_{method}_1b"))  # a second frame: no second message
+        hidden["warnings_after_second_frame"] = len(warnings)
+        calc.ResultArrayName = "inv"
+        back = screenshot(view, png(f"view_rename_{method}_2"))
+        result[method] = {"before_lit_share": float(np.mean(before.max(axis=-1) > 8)),
+                          "renamed": hidden, "visible_again": volume.GetVisibility(),
+                          "back": compare(back, before)}
+    window.RemoveObserver(tag)
+    Delete(view)
+    Delete(calc)
+    Delete(wavelet)
+    return result
+
+
+def recolour_report(png):
+    """The outline re-coloured by another array (the Properties panel's Coloring, ColorBy)."""
+    from mipcast.plugin.render_view import show, shown
+    from paraview.simple import Calculator, ColorBy, Delete, GetColorTransferFunction, \
+        GetDisplayProperties, GetOpacityTransferFunction, Hide, Wavelet
+
+    wavelet = Wavelet(WholeExtent=[-10, 10, -10, 10, -10, 10])
+    calc = Calculator(Input=wavelet, ResultArrayName="inv", Function="300-RTData")
+    view = plain_view()
+    volume = show(calc, view, method="mip", array="RTData")
+    display = GetDisplayProperties(calc, view)
+    Hide(calc, view)  # the volume alone; the hidden outline keeps its colouring
+    set_camera(view)
+    before = screenshot(view, png("view_recolour_rtdata"))
+    ColorBy(display, ("POINTS", "inv"))
+    lut, pwf = GetColorTransferFunction("inv"), GetOpacityTransferFunction("inv")
+    lut.ApplyPreset("Grayscale", True)  # what the colour map editor now shows
+    after = screenshot(view, png("view_recolour_inv"))
+    calc.UpdatePipeline()
+    image = vtkImageData()
+    image.ShallowCopy(calc.GetClientSideObject().GetOutputDataObject(0))
+    image.GetPointData().SetActiveScalars("inv")
+    ref, _ = reference(image, "mip", view, lut, pwf)
+    result = compare(after, ref)
+    result["changed_share"] = changed_share(before, after)
+    result["shown_array"] = shown(view)[0].array
+    result["same_lut"] = volume.GetProperty().GetRGBTransferFunction(0) is lut.GetClientSideObject()
+    ColorBy(display, None)  # solid colour: the volume keeps its array
+    screenshot(view, png("view_recolour_solid"))
+    result["after_solid_colour"] = shown(view)[0].array
+    Delete(view)
+    Delete(calc)
+    Delete(wavelet)
+    return result
+
+
+def restore_report(view):
+    """hide() gives the source's representation back the state it had before show()."""
+    from mipcast.plugin.render_view import hide, show
+    from paraview.simple import ColorBy, Delete, GetDisplayProperties, Show, Wavelet
+
+    def state(source):
+        display = GetDisplayProperties(source, view)
+        kind = display.SMProxy.GetProperty("Representation").GetElement(0)
+        return [int(display.Visibility), kind, list(display.ColorArrayName)]
+
+    surface = Wavelet(WholeExtent=[-6, 6, -6, 6, -6, 6])
+    display = Show(surface, view)
+    display.SetRepresentationType("Surface")
+    ColorBy(display, None)
+    result = {"before": state(surface)}
+    show(surface, view, method="mip")
+    result["shown"] = state(surface)
+    show(surface, view, method="analytic")  # replacing keeps the first saved state
+    hide(surface, view)
+    result["hidden"] = state(surface)
+    never = Wavelet(WholeExtent=[-6, 6, -6, 6, -6, 6])  # never shown in this view
+    show(never, view, method="mip")
+    hide(never, view)
+    result["never_shown_visible_after_hide"] = int(GetDisplayProperties(never, view).Visibility)
+    Delete(surface)
+    Delete(never)
+    return result
+
+
+def deletion_report():
+    """Delete(view) / Delete(source) without a later render: the volume and its view are let go."""
+    import gc
+
+    from mipcast.plugin import render_view
+    from mipcast.plugin.render_view import show
+    from paraview.simple import Delete, Render, Wavelet
+    from vtkmodules.vtkCommonCore import vtkWeakReference
+
+    def entries(proxy, index):
+        return sum(1 for key in render_view._SHOWN if key[index] == proxy.GetGlobalIDAsString())
+
+    source = Wavelet(WholeExtent=[-6, 6, -6, 6, -6, 6])
+    view = plain_view()
+    show(source, view, method="mip")
+    Render(view)
+    weak = vtkWeakReference()
+    weak.Set(view.GetClientSideObject())
+    view_id = view.GetGlobalIDAsString()
+    result = {"entries_before": entries(view, 0)}
+    Delete(view)
+    result["entries_after_delete"] = sum(1 for key in render_view._SHOWN if key[0] == view_id)
+    result["observed_after_delete"] = view_id in render_view._OBSERVED
+    del view
+    gc.collect()
+    result["view_object_released"] = weak.Get() is None
+    other = plain_view()  # deleting the source, no render afterwards
+    volume = show(source, other, method="mip")
+    Delete(source)
+    result["source_entries_after_delete"] = entries(source, 1)
+    result["volume_in_renderer_after_source_delete"] = count_in_renderer(other, [volume])
+    Delete(other)
+    return result
+
+
+def write_vti(image, path):
+    from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
+
+    writer = vtkXMLImageDataWriter()
+    writer.SetFileName(path)
+    writer.SetInputData(image)
+    writer.Write()
+    return path
+
+
+def blob_series(folder, steps=3, size=24):
+    """``steps`` .vti files of a Gaussian blob moving along x; returns (paths, images)."""
+    z, y, x = np.mgrid[0:size, 0:size, 0:size].astype(np.float32)
+    paths, images = [], []
+    for step in range(steps):
+        centre = 5.0 + step * (size - 10.0) / max(steps - 1, 1)
+        values = 100.0 * np.exp(-((x - centre) ** 2 + (y - size / 2) ** 2 + (z - size / 2) ** 2) / 10.0)
+        image = vtkImageData()
+        image.SetDimensions(size, size, size)
+        array = numpy_to_vtk(values.astype(np.float32).ravel(), deep=True)
+        array.SetName("blob")
+        image.GetPointData().SetScalars(array)
+        paths.append(write_vti(image, os.path.join(folder, f"blob_{step}.vti")))
+        images.append(image)
+    return paths, images
+
+
+def time_report(folder, png):
+    """A 3-file time series animated as the GUI does (AnimationTime, then Render)."""
+    from mipcast.plugin.render_view import show
+    from paraview.simple import Delete, GetAnimationScene, GetColorTransferFunction, \
+        GetDisplayProperties, GetOpacityTransferFunction, XMLImageDataReader
+
+    paths, images = blob_series(folder)
+    reader = XMLImageDataReader(FileName=paths)
+    scene = GetAnimationScene()
+    scene.UpdateAnimationUsingDataTimeSteps()
+    view = plain_view()
+    show(reader, view, method="mip")
+    flat(GetDisplayProperties(reader, view), (1.0, 1.0, 0.0))
+    set_camera(view, azimuth=10.0, elevation=20.0)
+    lut, pwf = GetColorTransferFunction("blob"), GetOpacityTransferFunction("blob")
+    outline = flat_actor(outline_of(images[0]), (1.0, 1.0, 0.0))
+    result, first = {}, None
+    for key, step in (("0", 0), ("1", 1), ("2", 2), ("0_again", 0)):
+        scene.AnimationTime = float(step)
+        pv = screenshot(view, png(f"view_time_{key}"))
+        ref, _ = reference(images[step], "mip", view, lut, pwf, actors=[outline])
+        first = ref if first is None else first
+        entry = compare(pv, ref)
+        entry["ref_changed_from_step_0"] = changed_share(ref, first)
+        result[key] = entry
+    scene.AnimationTime = 0.0
+    Delete(view)
+    Delete(reader)
     return result
 
 
@@ -576,11 +782,7 @@ def main(argv):
 
         image = make_fixture("vessels", size=48)
         path = os.path.join(folder, "vessels.vti")
-        from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
-        writer = vtkXMLImageDataWriter()
-        writer.SetFileName(path)
-        writer.SetInputData(image)
-        writer.Write()
+        write_vti(image, path)
         reader = XMLImageDataReader(FileName=[path])
         reader.UpdatePipeline()
         view = plain_view()
@@ -593,8 +795,13 @@ def main(argv):
         report["colour_map"] = colour_map_report(reader, image, view, png)
         report["parallel"] = parallel_report(reader, image, view, png)
         report["upstream"] = upstream_report(view, png)
+        report["restore"] = restore_report(view)
+        report["deletion"] = deletion_report()
         report["macros"] = macros_report(reader, view)
         report["errors"] = errors_report(view)
+        report["time"] = time_report(folder, png)
+        report["rename"] = rename_report(png)
+        report["recolour"] = recolour_report(png)
         Delete(view)
     report["remote"] = remote_report()
     print(json.dumps(report))

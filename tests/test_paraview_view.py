@@ -92,6 +92,14 @@ def test_hide_removes_the_volume(report):
     assert hidden["lit_share"] < 0.10      # only the outline is left
 
 
+def test_hide_restores_the_representation(report):
+    result = report["restore"]
+    assert result["before"] == [1, "Surface", ["POINTS", ""]]
+    assert result["shown"] == [1, "Outline", ["POINTS", "RTData"]]
+    assert result["hidden"] == result["before"]
+    assert result["never_shown_visible_after_hide"] == 0
+
+
 def test_parallel_projection_without_outline(report):
     _matches(report["parallel"])
     assert report["parallel"]["volume_in_clipping_range"]
@@ -126,8 +134,55 @@ def test_upstream_changes_flow_through(report):
     assert result["coloured_by"] == ["POINTS", "RTData"]
 
 
+def test_time_series_follows_the_animation_time(report):
+    """A 3-file .vti series animated as the GUI does: each frame is that step's volume."""
+    result = report["time"]
+    for step in ("0", "1", "2", "0_again"):
+        assert result[step]["within_1_share"] >= MATCH, (step, result)
+        assert result[step]["lit_share"] > 0.05, (step, result)
+    # the steps differ: a volume stuck on step 0 cannot match steps 1 and 2
+    assert result["1"]["ref_changed_from_step_0"] > 0.05
+    assert result["2"]["ref_changed_from_step_0"] > 0.05
+
+
+@pytest.mark.parametrize("method", ["mip", "analytic", "demip", "stock", "cpu"])
+def test_array_renamed_upstream_hides_the_volume_until_it_is_back(report, method):
+    """Was a segfault for "cpu" (VTK's own CPU mapper given no scalars)."""
+    result = report["rename"][method]
+    assert result["before_lit_share"] > 0.25, result
+    renamed = result["renamed"]
+    assert renamed["visible"] == 0 and renamed["lit_share"] < 0.10, result  # the outline only
+    assert len(renamed["warnings"]) == 1, result
+    message = renamed["warnings"][0]
+    for word in ("mipcast", method, "hidden", "'inv'", "show(array=", "hide()"):
+        assert word in message, message
+    assert renamed["warnings_after_second_frame"] == 1, result  # once per change
+    assert result["visible_again"] == 1
+    assert result["back"]["within_1_share"] >= MATCH, result
+
+
+def test_volume_follows_the_outline_colouring(report):
+    """ColorBy on the outline: the volume renders that array with its (edited) colour map."""
+    result = report["recolour"]
+    assert result["shown_array"] == "inv"
+    assert result["same_lut"]
+    _matches(result)
+    assert result["changed_share"] > 0.25
+    assert result["after_solid_colour"] == "inv"  # solid colour: nothing to follow
+
+
 def test_deleting_the_source_removes_its_volume(report):
     assert report["upstream"]["after_delete"] == {"shown": 0, "volumes_in_renderer": 0}
+
+
+def test_deleting_the_view_or_source_lets_go_at_once(report):
+    """Was: the entry (and the deleted vtkPVRenderView) stayed until a render of that view."""
+    result = report["deletion"]
+    assert result["entries_before"] == 1
+    assert result["entries_after_delete"] == 0 and not result["observed_after_delete"]
+    assert result["view_object_released"]
+    assert result["source_entries_after_delete"] == 0
+    assert result["volume_in_renderer_after_source_delete"] == 0
 
 
 def test_paraview_passes(report):
