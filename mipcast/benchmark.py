@@ -17,6 +17,7 @@ from typing import Callable, Iterable, NamedTuple, Optional, Sequence, Union
 import numpy as np
 
 from .offscreen import OffscreenView
+from .parameters import set_parameters, snake_name
 
 
 class Setting(NamedTuple):
@@ -96,7 +97,7 @@ def _view(image, setting: Setting, method: str, size, view: str, window=None) ->
 
 
 def apply_settings(mapper, pairs) -> None:
-    """Call ``mapper.SetName(value)`` for each ``(Name, value)`` pair; a tuple value is spread.
+    """Call ``mapper.SetName(value)`` for each ``(Name, value)`` pair (:func:`mipcast.parameters.set_parameters`).
 
     Examples
     --------
@@ -106,8 +107,7 @@ def apply_settings(mapper, pairs) -> None:
     >>> mapper.GetGazePoint(), mapper.GetFovealRadius()
     ((0.2, 0.3), 0.1)
     """
-    for name, value in pairs:
-        getattr(mapper, "Set" + name)(*(value if isinstance(value, tuple) else (value,)))
+    set_parameters(mapper, **{snake_name(name): value for name, value in pairs})
 
 
 def time_settings(image, settings: Sequence[Setting], size=(256, 256), view: str = "oblique",

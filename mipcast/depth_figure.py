@@ -6,6 +6,7 @@ from typing import Sequence
 
 import numpy as np
 
+from .benchmark import apply_settings
 from .offscreen import OffscreenView
 
 #: Columns of the figure: (title, method, DEMIP settings).
@@ -29,8 +30,7 @@ def render_panels(image, view: str = "oblique", size=(256, 256), window=None) ->
     pictures = []
     for _, method, settings in PANELS:
         scene = OffscreenView(image, method, size=size, view=view, window=window)
-        for name, value in settings.items():
-            getattr(scene.mapper, "Set" + name)(value)
+        apply_settings(scene.mapper, settings.items())
         if method == "stock":  # direct volume rendering: the same grey ramp, a gentle opacity ramp
             scene.mapper.SetBlendModeToComposite()
             opacity = scene.volume.GetProperty().GetScalarOpacity()

@@ -22,10 +22,11 @@ import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from . import reference
+from .benchmark import apply_settings
 from .data_fixtures import image_from_array, make_fixture
 from .metrics import summary
-from .benchmark import apply_settings
 from .offscreen import OffscreenView
+from .parameters import snake_name
 
 
 class Case(NamedTuple):
@@ -161,7 +162,7 @@ def _demip_figures(scene: OffscreenView, settings: dict) -> dict:
 
     depth = render_depth(scene.render_window, scene.mapper)
     params = {"sample_distance": scene.sample_distance, "window": scene.window}
-    params.update({_snake(name): value for name, value in settings.items()})
+    params.update({snake_name(name): value for name, value in settings.items()})
     expected = reference.render(scene.image, scene.camera, scene.size, method="demip", output="depth", **params)
     rgb = reference.render(scene.image, scene.camera, scene.size, method="demip", output="rgb", **params)
     both = ~np.isnan(depth) & ~np.isnan(expected)
@@ -186,6 +187,3 @@ def _fovea_agreement(scene: OffscreenView, image, view: str, adjust, size) -> fl
     error = np.abs(scene.screenshot()[..., :3].astype(int) - full.screenshot()[..., :3].astype(int)).max(axis=-1)
     return float(np.mean(error[inside] <= 1)) if inside.any() else float("nan")
 
-
-def _snake(name: str) -> str:
-    return "".join("_" + c.lower() if c.isupper() else c for c in name).lstrip("_")
