@@ -1,10 +1,17 @@
-"""Install mipcast: the core package plus filters, shaders, fixtures and plugin.
+"""Install mipcast: the core package ``mipcast/`` plus the top-level folders.
 
-``mipcast/filters``, ``mipcast/shaders``, ``mipcast/data_fixtures`` and
-``mipcast/plugin`` are symbolic links to the top-level folders, so the
-source tree imports as-is (e.g. from ParaView's pvpython with PYTHONPATH).
+``filters/`` (pyvista), ``plugin/`` (ParaView), ``shaders/`` (GLSL pieces) and
+``data_fixtures/`` (test volumes) live at the top of the repository and are
+installed as ``mipcast.filters``, ``mipcast.plugin``, ``mipcast.shaders`` and
+``mipcast.data_fixtures`` (``package_dir`` below): import mipcast from the
+installed package, not from the checkout.
 """
 from setuptools import setup
+
+TOP_LEVEL = {"mipcast.filters": "filters", "mipcast.plugin": "plugin",
+             "mipcast.shaders": "shaders", "mipcast.data_fixtures": "data_fixtures"}
+CORE = ["mipcast", "mipcast.core", "mipcast.reference", "mipcast.mappers", "mipcast.io",
+        "mipcast.bench", "mipcast.app"]
 
 setup(
     name="mipcast",
@@ -13,14 +20,10 @@ setup(
     long_description=open("README.md", encoding="utf-8").read(),
     long_description_content_type="text/markdown",
     python_requires=">=3.9",
-    packages=[
-        "mipcast",
-        "mipcast.filters",
-        "mipcast.shaders",
-        "mipcast.data_fixtures",
-        "mipcast.plugin",
-    ],
-    package_data={"mipcast.shaders": ["*.glsl"], "mipcast.data_fixtures": ["*.md"], "mipcast.plugin": ["*.xml", "*.md", "macros/*.py"]},
+    packages=CORE + list(TOP_LEVEL),
+    package_dir=TOP_LEVEL,
+    package_data={"mipcast.shaders": ["*.glsl"], "mipcast.data_fixtures": ["*.md"],
+                  "mipcast.plugin": ["*.xml", "*.md", "macros/*.py"]},
     install_requires=[
         "vtk>=9.2",
         "pyvista>=0.48",
@@ -29,6 +32,6 @@ setup(
         "matplotlib>=3.6",
         "tqdm>=4.60",
     ],
-    extras_require={"test": ["pytest>=7"]},
-    entry_points={"console_scripts": ["mipcast=mipcast.cli:main"]},
+    extras_require={"test": ["pytest>=7", "scipy>=1.9", "hypothesis>=6"]},
+    entry_points={"console_scripts": ["mipcast=mipcast.app.cli:main"]},
 )

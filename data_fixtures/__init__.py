@@ -2,7 +2,7 @@
 
 See ``README.md`` in this package for what each fixture is and its licence.
 """
-from .head_ct import head_ct_path, load_head_ct
-from .synthetic import FIXTURES, image_from_array, make_fixture
+from mipcast.data_fixtures.head_ct import head_ct_path, load_head_ct
+from mipcast.data_fixtures.synthetic import FIXTURES, image_from_array, make_fixture
 
 __all__ = ["FIXTURES", "make_fixture", "image_from_array", "head_ct_path", "load_head_ct"]

@@ -18,7 +18,7 @@ from typing import Optional, Tuple, Union
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
-from .synthetic import image_from_array
+from mipcast.data_fixtures.synthetic import image_from_array
 
 ENV_VAR = "MIPCAST_HEAD_CT"
 DEBIAN_PATHS = (Path("/usr/share/doc/invesalius-examples/examples/Cranium.inv3"),)

@@ -11,7 +11,7 @@ import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
-from mipcast.validation import check_choice
+from mipcast.core.validation import check_choice
 
 FIXTURES = ("vessels", "spheres", "noise", "frontback")
 MIN_SIZE, MAX_SIZE = 8, 512

@@ -5,7 +5,7 @@ With OUT.png there is no window: the picture is written there instead.
 import sys
 import pyvista as pv
 import mipcast.filters  # registers plotter.mip
-from mipcast.dicom import read_dicom
+from mipcast.io.dicom import read_dicom
 
 grid = read_dicom(sys.argv[1])  # a folder of slices (or one multi-frame file), in patient mm
 plotter = pv.Plotter(off_screen=len(sys.argv) > 2)

@@ -13,7 +13,7 @@ extension API, see :mod:`mipcast.filters.extensions`):
 
 Method parameters are keyword arguments passed to the mapper's VTK-style
 setters: ``depth_weight=0.2`` calls ``mapper.SetDepthWeight(0.2)`` (see
-:func:`mipcast.parameters.set_parameters`).
+:func:`mipcast.core.parameters.set_parameters`).
 """
 from __future__ import annotations
 
@@ -21,11 +21,11 @@ from typing import Optional, Sequence, Union
 
 import numpy as np
 
-from ..io import with_scalars
-from ..methods import attach, create_mapper
-from ..offscreen import OffscreenView
-from ..parameters import method_parameters, set_parameters
-from ..validation import check_image, check_positive
+from mipcast.io import with_scalars
+from mipcast.methods import attach, create_mapper
+from mipcast.offscreen import OffscreenView
+from mipcast.core.parameters import method_parameters, set_parameters
+from mipcast.core.validation import check_image, check_positive
 
 
 def render(image, method: str = "mip", *, scalars: Optional[str] = None, size: Sequence[int] = (256, 256),
@@ -55,7 +55,7 @@ def render(image, method: str = "mip", *, scalars: Optional[str] = None, size: S
         misses) instead of the 8-bit RGB picture.
     **params
         Method parameters, passed to the mapper's setters (see
-        :func:`mipcast.parameters.set_parameters`); an unknown name raises ``TypeError``.
+        :func:`mipcast.core.parameters.set_parameters`); an unknown name raises ``TypeError``.
 
     Returns
     -------
@@ -117,7 +117,7 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
         As in pyvista: render a shown window after adding.
     **params
         Method parameters, passed to the mapper's setters (see
-        :func:`mipcast.parameters.set_parameters`); an unknown name raises ``TypeError``
+        :func:`mipcast.core.parameters.set_parameters`); an unknown name raises ``TypeError``
         before anything is added.
 
     Returns
@@ -229,7 +229,7 @@ def _volume_property(cmap, clim, opacity):
 
 
 # Registers grid.mip and plotter.mip (imports pyvista); after the functions it delegates to.
-from .extensions import MipAccessor, MipPlotterComponent  # noqa: E402
+from mipcast.filters.extensions import MipAccessor, MipPlotterComponent  # noqa: E402
 
 __all__ = ["render", "add_volume", "plot", "with_scalars", "set_parameters", "method_parameters",
            "MipAccessor", "MipPlotterComponent"]

@@ -20,7 +20,7 @@ from typing import Optional, Sequence, Union
 import numpy as np
 import pyvista
 
-from . import add_volume, plot, render
+from mipcast.filters import add_volume, plot, render
 
 
 @pyvista.register_dataset_accessor("mip", pyvista.ImageData)

@@ -9,12 +9,12 @@ Examples
 >>> sorted(mipcast.METHODS)
 ['analytic', 'cpu', 'demip', 'demip_two_pass', 'foveated', 'mip', 'stock']
 """
-from .analytic_mapper import AnalyticMIPVolumeMapper
-from .demip_mapper import DEMIPVolumeMapper
-from .demip_two_pass import DEMIPTwoPassVolumeMapper
-from .foveated_mapper import FoveatedVolumeMapper
-from .methods import METHODS, create_mapper
-from .mip_mapper import MIPVolumeMapper
+from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
+from mipcast.mappers.demip import DEMIPVolumeMapper
+from mipcast.mappers.demip_two_pass import DEMIPTwoPassVolumeMapper
+from mipcast.mappers.foveated import FoveatedVolumeMapper
+from mipcast.methods import METHODS, create_mapper
+from mipcast.mappers.mip import MIPVolumeMapper
 
 __version__ = "0.1.0"
 __all__ = ["METHODS", "AnalyticMIPVolumeMapper", "DEMIPTwoPassVolumeMapper", "DEMIPVolumeMapper",

@@ -4,12 +4,12 @@ from __future__ import annotations
 from vtkmodules.vtkRenderingVolume import vtkFixedPointVolumeRayCastMapper
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
-from .analytic_mapper import AnalyticMIPVolumeMapper
-from .demip_mapper import DEMIPVolumeMapper
-from .demip_two_pass import DEMIPTwoPassVolumeMapper
-from .foveated_mapper import FoveatedVolumeMapper
-from .mip_mapper import MIPVolumeMapper
-from .validation import check_choice
+from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
+from mipcast.mappers.demip import DEMIPVolumeMapper
+from mipcast.mappers.demip_two_pass import DEMIPTwoPassVolumeMapper
+from mipcast.mappers.foveated import FoveatedVolumeMapper
+from mipcast.mappers.mip import MIPVolumeMapper
+from mipcast.core.validation import check_choice
 
 
 def _stock_mip() -> vtkOpenGLGPUVolumeRayCastMapper:

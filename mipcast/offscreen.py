@@ -22,9 +22,9 @@ from vtkmodules.vtkRenderingCore import (
 )
 import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL back end)
 
-from . import methods
-from .float_readout import render_float
-from .validation import check_choice, check_image, check_positive, check_size
+from mipcast import methods
+from mipcast.mappers.float_readout import render_float
+from mipcast.core.validation import check_choice, check_image, check_positive, check_size
 
 #: View presets: (azimuth, elevation, parallel projection).  Azimuth and
 #: elevation rotate the camera from the default view down -z.

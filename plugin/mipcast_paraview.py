@@ -284,7 +284,7 @@ class MipcastMIPRender(VTKPythonAlgorithmBase):
     def _render(self, image):
         """Render ``image``: (rgb uint8 (H, W, 3), values float32 (H, W) or None), top row first."""
         from mipcast.offscreen import OffscreenView
-        from mipcast.validation import check_choice, check_image, check_positive
+        from mipcast.core.validation import check_choice, check_image, check_positive
 
         for name, pixels in (("Width", self._width), ("Height", self._height)):
             if not 1 <= pixels <= MAX_SIZE:

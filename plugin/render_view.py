@@ -137,7 +137,7 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
         ``array``).
     **settings
         Mapper settings as keyword arguments, ``name=value`` calling
-        ``mapper.SetName(value)`` (see :func:`mipcast.parameters.set_parameters`),
+        ``mapper.SetName(value)`` (see :func:`mipcast.core.parameters.set_parameters`),
         e.g. ``depth_weight=0.2`` for "demip" or ``sample_distance=0.5``.
         Defaults: one sample per voxel (the smallest spacing), no
         auto-adjust, no jittering.
@@ -175,8 +175,8 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
     from vtkmodules.vtkRenderingCore import vtkVolume
 
     from mipcast.methods import attach, create_mapper
-    from mipcast.parameters import set_parameters
-    from mipcast.validation import check_image, check_positive
+    from mipcast.core.parameters import set_parameters
+    from mipcast.core.validation import check_image, check_positive
 
     simple = _simple()
     source = _source(source)

@@ -9,7 +9,7 @@
 //
 // Index space: point i sits at texture coordinate (i + 0.5) / N, so
 // p(t) = origin + t * dir with t the texture-space length along the ray.
-// Work counters, read by the amip_stats_readout piece (mipcast/amip_stats.py).
+// Work counters, read by the amip_stats_readout piece (mipcast/mappers/amip_stats.py).
 float mc_cellsWalked = 0.0;
 float mc_cellsSolved = 0.0;
 float mc_blocksJumped = 0.0;

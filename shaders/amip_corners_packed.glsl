@@ -1,7 +1,7 @@
 // mipcast piece: amip_corners_packed
 // fills: Cropping::Dec
 // mode: augment
-// Analytic MIP on the packed volume (mipcast/corner_packing.py): texel
+// Analytic MIP on the packed volume (mipcast/mappers/corner_packing.py): texel
 // (x, y, z) holds the values at (x, y, z), (x, y+1, z), (x, y, z+1) and
 // (x, y+1, z+1) in its four components, so a cell's 8 corners are two
 // texelFetch calls instead of eight (same order as amip_corners).

@@ -4,7 +4,7 @@
 // Analytic MIP with block skipping, used when the transfer functions have a
 // floor above the data minimum (the usual clinical window): most blocks then
 // lie below the running maximum from the start. A block of u_mc_blockSize^3
-// cells whose maximum (the coarse level in in_mask, mipcast/max_blocks.py)
+// cells whose maximum (the coarse level in in_mask, mipcast/mappers/max_blocks.py)
 // is not above the running maximum cannot change the answer and is jumped
 // over. Otherwise as amip_loop (floor, ceiling, exact float readout).
   McRay mc_ray = mcBeginRay();

@@ -1,7 +1,7 @@
 // mipcast piece: demip_two_pass_globals
 // fills: Termination::Dec
 // mode: augment
-// Two-pass DEMIP (mipcast/demip_two_pass.py): what the first pass (a MIP
+// Two-pass DEMIP (mipcast/mappers/demip_two_pass.py): what the first pass (a MIP
 // march) hands the second through a float texture, per pixel. Sample k of a
 // ray sits at g_dataPos + k * g_dirStep in both passes (same camera, volume
 // and sample distance), so two sample indices say everything:

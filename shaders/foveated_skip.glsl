@@ -1,7 +1,7 @@
 // mipcast piece: foveated_skip
 // fills: Base::Init
 // mode: augment
-// Foveated rendering (mipcast/foveation.py): one pyramid level per layer.
+// Foveated rendering (mipcast/core/foveation.py): one pyramid level per layer.
 // This level casts a ray only where it contributes to the picture: where
 // the pixel's eccentricity (distance to the gaze in viewport heights,
 // u_mc_fovGaze in normalised viewport coordinates) lies in

@@ -3,7 +3,7 @@
 // mode: augment
 // Foveated rendering: scale this level's premultiplied colour by its blend
 // weight clamp(level + 1 - lam, 0, 1), lam = the level the pixel wants.
-// Acuity schedule (mipcast/foveation.py): the ray spacing 2^lam grows
+// Acuity schedule (mipcast/core/foveation.py): the ray spacing 2^lam grows
 // linearly with the eccentricity beyond u_mc_fovStart, by u_mc_fovGain per
 // viewport height, so lam = clamp(log2(1 + gain * max(e - start, 0)), 0, top).
 // Drawn coarsest first with VTK's premultiplied "over" blending, the levels

@@ -28,7 +28,7 @@ def accuracy_rows(size=(128, 128)):
         for view in ("oblique", "perspective"):
             gpu = OffscreenView(image, "analytic", size=size, view=view)
             values, picture = gpu.float_image(), gpu.screenshot()
-            exact = reference.render(image, gpu.camera, size, method="exact")
+            exact = reference.render(image, gpu.camera, size, method="analytic")
             hits = ~np.isnan(exact) & ~np.isnan(values)
             error = np.abs(values[hits] - exact[hits]) / (high - low)
             grey = np.abs(picture[..., 0][hits] - np.round(255 * (exact[hits] - low) / (high - low)))

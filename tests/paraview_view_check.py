@@ -161,7 +161,7 @@ def reference(image, method, view, lut, pwf, actors=(), peel_volumes=None, **set
     ``peel_volumes`` True/False: depth peeling on (VTK's dual depth peeling,
     ParaView's peel count), with or without volumes peeled; None: off.
     """
-    from mipcast.parameters import set_parameters
+    from mipcast.core.parameters import set_parameters
 
     scene = OffscreenView(image, method, size=(WIDTH, HEIGHT))
     if peel_volumes is not None:

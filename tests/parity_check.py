@@ -16,7 +16,7 @@ from vtkmodules.vtkCommonCore import vtkVersion
 
 from mipcast import reference
 from mipcast.data_fixtures import make_fixture
-from mipcast.metrics import grey_diff
+from mipcast.core.metrics import grey_diff
 from mipcast.offscreen import OffscreenView
 
 

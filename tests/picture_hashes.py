@@ -62,7 +62,7 @@ def _digest(array: np.ndarray) -> str:
 def picture_hashes() -> dict:
     from mipcast.data_fixtures import make_fixture
     from mipcast.offscreen import OffscreenView
-    from mipcast.parameters import set_parameters
+    from mipcast.core.parameters import set_parameters
 
     hashes = {}
     for fixture in FIXTURES:

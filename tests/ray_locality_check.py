@@ -8,7 +8,7 @@ Vessels 128^3, "fill" framing (as ``mipcast bench --foveation``), mipcast
 ``mip`` at one sample per voxel.  Each line renders a square window with the
 camera zoomed so that neighbouring rays are a given distance apart in
 voxels, and prints the median frame time per sample taken (samples counted
-on the CPU, :func:`mipcast.ray_cost.grid_cost`).  A 128-pixel window whose
+on the CPU, :func:`mipcast.core.ray_cost.grid_cost`).  A 128-pixel window whose
 rays are as close as a 512-pixel window's costs the same per sample; the
 same window with rays four times farther apart (a level-2 periphery at
 512^2) costs about twice as much: llvmpipe has no texture cache, so
@@ -17,9 +17,9 @@ neighbouring rays that no longer share cache lines pay for memory traffic.
 import statistics
 
 from mipcast.data_fixtures import make_fixture
-from mipcast.foveation_bench import framed_view
+from mipcast.bench.foveation_bench import framed_view
 from mipcast.offscreen import OffscreenView
-from mipcast.ray_cost import grid_cost
+from mipcast.core.ray_cost import grid_cost
 
 #: (window edge in pixels, extra zoom over the fill framing)
 CASES = ((512, 1.0), (128, 4.0), (128, 1.0), (1024, 1.0), (256, 4.0), (256, 1.0))

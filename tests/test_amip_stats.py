@@ -1,6 +1,6 @@
 """Analytic MIP's work counters: what the walk visits, solves and skips."""
 import numpy as np
-from mipcast.amip_stats import work_per_ray
+from mipcast.mappers.amip_stats import work_per_ray
 from mipcast.data_fixtures import make_fixture
 from mipcast.offscreen import OffscreenView
 

@@ -4,7 +4,7 @@ import pytest
 
 from mipcast import reference
 from mipcast.data_fixtures import head_ct_path, image_from_array, load_head_ct, make_fixture
-from mipcast.metrics import silhouette
+from mipcast.core.metrics import silhouette
 from mipcast.offscreen import OffscreenView
 
 SIZE = (96, 80)
@@ -22,7 +22,7 @@ def _compare(image, view="oblique", size=SIZE, camera=None):
         gpu.renderer.ResetCameraClippingRange()
     values = gpu.float_image()
     picture = gpu.screenshot()
-    exact = reference.render(image, gpu.camera, size, method="exact")
+    exact = reference.render(image, gpu.camera, size, method="analytic")
     low, high = gpu.window
     misses = np.isnan(exact)
     # Hit masks agree except where a pixel centre lies on the box outline
@@ -58,7 +58,7 @@ def test_sampled_mip_is_not_exact_on_vessels():
     image = make_fixture("vessels", size=48)
     gpu = OffscreenView(image, "mip", size=SIZE)
     values = gpu.float_image()
-    exact = reference.render(image, gpu.camera, SIZE, method="exact")
+    exact = reference.render(image, gpu.camera, SIZE, method="analytic")
     hits = ~np.isnan(exact)
     assert np.mean(np.abs(values[hits] - exact[hits]) <= 1e-3) < 0.9
 
@@ -140,7 +140,7 @@ def test_windowed_display_skips_blocks_and_stays_exact(window, background_black)
     assert "amip_loop_blocks" in gpu.mapper.GetShaderPieces()
     values = gpu.float_image()
     picture = gpu.screenshot()
-    exact = reference.render(image, gpu.camera, SIZE, method="exact")
+    exact = reference.render(image, gpu.camera, SIZE, method="analytic")
     hits = ~np.isnan(exact)
     low, high = image.GetPointData().GetScalars().GetRange(0)
     assert np.mean(np.abs(values[hits] - exact[hits]) <= 1e-3 * (high - low)) >= 0.999
@@ -152,7 +152,7 @@ def test_windowed_display_skips_blocks_and_stays_exact(window, background_black)
 
 
 def test_volumes_beyond_one_texture_are_refused_with_the_limit():
-    from mipcast.object_state import object_state
+    from mipcast.core.object_state import object_state
 
     view = OffscreenView(make_fixture("spheres", size=40), "analytic", size=(48, 48))
     assert view.screenshot().max() > 100
@@ -176,7 +176,7 @@ def test_packed_corners_draw_the_same_pixels_as_eight_fetches(window):
     from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
-    from mipcast.amip_stats import work_per_ray
+    from mipcast.mappers.amip_stats import work_per_ray
 
     rng = np.random.default_rng(5)
     values = (rng.random((20, 28, 24)) ** 4 * 3000 - 1000).astype(np.int16)

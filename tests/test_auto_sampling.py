@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from mipcast import reference
-from mipcast.auto_sampling import CANDIDATES, choose_samples_per_voxel
+from mipcast.bench.auto_sampling import CANDIDATES, choose_samples_per_voxel
 from mipcast.data_fixtures import make_fixture
 from mipcast.offscreen import OffscreenView
 
@@ -13,7 +13,7 @@ SIZE = (96, 96)
 def _within_one_grey(image, view, rate):
     gpu = OffscreenView(image, "mip", size=SIZE, view=view, sample_distance=1.0 / rate)
     values = gpu.float_image()
-    exact = reference.render(image, gpu.camera, SIZE, method="exact")
+    exact = reference.render(image, gpu.camera, SIZE, method="analytic")
     hits = ~np.isnan(exact)
     low, high = gpu.window
     return float(np.mean(np.abs(values[hits] - exact[hits]) <= (high - low) / 255))

@@ -8,8 +8,9 @@ import pytest
 from matplotlib import pyplot
 from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
 
-from mipcast.cli import main
+from mipcast.app.cli import main
 from mipcast.data_fixtures import make_fixture
+from installed import OUTSIDE
 
 
 def test_demo_writes_pictures_and_error_maps(tmp_path, capsys):
@@ -121,7 +122,7 @@ def test_bench_foveation_writes_table_chart_and_ring_errors(tmp_path, capsys):
 
 
 def test_console_script_is_installed():
-    run = subprocess.run([sys.executable, "-m", "mipcast.cli", "--version"], capture_output=True, text=True)
+    run = subprocess.run([sys.executable, "-m", "mipcast.app.cli", "--version"], capture_output=True, text=True, cwd=OUTSIDE)
     assert run.returncode == 0 and "mipcast" in run.stdout
 
 
@@ -155,7 +156,7 @@ def _vti(tmp_path, image, name="volume.vti"):
 
 def _offscreen_png(tmp_path, image, method, name, **settings):
     """The picture OffscreenView draws with the mapper set through its own setters."""
-    from mipcast.cli import _write_png
+    from mipcast.app.cli import _write_png
     from mipcast.offscreen import OffscreenView
 
     view = OffscreenView(image, method, size=(48, 48))

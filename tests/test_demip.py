@@ -6,8 +6,8 @@ from vtkmodules.vtkRenderingCore import vtkCoordinate
 import mipcast
 from mipcast import reference
 from mipcast.data_fixtures import image_from_array, make_fixture
-from mipcast.demip_mapper import DEPTH_MODES, SPHERE_PRESETS, render_depth
-from mipcast.metrics import silhouette
+from mipcast.mappers.demip import DEPTH_MODES, SPHERE_PRESETS, render_depth
+from mipcast.core.metrics import silhouette
 from mipcast.offscreen import OffscreenView
 
 SIZE = (96, 80)

@@ -9,11 +9,11 @@ from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkVolume
 
 import mipcast
 from mipcast.data_fixtures import image_from_array, make_fixture
-from mipcast.demip_mapper import render_depth
-from mipcast.demip_two_pass import INDEX_BASE, DEMIPFirstPassMapper, DEMIPTwoPassVolumeMapper
-from mipcast.foveated_mapper import layer_methods
+from mipcast.mappers.demip import render_depth
+from mipcast.mappers.demip_two_pass import INDEX_BASE, DEMIPFirstPassMapper, DEMIPTwoPassVolumeMapper
+from mipcast.mappers.foveated import layer_methods
 from mipcast.offscreen import OffscreenView
-from mipcast.shader_pieces import load_piece
+from mipcast.mappers.shader_pieces import load_piece
 
 SIZE = (96, 80)
 

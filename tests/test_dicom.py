@@ -1,4 +1,4 @@
-"""Tests of mipcast.dicom on pydicom's bundled files and on generated series.
+"""Tests of mipcast.io.dicom on pydicom's bundled files and on generated series.
 
 Generated series are written with pydicom into tmp_path with known geometry;
 expected positions are computed from the DICOM definition
@@ -19,9 +19,9 @@ from pydicom.uid import ExplicitVRLittleEndian, JPEG2000, generate_uid  # noqa: 
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
 
-from mipcast.dicom import list_series, read_dicom  # noqa: E402
+from mipcast.io.dicom import list_series, read_dicom  # noqa: E402
 from mipcast.io import read_volume  # noqa: E402
-from mipcast.validation import check_image  # noqa: E402
+from mipcast.core.validation import check_image  # noqa: E402
 
 CT5N = Path(get_testdata_file("dicomdirtests/98892001/CT5N/2062")).parent
 CT_IMAGE = "1.2.840.10008.5.1.4.1.1.2"

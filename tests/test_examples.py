@@ -13,9 +13,9 @@ import pytest
 from matplotlib import pyplot
 
 import mipcast
+from installed import ROOT, plain_env, pvpython_env
 from xvfb import run_under_xvfb
 
-ROOT = Path(__file__).resolve().parents[1]
 EXAMPLES = ROOT / "examples"
 SWAP = EXAMPLES / "vtk_pipeline_swap.py"
 DICOM_DEMIP = EXAMPLES / "pyvista_dicom_demip.py"
@@ -23,8 +23,7 @@ HAVE_PVPYTHON = shutil.which("pvpython") is not None and shutil.which("xvfb-run"
 
 
 def run(command, tmp_path, timeout=180):
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
-    result = subprocess.run(command, cwd=tmp_path, env=env, capture_output=True, text=True,
+    result = subprocess.run(command, cwd=tmp_path, env=plain_env(), capture_output=True, text=True,
                             timeout=timeout)
     assert result.returncode == 0, result.stdout + result.stderr
     return result
@@ -95,7 +94,7 @@ def test_vtk_pipeline_swap_vtk97(tmp_path):
 @pytest.mark.skipif(not HAVE_PVPYTHON, reason="needs pvpython (ParaView 5.11, VTK 9.2) and xvfb-run")
 def test_vtk_pipeline_swap_vtk92_in_pvpython(tmp_path):
     result = run_under_xvfb(["pvpython", str(SWAP), str(tmp_path / "vtk92.png")], cwd=tmp_path,
-                            env=dict(os.environ, PYTHONPATH=str(ROOT)), timeout=180)
+                            env=pvpython_env(), timeout=180)
     assert result.returncode == 0, result.stdout + result.stderr
     assert "AnalyticMIPVolumeMapper" in result.stdout
     run([sys.executable, str(SWAP), str(tmp_path / "vtk97.png")], tmp_path)

@@ -5,7 +5,7 @@ import pyvista as pv
 
 from mipcast.data_fixtures import make_fixture
 from mipcast.filters import add_volume, render
-from mipcast.metrics import grey_diff
+from mipcast.core.metrics import grey_diff
 
 
 @pytest.fixture(scope="module")

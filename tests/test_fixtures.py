@@ -9,7 +9,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkImagingMorphological import vtkImageConnectivityFilter
 
 from mipcast.data_fixtures import FIXTURES, head_ct_path, load_head_ct, make_fixture
-from mipcast.validation import check_image
+from mipcast.core.validation import check_image
 
 
 def voxels(name, size=32, seed=0):

@@ -4,12 +4,12 @@ import pytest
 
 from mipcast import METHODS, FoveatedVolumeMapper
 from mipcast.data_fixtures import image_from_array, make_fixture
-from mipcast.foveated_mapper import layer_methods
-from mipcast.foveation import (REACH_TEXELS, blend_shares, desired_level, eccentricity, level_border,
+from mipcast.mappers.foveated import layer_methods
+from mipcast.core.foveation import (REACH_TEXELS, blend_shares, desired_level, eccentricity, level_border,
                                plan_frame)
 from mipcast.offscreen import OffscreenView
-from mipcast.shader_pieces import load_piece
-from mipcast.volume_pyramid import build_max_pyramid, max_reduce_axis
+from mipcast.mappers.shader_pieces import load_piece
+from mipcast.mappers.volume_pyramid import build_max_pyramid, max_reduce_axis
 
 SIZE = (128, 96)
 GAZE = (0.4, 0.6)
@@ -88,7 +88,7 @@ def test_opaque_geometry_stops_the_rays_of_every_level(vessels48):
 
 
 def test_float_readout_is_the_blended_image(vessels48):
-    from mipcast.metrics import summary
+    from mipcast.core.metrics import summary
 
     full, fov = _views(vessels48, GazePoint=GAZE, FovealRadius=0.3)
     exact, values = full.float_image(), fov.float_image()
@@ -385,7 +385,7 @@ def test_settings_are_validated():
 
 
 def test_level_pieces_fit_every_method():
-    from mipcast.foveated_mapper import _level_class
+    from mipcast.mappers.foveated import _level_class
 
     for name in layer_methods():
         tags = [load_piece(n).tag for n in _level_class(METHODS[name])().GetShaderPieces()]
@@ -439,7 +439,7 @@ def test_gaze_follows_the_mouse(vessels48):
 
 
 def test_analytic_levels_reading_one_volume_share_its_packed_copy():
-    from mipcast.object_state import object_state
+    from mipcast.core.object_state import object_state
     from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
     image = make_fixture("vessels", size=32)

@@ -19,7 +19,7 @@ from vtkmodules.vtkIOImage import vtkMetaImageWriter, vtkNIFTIImageWriter
 from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
 
 from mipcast.io import SUPPORTED_EXTENSIONS, read_volume
-from mipcast.validation import check_image
+from mipcast.core.validation import check_image
 
 RAS_TO_LPS = np.diag([-1.0, -1.0, 1.0])
 SHAPE = (6, 7, 11)  # (nz, ny, nx); nx > 9 for VTK's NRRD reader

@@ -1,11 +1,11 @@
-"""Known-answer tests of mipcast.metrics on tiny hand-made images."""
+"""Known-answer tests of mipcast.core.metrics on tiny hand-made images."""
 import doctest
 
 import numpy as np
 import pytest
 
-from mipcast import metrics
-from mipcast.metrics import error_map, grey_diff, summary
+from mipcast.core import metrics
+from mipcast.core.metrics import error_map, grey_diff, summary
 
 NAN = np.nan
 

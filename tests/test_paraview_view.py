@@ -13,6 +13,7 @@ import os
 from pathlib import Path
 
 import pytest
+from installed import OUTSIDE, plain_env
 from xvfb import pvpython_report
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -38,7 +39,7 @@ def test_module_imports_without_paraview_and_says_where_to_run():
             "assert 'paraview' not in sys.modules\n"
             "try:\n    rv.show()\nexcept ImportError as e:\n    print(e)\n")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          env=dict(os.environ, PYTHONPATH=str(ROOT)), timeout=60)
+                          env=plain_env(), cwd=OUTSIDE, timeout=60)
     assert done.returncode == 0, done.stderr
     assert "pvpython" in done.stdout
 

@@ -11,7 +11,8 @@ import mipcast.filters
 from mipcast import METHODS, create_mapper
 from mipcast.data_fixtures import make_fixture
 from mipcast.filters import add_volume, method_parameters, render, set_parameters
-from mipcast.shader_pieces import installed_tags
+from mipcast.mappers.shader_pieces import installed_tags
+from installed import OUTSIDE
 
 SIZE = (48, 40)
 
@@ -23,7 +24,8 @@ def grid():
 
 def test_import_mipcast_does_not_import_pyvista():
     code = "import sys, mipcast; assert 'pyvista' not in sys.modules, 'pyvista imported'; print('ok')"
-    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60,
+                            cwd=OUTSIDE)
     assert result.returncode == 0 and "ok" in result.stdout, result.stderr
 
 

@@ -10,7 +10,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkRenderingCore import vtkCamera
 
-from mipcast.camera_rays import box_interval, camera_rays, index_space, matrix_array
+from mipcast.core.camera_rays import box_interval, camera_rays, index_space, matrix_array
 from mipcast.reference import render
 
 
@@ -150,7 +150,7 @@ def test_exact_matches_brute_force(seed, parallel):
                        direction=random_rotation(rng) if seed else None)
     camera = random_camera(rng, image, parallel)
     size = (20, 16)
-    exact = render(image, camera, size, method="exact")
+    exact = render(image, camera, size, method="analytic")
     brute, samples = brute_force(values, camera_rays(image, camera, size))
     hit = np.isfinite(brute)
     assert hit.sum() > 100
@@ -165,7 +165,7 @@ def test_exact_matches_brute_force(seed, parallel):
 def exact_centre(image, point, direction):
     camera = ray_camera(point, direction)
     rays = camera_rays(image, camera, (1, 1))
-    value = render(image, camera, (1, 1), method="exact")[0, 0]
+    value = render(image, camera, (1, 1), method="analytic")[0, 0]
     return value, rays
 
 
@@ -270,7 +270,7 @@ def test_linear_field_maximum_at_an_end(parallel):
     rays = camera_rays(image, camera, (17, 13))
     ends = [rays.origin + t[..., None] * rays.direction for t in (rays.t_enter, rays.t_exit)]
     expected = np.maximum(*(e @ coef + 5.0 for e in ends))
-    exact = render(image, camera, (17, 13), method="exact")
+    exact = render(image, camera, (17, 13), method="analytic")
     assert np.isfinite(exact).sum() > 50
     np.testing.assert_allclose(exact, expected, rtol=0, atol=1e-12 * np.ptp(values))
 
@@ -282,7 +282,7 @@ def test_single_bright_voxel(dtype):
     image = make_image(values)
     # rays along z on a grid of 0.25 voxel around the bright point (2, 4)
     camera = make_camera((2, 4, 3), (2, 4, 30), (0, 1, 0), True, scale=0.75 * 7 / 6)
-    exact = render(image, camera, (7, 7), method="exact")
+    exact = render(image, camera, (7, 7), method="analytic")
     offset = np.linspace(-0.75, 0.75, 7)
     dx, dy = np.meshgrid(offset, offset[::-1])
     expected = 100 * np.clip(1 - np.abs(dx), 0, 1) * np.clip(1 - np.abs(dy), 0, 1)
@@ -350,7 +350,7 @@ def test_mip_below_exact_and_converging(parallel):
     image = make_image(values, spacing=(1.0, 1.4, 0.7), origin=(1, 2, 3),
                        direction=random_rotation(rng))
     camera = random_camera(rng, image, parallel)
-    exact = render(image, camera, (24, 20), method="exact")
+    exact = render(image, camera, (24, 20), method="analytic")
     rays = camera_rays(image, camera, (24, 20))
     hit = np.isfinite(exact)
     errors = []
@@ -414,7 +414,7 @@ def test_rays_clipped_by_near_and_far_planes():
     assert rays.t_enter[0, 0] == 0.0
     np.testing.assert_allclose(rays.origin[0, 0], (2.5, 3.0, 3.5), atol=1e-12)
     assert rays.t_exit[0, 0] == pytest.approx(2.0)
-    value = render(PLAIN, camera, (1, 1), method="exact")[0, 0]
+    value = render(PLAIN, camera, (1, 1), method="analytic")[0, 0]
     # z runs from 3.5 down to 1.5 only: candidates are both ends and the planes between
     candidates = [(2.5, 3.0, z) for z in (1.5, 2.0, 3.0, 3.5)]
     assert value == pytest.approx(interpolate(RNG_VOLUME, np.array(candidates)).max(), abs=1e-12)
@@ -425,7 +425,7 @@ def test_rows_top_first_columns_left_to_right():
     values[5:7, 9:11, 8:11] = 1.0             # high y (world up), high x (world right)
     image = make_image(values)
     camera = make_camera((5.5, 5.5, 5.5), (5.5, 5.5, 40), (0, 1, 0), True, scale=6.0)
-    exact = render(image, camera, (12, 12), method="exact")
+    exact = render(image, camera, (12, 12), method="analytic")
     rows, cols = np.nonzero(exact > 0.5)
     assert rows.max() < 6 and cols.min() > 6
 
@@ -436,8 +436,8 @@ def test_extent_start_does_not_move_the_volume():
                          extent_start=start)
     camera = random_camera(np.random.default_rng(2), PLAIN, False)
     plain = make_image(RNG_VOLUME, spacing=spacing, origin=origin)
-    np.testing.assert_allclose(render(shifted, camera, (10, 10), method="exact"),
-                               render(plain, camera, (10, 10), method="exact"), atol=1e-12)
+    np.testing.assert_allclose(render(shifted, camera, (10, 10), method="analytic"),
+                               render(plain, camera, (10, 10), method="analytic"), atol=1e-12)
 
 
 def test_matrix_array_rows_and_columns():
@@ -481,18 +481,18 @@ def test_box_interval_parallel_rays_inside_or_outside():
 def test_bad_input_raises():
     camera = ray_camera((2.0, 3.0, 4.0), (0, 0, 1))
     with pytest.raises(TypeError):
-        render("not an image", camera, (4, 4), method="exact")
+        render("not an image", camera, (4, 4), method="analytic")
     two = make_image(RNG_VOLUME)
     two.GetPointData().SetScalars(numpy_to_vtk(np.zeros((RNG_VOLUME.size, 2)), deep=True))
     with pytest.raises(ValueError, match="components"):
-        render(two, camera, (4, 4), method="exact")
+        render(two, camera, (4, 4), method="analytic")
     nan = RNG_VOLUME.copy()
     nan[1, 2, 3] = np.nan
     with pytest.raises(ValueError, match="NaN"):
-        render(make_image(nan), camera, (4, 4), method="exact")
+        render(make_image(nan), camera, (4, 4), method="analytic")
     with pytest.raises(ValueError, match="at least 2 points"):
-        render(make_image(RNG_VOLUME[:1]), camera, (4, 4), method="exact")
-    with pytest.raises(ValueError, match="'exact'"):
+        render(make_image(RNG_VOLUME[:1]), camera, (4, 4), method="analytic")
+    with pytest.raises(ValueError, match="'analytic'"):
         render(PLAIN, camera, (4, 4), method="cubic")
     for bad in (0.0, -1.0, float("nan")):
         with pytest.raises(ValueError, match="sample_distance"):
@@ -500,15 +500,15 @@ def test_bad_input_raises():
     with pytest.raises(TypeError, match="sample_distance"):
         render(PLAIN, camera, (4, 4), method="mip")
     with pytest.raises(TypeError, match="sample_distance"):
-        render(PLAIN, camera, (4, 4), method="exact", sample_distance=1.0)
+        render(PLAIN, camera, (4, 4), method="analytic", sample_distance=1.0)
     with pytest.raises(TypeError, match="jitter"):
         render(PLAIN, camera, (4, 4), sample_distance=1.0, jitter=True)
     for size in ((0, 4), (4, -1), (2.5, 4)):
         with pytest.raises(ValueError, match="size"):
-            render(PLAIN, camera, size, method="exact")
+            render(PLAIN, camera, size, method="analytic")
     for size in ("ab", 4, (1, 2, 3)):
         with pytest.raises(TypeError, match="size"):
-            render(PLAIN, camera, size, method="exact")
+            render(PLAIN, camera, size, method="analytic")
 
 
 def test_inputs_unchanged():
@@ -518,7 +518,7 @@ def test_inputs_unchanged():
     state = [camera.GetPosition(), camera.GetFocalPoint(), camera.GetViewUp(),
              camera.GetClippingRange(), camera.GetViewAngle(), camera.GetParallelProjection()]
     geometry = [image.GetOrigin(), image.GetSpacing(), image.GetExtent()]
-    render(image, camera, (8, 8), method="exact")
+    render(image, camera, (8, 8), method="analytic")
     render(image, camera, (8, 8), method="mip", sample_distance=0.5)
     assert np.array_equal(vtk_to_numpy(image.GetPointData().GetScalars()), scalars)
     assert state == [camera.GetPosition(), camera.GetFocalPoint(), camera.GetViewUp(),

@@ -5,8 +5,8 @@ import pytest
 from vtkmodules.vtkRenderingCore import vtkVolume
 
 import mipcast
-from mipcast import shader_pieces
-from mipcast.shader_pieces import TEMPLATE_TAGS, install, installed_tags, load_piece, parse_piece, uninstall
+from mipcast.mappers import shader_pieces
+from mipcast.mappers.shader_pieces import TEMPLATE_TAGS, install, installed_tags, load_piece, parse_piece, uninstall
 
 ALL_PIECES = sorted(p.name[:-5] for p in resources.files("mipcast.shaders").iterdir()
                     if p.name.endswith(".glsl"))
@@ -79,4 +79,4 @@ def test_no_python_module_builds_glsl_from_values():
         if module.name.endswith(".py"):
             source = module.read_text()
             assert "AddFragmentShaderReplacement(" not in source or module.name == "shader_pieces.py"
-    assert shader_pieces.install.__module__ == "mipcast.shader_pieces"
+    assert shader_pieces.install.__module__ == "mipcast.mappers.shader_pieces"

@@ -4,8 +4,8 @@ import pytest
 from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
 from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolumeProperty
 
-from mipcast.max_blocks import block_maxima
-from mipcast.transfer_bounds import constant_ends
+from mipcast.mappers.max_blocks import block_maxima
+from mipcast.core.transfer_bounds import constant_ends
 
 
 @pytest.mark.parametrize("shape", [(2, 2, 2), (9, 9, 9), (10, 13, 7), (2, 30, 5)])

@@ -7,8 +7,9 @@ from pathlib import Path
 
 import pytest
 
-from mipcast.cli import main
-from mipcast.viewer import has_display
+from mipcast.app.cli import main
+from mipcast.app.viewer import has_display
+from installed import plain_env
 from xvfb import run_under_xvfb
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -37,8 +38,8 @@ VIEWER_SCRIPT = textwrap.dedent('''
     import pyvista
     from mipcast import METHODS, MIPVolumeMapper, create_mapper
     from mipcast.data_fixtures import make_fixture
-    from mipcast.object_state import object_state
-    from mipcast.viewer import build_viewer, run_viewer
+    from mipcast.core.object_state import object_state
+    from mipcast.app.viewer import build_viewer, run_viewer
 
 
     class FakeDepthMapper(MIPVolumeMapper):
@@ -156,15 +157,14 @@ VIEWER_SCRIPT = textwrap.dedent('''
 def test_viewer_under_xvfb(tmp_path):
     script = tmp_path / "viewer_check.py"
     script.write_text(VIEWER_SCRIPT)
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
-    result = run_under_xvfb([sys.executable, str(script)], cwd=tmp_path, env=env, timeout=240)
+    result = run_under_xvfb([sys.executable, str(script)], cwd=tmp_path, env=plain_env(), timeout=240)
     assert result.returncode == 0 and "viewer ok" in result.stdout, result.stdout + result.stderr
     assert "Encountered issue in callback" not in result.stderr, result.stderr
 
 
 def test_viewer_params_reach_the_mapper_and_bad_ones_are_refused():
     from mipcast.data_fixtures import make_fixture
-    from mipcast.viewer import build_viewer
+    from mipcast.app.viewer import build_viewer
 
     image = make_fixture("vessels", size=16)
     plotter = build_viewer(image, "demip", off_screen=True, window_size=(48, 48),

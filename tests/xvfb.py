@@ -11,8 +11,7 @@ import shutil
 import subprocess
 from pathlib import Path
 
-#: The repository (the checks run with it on PYTHONPATH).
-ROOT = Path(__file__).resolve().parents[1]
+from installed import ROOT, pvpython_env
 
 #: A 24-bit screen: GLX needs a true-colour visual (xvfb-run's default is 8-bit).
 SERVER = ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24"]
@@ -41,9 +40,8 @@ def pvpython_report(check, what: str, timeout: float = 240) -> dict:
     if missing:
         pytest.skip(f"{' and '.join(missing)} not on PATH: {what} needs "
                     "Debian's paraview, python3-paraview and xvfb")
-    env = dict(os.environ, PYTHONPATH=str(ROOT))
-    env.pop("PYTHONHOME", None)
-    completed = run_under_xvfb(["pvpython", str(ROOT / "tests" / check)], cwd=ROOT, env=env, timeout=timeout)
+    completed = run_under_xvfb(["pvpython", str(ROOT / "tests" / check)], cwd=ROOT, env=pvpython_env(),
+                               timeout=timeout)
     lines = [line for line in completed.stdout.splitlines() if line.startswith("{")]
     assert completed.returncode == 0 and lines, (
         f"pvpython exited with {completed.returncode}\nstdout:\n{completed.stdout[-3000:]}"

@@ -1,0 +1,388 @@
+"""``mipcast view``: an interactive pyvista window over one volume.
+
+Keys
+    ``m`` next method of :data:`mipcast.METHODS` (read when pressed), ``d``
+    next depth mode (methods with ``SetDepthMode``), pyvista's own keys
+    (``q`` quits, ``r`` resets the camera, ...).
+Sliders
+    sample distance in voxels (methods that sample; analytic MIP does not),
+    and one per parameter of :data:`SLIDERS` the method has
+    (``depth_weight``, ``sphere_weight``, ``material_threshold`` for DEMIP,
+    ``foveal_radius``, ``falloff`` for foveated rendering); values carry
+    over when the method changes.
+Mouse
+    the pointer position, in normalised viewport coordinates (0..1 from the
+    lower left corner), goes to ``mapper.SetGazePoint(x, y)`` on every move
+    when the method has it (foveated rendering).
+Legend
+    methods with ``SetSphereWeight`` get the colour sphere in the lower
+    right corner, turning with the camera like the volume: a shaded sphere
+    whose colour along each world direction is the one the method gives a
+    hit in that direction from the volume's centre, i.e. the mapper's
+    ``GetSphereColors()`` (front RGB, back RGB) mixed by ``(1 + cos a) / 2``,
+    ``a`` the angle to the front pole (third column of
+    ``GetSphereOrientation()``, default world +z), as
+    :class:`mipcast.DEMIPVolumeMapper` does.  A mapper without
+    ``GetSphereColors`` gets no legend.
+
+Depth modes are listed by the mapper class as ``DEPTH_MODES`` (the values
+``SetDepthMode`` takes), or by VTK-style ``GetDepthModeMinValue`` /
+``GetDepthModeMaxValue``.  A method that does not sample along the ray
+(:class:`mipcast.AnalyticMIPVolumeMapper`) says so with the class attribute
+``WALKS_CELLS = True``: it gets no sample-distance slider.
+
+pyvista is imported inside the functions only, so the core package keeps
+working in ParaView's Python.
+"""
+from __future__ import annotations
+
+import importlib
+import os
+import sys
+from typing import Optional, Sequence
+
+import numpy as np
+
+from mipcast import METHODS
+from mipcast.core.parameters import set_parameters, setter_name
+from mipcast.core.validation import check_choice
+
+#: Normalised (x0, y0, x1, y1) of the colour-sphere legend in the window.
+LEGEND_VIEWPORT = (0.78, 0.0, 1.0, 0.22)
+#: Slider range of the sample distance, in voxels (the smallest spacing).
+SAMPLE_DISTANCE_RANGE = (0.125, 2.0)
+#: Method parameters that get a slider when the mapper has them: name -> range.
+SLIDERS = {"depth_weight": (0.0, 1.0), "sphere_weight": (0.0, 1.0), "material_threshold": (0.01, 1.0),
+           "foveal_radius": (0.0, 1.0), "falloff": (0.0, 1.0)}
+
+
+def has_display(environ=None, platform: Optional[str] = None) -> bool:
+    """Whether an on-screen window can open: macOS, Windows, or ``DISPLAY`` set.
+
+    Parameters
+    ----------
+    environ : mapping, optional
+        Environment variables; default ``os.environ``.
+    platform : str, optional
+        ``sys.platform`` value; default the running one.
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> has_display({}, "linux"), has_display({"DISPLAY": ":0"}, "linux"), has_display({}, "darwin")
+    (False, True, True)
+    """
+    environ = os.environ if environ is None else environ
+    platform = sys.platform if platform is None else platform
+    return platform == "darwin" or platform.startswith("win") or bool(environ.get("DISPLAY"))
+
+
+def build_viewer(image, method: str = "mip", *, cmap="gray", clim: Optional[Sequence[float]] = None,
+                 window_size: Sequence[int] = (900, 800), off_screen: bool = False,
+                 params: Optional[dict] = None):
+    """Build the interactive viewer's plotter without showing it.
+
+    The volume is added through ``plotter.mip.add_volume`` on a black
+    background, with the keys, sliders, gaze observer and colour-sphere
+    legend described in :mod:`mipcast.app.viewer` (they are attached to the
+    plotter's interactor, which pyvista also gives off-screen plotters, so
+    an off-screen viewer can be driven by simulated events).
+
+    Parameters
+    ----------
+    image : vtkImageData or pyvista.ImageData
+        The volume (one-component point scalars).
+    method : str, default: "mip"
+        The first method, a name from ``mipcast.METHODS``.
+    cmap : str or matplotlib colormap, default: "gray"
+        Colour map, as in ``Plotter.add_volume``.
+    clim : sequence of float, optional
+        Colour limits (low, high); default the data range.
+    window_size : sequence of int, default: (900, 800)
+        Window (width, height) in pixels.
+    off_screen : bool, default: False
+        Render offscreen (no interaction).
+    params : dict, optional
+        Method parameters to start with (``{"depth_weight": 0.5}``, see
+        :func:`mipcast.core.parameters.set_parameters`); carried over to other
+        methods that have them.
+
+    Returns
+    -------
+    pyvista.Plotter
+        Show it with ``plotter.show()`` (or use :func:`run_viewer`).
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> plotter = build_viewer(make_fixture("vessels", size=24), "analytic",
+    ...                        window_size=(64, 64), off_screen=True)
+    >>> type(plotter.mip.volumes[0].GetMapper()).__name__
+    'AnalyticMIPVolumeMapper'
+    >>> plotter.screenshot().shape
+    (64, 64, 3)
+    >>> plotter.close()
+    """
+    return _Viewer(image, method, cmap=cmap, clim=clim, window_size=window_size,
+                   off_screen=off_screen, params=params).plotter
+
+
+def run_viewer(image, method: str = "mip", **options) -> None:
+    """Open the viewer window and block until it is closed.
+
+    Parameters
+    ----------
+    image : vtkImageData or pyvista.ImageData
+        The volume (one-component point scalars).
+    method : str, default: "mip"
+        The first method, a name from ``mipcast.METHODS``.
+    **options
+        Keyword arguments of :func:`build_viewer` (``cmap``, ``clim``,
+        ``window_size``, ``params``).
+
+    Raises
+    ------
+    RuntimeError
+        If there is no display (see :func:`has_display`).
+
+    Examples
+    --------
+    Opens a window and waits for it to close, so it is not run as a test
+    (``tests/test_viewer.py`` runs it under ``xvfb-run`` instead):
+
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> run_viewer(make_fixture("vessels", size=64), "analytic")  # doctest: +SKIP
+    """
+    if not has_display():
+        raise RuntimeError("no display: the viewer needs a window; render to a file with "
+                           "`mipcast render INPUT --out x.png` instead")
+    viewer = _Viewer(image, method, off_screen=False, **options)
+    viewer.plotter.show(title=f"mipcast view ({method})", before_close_callback=viewer.close)
+
+
+class _Viewer:
+    """The viewer's state: plotter, current method and volume, widgets, parameter values."""
+
+    def __init__(self, image, method, *, cmap="gray", clim=None, window_size=(900, 800),
+                 off_screen=False, params=None) -> None:
+        import pyvista
+
+        importlib.import_module("mipcast.filters")  # registers plotter.mip
+
+        self.params = _checked_params(method, dict(params or {}))  # name -> value, carried across methods
+        self.grid = pyvista.wrap(image)
+        self.cmap = cmap
+        self.clim = tuple(clim) if clim is not None else self.grid.GetPointData().GetScalars().GetRange(0)
+        self.voxel = min(abs(s) for s in self.grid.GetSpacing())
+        self.sample_voxels = 1.0
+        self.volume = None
+        self.legend = None
+        self.plotter = pyvista.Plotter(off_screen=off_screen, window_size=list(window_size))
+        self.plotter.set_background("black")
+        self.interactive = self.plotter.iren is not None
+        if self.interactive:
+            self.plotter.add_key_event("m", self.next_method)
+            self.plotter.add_key_event("d", self.next_depth_mode)
+            self.plotter.iren.add_observer("MouseMoveEvent", self._on_mouse_move)
+        self.set_method(method)
+
+    @property
+    def mapper(self):
+        return self.volume.GetMapper()
+
+    # -- actions --------------------------------------------------------------
+    def set_method(self, method: str) -> None:
+        method = check_choice("method", method, tuple(METHODS))
+        camera = self.plotter.camera_position if self.volume is not None else None
+        if self.volume is not None:
+            self.plotter.mip.remove_volume(self.volume)
+        sample_distance = self.sample_voxels * self.voxel if _uses_sample_distance(method) else None
+        self.volume = self.plotter.mip.add_volume(self.grid, method, cmap=self.cmap, clim=self.clim,
+                                                  sample_distance=sample_distance, render=False)
+        self.method = method
+        for name, value in self.params.items():  # carry over what the new method accepts
+            if self._has(name):
+                try:
+                    set_parameters(self.mapper, **{name: value})
+                except (TypeError, ValueError):
+                    pass  # e.g. a depth mode this method does not have: keep its default
+        if camera is not None:
+            self.plotter.camera_position = camera
+        if self.interactive:
+            self._build_sliders()
+            self._build_legend()
+        self._show_status()
+        self.plotter.render()
+
+    def next_method(self) -> None:
+        names = list(METHODS)
+        following = names[(names.index(self.method) + 1) % len(names)] if self.method in names else names[0]
+        self.set_method(following)
+
+    def next_depth_mode(self) -> None:
+        modes = _depth_modes(self.mapper)
+        if not modes:
+            self._show_status(note="this method has no depth modes")
+            self.plotter.render()
+            return
+        current = self.mapper.GetDepthMode() if hasattr(self.mapper, "GetDepthMode") \
+            else self.params.get("depth_mode")
+        index = modes.index(current) if current in modes else -1
+        self._set_param("depth_mode", modes[(index + 1) % len(modes)])
+        self._show_status()
+        self.plotter.render()
+
+    def close(self, *_) -> None:
+        if self.legend is not None:
+            self.legend.SetEnabled(0)
+            self.legend = None
+
+    # -- helpers --------------------------------------------------------------
+    def _has(self, name: str) -> bool:
+        return callable(getattr(self.mapper, setter_name(name), None))
+
+    def _set_param(self, name: str, value) -> None:
+        self.params[name] = value
+        set_parameters(self.mapper, **{name: value})
+
+    def _set_sample_voxels(self, value: float) -> None:
+        self.sample_voxels = float(value)
+        self.mapper.SetSampleDistance(self.sample_voxels * self.voxel)
+        self.plotter.render()
+
+    def _set_weight(self, name: str, value: float) -> None:
+        self._set_param(name, float(value))
+        self.plotter.render()
+
+    def _build_sliders(self) -> None:
+        self.plotter.clear_slider_widgets()
+        sliders = []
+        if _uses_sample_distance(self.method):
+            sliders.append(("sample distance (voxels)", SAMPLE_DISTANCE_RANGE, self.sample_voxels,
+                            self._set_sample_voxels))
+        for name, rng in SLIDERS.items():
+            if self._has(name):
+                getter = getattr(self.mapper, "Get" + setter_name(name)[3:], None)
+                value = self.params.get(name, getter() if callable(getter) else rng[0])
+                sliders.append((name.replace("_", " "), rng, value,
+                                lambda v, name=name: self._set_weight(name, v)))
+        for row, (title, rng, value, callback) in enumerate(sliders):
+            y = 0.92 - 0.13 * row
+            self.plotter.add_slider_widget(callback, rng, value=value, title=title,
+                                           pointa=(0.03, y), pointb=(0.3, y), style="modern",
+                                           title_height=0.02, title_color="white", fmt="%.3g")
+
+    def _build_legend(self) -> None:
+        from vtkmodules.vtkInteractionWidgets import vtkOrientationMarkerWidget
+
+        self.close()
+        if not hasattr(self.mapper, "SetSphereWeight"):
+            return
+        actor = _sphere_legend_actor(self.mapper)
+        if actor is None:
+            return
+        widget = vtkOrientationMarkerWidget()
+        widget.SetOrientationMarker(actor)
+        widget.SetInteractor(self.plotter.iren.interactor)
+        widget.SetCurrentRenderer(self.plotter.renderer)
+        widget.SetViewport(*LEGEND_VIEWPORT)
+        widget.SetEnabled(1)
+        widget.InteractiveOff()
+        self.legend = widget
+
+    def _show_status(self, note: str = "") -> None:
+        lines = [f"method: {self.method}   (m: next)"]
+        if _depth_modes(self.mapper):
+            lines.append(f"depth mode: {_current_depth_mode(self.mapper)}   (d: next)")
+        if note:
+            lines.append(note)
+        self.plotter.add_text("\n".join(lines), position="upper_right", font_size=10, color="white",
+                              name="mipcast-status")
+
+    def _on_mouse_move(self, *_) -> None:
+        if not hasattr(self.mapper, "SetGazePoint"):
+            return
+        x, y = self.plotter.iren.get_event_position()
+        width, height = self.plotter.render_window.GetSize()
+        x0, y0, x1, y1 = self.plotter.renderer.GetViewport()
+        gaze_x = min(max((x / width - x0) / (x1 - x0), 0.0), 1.0)
+        gaze_y = min(max((y / height - y0) / (y1 - y0), 0.0), 1.0)
+        self.mapper.SetGazePoint(gaze_x, gaze_y)
+        self.plotter.render()
+
+
+def _checked_params(method: str, params: dict) -> dict:
+    """``params``, refused unless every name is some method's parameter and the first method takes its values.
+
+    Names of other methods are kept for when the viewer switches to them.
+    """
+    mappers = {name: METHODS[name]() for name in METHODS}
+    for name in params:
+        if not any(callable(getattr(mapper, setter_name(name), None)) for mapper in mappers.values()):
+            raise TypeError(f"no method has a parameter {name!r} (no {setter_name(name)}); "
+                            f"see `mipcast view --help` for each method's")
+    first = mappers[method]
+    set_parameters(first, **{name: value for name, value in params.items()
+                             if callable(getattr(first, setter_name(name), None))})
+    return params
+
+
+def _uses_sample_distance(method: str) -> bool:
+    return not getattr(METHODS[method], "WALKS_CELLS", False)  # factory functions (stock VTK) sample
+
+
+def _depth_modes(mapper) -> tuple:
+    if not hasattr(mapper, "SetDepthMode"):
+        return ()
+    modes = getattr(mapper, "DEPTH_MODES", None)
+    if modes is not None:
+        return tuple(modes)
+    if hasattr(mapper, "GetDepthModeMinValue") and hasattr(mapper, "GetDepthModeMaxValue"):
+        return tuple(range(int(mapper.GetDepthModeMinValue()), int(mapper.GetDepthModeMaxValue()) + 1))
+    return ()
+
+
+def _current_depth_mode(mapper):
+    return mapper.GetDepthMode() if hasattr(mapper, "GetDepthMode") else _depth_modes(mapper)[0]
+
+
+def _sphere_colours(mapper, directions: np.ndarray) -> Optional[np.ndarray]:
+    """RGB in 0..1 of the colour sphere along unit world ``directions`` (N, 3); None if not exposed."""
+    if not hasattr(mapper, "GetSphereColors"):
+        return None
+    front, back = (np.asarray(c, dtype=float)[:3] for c in mapper.GetSphereColors())
+    rotation = np.asarray(mapper.GetSphereOrientation() if hasattr(mapper, "GetSphereOrientation")
+                          else np.eye(3), dtype=float)
+    pole = rotation[:, 2] / np.linalg.norm(rotation[:, 2])
+    front_share = (1.0 + directions @ pole)[:, None] / 2.0
+    return back * (1.0 - front_share) + front * front_share
+
+
+def _sphere_legend_actor(mapper):
+    """A shaded unit sphere coloured per point by the mapper's sphere colours (None if not exposed)."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    from vtkmodules.vtkFiltersSources import vtkSphereSource
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
+
+    source = vtkSphereSource()
+    source.SetThetaResolution(48)
+    source.SetPhiResolution(32)
+    source.Update()
+    sphere = source.GetOutput()
+    points = vtk_to_numpy(sphere.GetPoints().GetData()).astype(float)
+    directions = points / np.linalg.norm(points, axis=1, keepdims=True)
+    colours = _sphere_colours(mapper, directions)
+    if colours is None:
+        return None
+    rgb = numpy_to_vtk(np.round(255 * np.clip(colours, 0.0, 1.0)).astype(np.uint8), deep=True)
+    rgb.SetName("sphere_colours")
+    sphere.GetPointData().SetScalars(rgb)
+    poly_mapper = vtkPolyDataMapper()
+    poly_mapper.SetInputData(sphere)
+    poly_mapper.SetColorModeToDirectScalars()
+    actor = vtkActor()
+    actor.SetMapper(poly_mapper)
+    return actor

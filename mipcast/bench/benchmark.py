@@ -1,0 +1,394 @@
+"""Speed and accuracy of every method on one scene, measured in one process.
+
+llvmpipe (and any shared machine) drifts, so settings are timed in
+interleaved rounds: each round renders every setting a few frames, and each
+setting's time is the median over all its frames after warm-up.  Only ratios
+measured this way mean something.  Errors are against the float64 exact
+reference (:func:`mipcast.reference.render`, ``method="analytic"``) on the same
+rays, from each method's float readout (the CPU peer has none: its 8-bit
+picture is mapped back through the grey window, so its error includes the
+8-bit floor of about 0.2 % of the window).
+"""
+from __future__ import annotations
+
+import statistics
+from typing import Callable, Iterable, NamedTuple, Optional, Sequence, Union
+
+import numpy as np
+
+from mipcast.offscreen import OffscreenView
+from mipcast.core.parameters import set_parameters, snake_name
+
+
+class Setting(NamedTuple):
+    """One row of the benchmark: a method at a sampling rate."""
+
+    label: str
+    method: str
+    samples_per_voxel: Union[float, str, None] = None  # None: no sampling (exact); "auto": chosen per scene
+    readout_method: Optional[str] = None               # method whose float readout stands for it
+    settings: tuple = ()                               # (Name, value) pairs for the mapper's SetName
+
+
+#: Stock VTK MIP has no float readout; mipcast's "mip" takes the very same
+#: samples (parity tests: identical pictures), so its readout stands for it.
+#: ``auto`` renders with mipcast's "mip": its sample positions are exact
+#: (``g_dataPos + i * step``), as its CPU calibration assumes, while VTK's
+#: stock loop sums its steps and drifts at dense sampling (head CT,
+#: 100-1500 HU, 256^2, 24 samples per voxel: 1.6 % of stock's pixels are
+#: over one grey level from ideal sampling, none of mipcast's).
+DEFAULT_SETTINGS = (
+    Setting("stock 1x", "stock", 1, "mip"),
+    Setting("stock 2x", "stock", 2, "mip"),
+    Setting("stock 4x", "stock", 4, "mip"),
+    Setting("stock 8x", "stock", 8, "mip"),
+    Setting("mip 1x", "mip", 1),
+    Setting("auto", "mip", "auto"),
+    Setting("analytic", "analytic"),
+    Setting("analytic, no skipping", "analytic", settings=(("Skipping", False),)),
+    Setting("demip", "demip", 1),
+    Setting("demip window depth", "demip", 1, settings=(("DepthMode", "window"),)),
+    Setting("demip steps depth", "demip", 1, settings=(("DepthMode", "steps"),)),
+    Setting("demip eye distance", "demip", 1, settings=(("DepthMode", "eye_distance"),)),
+    Setting("demip + sphere", "demip", 1, settings=(("SphereWeight", 0.5),)),
+    Setting("demip two passes", "demip_two_pass", 1),
+    Setting("foveated mip", "foveated", 1),
+    Setting("foveated mip, gaze at a corner", "foveated", 1, settings=(("GazePoint", (0.1, 0.1)),)),
+    Setting("foveated analytic", "foveated", None, settings=(("Method", "analytic"),)),
+    Setting("cpu 1x", "cpu", 1),
+)
+
+
+def resolve_settings(image, settings: Sequence[Setting], size, view: str, window=None) -> list:
+    """Settings with ``"auto"`` sampling replaced by the rate chosen for this scene and view.
+
+    The label becomes e.g. ``"auto (12x)"`` (``"auto (32x, target missed)"``
+    when even the densest candidate misses the target); see
+    :func:`mipcast.bench.auto_sampling.choose_samples_per_voxel`.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> chosen = [s for s in DEFAULT_SETTINGS if s.label in ("auto", "analytic")]
+    >>> [s.label for s in resolve_settings(make_fixture("spheres", size=16), chosen, (32, 32), "oblique")]
+    ['auto (12x)', 'analytic']
+    """
+    from mipcast.bench.auto_sampling import choose_samples_per_voxel
+
+    resolved = []
+    for setting in settings:
+        if setting.samples_per_voxel == "auto":
+            camera = OffscreenView(image, "mip", size=size, view=view, window=window).camera
+            choice = choose_samples_per_voxel(image, camera, size, window=window)
+            note = "" if choice.met else ", target missed"
+            setting = setting._replace(label=f"{setting.label} ({choice.samples_per_voxel:g}x{note})",
+                                       samples_per_voxel=choice.samples_per_voxel)
+        resolved.append(setting)
+    return resolved
+
+
+def _view(image, setting: Setting, method: str, size, view: str, window=None) -> OffscreenView:
+    spacing = min(abs(s) for s in image.GetSpacing())
+    distance = spacing / setting.samples_per_voxel if setting.samples_per_voxel else spacing
+    scene = OffscreenView(image, method, size=size, view=view, sample_distance=distance, window=window)
+    if method == setting.method:
+        apply_settings(scene.mapper, setting.settings)
+    return scene
+
+
+def apply_settings(mapper, pairs) -> None:
+    """Call ``mapper.SetName(value)`` for each ``(Name, value)`` pair (:func:`mipcast.core.parameters.set_parameters`).
+
+    Examples
+    --------
+    >>> from mipcast import FoveatedVolumeMapper
+    >>> mapper = FoveatedVolumeMapper()
+    >>> apply_settings(mapper, (("GazePoint", (0.2, 0.3)), ("FovealRadius", 0.1)))
+    >>> mapper.GetGazePoint(), mapper.GetFovealRadius()
+    ((0.2, 0.3), 0.1)
+    """
+    set_parameters(mapper, **{snake_name(name): value for name, value in pairs})
+
+
+def time_settings(image, settings: Sequence[Setting], size=(256, 256), view: str = "oblique",
+                  rounds: int = 5, frames: int = 3, warmup: int = 3, window=None,
+                  progress: Optional[Callable[[str], None]] = None, views: Optional[dict] = None) -> dict:
+    """Median frame time in seconds of each setting, measured in interleaved rounds.
+
+    Parameters
+    ----------
+    image : vtkImageData
+        The scene's volume.
+    settings : sequence of Setting
+        The first is the baseline of the ratios.
+    size : tuple of int, default: (256, 256)
+        Window (width, height).
+    view : str, default: "oblique"
+        A preset of :data:`mipcast.offscreen.VIEWS`.
+    rounds, frames, warmup : int
+        ``rounds`` x ``frames`` timed frames per setting, after ``warmup``.
+    window : tuple of float, optional
+        Grey window (default: the data range).
+    progress : callable, optional
+        Called with a short label after each round.
+    views : dict, optional
+        ``{label: OffscreenView}`` already built for these settings
+        (:func:`setting_views`); default: built here.
+
+    Returns
+    -------
+    dict
+        ``{label: {"median_s": float, "ratio": float, "frames": int}}``.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> times = time_settings(make_fixture("spheres", size=16), DEFAULT_SETTINGS[:2],
+    ...                       size=(32, 32), rounds=1, frames=1, warmup=1)
+    >>> times["stock 1x"]["ratio"]
+    1.0
+    """
+    views = views if views is not None else setting_views(image, settings, size, view, window)
+    samples = interleaved_frame_times(views, rounds, frames, warmup, progress)
+    baseline = statistics.median(samples[settings[0].label])
+    return {label: {"median_s": statistics.median(t), "ratio": statistics.median(t) / baseline,
+                    "frames": len(t)} for label, t in samples.items()}
+
+
+def setting_views(image, settings: Sequence[Setting], size=(256, 256), view: str = "oblique",
+                  window=None) -> dict:
+    """``{label: OffscreenView}``: each setting's view, built once for timing, errors and counters.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> views = setting_views(make_fixture("spheres", size=8), DEFAULT_SETTINGS[:2], size=(16, 16))
+    >>> sorted(views), views["stock 2x"].sample_distance
+    (['stock 1x', 'stock 2x'], 0.5)
+    """
+    return {s.label: _view(image, s, s.method, size, view, window) for s in settings}
+
+
+def interleaved_frame_times(views: dict, rounds: int, frames: int, warmup: int,
+                            progress: Optional[Callable[[str], None]] = None) -> dict:
+    """Frame times of several views, measured in interleaved rounds after warm-up.
+
+    Every view renders ``warmup`` frames, then each of ``rounds`` rounds
+    renders ``frames`` frames of every view in turn, so drift on a shared
+    machine touches all views alike.
+
+    Returns
+    -------
+    dict
+        ``{label: [seconds, ...]}`` (``rounds * frames`` times each).
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> views = {"a": OffscreenView(make_fixture("spheres", size=8), "mip", size=(16, 16))}
+    >>> len(interleaved_frame_times(views, rounds=2, frames=3, warmup=1)["a"])
+    6
+    """
+    for scene in views.values():
+        scene.frame_times(frames=0, warmup=warmup)
+    samples: dict = {label: [] for label in views}
+    for number in range(rounds):
+        for label, scene in views.items():
+            samples[label].extend(scene.frame_times(frames=frames, warmup=0))
+        if progress is not None:
+            progress(f"timing round {number + 1}/{rounds}")
+    return samples
+
+
+def errors_of_settings(image, settings: Sequence[Setting], size=(256, 256), view: str = "oblique",
+                       window=None, progress: Optional[Callable[[str], None]] = None,
+                       views: Optional[dict] = None) -> dict:
+    """Error of each setting's float readout against the exact float64 reference.
+
+    ``progress``, if given, is called with the setting's label after each.
+    ``views`` (:func:`setting_views`) are used where the setting reads its
+    own values; a setting whose ``readout_method`` differs gets a view of
+    that method.
+
+    Returns
+    -------
+    dict
+        ``{label: metrics.summary(...)}`` plus ``"_reference_s"``: seconds the
+        reference took.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> analytic = [s for s in DEFAULT_SETTINGS if s.label == "analytic"]
+    >>> errors = errors_of_settings(make_fixture("spheres", size=16), analytic, size=(24, 24))
+    >>> errors["analytic"]["within_1_grey"]
+    1.0
+    """
+    import time
+
+    from mipcast import reference
+    from mipcast.core.metrics import summary
+
+    results: dict = {}
+    exact = None
+    low, high = image.GetPointData().GetScalars().GetRange(0)
+    for setting in settings:
+        if views is not None and setting.readout_method in (None, setting.method):
+            scene = views[setting.label]
+        else:
+            scene = _view(image, setting, setting.readout_method or setting.method, size, view, window)
+        if exact is None:
+            started = time.perf_counter()
+            exact = reference.render(image, scene.camera, size, method="analytic")
+            results["_reference_s"] = time.perf_counter() - started
+        results[setting.label] = summary(_values(scene), exact, high - low, window=window)
+        if progress is not None:
+            progress(f"error of {setting.label}")
+    return results
+
+
+def _values(scene: OffscreenView) -> np.ndarray:
+    """Per-pixel maxima: the float readout, or for mappers without one (the
+    CPU peer) the 8-bit grey picture mapped back through the grey window."""
+    if hasattr(scene.mapper, "Attach"):
+        return scene.float_image()
+    low, high = scene.window
+    grey = scene.screenshot()[..., 0].astype(np.float64)
+    return low + grey / 255.0 * (high - low)  # misses: only the reference's hits are compared
+
+
+def measure_scene(image, scene: str, view: str, edge: int, rounds: int = 5, window=None,
+                  progress: Optional[Callable[[str], None]] = None) -> list:
+    """All of :data:`DEFAULT_SETTINGS` on one scene, view and size: bench rows.
+
+    ``progress`` (optional) is called with a short label after each of the
+    ``1 + rounds + len(DEFAULT_SETTINGS)`` steps (sampling choice, timing
+    rounds, error of each setting).
+
+    Each row has the time ratio to stock MIP 1x, the error figures of
+    :func:`errors_of_settings`, and for analytic MIP its work per ray
+    (:func:`mipcast.mappers.amip_stats.work_per_ray`).
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> rows = measure_scene(make_fixture("spheres", size=12), "spheres", "oblique", 16, rounds=1)
+    >>> [row["setting"] for row in rows][:2], rows[0]["ratio_to_stock"]
+    (['stock 1x', 'stock 2x'], 1.0)
+    """
+    from mipcast.mappers.amip_stats import work_per_ray
+
+    size = (edge, edge)
+    settings = resolve_settings(image, DEFAULT_SETTINGS, size, view, window)
+    if progress is not None:
+        progress("sampling chosen for 'auto'")
+    views = setting_views(image, settings, size, view, window)
+    times = time_settings(image, settings, size=size, view=view, rounds=rounds, window=window, progress=progress,
+                          views=views)
+    errors = errors_of_settings(image, settings, size=size, view=view, window=window, progress=progress,
+                                views=views)
+    rows = []
+    for setting in settings:
+        error, timing = errors[setting.label], times[setting.label]
+        row = {"scene": scene, "view": view, "size": edge, "setting": setting.label,
+               "median_ms": 1000 * timing["median_s"], "ratio_to_stock": timing["ratio"],
+               "p99_pct": error["p99_pct"], "max_pct": error["max_pct"], "fg_p99_pct": error["fg_p99_pct"],
+               "within_1_grey": error["within_1_grey"], "frames": timing["frames"]}
+        if setting.method == "analytic":
+            work = work_per_ray(views[setting.label])
+            row.update(texel_fetches=work["texel_fetches"], skipped_cells=work["skipped_cells"])
+        if setting.method == "foveated":  # the paper's Table I columns
+            views[setting.label].screenshot()
+            cost = views[setting.label].mapper.GetLastFrameCost()
+            row.update(ray_ratio=cost["ray_ratio"], sample_ratio=cost["sample_ratio"])
+        rows.append(row)
+    for scene_view in views.values():
+        scene_view.render_window.Finalize()
+    return rows
+
+
+def markdown_table(rows: Iterable[dict], columns: Sequence[str]) -> str:
+    """Format dict rows as a Markdown table with the given columns.
+
+    Examples
+    --------
+    >>> print(markdown_table([{"a": 1, "b": 0.5}], ["a", "b"]))
+    | a | b |
+    | --- | --- |
+    | 1 | 0.5 |
+    """
+    def cell(value):
+        return f"{value:.3g}" if isinstance(value, float) else str(value)
+    lines = ["| " + " | ".join(columns) + " |", "| " + " | ".join("---" for _ in columns) + " |"]
+    lines += ["| " + " | ".join(cell(row.get(c, "")) for c in columns) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+def pareto_front(points: Sequence[tuple]) -> list:
+    """Indices of the (time, error) points no other point beats in both.
+
+    Examples
+    --------
+    >>> pareto_front([(1.0, 5.0), (2.0, 1.0), (3.0, 2.0), (0.5, 9.0)])
+    [0, 1, 3]
+    """
+    front = []
+    for i, (t, e) in enumerate(points):
+        if not any((t2 <= t and e2 <= e) and (t2 < t or e2 < e) for t2, e2 in points):
+            front.append(i)
+    return front
+
+
+def write_chart(rows: Sequence[dict], path, error_key: str = "p99_pct") -> None:
+    """Error (log) against time ratio to stock MIP 1x, one panel per scene/view/size.
+
+    Pareto-optimal settings are circled; an error of 0 is drawn at the
+    panel's floor (marked "exact").
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> rows = [{"scene": "s", "view": "v", "size": 8, "setting": name, "ratio_to_stock": r, "p99_pct": e}
+    ...         for name, r, e in [("stock 1x", 1.0, 5.0), ("analytic", 3.0, 0.0)]]
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "chart.png"
+    >>> write_chart(rows, path)
+    >>> path.stat().st_size > 1000
+    True
+    """
+    import matplotlib
+    matplotlib.use("Agg")
+    from matplotlib import pyplot
+
+    panels = sorted({(r["scene"], r["view"], r["size"]) for r in rows})
+    settings = list(dict.fromkeys(r["setting"].split(" (")[0] for r in rows))  # "auto (16x)" -> "auto"
+    colours = pyplot.get_cmap("tab20")
+    columns = min(len(panels), 4)
+    lines = -(-len(panels) // columns)
+    figure, axes = pyplot.subplots(lines, columns, figsize=(5.2 * columns, 4.4 * lines + 1.8), squeeze=False)
+    floor = 1e-4
+    for ax, panel in zip(axes.flat, panels):
+        chosen = [r for r in rows if (r["scene"], r["view"], r["size"]) == panel]
+        points = [(r["ratio_to_stock"], max(r[error_key], floor)) for r in chosen]
+        front = set(pareto_front(points))
+        for index, (row, (x, y)) in enumerate(zip(chosen, points)):
+            colour = colours(settings.index(row["setting"].split(" (")[0]) % 20)
+            ax.scatter(x, y, s=70 if index in front else 30, color=colour,
+                       edgecolors="k" if index in front else "none", zorder=3)
+            if index in front:  # name the Pareto-optimal settings; the legend names all
+                ax.annotate(row["setting"], (x, y), textcoords="offset points", fontsize=7, xytext=(5, 3))
+        ax.set_yscale("log")
+        ax.set_xlabel("frame time / stock VTK MIP 1x", fontsize=8)
+        ax.set_ylabel(f"error {error_key} (% of data range)", fontsize=8)
+        ax.set_title(f"{panel[0]}, {panel[1]}, {panel[2]}²", fontsize=10)
+        ax.grid(True, which="both", alpha=0.3)
+    for ax in list(axes.flat)[len(panels):]:
+        ax.axis("off")
+    handles = [pyplot.Line2D([], [], marker="o", linestyle="", color=colours(i % 20), label=name)
+               for i, name in enumerate(settings)]
+    figure.legend(handles=handles, loc="lower center", ncol=min(len(settings), 7), fontsize=8,
+                  title=f"circled: Pareto front (nothing both faster and more accurate); "
+                        f"an error of 0 is drawn at {floor:g} %")
+    figure.tight_layout()
+    figure.subplots_adjust(bottom=2.2 / (4.4 * lines + 1.8), hspace=0.35)
+    figure.savefig(path, dpi=110)
+    pyplot.close(figure)

@@ -1,0 +1,455 @@
+"""Gaze-directed level maths: eccentricity, the level each pixel wants, blend weights.
+
+Foveated rendering after Levoy & Whitaker (1990), METHODS.md §3.  Level
+``k`` of the image pyramid casts one ray every ``2**k`` pixels (VTK's
+``ImageSampleDistance = 2**k``; how it samples along the ray is
+:func:`mipcast.mappers.volume_pyramid.level_sampling`).  A pixel at eccentricity
+``e`` (distance to the gaze point, in viewport heights, so circles stay
+round in any window shape) wants the continuous level::
+
+    lam(e) = clip(log2(1 + gain * max(e - start, 0)), 0, top)
+    gain   = (2**(L - 1) - 1) / falloff        (L levels)
+
+``start`` is the foveal radius plus a margin of two level-1 texels (the
+reach of level 1's bilinear reconstruction, so that no coarse ray reaches
+into the fovea), ``falloff`` the eccentricity beyond ``start`` where the
+coarsest level ``L - 1`` is reached, ``top`` the coarsest level drawn
+(below ``L - 1`` in small windows or for tiny volumes).  This follows visual
+acuity: the minimum angle of resolution grows linearly with eccentricity, so
+the ray *spacing* ``2**lam = 1 + gain * (e - start)`` does, and the level,
+its log2, rises fast next to the fovea and slowly further out.  Level ``k``
+is reached at the border (:func:`level_border`)::
+
+    e_k = start + falloff * (2**k - 1) / (2**(L - 1) - 1)
+
+With 3 levels level 1 is reached a third of the way out (a linear schedule
+would reach it half-way) and level 2 at ``start + falloff``: the 0 -> 1 blend
+annulus, drawn at full resolution, is narrower and level 0 casts fewer rays.
+A falloff of 0 switches levels abruptly at ``start`` (it is taken as 1e-6).
+Each pixel's colour is a lerp between the two bracketing levels.  The levels
+are drawn coarsest first, each composited *over* the one below with the
+premultiplied weight ``clip(k + 1 - lam, 0, 1)`` (1 for the coarsest), which
+for opaque colours is exactly that lerp::
+
+    lam in [k, k + 1]:  colour = (k + 1 - lam) * level_k + (lam - k) * level_k+1
+
+A level casts rays only where it has a weight, widened by its bilinear
+reach (1.5 texels), and is not drawn at all when that annulus misses the
+viewport; a GL scissor box keeps the rasteriser out of the rest.  Levels
+whose grid would be under :data:`MIN_TEXELS` texels across (tiny windows)
+are not used.  Everything here is pure Python / numpy and is shared by the
+mapper (uniforms), its float readout (composite) and its cost accounting.
+"""
+from __future__ import annotations
+
+import math
+from typing import NamedTuple, Optional, Sequence, Tuple
+
+import numpy as np
+
+#: Display geometry behind the defaults: a 27-inch 16:9 desktop monitor
+#: (59.8 x 33.6 cm) seen from 60 cm, the viewport filling its height.
+SCREEN_HEIGHT_CM = 33.6
+VIEWING_DISTANCE_CM = 60.0
+#: The paper's sweet spot: full density inside 12 degrees of arc (a radius of
+#: 6 degrees), falling to the coarsest density outside 20 degrees (10).
+FOVEA_DEGREES = 6.0
+PERIPHERY_DEGREES = 10.0
+
+#: Pyramid levels drawn by default: full, 1/2 and 1/4 resolution (rays every
+#: 1, 2, 4 pixels; 1, 1/4, 1/16 of the rays), as in the paper.
+DEFAULT_LEVELS = 3
+#: A level is used only if its grid has at least this many texels across.
+MIN_TEXELS = 4
+#: Bilinear reach of a texel, in texels (a pixel blends texels up to one
+#: texel away in x and y: sqrt(2) < 1.5).
+REACH_TEXELS = 1.5
+
+
+def angle_to_height(degrees: float, screen_height_cm: float = SCREEN_HEIGHT_CM,
+                    distance_cm: float = VIEWING_DISTANCE_CM,
+                    viewport_height_cm: Optional[float] = None) -> float:
+    """An eccentricity in degrees of visual angle as a fraction of the viewport height.
+
+    A flat screen seen head-on from ``distance_cm`` with the gaze on it:
+    ``distance * tan(degrees) / viewport height``.
+
+    Parameters
+    ----------
+    degrees : float
+        Eccentricity (angle between the gaze and the line of sight), >= 0.
+    screen_height_cm : float, default: 33.6
+        Height of the screen (a 27-inch 16:9 monitor).
+    distance_cm : float, default: 60.0
+        Eye-to-screen distance.
+    viewport_height_cm : float, optional
+        Height of the rendered viewport on the screen; default the whole
+        screen height.
+
+    Examples
+    --------
+    >>> round(angle_to_height(6.0), 3)     # the default foveal radius
+    0.188
+    >>> round(angle_to_height(6.0, viewport_height_cm=14.2), 2)  # a 512-pixel window
+    0.44
+    """
+    if not 0.0 <= degrees < 90.0:
+        raise ValueError(f"degrees must be in [0, 90), got {degrees!r}")
+    height = screen_height_cm if viewport_height_cm is None else viewport_height_cm
+    if not (height > 0 and distance_cm > 0):
+        raise ValueError("screen/viewport height and distance must be > 0")
+    return distance_cm * math.tan(math.radians(degrees)) / height
+
+
+#: Default foveal radius: 6 degrees in the geometry above (0.188 of the height).
+DEFAULT_RADIUS = angle_to_height(FOVEA_DEGREES)
+#: Default falloff: from 6 to 10 degrees (0.127 of the height), over which
+#: the ray density falls from full to the coarsest level.
+DEFAULT_FALLOFF = angle_to_height(PERIPHERY_DEGREES) - DEFAULT_RADIUS
+
+
+class Layer(NamedTuple):
+    """One pyramid level as drawn in one frame."""
+
+    level: int
+    #: rays every ``image_sample_distance`` pixels (VTK's setting)
+    image_sample_distance: float
+    #: grid of rays (texels) across and up
+    grid: Tuple[int, int]
+    #: rays are cast where ``cast_from <= e < cast_to`` (viewport heights)
+    cast_from: float
+    cast_to: float
+    #: GL scissor box (x, y, width, height) around the rays this level casts,
+    #: or None.  A level with a reduced grid is drawn into its own buffer
+    #: (grid pixels) and then stretched over the window, both under the one
+    #: scissor box: it holds the disc in both pixel spaces.
+    scissor: Optional[Tuple[int, int, int, int]]
+
+
+class Plan(NamedTuple):
+    """Everything one foveated frame needs, in viewport terms."""
+
+    viewport: Tuple[int, int, int, int]   # x0, y0, width, height (window pixels)
+    gaze: Tuple[float, float]             # normalised viewport coordinates
+    aspect: float                         # width / height
+    start: float                          # e where lam leaves 0
+    gain: float                           # ray spacing 2**lam grows by gain per unit of e - start
+    top: int                              # coarsest level drawn
+    layers: Tuple[Layer, ...]             # coarsest first (drawing order)
+
+
+def level_grid(width: int, height: int, level: int, base: float = 1.0) -> Tuple[int, int]:
+    """Ray grid of a level: VTK truncates ``viewport / ImageSampleDistance``.
+
+    Examples
+    --------
+    >>> level_grid(513, 512, 2)
+    (128, 128)
+    """
+    distance = base * 2 ** level
+    return int(width / distance), int(height / distance)
+
+
+def plan_frame(viewport: Sequence[int], gaze: Sequence[float], radius: float, falloff: float,
+               levels: int = DEFAULT_LEVELS, foveation: bool = True, max_level: int = 99,
+               base_sample_distance: float = 1.0) -> Plan:
+    """Which levels to draw, where each casts rays, and the blend parameters.
+
+    Parameters
+    ----------
+    viewport : (x0, y0, width, height)
+        The renderer's viewport in window pixels.
+    gaze : (x, y)
+        Gaze point, normalised viewport coordinates ((0, 0) bottom-left);
+        may lie outside [0, 1].
+    radius : float
+        Foveal radius (full quality), viewport heights, >= 0.
+    falloff : float
+        Eccentricity over which the level rises from 0 to ``levels - 1``
+        (the ray spacing growing linearly, see the module docstring),
+        viewport heights, >= 0 (0: hard switches).
+    levels : int, default: 3
+        Pyramid levels available (1 = full quality only).
+    foveation : bool, default: True
+        False: level 0 everywhere.
+    max_level : int
+        Coarsest level allowed by the scene (e.g. a tiny volume).
+    base_sample_distance : float, default: 1.0
+        The image sample distance of level 0.
+
+    Examples
+    --------
+    >>> plan = plan_frame((0, 0, 512, 512), (0.5, 0.5), 0.1, 0.1)
+    >>> [(l.level, l.grid) for l in plan.layers]
+    [(2, (128, 128)), (1, (256, 256)), (0, (512, 512))]
+    >>> plan.layers[-1].scissor, plan.layers[1].scissor  # level 1: its buffer and the window
+    ((179, 179, 154, 154), (70, 70, 300, 300))
+    >>> round(plan.layers[-1].cast_to - plan.start, 4)  # level 0 stops where lam reaches 1
+    0.0333
+    >>> [l.level for l in plan_frame((0, 0, 512, 512), (0.5, 0.5), 2.0, 0.1).layers]
+    [0]
+    """
+    x0, y0, width, height = (int(v) for v in viewport)
+    width, height = max(width, 1), max(height, 1)
+    aspect = width / height
+    gx, gy = float(gaze[0]), float(gaze[1])
+    usable = 0
+    if foveation:
+        for level in range(1, min(int(levels), int(max_level) + 1)):
+            if min(level_grid(width, height, level, base_sample_distance)) < MIN_TEXELS:
+                break
+            usable = level
+    reach = [0.0] + [REACH_TEXELS * max(1.0 / g[1], aspect / g[0]) for g in
+                     (level_grid(width, height, k, base_sample_distance) for k in range(1, usable + 1))]
+    start = radius + (2.0 * reach[1] if usable >= 1 else 0.0)
+    gain = schedule_gain(falloff, levels)
+    # eccentricities the viewport spans
+    dx = max(0.0, -gx, gx - 1.0) * aspect
+    dy = max(0.0, -gy, gy - 1.0)
+    e_min = math.hypot(dx, dy)
+    e_max = max(math.hypot((cx - gx) * aspect, cy - gy) for cx in (0.0, 1.0) for cy in (0.0, 1.0))
+    top = min(usable, max(0, math.ceil(float(_lam(e_max - start, gain))))) if usable else 0
+    layers = []
+    for level in range(top, -1, -1):  # level k has a weight where k - 1 < lam < k + 1
+        cast_from = -math.inf if level == 0 else _border(start, gain, level - 1) - reach[level]
+        cast_to = math.inf if level == top else _border(start, gain, level + 1) + reach[level]
+        if cast_to <= e_min or cast_from > e_max:
+            continue
+        grid = level_grid(width, height, level, base_sample_distance)
+        scissor = None
+        if math.isfinite(cast_to):
+            scissor = _disc_box(x0, y0, width, height, gx, gy, cast_to, aspect)
+            if scissor is None:
+                continue
+            if grid != (width, height):  # drawn into a reduced buffer, then stretched over the window
+                scissor = _union(scissor, _disc_box(0, 0, grid[0], grid[1], gx, gy, cast_to, aspect))
+        layers.append(Layer(level, base_sample_distance * 2 ** level, grid, cast_from, cast_to, scissor))
+    return Plan((x0, y0, width, height), (gx, gy), aspect, start, gain, top, tuple(layers))
+
+
+def schedule_gain(falloff: float, levels: int) -> float:
+    """``gain`` of the level schedule: ray spacing grows from 1 to ``2**(levels - 1)`` over ``falloff``.
+
+    ``(2**(levels - 1) - 1) / falloff``, the falloff taken as at least 1e-6
+    (0: hard switches); 0 for a single level.
+
+    Examples
+    --------
+    >>> schedule_gain(0.3, 3)
+    10.0
+    """
+    return (2.0 ** (max(int(levels), 1) - 1) - 1.0) / max(float(falloff), 1e-6)
+
+
+def _lam(x, gain):
+    """Unclipped level at ``x = e - start``: ``log2(1 + gain * max(x, 0))`` (foveated_weight.glsl)."""
+    return np.log2(1.0 + gain * np.maximum(x, 0.0))
+
+
+def _border(start: float, gain: float, level: int) -> float:
+    """Eccentricity where ``lam`` reaches ``level`` (inf if it never does)."""
+    if level <= 0:
+        return start
+    return start + (2.0 ** level - 1.0) / gain if gain > 0 else math.inf
+
+
+def level_border(plan: Plan, level: int) -> float:
+    """Eccentricity (viewport heights) at which the unclipped ``lam`` reaches ``level``.
+
+    ``plan.start + (2**level - 1) / plan.gain``: level ``k`` blends with
+    level ``k + 1`` between ``level_border(plan, k)`` and
+    ``level_border(plan, k + 1)``.  Beyond ``plan.top`` lam is clipped, so
+    borders above it are not drawn.
+
+    Examples
+    --------
+    >>> plan = plan_frame((0, 0, 512, 512), (0.5, 0.5), 0.1, 0.3)
+    >>> [round(level_border(plan, k) - plan.start, 6) for k in range(3)]  # a third, then all of 0.3
+    [0.0, 0.1, 0.3]
+    """
+    return _border(plan.start, plan.gain, int(level))
+
+
+def _union(a: tuple, b: Optional[tuple]) -> tuple:
+    if b is None:
+        return a
+    left, bottom = min(a[0], b[0]), min(a[1], b[1])
+    right, top = max(a[0] + a[2], b[0] + b[2]), max(a[1] + a[3], b[1] + b[3])
+    return (left, bottom, right - left, top - bottom)
+
+
+def _disc_box(x0, y0, width, height, gx, gy, radius, aspect) -> Optional[tuple]:
+    """Box of a ``width`` x ``height`` pixel grid holding the disc of ``radius`` viewport
+    heights around the gaze (``aspect``: the viewport's), clipped to the grid; None if empty."""
+    cx, cy = gx * width, gy * height
+    rx, ry = radius / aspect * width, radius * height
+    left, right = max(0, math.floor(cx - rx) - 2), min(width, math.ceil(cx + rx) + 2)
+    bottom, top = max(0, math.floor(cy - ry) - 2), min(height, math.ceil(cy + ry) + 2)
+    if right <= left or top <= bottom:
+        return None
+    return (x0 + left, y0 + bottom, right - left, top - bottom)
+
+
+def eccentricity(grid: Sequence[int], gaze: Sequence[float], aspect: float) -> np.ndarray:
+    """Eccentricity (viewport heights) of each texel centre of a grid, top row first.
+
+    Examples
+    --------
+    >>> eccentricity((2, 1), (0.0, 0.5), 2.0)
+    array([[0.5, 1.5]])
+    """
+    columns, rows = int(grid[0]), int(grid[1])
+    x = (np.arange(columns) + 0.5) / columns
+    y = ((np.arange(rows) + 0.5) / rows)[::-1]
+    return np.hypot((x[None, :] - gaze[0]) * aspect, y[:, None] - gaze[1])
+
+
+def desired_level(e: np.ndarray, plan: Plan) -> np.ndarray:
+    """The continuous level ``lam(e)`` of the module docstring.
+
+    Examples
+    --------
+    >>> plan = plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.2)
+    >>> float(desired_level(0.0, plan)), float(desired_level(10.0, plan)) == plan.top
+    (0.0, True)
+    """
+    return np.clip(_lam(np.asarray(e, float) - plan.start, plan.gain), 0.0, float(plan.top))
+
+
+def layer_weight(level: int, lam: np.ndarray, plan: Plan) -> np.ndarray:
+    """Premultiplied weight a level is drawn with (the shader's ``foveated_weight``).
+
+    Examples
+    --------
+    >>> plan = plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.2)
+    >>> layer_weight(0, np.array([0.0, 0.5, 1.0]), plan)
+    array([1. , 0.5, 0. ])
+    """
+    return np.clip(level + 1.0 - np.asarray(lam, float), 0.0, 1.0)
+
+
+def blend_shares(plan: Plan) -> dict:
+    """Each drawn level's share of every full-resolution pixel (over compositing, opaque).
+
+    Returns ``{level: array (height, width)}``, top row first; shares sum to 1.
+
+    Examples
+    --------
+    >>> plan = plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.2)
+    >>> shares = blend_shares(plan)
+    >>> bool(np.allclose(sum(shares.values()), 1.0)), float(shares[0][32, 32])
+    (True, 1.0)
+    """
+    _, _, width, height = plan.viewport
+    lam = desired_level(eccentricity((width, height), plan.gaze, plan.aspect), plan)
+    remaining = np.ones_like(lam)
+    shares = {}
+    for layer in reversed(plan.layers):  # finest first: it is drawn last, on top
+        weight = layer_weight(layer.level, lam, plan)  # 1 for the coarsest: lam never exceeds top
+        shares[layer.level] = weight * remaining
+        remaining = remaining * (1.0 - weight)
+    return shares
+
+
+def upsample_bilinear(values: np.ndarray, size: Sequence[int]) -> np.ndarray:
+    """Stretch a level's grid over the viewport as VTK's image-sample quad does.
+
+    Texel ``i`` of ``columns`` spans pixels ``[i, i + 1) * width / columns``;
+    interpolation is bilinear with clamped edges, over the texels that hold a
+    value (NaN texels -- no ray, or a miss -- are first filled from their
+    valid 8-neighbours, one texel deep, so the volume's outline does not
+    shrink).  Arrays are top row first.
+
+    Parameters
+    ----------
+    values : numpy.ndarray, shape (rows, columns)
+    size : (width, height)
+
+    Returns
+    -------
+    numpy.ndarray, shape (height, width)
+        NaN where no valid texel is within reach.
+
+    Examples
+    --------
+    >>> upsample_bilinear(np.array([[0.0, 4.0]]), (4, 1))
+    array([[0., 1., 3., 4.]])
+    """
+    width, height = int(size[0]), int(size[1])
+    values = np.asarray(values, dtype=np.float64)
+    rows, columns = values.shape
+    if (rows, columns) == (height, width):
+        return values.copy()
+    grid = _fill_one_texel(values)[::-1]  # bottom row first, like GL
+    sx = (np.arange(width) + 0.5) * columns / width - 0.5
+    sy = (np.arange(height) + 0.5) * rows / height - 0.5
+    x0, y0 = np.floor(sx).astype(int), np.floor(sy).astype(int)
+    fx, fy = sx - x0, sy - y0
+    total = np.zeros((height, width))
+    weight = np.zeros((height, width))
+    for dy, wy in ((0, 1.0 - fy), (1, fy)):
+        for dx, wx in ((0, 1.0 - fx), (1, fx)):
+            texels = grid[np.clip(y0 + dy, 0, rows - 1)][:, np.clip(x0 + dx, 0, columns - 1)]
+            w = wy[:, None] * wx[None, :] * ~np.isnan(texels)
+            total += w * np.nan_to_num(texels)
+            weight += w
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out = np.where(weight > 1e-12, total / weight, np.nan)
+    return out[::-1]
+
+
+def _fill_one_texel(values: np.ndarray) -> np.ndarray:
+    """NaN texels next to valid ones take the mean of their valid 8-neighbours."""
+    valid = ~np.isnan(values)
+    padded = np.pad(np.nan_to_num(values), 1)
+    counts = np.pad(valid.astype(float), 1)
+    rows, columns = values.shape
+    total = np.zeros_like(values)
+    number = np.zeros_like(values)
+    for dy in (0, 1, 2):
+        for dx in (0, 1, 2):
+            total += padded[dy:dy + rows, dx:dx + columns]
+            number += counts[dy:dy + rows, dx:dx + columns]
+    filled = values.copy()
+    grow = ~valid & (number > 0)
+    filled[grow] = total[grow] / number[grow]
+    return filled
+
+
+def composite_values(plan: Plan, values: dict) -> np.ndarray:
+    """The foveated image in data units from each level's float readout.
+
+    Each level is stretched over the viewport (:func:`upsample_bilinear`)
+    and weighted by its :func:`blend_shares`; levels without a value at a
+    pixel (a miss) leave their share to the others.  NaN where none has one.
+
+    Parameters
+    ----------
+    plan : Plan
+    values : dict
+        ``{level: array (rows, columns)}`` for the drawn levels, top row
+        first, NaN where no ray was cast or the ray missed.
+
+    Returns
+    -------
+    numpy.ndarray, shape (height, width), float64, top row first.
+
+    Examples
+    --------
+    >>> plan = plan_frame((0, 0, 16, 16), (0.5, 0.5), 0.1, 0.2)
+    >>> flat = {layer.level: np.full(layer.grid[::-1], 3.0) for layer in plan.layers}
+    >>> float(np.nanmax(np.abs(composite_values(plan, flat) - 3.0)))
+    0.0
+    """
+    _, _, width, height = plan.viewport
+    total = np.zeros((height, width))
+    weight = np.zeros((height, width))
+    for level, share in blend_shares(plan).items():
+        if level not in values:
+            continue
+        stretched = upsample_bilinear(values[level], (width, height))
+        use = (share > 0) & ~np.isnan(stretched)
+        total[use] += share[use] * stretched[use]
+        weight[use] += share[use]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(weight > 0, total / np.where(weight > 0, weight, 1.0), np.nan)

@@ -1,0 +1,441 @@
+"""Read a volume file into a ``vtkImageData`` that the renderers accept.
+
+Every reader's output is copied into a fresh ``vtkImageData`` (shallow: the
+voxels are shared, the reader is not kept), given its patient-space geometry
+(origin, spacing, direction matrix) and validated with
+:func:`mipcast.core.validation.check_image`.
+
+World coordinates are DICOM's LPS (+x patient left, +y posterior, +z
+superior) for every format that records a patient frame, so the same scan
+read from DICOM, NIfTI, NRRD or MetaImage lands at the same place:
+
+- DICOM: LPS by definition (see :mod:`mipcast.io.dicom`).
+- NIfTI: the header maps voxels to RAS; the chosen qform/sform is turned
+  into origin + spacing + direction and then converted to LPS (x and y
+  negated), as ITK and SimpleITK do.
+- NRRD: ``space directions``/``space origin`` are applied (VTK's reader uses
+  only their lengths), converted to LPS from the ``space`` named in the
+  header (RAS, LAS or LPS; ``scanner-xyz`` and ``3D-*`` spaces are kept).
+- MetaImage: ``Offset``/``TransformMatrix`` as read by VTK (ITK writes LPS).
+- VTK XML (.vti): origin, spacing and direction as stored.
+
+A left-handed direction matrix (determinant -1, e.g. a NIfTI sform with a
+flip) is made right-handed by reversing the slice order and flipping the
+third direction column: every voxel keeps its value and its position.
+"""
+from __future__ import annotations
+
+import contextlib
+import os
+import re
+import warnings
+from pathlib import Path
+from typing import Optional, Tuple, Union
+
+import numpy as np
+from vtkmodules.util.numpy_support import get_vtk_array_type, vtk_to_numpy
+from vtkmodules.vtkCommonCore import vtkDataArray, vtkLogger, vtkOutputWindow, vtkStringOutputWindow
+from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkIOImage import vtkMetaImageReader, vtkNIFTIImageReader, vtkNrrdReader
+from vtkmodules.vtkIOXML import vtkXMLImageDataReader
+
+from mipcast.core.camera_rays import matrix_array
+from mipcast.io.dicom import integer_dtype
+from mipcast.core.validation import check_image
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+#: Extensions read by :func:`read_volume` (a folder is read as a DICOM series).
+SUPPORTED_EXTENSIONS = (".vti", ".nrrd", ".nhdr", ".nii", ".nii.gz", ".mha", ".mhd", ".dcm",
+                        ".dicom")
+
+_RAS_TO_LPS = np.diag([-1.0, -1.0, 1.0])
+_NRRD_SPACES = {  # NRRD 'space' -> matrix taking its coordinates to LPS
+    "left-posterior-superior": np.eye(3), "lps": np.eye(3),
+    "right-anterior-superior": _RAS_TO_LPS, "ras": _RAS_TO_LPS,
+    "left-anterior-superior": np.diag([1.0, -1.0, 1.0]), "las": np.diag([1.0, -1.0, 1.0]),
+}
+
+
+def read_volume(path: PathLike, *, series_uid: Optional[str] = None) -> vtkImageData:
+    """Read a volume file or a DICOM folder as a validated ``vtkImageData``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        ``.vti`` (VTK XML image data), ``.nrrd``/``.nhdr``, ``.nii``/``.nii.gz``
+        (NIfTI-1/2), ``.mha``/``.mhd`` (MetaImage), a ``.dcm`` file or a
+        folder of DICOM files.  A file with another extension is read as
+        DICOM if it carries the DICOM marker ('DICM' at byte 128).
+    series_uid : str, optional
+        For a DICOM folder holding several series: which one to read (see
+        :func:`mipcast.io.dicom.list_series`).
+
+    Returns
+    -------
+    vtkImageData
+        A new image (not tied to any reader) with one-component point
+        scalars, at least 2 points along every axis.
+
+        - NIfTI: the sform is used if its code is > 0 and it is a rotation
+          times a scale, else the qform if its code is > 0 (VTK's reader
+          has already reordered the slices when qfac = -1), else no
+          orientation (origin 0, identity directions) -- "method 1" of the
+          NIfTI standard; a sheared sform without a qform falls back to that
+          with a warning.  The result is converted from RAS to LPS.
+          ``scl_slope``/``scl_inter`` are applied when set (slope not 0 and
+          not 1 or intercept not 0): float32, or int16/int32 for integer
+          factors.  Only the first volume of a 4D file is read (a warning says
+          so).
+        - DICOM: see :func:`mipcast.io.dicom.read_dicom` (scalars ``"values"``
+          in the modality's units, e.g. HU for CT, a ``"units"`` field array).
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``path`` does not exist (the message names it).
+    ValueError
+        For an unsupported extension (the message lists the supported ones),
+        a file the reader cannot parse (the reader's own messages are
+        included), or a volume :func:`mipcast.core.validation.check_image` refuses
+        (its message is kept, e.g. "at least 2 points are needed along
+        every axis" for a single DICOM slice).
+    TypeError
+        From :func:`mipcast.core.validation.check_image` (unsupported scalar type).
+
+    Examples
+    --------
+    >>> import os, tempfile
+    >>> from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> path = os.path.join(tempfile.mkdtemp(), "spheres.vti")
+    >>> writer = vtkXMLImageDataWriter()
+    >>> writer.SetFileName(path)
+    >>> writer.SetInputData(make_fixture("spheres", size=16))
+    >>> writer.Write()
+    1
+    >>> read_volume(path).GetDimensions()
+    (16, 16, 16)
+
+    A DICOM folder (pydicom's 5-slice CT test series):
+
+    >>> from pydicom.data import get_testdata_file
+    >>> folder = os.path.dirname(get_testdata_file("dicomdirtests/98892001/CT5N/2062"))
+    >>> image = read_volume(folder)
+    >>> image.GetDimensions(), image.GetPointData().GetScalars().GetName()
+    ((16, 16, 5), 'values')
+    """
+    path = Path(path)
+    if not path.exists():
+        raise FileNotFoundError(f"no such file or folder: '{path}'")
+    kind = _kind(path)
+    if kind == "dicom":
+        from mipcast.io.dicom import read_dicom
+
+        image = _fresh(read_dicom(path, series_uid=series_uid))
+        try:
+            check_image(image)
+        except ValueError as error:
+            if path.is_file() and image.GetDimensions()[2] == 1:
+                raise ValueError(
+                    f"{error} ('{path}' is a single DICOM slice: pass the folder that holds "
+                    "the whole series)") from None
+            raise
+        return image
+    if series_uid is not None:
+        raise ValueError(f"series_uid applies to DICOM input only, not to '{path}'")
+    image = {"vti": _read_vti, "nrrd": _read_nrrd, "nifti": _read_nifti,
+             "meta": _read_meta}[kind](path)
+    image = _right_handed(image)
+    check_image(image)
+    return image
+
+
+# ---------------------------------------------------------------------------
+# dispatch
+# ---------------------------------------------------------------------------
+
+def _kind(path: Path) -> str:
+    if path.is_dir():
+        return "dicom"
+    name = path.name.lower()
+    for suffix, kind in ((".vti", "vti"), (".nrrd", "nrrd"), (".nhdr", "nrrd"),
+                         (".nii", "nifti"), (".nii.gz", "nifti"), (".mha", "meta"),
+                         (".mhd", "meta"), (".dcm", "dicom"), (".dicom", "dicom")):
+        if name.endswith(suffix):
+            return kind
+    if _has_dicom_marker(path):
+        return "dicom"
+    raise ValueError(
+        f"cannot read '{path}': unknown file type '{''.join(path.suffixes) or '(no extension)'}'; "
+        f"supported: {', '.join(SUPPORTED_EXTENSIONS)}, a DICOM file with the 'DICM' marker, "
+        "or a folder of DICOM files")
+
+
+def _has_dicom_marker(path: Path) -> bool:
+    try:
+        with open(path, "rb") as handle:
+            handle.seek(128)
+            return handle.read(4) == b"DICM"
+    except OSError:
+        return False
+
+
+# ---------------------------------------------------------------------------
+# running a VTK reader with its messages captured
+# ---------------------------------------------------------------------------
+
+@contextlib.contextmanager
+def _captured_vtk_messages():
+    """Collect VTK's error/warning text (and keep it off stderr) while reading."""
+    previous = vtkOutputWindow.GetInstance()
+    window = vtkStringOutputWindow()
+    verbosity = vtkLogger.GetCurrentVerbosityCutoff()
+    vtkOutputWindow.SetInstance(window)
+    vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
+    try:
+        yield window
+    finally:
+        vtkOutputWindow.SetInstance(previous)
+        vtkLogger.SetStderrVerbosity(vtkLogger.ConvertToVerbosity(verbosity))
+
+
+def _run(reader, path: Path, what: str) -> vtkImageData:
+    """Update ``reader`` on ``path``; return a fresh copy of its output or raise."""
+    if not reader.CanReadFile(str(path)):
+        raise ValueError(f"cannot read '{path}': it is not a valid {what} file "
+                         "(the reader does not recognise its header)")
+    reader.SetFileName(str(path))
+    with _captured_vtk_messages() as window:
+        reader.Update()
+    messages = window.GetOutput()
+    output = reader.GetOutput()
+    failed = ("ERROR" in messages or "File operation failed" in messages
+              or reader.GetErrorCode() != 0 or output is None or output.GetNumberOfPoints() == 0
+              or output.GetPointData().GetScalars() is None)
+    if failed:
+        detail = " ".join(line.strip() for line in messages.splitlines()
+                          if line.strip() and not line.startswith(("ERROR: In", "Warning: In",
+                                                                   "Generic Warning: In")))
+        detail = re.sub(r"\s*\(0x[0-9a-f]+\)", "", detail)[:500]
+        raise ValueError(f"cannot read '{path}' as {what}: the file is damaged or incomplete"
+                         + (f" (VTK: {detail})" if detail else ""))
+    return _fresh(output)
+
+
+def _fresh(source: vtkImageData) -> vtkImageData:
+    image = vtkImageData()
+    image.ShallowCopy(source)
+    return image
+
+
+def _set_geometry(image: vtkImageData, origin, spacing, direction) -> None:
+    image.SetOrigin(*(float(v) for v in origin))
+    image.SetSpacing(*(float(v) for v in spacing))
+    image.SetDirectionMatrix(*np.asarray(direction, dtype=float).ravel())
+
+
+def _split(columns: np.ndarray) -> Optional[Tuple[np.ndarray, np.ndarray]]:
+    """(unit directions, lengths) of the columns of a 3x3 matrix, or None if sheared."""
+    lengths = np.linalg.norm(columns, axis=0)
+    if not (lengths > 0).all():
+        return None
+    unit = columns / lengths
+    if np.abs(unit.T @ unit - np.eye(3)).max() > 1e-4:
+        return None
+    return unit, lengths
+
+
+def _right_handed(image: vtkImageData) -> vtkImageData:
+    """Reverse the slices if the direction matrix is left-handed (same geometry)."""
+    direction = matrix_array(image.GetDirectionMatrix())
+    if np.linalg.det(direction) > 0:
+        return image
+    nx, ny, nz = image.GetDimensions()
+    spacing = np.array(image.GetSpacing())
+    origin = np.array(image.GetOrigin()) + direction[:, 2] * spacing[2] * (nz - 1)
+    direction[:, 2] *= -1
+    flipped = _fresh(image)
+    data = image.GetPointData()
+    for index in range(data.GetNumberOfArrays()):
+        array = data.GetArray(index)
+        if array is None:
+            continue
+        values = vtk_to_numpy(array).reshape(nz, ny, nx, -1)[::-1]
+        copy = vtkDataArray.CreateDataArray(array.GetDataType())
+        copy.SetName(array.GetName())
+        copy.SetNumberOfComponents(array.GetNumberOfComponents())
+        copy.SetNumberOfTuples(array.GetNumberOfTuples())
+        vtk_to_numpy(copy).reshape(values.shape)[...] = values
+        flipped.GetPointData().RemoveArray(array.GetName())
+        flipped.GetPointData().AddArray(copy)
+        if data.GetScalars() is array:
+            flipped.GetPointData().SetActiveScalars(array.GetName())
+    _set_geometry(flipped, origin, spacing, direction)
+    return flipped
+
+
+# ---------------------------------------------------------------------------
+# formats
+# ---------------------------------------------------------------------------
+
+def _read_vti(path: Path) -> vtkImageData:
+    return _run(vtkXMLImageDataReader(), path, "VTK XML image data (.vti)")
+
+
+def _read_meta(path: Path) -> vtkImageData:
+    return _run(vtkMetaImageReader(), path, "MetaImage (.mha/.mhd)")
+
+
+def _read_nifti(path: Path) -> vtkImageData:
+    reader = vtkNIFTIImageReader()
+    image = _run(reader, path, "NIfTI (.nii/.nii.gz)")
+    header = reader.GetNIFTIHeader()
+    if reader.GetTimeDimension() > 1:
+        warnings.warn(f"'{path}' holds {reader.GetTimeDimension()} volumes (4D NIfTI); only the "
+                      "first is read", stacklevel=3)
+    spacing = np.array(image.GetSpacing())
+    geometry = None
+    sform, qform = reader.GetSFormMatrix(), reader.GetQFormMatrix()
+    if header.GetSFormCode() > 0 and sform is not None:
+        matrix = matrix_array(sform)
+        split = _split(matrix[:3, :3])
+        if split is not None:
+            geometry = (matrix[:3, 3], spacing * split[1], split[0])
+    if geometry is None and header.GetQFormCode() > 0 and qform is not None:
+        matrix = matrix_array(qform)
+        split = _split(matrix[:3, :3])
+        if split is not None:
+            geometry = (matrix[:3, 3], spacing * split[1], split[0])
+    if geometry is None and header.GetSFormCode() > 0:
+        warnings.warn(f"'{path}': the sform is sheared (not a rotation and scale) and there is "
+                      "no qform; the orientation is ignored (origin 0, axes along x, y, z)",
+                      stacklevel=3)
+    if geometry is not None:
+        origin, spacing, direction = geometry
+        _set_geometry(image, _RAS_TO_LPS @ origin, spacing, _RAS_TO_LPS @ direction)
+    slope, intercept = reader.GetRescaleSlope(), reader.GetRescaleIntercept()
+    if np.isfinite(slope) and slope != 0 and (slope != 1 or intercept != 0):
+        _rescale(image, slope, intercept)
+    return image
+
+
+def _rescale(image: vtkImageData, slope: float, intercept: float) -> None:
+    """Replace the scalars by ``value * slope + intercept`` (a new array)."""
+    scalars = image.GetPointData().GetScalars()
+    values = vtk_to_numpy(scalars)
+    if values.dtype.kind in "iub" and float(slope).is_integer() and float(intercept).is_integer():
+        ends = np.array([values.min(), values.max()], dtype=float) * slope + intercept
+        dtype = integer_dtype(ends.min(), ends.max())
+    else:
+        dtype = np.dtype(np.float32)
+    array = vtkDataArray.CreateDataArray(get_vtk_array_type(dtype))
+    array.SetName(scalars.GetName() or "scalars")
+    array.SetNumberOfComponents(scalars.GetNumberOfComponents())
+    array.SetNumberOfTuples(scalars.GetNumberOfTuples())
+    out = vtk_to_numpy(array)
+    work = np.int64 if dtype.kind in "iu" else np.float64
+    out[...] = values.astype(work) * work(slope) + work(intercept)
+    image.GetPointData().SetScalars(array)
+
+
+def _read_nrrd(path: Path) -> vtkImageData:
+    reader = vtkNrrdReader()
+    image = _run(reader, path, "NRRD (.nrrd/.nhdr)")
+    header = _nrrd_header(path)
+    components = image.GetPointData().GetScalars().GetNumberOfComponents()
+    sizes = header.get("sizes", "").split()
+    if components > 1 and len(sizes) == 3:
+        raise ValueError(
+            f"cannot read '{path}': its first axis has only {sizes[0]} samples, and VTK's NRRD "
+            "reader takes a fastest axis of 9 samples or fewer as vector components; "
+            "reorder the axes (e.g. with `unu permute`) or save the volume as .nii.gz/.mha")
+    directions = [None if d == "none" else d
+                  for d in re.findall(r"\([^)]*\)|none", header.get("space directions", ""))]
+    spatial = [d for d in directions if d is not None]
+    if len(spatial) != 3:
+        return image  # no orientation recorded: keep the reader's spacing and origin
+    columns = np.array([[float(v) for v in d.strip("()").split(",")] for d in spatial]).T
+    split = _split(columns)
+    if split is None:
+        warnings.warn(f"'{path}': the space directions are not perpendicular; the orientation "
+                      "is ignored", stacklevel=3)
+        return image
+    direction, spacing = split
+    origin = np.zeros(3)
+    if "space origin" in header:
+        origin = np.array([float(v) for v in header["space origin"].strip("() ").split(",")])
+    if not reader.GetFileLowerLeft():  # VTK flipped the rows (LAS / 3D-left-handed spaces)
+        ny = image.GetDimensions()[1]
+        origin = origin + columns[:, 1] * (ny - 1)
+        direction[:, 1] *= -1
+    to_lps = _NRRD_SPACES.get(header.get("space", "").strip().lower(), np.eye(3))
+    _set_geometry(image, to_lps @ origin, spacing, to_lps @ direction)
+    return image
+
+
+def _nrrd_header(path: Path) -> dict:
+    """The ``field: value`` lines of a NRRD header, keys lower-cased."""
+    with open(path, "rb") as handle:
+        text = handle.read(1 << 20).decode("latin-1")
+    fields = {}
+    for line in text.splitlines()[1:]:
+        if not line.strip():
+            break
+        if line.startswith("#") or ": " not in line:
+            continue
+        key, value = line.split(": ", 1)
+        fields[key.strip().lower()] = value.strip()
+    return fields
+
+
+def with_scalars(image, scalars: Optional[str] = None):
+    """``image``, or a shallow copy of it whose active point scalars are ``scalars``.
+
+    The copy shares the arrays; the image given is not modified.  It is a
+    snapshot of the image's array *list*: values changed in place show, but
+    an array replaced or added later does not (render or add again).
+
+    Parameters
+    ----------
+    image : vtkImageData
+        The volume (a pyvista.ImageData is one).
+    scalars : str, optional
+        Name of a point array of ``image``; ``None`` returns ``image`` itself.
+
+    Raises
+    ------
+    ValueError
+        If ``image`` has no point array of that name (the message lists the
+        point arrays, and says how to convert a cell array).
+
+    Examples
+    --------
+    >>> from vtkmodules.util.numpy_support import numpy_to_vtk
+    >>> image = vtkImageData()
+    >>> image.SetDimensions(4, 4, 4)
+    >>> for name in ("a", "b"):
+    ...     array = numpy_to_vtk(np.zeros(64))
+    ...     array.SetName(name)
+    ...     index = image.GetPointData().AddArray(array)
+    >>> image.GetPointData().SetActiveScalars("a")
+    0
+    >>> with_scalars(image, "b").GetPointData().GetScalars().GetName(), image.GetPointData().GetScalars().GetName()
+    ('b', 'a')
+    """
+    if scalars is None:
+        return image
+    points, cells = image.GetPointData(), image.GetCellData()
+    if points.GetArray(scalars) is None:
+        names = [points.GetArrayName(i) for i in range(points.GetNumberOfArrays()) if points.GetArray(i)]
+        if cells.GetArray(scalars) is not None:
+            fix = "it is a cell array: convert it with grid.cell_data_to_point_data()"
+        elif points.GetAbstractArray(scalars) is not None:
+            fix = f"it is not numeric; numeric point arrays: {names}"
+        else:
+            fix = f"point arrays: {names}"
+        raise ValueError(f"scalars {scalars!r} is not a numeric point array of the image; {fix}")
+    copy = image.NewInstance()
+    copy.ShallowCopy(image)
+    copy.GetPointData().SetActiveScalars(scalars)
+    return copy

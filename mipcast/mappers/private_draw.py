@@ -1,0 +1,87 @@
+"""Private mappers drawn inside a mipcast mapper's render (foveation levels, DEMIP's first pass).
+
+A mapper that draws other mappers of its own needs two things: the renderer
+drawing it right now (a volume can be in several), and its private volumes
+seeing what the user's volume sees (property, matrix, cropping, clipping,
+jittering).  Setters are called only where values differ, so no shader is
+rebuilt and no texture re-uploaded from frame to frame.
+"""
+from __future__ import annotations
+
+from typing import Optional
+
+from vtkmodules.vtkCommonCore import vtkCommand, vtkWeakReference
+from vtkmodules.vtkRenderingCore import vtkRenderer
+
+from mipcast.core.object_state import object_state
+
+
+def rendering_renderer(mapper, volume) -> Optional[vtkRenderer]:
+    """The renderer drawing ``volume`` now: its only consumer, or the one whose render started last.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkVolume
+    >>> rendering_renderer(None, vtkVolume()) is None
+    True
+    """
+    renderers = [volume.GetConsumer(i) for i in range(volume.GetNumberOfConsumers())]
+    renderers = [r for r in renderers if isinstance(r, vtkRenderer)]
+    if len(renderers) <= 1:
+        return renderers[0] if renderers else None
+    state = object_state(mapper)
+    hooked = state.setdefault("hooked_renderers", set())
+    link = vtkWeakReference()
+    link.Set(mapper)
+    for renderer in renderers:
+        key = renderer.GetAddressAsString("vtkObjectBase")
+        if key not in hooked:
+            renderer.AddObserver(vtkCommand.StartEvent, _make_start_hook(link))
+            hooked.add(key)
+    current = state.get("current_renderer")
+    current = current.Get() if current is not None else None
+    return current if any(current is r for r in renderers) else renderers[0]
+
+
+def _make_start_hook(mapper_link):
+    def started(renderer, event):
+        mapper = mapper_link.Get()
+        if mapper is not None:
+            link = vtkWeakReference()
+            link.Set(renderer)
+            object_state(mapper)["current_renderer"] = link
+    return started
+
+
+def follow_volume(mapper, volume, private_mapper, private_volume, matrix) -> None:
+    """Give a private mapper/volume the user's jittering, cropping, clipping, property and matrix.
+
+    ``matrix`` is a vtkMatrix4x4 owned by the caller for this private
+    volume: the user's volume matrix is copied into it only when it changed.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkCommonMath import vtkMatrix4x4
+    >>> from vtkmodules.vtkRenderingCore import vtkVolume
+    >>> from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
+    >>> user, own = vtkVolume(), vtkVolume()
+    >>> user.SetPosition(1.0, 2.0, 3.0)
+    >>> matrix = vtkMatrix4x4()
+    >>> follow_volume(vtkOpenGLGPUVolumeRayCastMapper(), user, vtkOpenGLGPUVolumeRayCastMapper(), own, matrix)
+    >>> own.GetMatrix().GetElement(1, 3), own.GetProperty() is user.GetProperty()
+    (2.0, True)
+    """
+    private_mapper.SetUseJittering(mapper.GetUseJittering())  # VTK's setters ignore equal values
+    private_mapper.SetCropping(mapper.GetCropping())
+    private_mapper.SetCroppingRegionPlanes(mapper.GetCroppingRegionPlanes())
+    private_mapper.SetCroppingRegionFlags(mapper.GetCroppingRegionFlags())
+    if private_mapper.GetClippingPlanes() is not mapper.GetClippingPlanes():
+        private_mapper.SetClippingPlanes(mapper.GetClippingPlanes())
+    if private_volume.GetProperty() is not volume.GetProperty():
+        private_volume.SetProperty(volume.GetProperty())
+    current = volume.GetMatrix()
+    if any(matrix.GetElement(r, c) != current.GetElement(r, c) for r in range(4) for c in range(4)):
+        matrix.DeepCopy(current)
+        private_volume.SetUserMatrix(matrix)
+    elif private_volume.GetUserMatrix() is not matrix:
+        private_volume.SetUserMatrix(matrix)

@@ -1,0 +1,293 @@
+"""Float64 CPU reference of depth-enhanced MIP (the definitions of :class:`DEMIPVolumeMapper`).
+
+Same rays and samples as :func:`mipcast.reference.render` with
+``method="mip"``; the transfer function is the grey ramp of
+:func:`mipcast.offscreen.grey_property` over ``window`` (opaque, black at and
+below the low end, white at and above the high end), so the window's ends
+are the floor and ceiling of the material.  Reached through
+``mipcast.reference.render(..., method="demip", ...)``.
+"""
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from mipcast.core.camera_rays import index_space, matrix_array
+from mipcast.mappers.demip import _DEFAULTS  # interim: replaced by the parameter table
+from mipcast.core.shading import (DEPTH_MODES, DEPTH_OF, FLOOR_TOLERANCE, PROJECTIONS, chroma_color, rotation,
+                                  sphere_color, sphere_colors)
+from mipcast.reference.rays import BUDGET, hit_rays, scatter, trilinear
+from mipcast.core.validation import (check_choice, check_image, check_non_negative, check_positive, check_size,
+                         check_unit)
+
+#: What :func:`render_demip` can return.
+OUTPUTS = ("depth", "rgb", "value")
+
+#: Parameters: name -> default (``None``: required).
+PARAMETERS = {
+    "sample_distance": None,
+    "window": None,
+    "depth_weight": _DEFAULTS["depth_weight"],
+    "material_threshold": _DEFAULTS["material_threshold"],
+    "depth_mode": _DEFAULTS["depth_mode"],
+    "sphere_weight": _DEFAULTS["sphere_weight"],
+    "sphere_colors": "red-blue",
+    "sphere_orientation": _DEFAULTS["sphere_orientation"],
+    "chroma_depth_weight": _DEFAULTS["chroma_depth_weight"],
+    "depth_of": _DEFAULTS["depth_of"],
+    "projection": _DEFAULTS["projection"],
+    "local_threshold": _DEFAULTS["local_threshold"],
+    "attenuation": _DEFAULTS["attenuation"],
+    "output": "depth",
+}
+
+
+def render_demip(image: Any, camera: Any, size: tuple, **params: Any) -> np.ndarray:
+    """Depth-enhanced MIP in float64: depth, final colour or maximum per pixel.
+
+    Parameters
+    ----------
+    image : vtkImageData or pyvista.ImageData
+        Volume with one-component point scalars (not modified).
+    camera : vtkCamera
+        The view (not modified); orthographic or perspective.
+    size : tuple of int
+        Window ``(width, height)``.
+    **params
+        ``sample_distance : float`` (required): world units between samples,
+        placed as in ``method="mip"`` (``t_enter + k * sample_distance``,
+        ``k = 1..K``).
+        ``window : (low, high)`` (required): the grey window in data units;
+        material ``m(s) = clip((s - low) / (high - low), 0, 1)``, above the
+        floor when ``m(s) > FLOOR_TOLERANCE``.
+        ``depth_weight : float, default: 0.15``, ``material_threshold :
+        float, default: 0.1``, ``depth_mode : str, default:
+        "entry_plus_length"``, ``sphere_weight : float, default: 0.0``,
+        ``sphere_colors : str or (front, back), default: "red-blue"``,
+        ``sphere_orientation : 3 angles or 3x3 matrix, default: identity``,
+        ``chroma_depth_weight : float, default: 0.0``, ``depth_of : str,
+        default: "same_material"``, ``projection : str, default: "mip"``,
+        ``local_threshold : float, default: 0.5``, ``attenuation : float,
+        default: 0.05``: as the setters of :class:`mipcast.DEMIPVolumeMapper`.
+        ``output : {"depth", "rgb", "value"}, default: "depth"``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``"depth"``: shape (H, W), depth in [0, 1] of the first sample whose
+        material is within ``material_threshold`` of the maximum's and above
+        the floor; NaN where the ray misses or the maximum is not above the
+        floor (no DEMIP term).  ``"rgb"``: shape (H, W, 3), the final straight colour in
+        [0, 1] (Eq. 1, 2 and pseudo-chromadepth where there is a DEMIP term,
+        the grey ramp of the ray's value elsewhere; MIDA's composite); NaN
+        on misses.  ``"value"``: shape (H, W), the ray's value in data units
+        (maximum; LMIP's local maximum; the attenuated maximum's scalar),
+        NaN on misses.  Depth is NaN everywhere for ``"attenuated"`` and
+        ``"mida"``.  Row 0 is the top.
+
+    Raises
+    ------
+    TypeError
+        For unknown or missing parameters, or values of the wrong type.
+    ValueError
+        For values out of range (the message names the parameter).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from vtkmodules.vtkRenderingCore import vtkCamera
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> image = make_fixture("frontback", size=16)
+    >>> camera = vtkCamera()
+    >>> camera.SetFocalPoint(7.5, 7.5, 7.5)
+    >>> camera.SetPosition(7.5, 7.5, 60.0)   # on the +z side: the high-z ball is near
+    >>> camera.ParallelProjectionOn()
+    >>> camera.SetParallelScale(9.0)
+    >>> depth = render_demip(image, camera, (16, 16), sample_distance=1.0, window=(0.05, 1.0))
+    >>> near, far = depth[8, 10], depth[8, 5]  # the high-z (x ~ 10) and low-z (x ~ 6) balls
+    >>> bool(near < far)
+    True
+    """
+    volume = check_image(image)
+    width, height = check_size(size)
+    unknown = sorted(set(params) - set(PARAMETERS))
+    if unknown:
+        raise TypeError(f"unknown parameter(s) for method 'demip': {', '.join(unknown)}; "
+                        f"valid: {', '.join(PARAMETERS)}")
+    missing = [name for name, default in PARAMETERS.items() if default is None and name not in params]
+    if missing:
+        raise TypeError(f"method 'demip' requires parameter(s): {', '.join(missing)}")
+    p = {**PARAMETERS, **params}
+    step = check_positive("sample_distance", p["sample_distance"])
+    low, high = _window(p["window"])
+    depth_weight = check_unit("depth_weight", p["depth_weight"])
+    eps = check_unit("material_threshold", p["material_threshold"], open_low=True)
+    mode = check_choice("depth_mode", p["depth_mode"], DEPTH_MODES)
+    sphere_weight = check_unit("sphere_weight", p["sphere_weight"])
+    colors = p["sphere_colors"]
+    front, back = sphere_colors((colors,) if isinstance(colors, str) else tuple(colors))
+    orientation = np.array(rotation((p["sphere_orientation"],)))
+    chroma_weight = check_unit("chroma_depth_weight", p["chroma_depth_weight"])
+    if check_choice("depth_of", p["depth_of"], DEPTH_OF) == "maximum":
+        eps = 0.0
+    projection = check_choice("projection", p["projection"], PROJECTIONS)
+    local = low + check_unit("local_threshold", p["local_threshold"]) * (high - low)
+    local = local if projection == "lmip" else np.inf
+    attenuation = check_non_negative("attenuation", p["attenuation"], numbers_only=True)
+    voxels_per_step = step / min(abs(v) for v in image.GetSpacing())
+    output = check_choice("output", p["output"], OUTPUTS)
+
+    hit, entry, direction, length = hit_rays(image, camera, (width, height))
+    values = np.array(volume, dtype=np.float64)
+
+    count = np.maximum(1, np.floor(length / step + 1e-9)).astype(np.int64)
+    maximum = np.empty(len(count))
+    first = np.empty(len(count), dtype=np.int64)
+    mida = np.empty(len(count))
+    chunk = max(1, BUDGET // max(1, int(count.max(initial=1))))
+    for start in range(0, len(count), chunk):
+        part = slice(start, start + chunk)
+        sample, valid = _samples(values, entry[part], direction[part], count[part], step)
+        if projection == "attenuated":
+            maximum[part] = _attenuated(sample, valid, low, high, attenuation * voxels_per_step)
+            first[part] = -1
+        else:
+            if projection == "lmip":
+                valid = _local(sample, valid, local)
+            maximum[part], first[part] = _same_material(sample, valid, low, high, eps)
+        if projection == "mida":
+            mida[part] = _mida(sample, valid, low, high)
+            first[part] = -1
+    if output == "value":
+        return scatter(maximum, hit, height, width)
+
+    term = first >= 0
+    where = entry + ((np.maximum(first, 0) + 1) * step)[:, None] * direction
+    geometry = _Geometry(image, camera, width / height)
+    depth = np.where(term, geometry.depth(mode, where, entry), np.nan)
+    if output == "depth":
+        return scatter(depth, hit, height, width)
+
+    grey = mida if projection == "mida" else np.clip((maximum - low) / (high - low), 0.0, 1.0)
+    color = np.repeat(grey[:, None], 3, axis=1)
+    known = np.nan_to_num(depth)
+    enhanced = color * (1.0 - depth_weight) + 2.0 * depth_weight * (1.0 - known)[:, None]
+    if sphere_weight > 0:
+        sphere = geometry.sphere_color(where, orientation[:, 2], np.array(front), np.array(back))
+        enhanced = enhanced * (1.0 - sphere_weight) + sphere * sphere_weight
+    enhanced = enhanced * (1.0 - chroma_weight) + chroma_color(known) * chroma_weight
+    color = np.where(term[:, None], np.clip(enhanced, 0.0, 1.0), color)
+    return scatter(color, hit, height, width)
+
+
+def _window(window: Any) -> tuple:
+    try:
+        low, high = (float(v) for v in window)
+    except (TypeError, ValueError):
+        raise TypeError(f"window must be (low, high) in data units, got {window!r}") from None
+    if not (np.isfinite(low) and np.isfinite(high) and high > low):
+        raise ValueError(f"window must be (low, high) with high > low, got {window!r}")
+    return low, high
+
+
+def _samples(values, entry, direction, count, step) -> tuple:
+    """Trilinear samples (N, K) at ``k * step``, k = 1..K, and which of them exist."""
+    k = np.arange(1, int(count.max()) + 1)
+    position = entry[:, None, :] + (k[:, None] * step) * direction[:, None, :]
+    sample = trilinear(values, position.reshape(-1, 3)).reshape(len(count), len(k))
+    return sample, k[None, :] <= count[:, None]
+
+
+def _local(sample, valid, local) -> np.ndarray:
+    """LMIP: keep the samples before the first fall below a running maximum above ``local``."""
+    running = np.maximum.accumulate(np.where(valid, sample, -np.inf), axis=1)
+    before = np.concatenate([np.full((len(sample), 1), -np.inf), running[:, :-1]], axis=1)
+    falls = valid & (sample < before) & (before > local)
+    end = np.where(falls.any(axis=1), falls.argmax(axis=1), sample.shape[1])
+    return valid & (np.arange(sample.shape[1])[None, :] < end[:, None])
+
+
+def _attenuated(sample, valid, low, high, decay) -> np.ndarray:
+    """The scalar (data units) of the largest attenuated material."""
+    material = np.where(valid, np.clip((sample - low) / (high - low), 0.0, 1.0), 0.0)
+    crossed = np.cumsum(material, axis=1) - material
+    return low + (material * np.exp(-decay * crossed)).max(axis=1) * (high - low)
+
+
+def _mida(sample, valid, low, high) -> np.ndarray:
+    """MIDA (gamma 0) of the opaque grey ramp: the composited grey."""
+    material = np.clip((sample - low) / (high - low), 0.0, 1.0)
+    colour = np.zeros(len(sample))
+    opacity = np.zeros(len(sample))
+    running = np.zeros(len(sample))
+    for k in range(sample.shape[1]):
+        on = valid[:, k]
+        beta = 1.0 - np.maximum(material[:, k] - running, 0.0)
+        fresh = 1.0 - beta * opacity  # sample opacity 1
+        colour = np.where(on, beta * colour + fresh * material[:, k], colour)
+        opacity = np.where(on, beta * opacity + fresh, opacity)
+        running = np.where(on, np.maximum(running, material[:, k]), running)
+    return colour
+
+
+def _same_material(sample, valid, low, high, eps) -> tuple:
+    """Maximum (data units) and index of the first same-material sample (-1: no DEMIP term)."""
+    sample = np.where(valid, sample, -np.inf)
+    maximum = sample.max(axis=1)
+    material = np.clip((sample - low) / (high - low), 0.0, 1.0)
+    top = np.clip((maximum - low) / (high - low), 0.0, 1.0)
+    same = valid & (material >= top[:, None] - eps) & (material > FLOOR_TOLERANCE)
+    first = np.where(same.any(axis=1) & (top > FLOOR_TOLERANCE), same.argmax(axis=1), -1)
+    return maximum, first
+
+
+class _Geometry:
+    """Index <-> world <-> eye for one image and camera; the box's depth range."""
+
+    def __init__(self, image, camera, aspect: float) -> None:
+        to_index, upper = index_space(image)
+        self.to_world = np.linalg.inv(to_index)
+        self.view = matrix_array(camera.GetViewTransformMatrix())
+        self.projection = matrix_array(camera.GetProjectionTransformMatrix(aspect, -1, 1))
+        self.parallel = bool(camera.GetParallelProjection())
+        self.upper = upper
+        corners = np.array([[x, y, z] for x in (0, upper[0]) for y in (0, upper[1]) for z in (0, upper[2])])
+        corner_eye = self.eye(corners)
+        self.near, self.far = (-corner_eye[:, 2]).min(), (-corner_eye[:, 2]).max()
+        eye_index = to_index[:3, :3] @ np.array(camera.GetPosition()) + to_index[:3, 3]
+        self.nearest = np.linalg.norm(self.eye(np.clip(eye_index, 0.0, upper)[None])[0])
+        self.farthest = np.linalg.norm(corner_eye, axis=1).max()
+        self.centre = self.world(0.5 * upper[None])[0]
+
+    def world(self, index: np.ndarray) -> np.ndarray:
+        return index @ self.to_world[:3, :3].T + self.to_world[:3, 3]
+
+    def eye(self, index: np.ndarray) -> np.ndarray:
+        return self.world(index) @ self.view[:3, :3].T + self.view[:3, 3]
+
+    def window_depth(self, distance: np.ndarray) -> np.ndarray:
+        p = self.projection
+        near_plane = (p[2, 3] + p[3, 3]) / (p[2, 2] + p[3, 2])
+        far_plane = (p[2, 3] - p[3, 3]) / (p[2, 2] - p[3, 2])
+        z = -np.clip(distance, near_plane, far_plane)
+        return 0.5 * (p[2, 2] * z + p[2, 3]) / (p[3, 2] * z + p[3, 3]) + 0.5
+
+    def depth(self, mode: str, where: np.ndarray, entry: np.ndarray) -> np.ndarray:
+        hit_eye, entry_eye = self.eye(where), self.eye(entry)
+        extent = self.far - self.near
+        if mode == "window":
+            near, far = self.window_depth(self.near), self.window_depth(self.far)
+            depth = (self.window_depth(-hit_eye[:, 2]) - near) / (far - near)
+        elif mode == "steps":
+            depth = np.linalg.norm(hit_eye - entry_eye, axis=1) / extent
+        elif mode == "entry_plus_length":
+            depth = (-entry_eye[:, 2] - self.near + np.linalg.norm(hit_eye - entry_eye, axis=1)) / extent
+        elif self.parallel:
+            depth = (-hit_eye[:, 2] - self.near) / extent
+        else:
+            depth = (np.linalg.norm(hit_eye, axis=1) - self.nearest) / (self.farthest - self.nearest)
+        return np.clip(depth, 0.0, 1.0)
+
+    def sphere_color(self, where, axis, front, back) -> np.ndarray:
+        return sphere_color(self.world(where) - self.centre, axis, front, back)

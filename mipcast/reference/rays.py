@@ -1,0 +1,72 @@
+"""Rays and trilinear interpolation shared by the float64 references.
+
+Rays come from :func:`mipcast.core.camera_rays.camera_rays` (VTK's own
+pixel-centre rays, in index space); the volume is interpolated trilinearly
+between point values, as the GPU's clamp-to-edge 3D texture does.
+"""
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.lib.stride_tricks import as_strided
+from vtkmodules.vtkCommonDataModel import vtkImageData
+
+from mipcast.core.camera_rays import camera_rays
+
+#: Rays per chunk of the sampled reference.
+RAY_CHUNK = 65536
+#: Samples or segments held in memory at once.
+BUDGET = 1 << 20
+
+
+def hit_rays(image: vtkImageData, camera: Any, size: tuple) -> tuple:
+    """The pixels' rays that meet the volume, in index space.
+
+    Returns ``hit`` (bool, H*W, row-major, top row first) and, per hit ray,
+    its ``entry`` point (N, 3), ``direction`` (N, 3, per unit world length)
+    and ``length`` (N,) inside the box (world units).
+    """
+    rays = camera_rays(image, camera, size)
+    hit = rays.hit.ravel()
+    t_enter = rays.t_enter.ravel()[hit]
+    length = rays.t_exit.ravel()[hit] - t_enter
+    direction = rays.direction.reshape(-1, 3)[hit]
+    entry = rays.origin.reshape(-1, 3)[hit] + t_enter[:, None] * direction
+    return hit, entry, direction, length
+
+
+def scatter(found: np.ndarray, hit: np.ndarray, height: int, width: int) -> np.ndarray:
+    """Per-hit-ray results (N, ...) as an (H, W, ...) image, NaN where the ray misses."""
+    out = np.full((width * height,) + found.shape[1:], np.nan)
+    out[hit] = found
+    return out.reshape((height, width) + found.shape[1:])
+
+
+def gather(values: np.ndarray, cell: np.ndarray) -> np.ndarray:
+    """Corner values (M, 8) of cells ``cell`` (M, 3); column b = dx + 2 dy + 4 dz."""
+    nz, ny, nx = values.shape
+    flat = values.ravel()
+    step = flat.strides[0]
+    # item n of this view is the 2x2x2 block of points whose first corner is point n
+    blocks = as_strided(flat, shape=(flat.size - nx * ny - nx - 1, 2, 2, 2),
+                        strides=(step, nx * ny * step, nx * step, step), writeable=False)
+    return blocks[cell[:, 0] + nx * (cell[:, 1] + ny * cell[:, 2])].reshape(-1, 8)
+
+
+def cells(values: np.ndarray, position: np.ndarray) -> np.ndarray:
+    """Index (M, 3) of the cell holding each position, clipped to the grid."""
+    top = np.array(values.shape[::-1]) - 2
+    return np.clip(np.floor(position), 0, top).astype(np.int64)
+
+
+def trilinear(values: np.ndarray, position: np.ndarray) -> np.ndarray:
+    """Clamp-to-edge trilinear interpolation at index positions (M, 3)."""
+    position = np.clip(position, 0, np.array(values.shape[::-1]) - 1.0)
+    cell = cells(values, position)
+    corner = gather(values, cell)
+    weight = position - cell
+    for axis in range(3):
+        w = weight[:, axis, None]
+        corner = corner[:, 0::2] + w * (corner[:, 1::2] - corner[:, 0::2])
+    return corner[:, 0]
