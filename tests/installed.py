@@ -6,6 +6,7 @@ own Python and VTK) gets :func:`package_path`: a folder holding only a link
 to the installed ``mipcast``, so nothing else of this interpreter's
 site-packages (numpy 2, VTK 9.7) shadows ParaView's own.
 """
+import hashlib
 import os
 import tempfile
 from pathlib import Path
@@ -18,10 +19,11 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def package_path() -> str:
     """A folder for PYTHONPATH whose only entry is a link to the installed ``mipcast``."""
-    folder = Path(tempfile.gettempdir()) / f"mipcast-pythonpath-{os.getuid()}"
+    target = Path(mipcast.__file__).resolve().parent
+    tag = hashlib.sha1(str(target).encode()).hexdigest()[:10]  # one folder per installation
+    folder = Path(tempfile.gettempdir()) / f"mipcast-pythonpath-{os.getuid()}-{tag}"
     folder.mkdir(exist_ok=True)
     link = folder / "mipcast"
-    target = Path(mipcast.__file__).resolve().parent
     if not (link.is_symlink() and Path(os.readlink(link)) == target):
         tmp = folder / f"mipcast.{os.getpid()}"
         tmp.symlink_to(target, target_is_directory=True)
