@@ -1,7 +1,7 @@
 // mipcast piece: demip_helpers
 // fills: Shading::Dec
 // mode: augment
-// Depth-enhanced MIP (METHODS.md section 1, mipcast/mappers/demip.py): the
+// Depth-enhanced MIP (docs/methods.md#demip, mipcast/mappers/demip.py): the
 // globals the ray loop (demip_loop) hands to the colour exit (demip_color)
 // and the float readout (demip_readout), and the depth and sphere helpers.
 //

@@ -49,3 +49,7 @@ def plain_env() -> dict:
     env = dict(os.environ)
     env.pop("PYTHONPATH", None)
     return env
+
+
+if __name__ == "__main__":  # PYTHONPATH=$(python3 tests/installed.py) xvfb-run -a pvpython tests/...
+    print(package_path())

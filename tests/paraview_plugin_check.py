@@ -2,7 +2,7 @@
 
 Usage (from the repository root)::
 
-    PYTHONPATH=$PWD xvfb-run -a pvpython tests/paraview_plugin_check.py [--png out.png]
+    PYTHONPATH=$(python3 tests/installed.py) xvfb-run -a pvpython tests/paraview_plugin_check.py [--png out.png]
 
 Loads ``plugin/mipcast_paraview.py`` with ``LoadPlugin``, feeds the
 "vessels" fixture (32^3) through a PVTrivialProducer into the

@@ -2,7 +2,7 @@
 
 Usage (from the repository root)::
 
-    PYTHONPATH=$PWD xvfb-run -a pvpython tests/paraview_view_check.py [--png-dir DIR]
+    PYTHONPATH=$(python3 tests/installed.py) xvfb-run -a pvpython tests/paraview_view_check.py [--png-dir DIR]
 
 Writes the "vessels" fixture (48^3) to a .vti, opens it with ParaView's XML
 reader and shows it in a render view (112 x 96 pixels) with

@@ -1,44 +1,22 @@
 """Gaze-directed level maths: eccentricity, the level each pixel wants, blend weights.
 
-Foveated rendering after Levoy & Whitaker (1990), METHODS.md §3.  Level
-``k`` of the image pyramid casts one ray every ``2**k`` pixels (VTK's
+Foveated rendering after Levoy & Whitaker (1990).  Level ``k`` of the
+image pyramid casts one ray every ``2**k`` pixels (VTK's
 ``ImageSampleDistance = 2**k``; how it samples along the ray is
 :func:`mipcast.mappers.volume_pyramid.level_sampling`).  A pixel at eccentricity
-``e`` (distance to the gaze point, in viewport heights, so circles stay
-round in any window shape) wants the continuous level::
+``e`` (distance to the gaze point, in viewport heights) wants the
+continuous level::
 
     lam(e) = clip(log2(1 + gain * max(e - start, 0)), 0, top)
     gain   = (2**(L - 1) - 1) / falloff        (L levels)
 
-``start`` is the foveal radius plus a margin of two level-1 texels (the
-reach of level 1's bilinear reconstruction, so that no coarse ray reaches
-into the fovea), ``falloff`` the eccentricity beyond ``start`` where the
-coarsest level ``L - 1`` is reached, ``top`` the coarsest level drawn
-(below ``L - 1`` in small windows or for tiny volumes).  This follows visual
-acuity: the minimum angle of resolution grows linearly with eccentricity, so
-the ray *spacing* ``2**lam = 1 + gain * (e - start)`` does, and the level,
-its log2, rises fast next to the fovea and slowly further out.  Level ``k``
-is reached at the border (:func:`level_border`)::
-
-    e_k = start + falloff * (2**k - 1) / (2**(L - 1) - 1)
-
-With 3 levels level 1 is reached a third of the way out (a linear schedule
-would reach it half-way) and level 2 at ``start + falloff``: the 0 -> 1 blend
-annulus, drawn at full resolution, is narrower and level 0 casts fewer rays.
-A falloff of 0 switches levels abruptly at ``start`` (it is taken as 1e-6).
-Each pixel's colour is a lerp between the two bracketing levels.  The levels
-are drawn coarsest first, each composited *over* the one below with the
-premultiplied weight ``clip(k + 1 - lam, 0, 1)`` (1 for the coarsest), which
-for opaque colours is exactly that lerp::
-
-    lam in [k, k + 1]:  colour = (k + 1 - lam) * level_k + (lam - k) * level_k+1
-
-A level casts rays only where it has a weight, widened by its bilinear
-reach (1.5 texels), and is not drawn at all when that annulus misses the
-viewport; a GL scissor box keeps the rasteriser out of the rest.  Levels
-whose grid would be under :data:`MIN_TEXELS` texels across (tiny windows)
-are not used.  Everything here is pure Python / numpy and is shared by the
-mapper (uniforms), its float readout (composite) and its cost accounting.
+and its colour is a lerp between the two bracketing levels, drawn coarsest
+first, each composited *over* the one below with the premultiplied weight
+``clip(k + 1 - lam, 0, 1)``.  Everything here is pure Python / numpy and is
+shared by the mapper (uniforms), its float readout (composite) and its
+cost accounting.  The definitions of ``start``, ``falloff`` and ``top``,
+the acuity schedule and the drawing rules: docs/methods.md, section
+Foveated rendering (``docs/methods.md#foveated-rendering``).
 """
 from __future__ import annotations
 

@@ -4,6 +4,9 @@ A MIP pixel's colour is the transfer functions applied to the ray maximum.
 If colour and opacity are constant for all scalars up to a *floor*, every
 maximum below the floor gives the same pixel, so a method may stop caring
 about values below it; likewise above a *ceiling*.
+
+See docs/methods.md, section Transfer-function floor and ceiling
+(``docs/methods.md#transfer-function-floor-and-ceiling``).
 """
 from __future__ import annotations
 

@@ -15,28 +15,20 @@ from mipcast.core.validation import check_image
 class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     """Exact MIP on the GPU: no samples to miss, no sample distance to choose.
 
-    Each ray walks the cells it crosses (a 3D DDA over voxel planes); in
-    every cell the trilinear interpolant along the ray is a cubic, built
-    exactly from the cell's 8 corner values (``texelFetch``, so the GPU's
-    low-precision filter weights play no part), and its maximum is taken at
-    the segment ends and the derivative's roots (see METHODS.md §2 and
-    ``shaders/amip_cell.glsl``).  Cells whose largest corner cannot beat the
-    running maximum are skipped.  The sample distance setting is ignored.
-    Colour and opacity come from the volume property exactly as in stock MIP;
-    interpolation is always trilinear.
+    Each ray walks the cells it crosses; in every cell the trilinear
+    interpolant along the ray is a cubic built exactly from the cell's 8
+    corner values, and its maximum is taken at the segment ends and the
+    derivative's roots (``shaders/amip_cell.glsl``).  Work that cannot change
+    the answer is skipped.  The sample distance setting is ignored; colour and
+    opacity come from the volume property exactly as in stock MIP;
+    interpolation is always trilinear.  Volumes larger than one 3D texture and
+    partitioned rendering are refused with a message.
 
-    Corner packing (:meth:`SetPackedCorners`, on by default): the GPU gets
-    a four-component copy of the volume holding four corners per texel
-    (:mod:`mipcast.mappers.corner_packing`), so each cell costs two fetches instead
-    of eight -- 1.4-1.9x faster on llvmpipe, same pixels -- at four times
-    the texture memory.  The copy is made by a pipeline filter inside the
-    mapper: :meth:`GetInput` still returns your image, which is never
-    modified.  VTK draws the copy with independent components and so gives
-    the volume property default transfer functions for components 1-3
-    (component 0's are the ones used); a property with IndependentComponents
-    off gets the unpacked volume (and VTK's own refusal of one-component
-    data in that mode, as with stock MIP).  Turn packing off on GPUs short
-    of memory.
+    Settings: :meth:`SetPackedCorners` (default True: two fetches per cell from
+    a four-component copy of the volume made inside the mapper, four times the
+    texture memory; :meth:`GetInput` still returns your image, never
+    modified; turn it off on GPUs short of memory) and :meth:`SetSkipping`
+    (default True; False only to measure what skipping saves; both exact).
 
     Examples
     --------
@@ -48,6 +40,9 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     >>> mapper.Attach(volume)
     >>> mapper.IsAttached()
     True
+
+    See docs/methods.md, section Analytic MIP (the cell walk, the cubic, corner
+    packing, skipping): ``docs/methods.md#analytic-mip``.
     """
 
     PIECES = ("mip_globals", "refusal", "amip_corners", "amip_cell", "amip_loop", "no_stock_sample", "mip_color")

@@ -1,24 +1,17 @@
 """Four cell corners per texel, so analytic MIP reads a cell in two fetches.
 
-Analytic MIP needs all 8 corner values of every cell a ray crosses.  From
-a one-component 3D texture that is 8 ``texelFetch`` calls, and on llvmpipe
-those dominate its frame time.  :func:`packed_corners` builds a
-four-component copy whose texel ``(x, y, z)`` holds the values at
-``(x, y, z)``, ``(x, y+1, z)``, ``(x, y, z+1)`` and ``(x, y+1, z+1)``
-(clamped at the last row/slice, which no cell reads); the cell's corners
-are then the texels at ``x`` and ``x + 1`` (``shaders/amip_corners_packed.glsl``).
-Values are copied, not rescaled, so the walk stays exact.  Only 8/16-bit
-integers and float32 are packed (:func:`packable`): VTK maps those to the
-texture the same way for every component, but rescales 32/64-bit integers
-and float64 per component, by each component's own range, which would break
-the comparison across components (and packing them as float32 ourselves
-would lose the precision VTK's rescaling keeps for data with an offset);
-the mapper draws those unpacked.  The price is memory: the packed texture
-is four times the volume's.
-
+:func:`packed_corners` builds a four-component copy of a volume whose
+texel ``(x, y, z)`` holds the values at ``(x, y, z)``, ``(x, y+1, z)``,
+``(x, y, z+1)`` and ``(x, y+1, z+1)``; a cell's 8 corners are then the
+texels at ``x`` and ``x + 1`` (``shaders/amip_corners_packed.glsl``).
+Values are copied, not rescaled, so the walk stays exact; only 8/16-bit
+integers and float32 are packed (:func:`packable`), other types are drawn
+unpacked.  The packed texture is four times the volume's.
 :class:`CornerPacker` does it inside a VTK pipeline (between the user's
 input and the mapper), so the user's image is never modified and the
-packing reruns only when the input changes.
+packing reruns only when the input changes.  Why these types and not
+others: docs/methods.md, section Corner packing
+(``docs/methods.md#corner-packing``).
 """
 from __future__ import annotations
 

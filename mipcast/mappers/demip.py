@@ -31,97 +31,27 @@ _DEFAULTS = {
 class DEMIPVolumeMapper(MIPVolumeMapper):
     """Depth-enhanced MIP: the MIP picture, brighter where its material is near.
 
-    One fragment shader per ray (``shaders/demip_*.glsl``):
+    Díaz & Vázquez's DEMIP in one fragment shader per ray: the sampled MIP
+    march (exactly the samples of the ``"mip"`` method), then a second march to
+    the first sample of the *same material* as the maximum, whose depth in
+    [0, 1] brightens near and darkens far structures (Eq. 1,
+    ``colour = MIP_colour * (1 - d_w) + 2 d_w (1 - depth)``), optionally
+    tinted by a world-fixed colour sphere (Eq. 2) or by pseudo-chromadepth.
+    Only rays whose maximum lies above the transfer functions' window floor
+    get the depth term: the background stays as MIP shows it.  With all
+    weights 0 the picture is bit-identical to ``"mip"``, at its speed.
 
-    1. The sampled MIP march, with exactly the samples of the ``"mip"``
-       method, keeping the maximum.
-    2. A second march to the first sample of the *same material* as the
-       maximum; its position gives the ray's ``depth`` in [0, 1].
-    3. ``colour = MIP_colour * (1 - d_w) + 2 d_w (1 - depth)`` (Eq. 1), then
-       optionally ``colour = colour * (1 - sph_w) + sphere_colour * sph_w``
-       (Eq. 2), then optionally pseudo-chromadepth
-       (:meth:`SetChromaDepthWeight`), all on the straight colour of the
-       transfer functions, clamped to [0, 1]; the opacity stays MIP's.
-
-    Related cues from the paper's comparisons share the mapper:
-    pseudo-chromadepth on DEMIP or on plain MIP (:meth:`SetDepthOf`), and
-    the projections LMIP, napari-style attenuated MIP and MIDA
-    (:meth:`SetProjection`).
-
-    Definitions (the paper leaves them open):
-
-    - **Window.**  ``floor`` and ``ceiling`` are where the volume property's
-      premultiplied colour and opacity stop changing
-      (:func:`mipcast.core.transfer_bounds.constant_ends`): for a grey ramp, the
-      window's low and high end.
-    - **Material** of a scalar ``s``: its place in that window,
-      ``m(s) = clip((s - floor) / (ceiling - floor), 0, 1)``.  For the usual
-      grey window/level transfer function this is exactly the grey level MIP
-      shows, so ``eps`` is in display units (0.1 = a tenth of the window,
-      about 25 grey levels).  It is monotone in ``s``, unlike the luminance
-      of a colour map (where unrelated tissue can share a brightness): so
-      "same material" is a plain threshold on the scalar, the second march
-      compares raw texels without transfer function look-ups, and the
-      level speed-up below is exact.
-    - **Same material** as the maximum: ``m(s) >= m(max) - eps`` and
-      ``m(s) > FLOOR_TOLERANCE`` (1e-4, far below a grey level: "above the
-      floor", robust to float rounding when the background sits exactly at
-      the floor).  Samples never exceed the maximum, so this is
-      ``|m(s) - m(max)| <= eps`` of the paper, restricted to samples above
-      the floor.
-    - **Floor rule.**  The DEMIP term (Eq. 1 and 2) is applied only where the
-      maximum's material is above the floor (``m(max) > FLOOR_TOLERANCE``),
-      i.e. the maximum lies above the window's low end; rays whose maximum
-      is background keep MIP's colour (Eq. 1 taken literally would paint the
-      empty box in a grey depth haze).  Faint tissue above the floor is
-      brightened by up to ``2 d_w`` like everything else: put the window's
-      low end above what should stay dark.  A transfer function that is
-      constant everywhere has no window: no DEMIP term anywhere.
-    - **Depth**, normalised over the bounding box (point bounds) for the
-      current camera: with ``near``/``far`` the view distances (along the
-      view direction) of the box corners nearest to and farthest from the
-      camera, computed in the fragment shader from VTK's matrices (so
-      rotating needs no Python callback), and ``extent = far - near``:
-
-      ``"window"``: OpenGL window depth of the hit, ``(w(hit) - w(near)) /
-      (w(far) - w(near))`` (non-linear in perspective);
-      ``"steps"``: ray length from the box entry to the hit (steps times
-      the step length) ``/ extent`` - ignores where the ray entered, so it
-      jumps at the box's silhouette edges while rotating;
-      ``"entry_plus_length"`` (default, the paper's choice): ``(view
-      distance of the entry - near + ray length to the hit) / extent`` -
-      exact for parallel projection, slightly larger off-axis in
-      perspective; ``"eye_distance"``: the exact distance from the eye,
-      ``(|hit - eye| - distance to the nearest box point) / (distance to
-      the farthest corner - that)`` in perspective, the hit's view distance
-      ``(d - near) / extent`` in parallel projection.  All clamped to [0, 1]
-      (0 = near side).
-    - **Colour sphere.**  The sphere is fixed in world coordinates, rotated
-      only by :meth:`SetSphereOrientation` (independent of camera and
-      volume).  Its front pole is the sphere frame's +z axis; with the
-      default orientation that is world +z, which faces VTK's default camera
-      (at +z looking down -z).  A hit's colour is
-      ``mix(back, front, (1 + cos a) / 2)``, ``a`` the angle between the
-      front pole and the world direction from the box centre to the hit (a
-      hit exactly at the centre gets the mid colour).  The colour of a
-      structure therefore tells where it is in the world, whatever the view.
-
-    Exactness and speed: march 1 follows the *level* of the running maximum
-    (its material in steps of ``eps``) and remembers where it first reached
-    the level below its final one; every earlier sample lies more than
-    ``eps`` below the maximum's material, so march 2 starts there instead of
-    at the ray start (same result, usually a few samples) and stops at the
-    first match.  The maximum's own sample always qualifies, so a match
-    always exists: "no match" cannot happen (if float rounding ever
-    defeated it, the ray would keep MIP's colour).  With depth weight 0,
-    sphere weight 0 and no depth readout the mapper installs the ``"mip"``
-    method's pieces: the picture is bit-identical to it, at its speed.
-
-    Parameter effects: ``eps`` too small makes the depth that of the
-    maximum's own sample, which on noisy data jumps between neighbouring
-    pixels (noise); too large (up to 1) finds the first faint tissue above
-    the floor in front of the maximum.  Grazing rays (a few samples near the
-    box's edges) behave like any other ray.
+    Settings (VTK-style ``SetX``/``GetX``, validated in the setter):
+    :meth:`SetDepthWeight` (``d_w``, default 0.15),
+    :meth:`SetMaterialThreshold` (``eps``, default 0.1, in fractions of the
+    window), :meth:`SetDepthMode` (``"window"``, ``"steps"``,
+    ``"entry_plus_length"`` (default), ``"eye_distance"``),
+    :meth:`SetSphereWeight`, :meth:`SetSphereColors`,
+    :meth:`SetSphereOrientation`, :meth:`SetChromaDepthWeight`,
+    :meth:`SetDepthOf`, :meth:`SetProjection` (``"mip"``, ``"lmip"``,
+    ``"attenuated"``, ``"mida"``) with :meth:`SetLocalThreshold` and
+    :meth:`SetAttenuation`, and :meth:`SetReadout` for the float readout.
+    Partitioned rendering (``SetPartitions``) is refused.
 
     Examples
     --------
@@ -134,6 +64,10 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
     >>> mapper.Attach(vtkVolume())
     >>> mapper.GetDepthWeight(), mapper.GetDepthMode()
     (0.3, 'eye_distance')
+
+    See docs/methods.md, section DEMIP (definitions of window, material, same
+    material and floor rule; the depth modes; the colour sphere; LMIP,
+    attenuated MIP and MIDA): ``docs/methods.md#demip``.
     """
 
     PIECES = ("mip_globals", "refusal", "demip_helpers", "demip_loop", "no_stock_sample", "demip_color")

@@ -1,12 +1,13 @@
 """Two-pass DEMIP: the paper's comparison version (Table 2), a MIP pass then a depth pass.
 
-Díaz & Vázquez (METHODS.md §1, paper §4.1) compare their one-shader DEMIP
-with a version split into two fragment shaders: a MIP ray cast that stores
-per pixel what the second needs in a 2D texture, then a second ray cast that
-reads it, marches to the depth where the maximum's material is first reached
-and composes the colour.  :class:`DEMIPTwoPassVolumeMapper` is that version,
+Díaz & Vázquez (paper §4.1) compare their one-shader DEMIP with a version
+split into two fragment shaders: a MIP ray cast that stores per pixel what
+the second needs in a 2D texture, then a second ray cast that reads it,
+marches to the depth where the maximum's material is first reached and
+composes the colour.  :class:`DEMIPTwoPassVolumeMapper` is that version,
 on the GPU, inside VTK, so that its frame time can be compared with the
 one-pass :class:`~mipcast.mappers.demip.DEMIPVolumeMapper` in one process.
+See docs/methods.md, section Two-pass DEMIP.
 """
 from __future__ import annotations
 
@@ -62,68 +63,18 @@ class DEMIPTwoPassVolumeMapper(DEMIPVolumeMapper):
     Same picture and settings as :class:`~mipcast.mappers.demip.DEMIPVolumeMapper`
     (depth weight, material threshold, all four depth modes, colour sphere,
     pseudo-chromadepth, depth of the maximum, float and depth readouts); the
-    work is split as in the paper:
+    work is split as in the paper: a private first pass marches each ray and
+    stores, per pixel, the index of its maximum and where the second march may
+    start in a float texture; this mapper's own pass reads it, marches to the
+    first sample of the maximum's material and composes the colour.  Drop-in:
+    :meth:`Attach` it to a volume (in a renderer); nothing else has to be
+    added to the scene.
 
-    1. **Pass 1** (a private :class:`DEMIPFirstPassMapper` with its own
-       ``vtkVolume``, drawn by this mapper at the start of each of its
-       renders): the one-pass shader's first march, rendered to an image.
-       Per pixel it stores in a float texture the index of the ray's maximum
-       sample and the index where the second march may start (the one-pass
-       mapper's level bookkeeping), packed exactly into one float32.
-    2. **Pass 2** (this mapper, drawing into the window): VTK hands it pass
-       1's float texture as its ``in_depthSampler``
-       (``SetSharedDepthTexture(first.GetDepthTexture())``); per pixel it
-       reads the two indices, fetches the maximum (one sample), marches from
-       the start index to the first sample of the maximum's material and
-       composes the colour with the one-pass mapper's own pieces.
-
-    Both passes place sample ``k`` at the same position, so the picture
-    equals the one-pass picture; the cost is one more ray set-up per pixel,
-    the float texture's write and read, and one extra fetch per ray (pass 2's
-    maximum).  Drop-in: :meth:`Attach` it to a volume; nothing else has to
-    be added to the scene.
-
-    Rules that follow from sharing sample indices between the passes:
-
-    - **Sample distance.**  ``AutoAdjustSampleDistances`` is off at
-      construction and rendering with it on is refused (VTK would adjust
-      each pass's step on its own from its own frame time).  Use
-      ``SetSampleDistance``.
-    - **Pixels line up.**  Pass 1 renders to image with this mapper's
-      ``ImageSampleDistance``; VTK divides the viewport by it (truncating)
-      for the render-to-image buffers as for its reduced-resolution buffer,
-      so both passes cast rays on the same grid and pass 2 reads pass 1's
-      texel of its own pixel: any image sample distance works.  VTK's
-      render-to-image keeps the viewport's offset in the window in its
-      pixel uniforms; pass 1 takes pixel positions and the jitter pattern
-      where pass 2 takes them (``shaders/image_terminate.glsl``,
-      ``shaders/demip_two_pass_first_jitter.glsl``), so renderers that do
-      not start at the window's corner (subplots) and jittering work too.
-    - **Opaque geometry.**  Pass 2's ``in_depthSampler`` holds pass 1's
-      indices, not the scene's depth, so pass 2 replaces VTK's code that
-      ends rays at opaque geometry (``shaders/demip_two_pass_fetch.glsl``).
-      Pass 1 captures the scene's depth as every VTK volume mapper does:
-      it ends rays at opaque geometry and casts none where geometry hides
-      the volume; pass 2 draws nothing where pass 1 cast no ray, and its
-      march never passes the maximum (which lies in front of the
-      geometry).  Geometry is therefore handled as by the one-pass mapper.
-    - **No shortcut.**  Unlike the one-pass mapper, zero weights do not
-      switch to MIP's pieces: the mapper always runs both passes (pass 2
-      then skips its march and shows the MIP colour).
-    - **Projection** ``"mip"`` only: LMIP, attenuated MIP and MIDA are
-      one-pass only (:meth:`SetProjection` refuses them).
-    - **Copied to pass 1** at every render: input, sample distance, image
-      sample distance, ``LockSampleDistanceToInputSpacing``, jittering,
-      cropping, clipping planes, the volume's property and matrix.  Not
-      carried over: masks, other shader replacements, render passes that
-      draw a volume several times per frame (depth peeling).  Pass 1 holds
-      its own copy of the 3D texture (twice the GPU memory of one pass).
-      The mapper sets its own ``SetSharedDepthTexture`` (to pass 1's
-      image) at every render; the volume must be in a renderer (pass 1 is
-      drawn into it), or nothing is drawn and an error names the fix.
-    - Long rays: up to :data:`INDEX_BASE` samples the start index is packed
-      with the maximum's; longer rays march from the ray start (same
-      picture, more samples).
+    Rules: ``AutoAdjustSampleDistances`` is off at construction and rendering
+    with it on is refused (use ``SetSampleDistance``); projection ``"mip"``
+    only (:meth:`SetProjection` refuses LMIP, attenuated MIP and MIDA); zero
+    weights still run both passes; the first pass holds its own copy of the 3D
+    texture (twice the GPU memory of one pass).
 
     Examples
     --------
@@ -135,6 +86,10 @@ class DEMIPTwoPassVolumeMapper(DEMIPVolumeMapper):
     >>> mapper.Attach(vtkVolume())
     >>> mapper.GetDepthMode(), mapper.GetAutoAdjustSampleDistances()
     ('eye_distance', 0)
+
+    See docs/methods.md, section Two-pass DEMIP (what each pass does, pixel
+    alignment, opaque geometry, what is copied to the first pass):
+    ``docs/methods.md#two-pass-demip``.
     """
 
     PIECES = ("mip_globals", "demip_two_pass_globals", "demip_two_pass_fetch", "demip_helpers",

@@ -1,4 +1,7 @@
-"""Read a mipcast mapper's per-pixel result as float32, above the 8-bit floor."""
+"""Read a mipcast mapper's per-pixel result as float32, above the 8-bit floor.
+
+See docs/methods.md, section Float readout (``docs/methods.md#float-readout``).
+"""
 from __future__ import annotations
 
 import numpy as np

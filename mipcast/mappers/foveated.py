@@ -61,72 +61,39 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     """Gaze-directed rendering of any mipcast method (Levoy & Whitaker 1990).
 
     Inside the foveal radius around the gaze point the picture is the chosen
-    method at full quality, pixel for pixel.  Outside it, rays are cast on
-    the coarser grids of an image pyramid -- level ``k`` casts one ray every
-    ``2**k`` pixels -- and each pixel is the lerp of the two levels that
-    bracket the level its eccentricity asks for, so there is no seam (see
-    :mod:`mipcast.core.foveation`).  Along its rays a peripheral level samples no
-    more finely than its rays are spaced (at most ``2**k`` times the
-    full-quality spacing), reading a max-filtered coarser copy of the volume
-    when that spacing spans several voxels, so thin vessels neither alias nor
-    vanish (:func:`mipcast.mappers.volume_pyramid.level_sampling`).
+    method at full quality, pixel for pixel.  Outside it, rays are cast on the
+    coarser grids of an image pyramid (level ``k``: one ray every ``2**k``
+    pixels, sampling a max-filtered coarser copy of the volume where its rays
+    are far apart), blended smoothly, so there is no seam.  Drop-in:
+    :meth:`Attach` it to a volume like any mipcast mapper; it draws the levels
+    with private mappers of the chosen method, and nothing has to be added to
+    the scene.
 
-    Drop-in: :meth:`Attach` it to a volume like any mipcast mapper.  At each
-    render it draws every level with a private mapper of the chosen method
-    (owned here, sharing the input, volume property, matrix, cropping and
-    clipping planes) into the same renderer, coarsest first, and skips its
-    own draw.  Nothing has to be added to the scene.
-
-    Parameters, with their defaults (setters take effect at the next render
-    without recompiling shaders):
+    Settings, with their defaults (they take effect at the next render without
+    recompiling shaders):
 
     - :meth:`SetMethod` ``"mip"``: any of :func:`layer_methods`.
     - :meth:`SetGazePoint` ``(0.5, 0.5)``: normalised viewport coordinates,
-      (0, 0) bottom-left, (1, 1) top-right; outside the viewport is allowed.
-      Or let the gaze follow the mouse (:meth:`FollowMouse`) or a 3D region
-      of interest (:meth:`SetRegionOfInterest`).
-    - :meth:`SetFovealRadius` 0.188 of the viewport height: the paper's
-      sweet spot of 12 degrees of arc (a radius of 6 degrees) on a 27-inch
-      16:9 monitor (33.6 cm tall) seen from 60 cm, the viewport filling the
-      screen's height (:func:`mipcast.core.foveation.angle_to_height` converts for
-      other displays).  The frame time is dominated by this full-quality
-      disc: halving the radius roughly halves the time that remains.
-    - :meth:`SetFalloff` 0.127 of the height: the eccentricity over which the
-      ray density falls from full to the coarsest level (6 to 10 degrees in
-      the same geometry: the paper's 20-degree outer circle).  Within it the
-      ray spacing grows linearly with eccentricity, as the eye's minimum
-      angle of resolution does, so the level (log2 of the spacing) rises
-      fast next to the fovea and slowly further out: with 3 levels, level 1
-      is reached a third of the way out.  The blend zone next to the fovea
-      is drawn at full resolution too, so this narrow first blend, or a
-      narrower falloff, is faster.
-    - :meth:`SetNumberOfLevels` 3: full, 1/2 and 1/4 resolution (the paper's
-      1, 1/4 and 1/16 of the rays).
-    - :meth:`SetPeripheralSampling` ``"footprint"`` (above); ``"rays"``
-      doubles the sample spacing per level on the full volume (faster,
-      aliases along thin vessels), ``"level"`` is the paper's fixed schedule.
+      (0, 0) bottom-left; outside the viewport is allowed.  Or let the gaze
+      follow the mouse (:meth:`FollowMouse`) or a 3D region of interest
+      (:meth:`SetRegionOfInterest`).
+    - :meth:`SetFovealRadius` 0.188 of the viewport height (6 degrees on a
+      27-inch monitor seen from 60 cm; :func:`mipcast.core.foveation.angle_to_height`
+      converts for other displays).  Halving it roughly halves the time that
+      remains.
+    - :meth:`SetFalloff` 0.127 of the height: from the fovea's edge to the
+      coarsest level.
+    - :meth:`SetNumberOfLevels` 3: full, 1/2 and 1/4 resolution.
+    - :meth:`SetPeripheralSampling` ``"footprint"``; ``"rays"`` (faster,
+      aliases along thin vessels), ``"level"`` (the paper's fixed schedule,
+      widens thin vessels when zoomed in).
     - :meth:`SetFoveation` True; False renders the method at full quality
       everywhere.
 
-    Exactness: inside the radius every pixel comes from the full-quality
-    level alone, whatever the transfer functions (the blend starts a few
-    coarse texels outside it).  Between levels the blend is an exact lerp of
-    the two levels' colours when they are opaque (MIP's usual ramps); with
-    partial opacity it is VTK's premultiplied "over" of the two, which lets
-    a little of the coarser level through.
-
-    Settings of this mapper the levels honour: input, sample distance (or
-    one sample per voxel when ``AutoAdjustSampleDistances`` is on: the
-    frame-time-driven reduction is replaced by foveation), image sample
-    distance (the base of the pyramid), jittering, cropping, clipping
-    planes, opaque geometry in the scene (one depth-buffer copy per frame,
-    shared by the levels).  Not carried over: other shader replacements on
-    the volume, masks, depth peeling passes.  The float readout
-    (:func:`mipcast.mappers.float_readout.render_float`) returns the foveated image
-    in data units (levels read back and blended on the CPU with the same
-    weights).  Memory: each drawn level holds its own 3D texture; the max
-    pyramid is built (numpy, once per input) only when a level needs it.
-    Rays and samples of the last frame: :meth:`GetLastFrameCost`.
+    The float readout (:func:`mipcast.mappers.float_readout.render_float`) returns the
+    foveated image in data units; :meth:`GetLastFrameCost` the rays and
+    samples of the last frame against full quality.  Each drawn level holds its
+    own 3D texture.
 
     Examples
     --------
@@ -139,6 +106,10 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     >>> mapper.Attach(vtkVolume())
     >>> mapper.GetMethod(), mapper.GetGazePoint(), round(mapper.GetFovealRadius(), 3)
     ('analytic', (0.3, 0.7), 0.188)
+
+    See docs/methods.md, section Foveated rendering (the acuity schedule,
+    blending, peripheral sampling, what the levels honour):
+    ``docs/methods.md#foveated-rendering``.
     """
 
     #: The mapper's own (skipped) draw only needs the refusal piece.

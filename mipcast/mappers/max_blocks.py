@@ -3,6 +3,8 @@
 Block ``b`` along an axis covers the cells between points ``B*b`` and
 ``B*b + B`` (both included, clipped to the volume), so it bounds the
 trilinear interpolant everywhere inside those cells.
+
+See docs/methods.md, section Skipping (``docs/methods.md#skipping``).
 """
 from __future__ import annotations
 

@@ -16,10 +16,11 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     A drop-in for ``vtkGPUVolumeRayCastMapper`` in MIP mode: input, sample
     distance, auto-adjust, image sample distance, the volume property's
     transfer functions and interpolation, and the image's spacing, origin and
-    direction matrix all behave as they do there.  VTK keeps shader code on
-    the ``vtkVolume``, so the mapper must be attached to its volume with
-    :meth:`Attach` (which also calls ``volume.SetMapper``).  Rendering an
-    unattached mipcast mapper, or one whose input is unusable (see
+    direction matrix all behave as they do there, with the same samples as
+    stock VTK (sample ``i`` at ``entry + i * step``) in a faster, counted loop.
+    VTK keeps shader code on the ``vtkVolume``, so the mapper must be attached
+    to its volume with :meth:`Attach` (which also calls ``volume.SetMapper``).
+    Rendering an unattached mipcast mapper, or one whose input is unusable (see
     :func:`mipcast.core.validation.check_image`), reports a VTK error naming the
     problem and draws nothing.
 
@@ -33,6 +34,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     >>> mapper.Attach(volume)
     >>> volume.GetMapper() is mapper
     True
+
+    See docs/methods.md, section MIP: ``docs/methods.md#mip``.
     """
 
     #: Shader pieces this method installs (file names in ``shaders/``).

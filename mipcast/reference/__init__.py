@@ -3,6 +3,8 @@
 Rays come from :func:`mipcast.core.camera_rays.camera_rays` (VTK's own pixel-centre
 rays, in index space); the volume is interpolated trilinearly between point
 values, as the GPU's clamp-to-edge 3D texture does.
+
+See docs/methods.md, section Reference (``docs/methods.md#reference``).
 """
 from __future__ import annotations
 

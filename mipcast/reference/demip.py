@@ -6,6 +6,8 @@ Same rays and samples as :func:`mipcast.reference.render` with
 below the low end, white at and above the high end), so the window's ends
 are the floor and ceiling of the material.  Reached through
 ``mipcast.reference.render(..., method="demip", ...)``.
+
+See docs/methods.md, sections DEMIP and Reference (``docs/methods.md#reference``).
 """
 from __future__ import annotations
 
