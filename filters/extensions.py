@@ -21,6 +21,7 @@ import numpy as np
 import pyvista
 
 from mipcast.filters import add_volume, plot, render
+from mipcast.methods import detach
 
 
 @pyvista.register_dataset_accessor("mip", pyvista.ImageData)
@@ -254,7 +255,5 @@ class MipPlotterComponent:
 
 
 def _remove(volume, renderer) -> None:
-    mapper = volume.GetMapper()
-    if hasattr(mapper, "Detach"):
-        mapper.Detach()
+    detach(volume.GetMapper())
     renderer.RemoveVolume(volume)

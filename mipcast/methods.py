@@ -1,28 +1,109 @@
-"""The registry of rendering methods: a name -> a configured VTK volume mapper."""
+"""The method table: every rendering method, defined once.
+
+Each :class:`Method` names its mapper factory, its float64 reference, its
+parameter table (:mod:`mipcast.core.parameter_tables`) and what it can do.
+The command line's ``--method`` choices and help, the pyvista accessors and
+plotter component, the viewer's method cycle and sliders, ParaView's entries,
+the benchmark's settings, the stability cases and the tests all iterate over
+:data:`METHODS`; nothing else asks a mapper what it can do.
+
+Adding a method is one entry here (plus its mapper or GLSL piece and its
+reference function): see :func:`register`.
+
+Examples
+--------
+>>> list(METHODS)[:3]
+['stock', 'mip', 'analytic']
+>>> METHODS["analytic"].walks_cells, METHODS["analytic"].float_readout
+(True, True)
+"""
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+from typing import Any, Callable, Dict, Optional, Tuple
+
+import numpy as np
 from vtkmodules.vtkRenderingVolume import vtkFixedPointVolumeRayCastMapper
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
+from mipcast import reference
+from mipcast.core import parameter_tables
+from mipcast.core.parameter_tables import FOVEATION_LAYERS
+from mipcast.core.parameters import Parameter
+from mipcast.core.validation import check_choice
 from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
 from mipcast.mappers.demip import DEMIPVolumeMapper
 from mipcast.mappers.demip_two_pass import DEMIPTwoPassVolumeMapper
 from mipcast.mappers.foveated import FoveatedVolumeMapper
 from mipcast.mappers.mip import MIPVolumeMapper
-from mipcast.core.validation import check_choice
 
 
+@dataclass(frozen=True)
+class Method:
+    """One rendering method: what it is, how to make it, how to check it, what it can do.
+
+    Parameters
+    ----------
+    name : str
+        The name users type (``--method``, ``grid.mip.render(method)``).
+    label : str
+        A title for menus and charts.
+    summary : str
+        One line: what the picture shows.
+    factory : callable
+        ``factory()`` returns an unconfigured mapper (a class is a factory).
+    reference : callable, optional
+        The float64 picture its float readout must match:
+        ``reference(image, camera, size, *, sample_distance, window, **params)``
+        with the method's parameters; None for methods without a float
+        readout or whose picture depends on the gaze (foveation).
+    reference_tolerance : float
+        The largest error (fraction of the data range) of its float readout
+        against ``reference`` on the test fixtures, for the accuracy test.
+    parameters : tuple of Parameter
+        The method's parameter table.
+    float_readout : bool
+        A mipcast shader-piece mapper: attached with ``Attach(volume)``, its
+        per-pixel values readable in float (:func:`mipcast.mappers.float_readout.render_float`).
+    foveation_layer : bool
+        A foveated mapper can draw its levels with it.
+    walks_cells : bool
+        It walks cells instead of sampling: no sample distance (no slider,
+        no ``--sample-distance``).
+    in_view : bool
+        It renders in an interactive view (ParaView's representation, the viewer).
+    readout_by : str, optional
+        A method without a float readout whose samples another method's
+        readout reproduces exactly (stock VTK MIP: mipcast's ``"mip"``); the
+        benchmark reads its error there.
+    bench : tuple of (label, samples_per_voxel, settings)
+        Its rows in ``mipcast bench``: ``settings`` are ``(name, value)`` pairs.
+    """
+
+    name: str
+    label: str
+    summary: str
+    factory: Callable[[], Any]
+    reference: Optional[Callable[..., np.ndarray]] = None
+    reference_tolerance: float = 1e-3
+    parameters: Tuple[Parameter, ...] = ()
+    float_readout: bool = True
+    foveation_layer: bool = False
+    walks_cells: bool = False
+    in_view: bool = True
+    readout_by: Optional[str] = None
+    bench: Tuple[Tuple[str, Any, tuple], ...] = field(default=())
+
+    def create(self):
+        """A new, unconfigured mapper of this method."""
+        return self.factory()
+
+
+# -- factories of VTK's own mappers --------------------------------------------
 def _stock_mip() -> vtkOpenGLGPUVolumeRayCastMapper:
     mapper = vtkOpenGLGPUVolumeRayCastMapper()
     mapper.SetBlendModeToMaximumIntensity()
     return mapper
-
-
-def _demip_two_pass() -> DEMIPTwoPassVolumeMapper:
-    # a factory, not the class: foveation offers classes as layers
-    # (foveated_mapper.layer_methods), and this comparison method's private
-    # first pass would cast every ray at every level
-    return DEMIPTwoPassVolumeMapper()
 
 
 def _cpu_mip() -> vtkFixedPointVolumeRayCastMapper:
@@ -31,21 +112,93 @@ def _cpu_mip() -> vtkFixedPointVolumeRayCastMapper:
     return mapper
 
 
-#: Method name -> factory of an unconfigured mapper. "stock" is VTK's own GPU
-#: MIP, "cpu" its CPU peer (vtkFixedPointVolumeRayCastMapper); neither has a
-#: float readout. "foveated" renders one of the mipcast methods (default
-#: "mip") gaze-directed: full quality around the gaze point only.
-#: "demip_two_pass" is DEMIP split into two GPU passes (the paper's Table 2
-#: comparison): the same picture as "demip", for timing the split.
-METHODS = {
-    "stock": _stock_mip,
-    "cpu": _cpu_mip,
-    "mip": MIPVolumeMapper,
-    "analytic": AnalyticMIPVolumeMapper,
-    "demip": DEMIPVolumeMapper,
-    "demip_two_pass": _demip_two_pass,
-    "foveated": FoveatedVolumeMapper,
-}
+def _demip_two_pass() -> DEMIPTwoPassVolumeMapper:
+    # a factory, not the class: this comparison method is no foveation layer
+    # (its private first pass would cast every ray at every level)
+    return DEMIPTwoPassVolumeMapper()
+
+
+# -- references, one signature ---------------------------------------------------
+def sampled_mip_reference(image, camera, size, *, sample_distance: float, window=None) -> np.ndarray:
+    """The maximum of the samples at ``entry + k * sample_distance`` (float64)."""
+    return reference.render(image, camera, size, "mip", sample_distance=sample_distance)
+
+
+def exact_mip_reference(image, camera, size, *, sample_distance=None, window=None) -> np.ndarray:
+    """The exact maximum of the trilinear interpolant along each ray (float64)."""
+    return reference.render(image, camera, size, "analytic")
+
+
+def demip_reference(image, camera, size, *, sample_distance: float, window, **params) -> np.ndarray:
+    """DEMIP's float readout (the ray's value) in float64."""
+    return reference.render(image, camera, size, "demip", sample_distance=sample_distance,
+                            window=window, output="value", **params)
+
+
+_DEMIP_BENCH = (
+    ("demip", 1, ()),
+    ("demip window depth", 1, (("DepthMode", "window"),)),
+    ("demip steps depth", 1, (("DepthMode", "steps"),)),
+    ("demip eye distance", 1, (("DepthMode", "eye_distance"),)),
+    ("demip + sphere", 1, (("SphereWeight", 0.5),)),
+)
+
+#: Method name -> :class:`Method`, in the order front ends list them.
+METHODS: Dict[str, Method] = {}
+
+
+def register(method: Method) -> Method:
+    """Add ``method`` to :data:`METHODS` (replacing one of the same name) and return it.
+
+    A foveation layer also becomes a choice of the foveated method's
+    ``method`` parameter.
+
+    Examples
+    --------
+    >>> toy = Method("toy", "Toy", "the stock picture", _stock_mip, float_readout=False)
+    >>> register(toy) is METHODS["toy"]
+    True
+    >>> unregister("toy")
+    """
+    METHODS[method.name] = method
+    FOVEATION_LAYERS.pop(method.name, None)
+    if method.foveation_layer:
+        FOVEATION_LAYERS[method.name] = method
+    return method
+
+
+def unregister(name: str) -> None:
+    """Remove a method added by :func:`register` (tests use it)."""
+    METHODS.pop(name, None)
+    FOVEATION_LAYERS.pop(name, None)
+
+
+for _method in (
+    Method("stock", "Stock VTK MIP", "VTK's own sampled GPU MIP (what users have today)", _stock_mip,
+           reference=sampled_mip_reference, float_readout=False, readout_by="mip",
+           bench=(("stock 1x", 1, ()), ("stock 2x", 2, ()), ("stock 4x", 4, ()), ("stock 8x", 8, ()))),
+    Method("mip", "MIP", "sampled MIP through mipcast's own loop (samples at entry + k * step)",
+           MIPVolumeMapper, reference=sampled_mip_reference, reference_tolerance=1e-4,
+           parameters=parameter_tables.MIP, foveation_layer=True,
+           bench=(("mip 1x", 1, ()), ("auto", "auto", ()))),
+    Method("analytic", "Analytic MIP", "the exact maximum of the trilinear interpolant, cell by cell",
+           AnalyticMIPVolumeMapper, reference=exact_mip_reference, reference_tolerance=1e-4,
+           parameters=parameter_tables.ANALYTIC, foveation_layer=True, walks_cells=True,
+           bench=(("analytic", None, ()), ("analytic, no skipping", None, (("Skipping", False),)))),
+    Method("demip", "DEMIP", "MIP brightened where its material is near (depth-enhanced MIP, colour sphere)",
+           DEMIPVolumeMapper, reference=demip_reference, reference_tolerance=1e-4,
+           parameters=parameter_tables.DEMIP, foveation_layer=True, bench=_DEMIP_BENCH),
+    Method("demip_two_pass", "DEMIP (two passes)", "DEMIP split into two GPU passes, for timing the split",
+           _demip_two_pass, reference=demip_reference, reference_tolerance=1e-4,
+           parameters=parameter_tables.DEMIP, bench=(("demip two passes", 1, ()),)),
+    Method("foveated", "Foveated", "full quality around a gaze point, fewer rays and samples elsewhere",
+           FoveatedVolumeMapper, parameters=parameter_tables.FOVEATED,
+           bench=(("foveated mip", 1, ()), ("foveated mip, gaze at a corner", 1, (("GazePoint", (0.1, 0.1)),)),
+                  ("foveated analytic", None, (("Method", "analytic"),)))),
+    Method("cpu", "VTK CPU MIP", "VTK's CPU ray caster (vtkFixedPointVolumeRayCastMapper), a peer",
+           _cpu_mip, float_readout=False, in_view=True, bench=(("cpu 1x", 1, ()),)),
+):
+    register(_method)
 
 
 def create_mapper(method: str):
@@ -56,11 +209,25 @@ def create_mapper(method: str):
     >>> type(create_mapper("mip")).__name__
     'MIPVolumeMapper'
     """
-    return METHODS[check_choice("method", method, tuple(METHODS))]()
+    return METHODS[check_choice("method", method, tuple(METHODS))].create()
+
+
+def method_of(mapper) -> Optional[Method]:
+    """The :class:`Method` whose factory made ``mapper`` (None if no entry matches its type).
+
+    Examples
+    --------
+    >>> method_of(create_mapper("analytic")).name
+    'analytic'
+    """
+    for method in METHODS.values():
+        if isinstance(method.factory, type) and type(mapper) is method.factory:
+            return method
+    return None
 
 
 def attach(mapper, volume) -> None:
-    """Give ``volume`` its mapper: ``Attach`` for mipcast mappers, ``SetMapper`` for stock.
+    """Give ``volume`` its mapper: ``Attach`` for mipcast mappers, ``SetMapper`` for VTK's own.
 
     Examples
     --------
@@ -71,7 +238,13 @@ def attach(mapper, volume) -> None:
     >>> volume.GetMapper() is mapper
     True
     """
-    if hasattr(mapper, "Attach"):
+    if isinstance(mapper, MIPVolumeMapper):
         mapper.Attach(volume)
     else:
         volume.SetMapper(mapper)
+
+
+def detach(mapper) -> None:
+    """Undo :func:`attach`'s shader pieces (mipcast mappers; nothing for VTK's own)."""
+    if isinstance(mapper, MIPVolumeMapper):
+        mapper.Detach()

@@ -122,7 +122,9 @@ class OffscreenView:
             sample_distance = min(abs(s) for s in image.GetSpacing())
         self.sample_distance = check_positive("sample_distance", sample_distance)
         self.window = tuple(window) if window is not None else image.GetPointData().GetScalars().GetRange(0)
-        self.mapper = methods.create_mapper(method)
+        #: The :class:`mipcast.methods.Method` entry.
+        self.method = methods.METHODS[check_choice("method", method, tuple(methods.METHODS))]
+        self.mapper = self.method.create()
         self.mapper.SetInputData(image)
         self.mapper.SetAutoAdjustSampleDistances(False)
         self.mapper.SetSampleDistance(self.sample_distance)

@@ -313,7 +313,7 @@ class MipcastMIPRender(VTKPythonAlgorithmBase):
                              view=self._view, sample_distance=sample_distance, window=window)
         try:
             rgb = view.screenshot()
-            values = view.float_image() if hasattr(view.mapper, "Attach") else None
+            values = view.float_image() if view.method.float_readout else None
         finally:
             view.render_window.Finalize()
         return rgb, values

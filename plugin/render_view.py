@@ -405,10 +405,10 @@ def _key(view, source) -> tuple:
 
 def _remove(entry: _Entry, keep_volume: bool = False) -> None:
     """Undo what :func:`show` did in the renderer (``entry`` is already out of ``_SHOWN``)."""
+    from mipcast.methods import detach
+
     volume = entry.shown.volume
-    mapper = volume.GetMapper()
-    if hasattr(mapper, "Detach"):
-        mapper.Detach()
+    detach(volume.GetMapper())
     if not keep_volume:
         entry.view_object.RemovePropFromRenderer(volume)
     view_id = entry.shown.view.GetGlobalIDAsString()

@@ -47,7 +47,7 @@ from mipcast.offscreen import OffscreenView
 WIDTH, HEIGHT = 112, 96
 MACROS = os.path.join(os.path.dirname(os.path.abspath(mipcast.plugin.__file__)), "macros")
 #: Methods compared with the offscreen render; the rest are reported too.
-METHODS = ("mip", "analytic", "demip", "stock", "demip_two_pass", "foveated", "cpu")
+METHODS = tuple(mipcast.METHODS)  # every method of the table
 
 
 # -- ParaView side ----------------------------------------------------------------------------

@@ -388,7 +388,7 @@ def test_level_pieces_fit_every_method():
     from mipcast.mappers.foveated import _level_class
 
     for name in layer_methods():
-        tags = [load_piece(n).tag for n in _level_class(METHODS[name])().GetShaderPieces()]
+        tags = [load_piece(n).tag for n in _level_class(METHODS[name].factory)().GetShaderPieces()]
         assert len(tags) == len(set(tags)), name
 
 

@@ -26,8 +26,8 @@ def test_every_piece_loads_and_fills_a_template_tag(name):
 
 
 def test_every_method_uses_existing_pieces_once_per_tag():
-    for factory in mipcast.METHODS.values():
-        names = getattr(factory, "PIECES", ())
+    for method in mipcast.METHODS.values():
+        names = getattr(method.factory, "PIECES", ())
         tags = [load_piece(n).tag for n in names]
         assert len(tags) == len(set(tags))
 

@@ -5,6 +5,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPolyData
 
 from mipcast import reference
+from mipcast.methods import METHODS
 from mipcast.offscreen import OffscreenView
 from mipcast.core.validation import (check_choice, check_finite, check_image, check_non_negative, check_positive,
                                 check_size, check_unit)
@@ -164,7 +165,7 @@ print(int(before.max()), int(gone.max()), int(several.max()), int(np.abs(again.a
 """
 
 
-@pytest.mark.parametrize("method", ["mip", "analytic", "demip", "demip_two_pass", "foveated"])
+@pytest.mark.parametrize("method", [name for name, m in METHODS.items() if m.float_readout])
 def test_scalars_that_vanish_after_a_render_are_refused_not_a_crash(method):
     """The input passes at first, then loses its scalars (an upstream rename): an error, nothing drawn, no segfault."""
     import subprocess

@@ -30,36 +30,38 @@ def test_view_rejects_unknown_method():
         main(["view", "x.vti", "--method", "best"])
 
 
-# A stand-in for a depth-aware method (DEMIP-like): it declares every hook the
-# viewer looks for, so the viewer's behaviour is tested before DEMIP lands.
+# A stand-in for a depth-aware method (DEMIP-like), registered in the method
+# table with a parameter table that has every kind of entry the viewer uses.
 VIEWER_SCRIPT = textwrap.dedent('''
     import sys
     import numpy as np
     import pyvista
     from mipcast import METHODS, MIPVolumeMapper, create_mapper
     from mipcast.data_fixtures import make_fixture
-    from mipcast.core.object_state import object_state
-    from mipcast.app.viewer import build_viewer, run_viewer
+    from mipcast.app.viewer import build_viewer, run_viewer, slider_range, view_methods
+    from mipcast.core.parameter_tables import DEMIP
+    from mipcast.core.parameters import Parameter, parameter_accessors
+    from mipcast.core.shading import IDENTITY
+    from mipcast.methods import Method, register
+
+    FAKE = (
+        Parameter("depth_weight", "float", 0.15, "Depth.", low=0.0, high=1.0),
+        Parameter("sphere_weight", "float", 0.0, "Sphere.", low=0.0, high=1.0),
+        Parameter("depth_mode", "choice", "window", "Mode.", choices=("window", "steps", "entry")),
+        Parameter("gaze_point", "value", (0.5, 0.5), "Gaze.", convert=lambda *xy: tuple(xy), variadic=True),
+        Parameter("sphere_colors", "value", ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0)), "Colours.",
+                  convert=lambda *c: tuple(c), variadic=True),
+        Parameter("sphere_orientation", "value", IDENTITY, "Orientation.", convert=lambda *r: r, variadic=True),
+    )
 
 
+    @parameter_accessors
     class FakeDepthMapper(MIPVolumeMapper):
-        DEPTH_MODES = ("window", "steps", "entry")
-
-        def _get(self, key, default):
-            return object_state(self).get(key, default)
-
-        def SetDepthWeight(self, value): object_state(self)["depth_weight"] = value
-        def GetDepthWeight(self): return self._get("depth_weight", 0.15)
-        def SetSphereWeight(self, value): object_state(self)["sphere_weight"] = value
-        def GetSphereWeight(self): return self._get("sphere_weight", 0.0)
-        def SetDepthMode(self, value): object_state(self)["depth_mode"] = value
-        def GetDepthMode(self): return self._get("depth_mode", "window")
-        def SetGazePoint(self, x, y): object_state(self)["gaze"] = (x, y)
-        def GetSphereColors(self): return ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0))
+        PARAMETERS = FAKE
 
 
-    METHODS["fake_depth"] = FakeDepthMapper
-    names = list(METHODS)
+    register(Method("fake_depth", "Fake depth", "a stand-in", FakeDepthMapper, parameters=FAKE))
+    names = list(view_methods())
     plotter = build_viewer(make_fixture("vessels", size=32), "mip", window_size=(200, 160))
     plotter.show(interactive=False, auto_close=False)
     iren = plotter.iren.interactor
@@ -91,7 +93,7 @@ VIEWER_SCRIPT = textwrap.dedent('''
 
     iren.SetEventPosition(50, 40)
     iren.InvokeEvent("MouseMoveEvent")
-    assert np.allclose(object_state(fake)["gaze"], (0.25, 0.25)), object_state(fake).get("gaze")
+    assert np.allclose(fake.GetGazePoint(), (0.25, 0.25)), fake.GetGazePoint()
 
     depth_slider = plotter.widgets.slider_widgets[1]
     depth_slider.GetRepresentation().SetValue(0.6)
@@ -114,10 +116,11 @@ VIEWER_SCRIPT = textwrap.dedent('''
             press("m")
         demip = mapper()
         titles = sorted(w.GetRepresentation().GetTitleText() for w in plotter.widgets.slider_widgets)
-        assert titles == ["depth weight", "material threshold", "sample distance (voxels)",
-                          "sphere weight"], titles
+        assert titles == sorted([p.name.replace("_", " ") for p in DEMIP if slider_range(p)]
+                                + ["sample distance (voxels)"]), titles
+        assert "depth weight" in titles and "material threshold" in titles
         assert demip.GetDepthWeight() == 0.6  # carried over from the stand-in
-        modes = list(type(demip).DEPTH_MODES)
+        modes = list(next(p for p in DEMIP if p.name == "depth_mode").choices)
         before = demip.GetDepthMode()
         assert before in modes
         press("d")

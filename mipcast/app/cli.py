@@ -149,18 +149,18 @@ def _strict_json(value) -> str:
 
 
 def _parameters_help(command: argparse.ArgumentParser) -> str:
-    """The epilog of ``render`` and ``view``: how to set method parameters, and each method's own."""
-    from mipcast.core.parameters import method_parameters
-
+    """The epilog of ``render`` and ``view``: how to set method parameters, and each method's own (its table)."""
     lines = ["method parameters: --NAME VALUE [VALUE ...] calls the mapper's SetName(VALUE, ...),",
              "e.g. --depth-weight 0.3, --gaze-point 0.2 0.8, --foveation off; --mapper-NAME where the",
              "command has a --NAME of its own (--mapper-method analytic). Each method's own:"]
     own_options = {option[2:].replace("-", "_") for option in command._option_string_actions}
-    for name, factory in METHODS.items():
-        options = ["--" + ("mapper-" if option in own_options else "") + option.replace("_", "-")
-                   for option in method_parameters(factory())]
-        if options:
-            lines.append(f"  {name}: " + ", ".join(options))
+    for method in METHODS.values():
+        if not method.parameters:
+            continue
+        lines.append(f"  {method.name}:")
+        for parameter in method.parameters:
+            option = "--" + ("mapper-" if parameter.name in own_options else "") + parameter.name.replace("_", "-")
+            lines.append(f"    {option} ({parameter.describe()}): {parameter.summary}")
     lines.append("VTK's mapper setters work too, e.g. --image-sample-distance 2.")
     return "\n".join(lines)
 
@@ -191,7 +191,7 @@ def _run_demo(args) -> int:
             exact = reference.render(image, view.camera, size, method="analytic")
             _write_png(args.out / "reference_exact.png", _grey8(exact, low, high))
         entry = {"png": str(picture)}
-        if hasattr(view.mapper, "Attach"):
+        if view.method.float_readout:
             values = view.float_image()
             errors = summary(values, exact, high - low)
             _write_error_map(args.out / f"{method}_error.png", values, exact, high - low)
@@ -288,14 +288,14 @@ def _run_bench(args) -> int:
     if args.foveation:
         return _run_foveation(args)
     from mipcast.bench import paper_tables
-    from mipcast.bench.benchmark import DEFAULT_SETTINGS, markdown_table, measure_scene, write_chart
+    from mipcast.bench.benchmark import default_settings, markdown_table, measure_scene, write_chart
 
     args.out.mkdir(parents=True, exist_ok=True)
     sizes = args.size or [256, 512]
     rows = []
     started = time.perf_counter()
     jobs = [(scene, view, edge) for scene in args.scenes for view in args.views for edge in sizes]
-    steps_per_job = 1 + args.rounds + len(DEFAULT_SETTINGS)  # auto's calibration, rounds, error per setting
+    steps_per_job = 1 + args.rounds + len(default_settings())  # auto's calibration, rounds, error per setting
     with _progress_bar(len(jobs) * steps_per_job) as bar:
         for number, (scene, view, edge) in enumerate(jobs, 1):
             image, window = _load_scene(scene, args.volume_size)
@@ -362,13 +362,14 @@ def _advance(bar, label: str) -> None:
 def _run_stability(args) -> int:
     """Measure every stability case (:mod:`mipcast.bench.stability`) and write stability.md/json."""
     from mipcast.bench.benchmark import markdown_table
-    from mipcast.bench.stability import CASES, measure
+    from mipcast.bench.stability import cases, measure
 
     args.out.mkdir(parents=True, exist_ok=True)
     rows = []
-    for number, case in enumerate(CASES, 1):
+    all_cases = cases()
+    for number, case in enumerate(all_cases, 1):
         rows.append(measure(case))
-        print(f"[{number}/{len(CASES)}] {case.method}: {case.name}: "
+        print(f"[{number}/{len(all_cases)}] {case.method}: {case.name}: "
               f"p99 {rows[-1]['p99_pct']:.3g}% ({rows[-1]['measured']})", flush=True)
     columns = ["method", "case", "measured", "p99_pct", "max_pct", "within_1_grey", "depth_jump_pct",
                "fovea_within_1_grey", "explanation"]

@@ -1,35 +1,26 @@
 """``mipcast view``: an interactive pyvista window over one volume.
 
+Everything the viewer offers comes from the method table
+(:data:`mipcast.METHODS`) and each method's parameter table.
+
 Keys
-    ``m`` next method of :data:`mipcast.METHODS` (read when pressed), ``d``
-    next depth mode (methods with ``SetDepthMode``), pyvista's own keys
-    (``q`` quits, ``r`` resets the camera, ...).
+    ``m`` next method of the table (those that render in a view), ``d``
+    next depth mode (methods with a ``depth_mode`` parameter), pyvista's own
+    keys (``q`` quits, ``r`` resets the camera, ...).
 Sliders
-    sample distance in voxels (methods that sample; analytic MIP does not),
-    and one per parameter of :data:`SLIDERS` the method has
-    (``depth_weight``, ``sphere_weight``, ``material_threshold`` for DEMIP,
-    ``foveal_radius``, ``falloff`` for foveated rendering); values carry
-    over when the method changes.
+    sample distance in voxels (methods that sample; those that walk cells
+    do not), and one per float parameter with a range (:func:`slider_range`);
+    values carry over when the method changes.
 Mouse
     the pointer position, in normalised viewport coordinates (0..1 from the
-    lower left corner), goes to ``mapper.SetGazePoint(x, y)`` on every move
-    when the method has it (foveated rendering).
+    lower left corner), goes to ``SetGazePoint(x, y)`` on every move when the
+    method has a ``gaze_point`` parameter (foveated rendering).
 Legend
-    methods with ``SetSphereWeight`` get the colour sphere in the lower
-    right corner, turning with the camera like the volume: a shaded sphere
-    whose colour along each world direction is the one the method gives a
-    hit in that direction from the volume's centre, i.e. the mapper's
-    ``GetSphereColors()`` (front RGB, back RGB) mixed by ``(1 + cos a) / 2``,
-    ``a`` the angle to the front pole (third column of
-    ``GetSphereOrientation()``, default world +z), as
-    :class:`mipcast.DEMIPVolumeMapper` does.  A mapper without
-    ``GetSphereColors`` gets no legend.
-
-Depth modes are listed by the mapper class as ``DEPTH_MODES`` (the values
-``SetDepthMode`` takes), or by VTK-style ``GetDepthModeMinValue`` /
-``GetDepthModeMaxValue``.  A method that does not sample along the ray
-(:class:`mipcast.AnalyticMIPVolumeMapper`) says so with the class attribute
-``WALKS_CELLS = True``: it gets no sample-distance slider.
+    methods with a ``sphere_colors`` parameter get the colour sphere in the
+    lower right corner, turning with the camera like the volume: a shaded
+    sphere whose colour along each world direction is the one the method
+    gives a hit in that direction from the volume's centre
+    (:func:`mipcast.core.shading.sphere_color`, as DEMIP's shader does).
 
 pyvista is imported inside the functions only, so the core package keeps
 working in ParaView's Python.
@@ -43,17 +34,41 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from mipcast import METHODS
-from mipcast.core.parameters import set_parameters, setter_name
+from mipcast.core.parameters import Parameter, set_parameters, setter_name
+from mipcast.core.shading import sphere_color
 from mipcast.core.validation import check_choice
+from mipcast.methods import METHODS
 
 #: Normalised (x0, y0, x1, y1) of the colour-sphere legend in the window.
 LEGEND_VIEWPORT = (0.78, 0.0, 1.0, 0.22)
 #: Slider range of the sample distance, in voxels (the smallest spacing).
 SAMPLE_DISTANCE_RANGE = (0.125, 2.0)
-#: Method parameters that get a slider when the mapper has them: name -> range.
-SLIDERS = {"depth_weight": (0.0, 1.0), "sphere_weight": (0.0, 1.0), "material_threshold": (0.01, 1.0),
-           "foveal_radius": (0.0, 1.0), "falloff": (0.0, 1.0)}
+#: Upper end of the slider of a parameter that has no upper bound, in its unit.
+UNBOUNDED_SLIDER_TOP = 1.0
+
+
+def slider_range(parameter: Parameter):
+    """The slider range of a float parameter, or None if it gets no slider.
+
+    ``[low, high]`` (``high`` = :data:`UNBOUNDED_SLIDER_TOP` when unbounded;
+    an open lower end starts at 1 % of the range).
+
+    Examples
+    --------
+    >>> from mipcast.core.parameter_tables import DEMIP
+    >>> [(p.name, slider_range(p)) for p in DEMIP[:3]]
+    [('depth_weight', (0.0, 1.0)), ('material_threshold', (0.01, 1.0)), ('depth_mode', None)]
+    """
+    if parameter.kind != "float" or parameter.low is None:
+        return None
+    high = UNBOUNDED_SLIDER_TOP if parameter.high is None else parameter.high
+    low = parameter.low + 0.01 * (high - parameter.low) if parameter.open_low else parameter.low
+    return (low, high)
+
+
+def view_methods() -> tuple:
+    """Names of the table's methods that render in a view, in table order (the ``m`` cycle)."""
+    return tuple(name for name, method in METHODS.items() if method.in_view)
 
 
 def has_display(environ=None, platform: Optional[str] = None) -> bool:
@@ -195,7 +210,7 @@ class _Viewer:
 
     # -- actions --------------------------------------------------------------
     def set_method(self, method: str) -> None:
-        method = check_choice("method", method, tuple(METHODS))
+        method = check_choice("method", method, view_methods())
         camera = self.plotter.camera_position if self.volume is not None else None
         if self.volume is not None:
             self.plotter.mip.remove_volume(self.volume)
@@ -218,7 +233,7 @@ class _Viewer:
         self.plotter.render()
 
     def next_method(self) -> None:
-        names = list(METHODS)
+        names = list(view_methods())
         following = names[(names.index(self.method) + 1) % len(names)] if self.method in names else names[0]
         self.set_method(following)
 
@@ -228,8 +243,7 @@ class _Viewer:
             self._show_status(note="this method has no depth modes")
             self.plotter.render()
             return
-        current = self.mapper.GetDepthMode() if hasattr(self.mapper, "GetDepthMode") \
-            else self.params.get("depth_mode")
+        current = self.mapper.GetDepthMode()
         index = modes.index(current) if current in modes else -1
         self._set_param("depth_mode", modes[(index + 1) % len(modes)])
         self._show_status()
@@ -241,8 +255,11 @@ class _Viewer:
             self.legend = None
 
     # -- helpers --------------------------------------------------------------
+    def _table(self) -> dict:
+        return {p.name: p for p in METHODS[self.method].parameters}
+
     def _has(self, name: str) -> bool:
-        return callable(getattr(self.mapper, setter_name(name), None))
+        return name in self._table() or callable(getattr(self.mapper, setter_name(name), None))
 
     def _set_param(self, name: str, value) -> None:
         self.params[name] = value
@@ -263,12 +280,12 @@ class _Viewer:
         if _uses_sample_distance(self.method):
             sliders.append(("sample distance (voxels)", SAMPLE_DISTANCE_RANGE, self.sample_voxels,
                             self._set_sample_voxels))
-        for name, rng in SLIDERS.items():
-            if self._has(name):
-                getter = getattr(self.mapper, "Get" + setter_name(name)[3:], None)
-                value = self.params.get(name, getter() if callable(getter) else rng[0])
-                sliders.append((name.replace("_", " "), rng, value,
-                                lambda v, name=name: self._set_weight(name, v)))
+        for parameter in METHODS[self.method].parameters:
+            rng = slider_range(parameter)
+            if rng is not None:
+                value = self.params.get(parameter.name, getattr(self.mapper, parameter.getter)())
+                sliders.append((parameter.name.replace("_", " "), rng, value,
+                                lambda v, name=parameter.name: self._set_weight(name, v)))
         for row, (title, rng, value, callback) in enumerate(sliders):
             y = 0.92 - 0.13 * row
             self.plotter.add_slider_widget(callback, rng, value=value, title=title,
@@ -279,11 +296,9 @@ class _Viewer:
         from vtkmodules.vtkInteractionWidgets import vtkOrientationMarkerWidget
 
         self.close()
-        if not hasattr(self.mapper, "SetSphereWeight"):
+        if "sphere_colors" not in self._table():
             return
         actor = _sphere_legend_actor(self.mapper)
-        if actor is None:
-            return
         widget = vtkOrientationMarkerWidget()
         widget.SetOrientationMarker(actor)
         widget.SetInteractor(self.plotter.iren.interactor)
@@ -296,14 +311,14 @@ class _Viewer:
     def _show_status(self, note: str = "") -> None:
         lines = [f"method: {self.method}   (m: next)"]
         if _depth_modes(self.mapper):
-            lines.append(f"depth mode: {_current_depth_mode(self.mapper)}   (d: next)")
+            lines.append(f"depth mode: {self.mapper.GetDepthMode()}   (d: next)")
         if note:
             lines.append(note)
         self.plotter.add_text("\n".join(lines), position="upper_right", font_size=10, color="white",
                               name="mipcast-status")
 
     def _on_mouse_move(self, *_) -> None:
-        if not hasattr(self.mapper, "SetGazePoint"):
+        if "gaze_point" not in self._table():
             return
         x, y = self.plotter.iren.get_event_position()
         width, height = self.plotter.render_window.GetSize()
@@ -319,46 +334,33 @@ def _checked_params(method: str, params: dict) -> dict:
 
     Names of other methods are kept for when the viewer switches to them.
     """
-    mappers = {name: METHODS[name]() for name in METHODS}
+    first = METHODS[check_choice("method", method, view_methods())].create()
+    known = {p.name for m in METHODS.values() for p in m.parameters}
     for name in params:
-        if not any(callable(getattr(mapper, setter_name(name), None)) for mapper in mappers.values()):
+        if name not in known and not callable(getattr(first, setter_name(name), None)):
             raise TypeError(f"no method has a parameter {name!r} (no {setter_name(name)}); "
                             f"see `mipcast view --help` for each method's")
-    first = mappers[method]
+    own = {p.name for p in METHODS[method].parameters}
     set_parameters(first, **{name: value for name, value in params.items()
-                             if callable(getattr(first, setter_name(name), None))})
+                             if name in own or name not in known})
     return params
 
 
 def _uses_sample_distance(method: str) -> bool:
-    return not getattr(METHODS[method], "WALKS_CELLS", False)  # factory functions (stock VTK) sample
+    return not METHODS[method].walks_cells
 
 
 def _depth_modes(mapper) -> tuple:
-    if not hasattr(mapper, "SetDepthMode"):
-        return ()
-    modes = getattr(mapper, "DEPTH_MODES", None)
-    if modes is not None:
-        return tuple(modes)
-    if hasattr(mapper, "GetDepthModeMinValue") and hasattr(mapper, "GetDepthModeMaxValue"):
-        return tuple(range(int(mapper.GetDepthModeMinValue()), int(mapper.GetDepthModeMaxValue()) + 1))
-    return ()
+    """The choices of the method's ``depth_mode`` parameter (empty if it has none)."""
+    table = {p.name: p for p in getattr(type(mapper), "PARAMETERS", ())}
+    return table["depth_mode"].valid_choices() if "depth_mode" in table else ()
 
 
-def _current_depth_mode(mapper):
-    return mapper.GetDepthMode() if hasattr(mapper, "GetDepthMode") else _depth_modes(mapper)[0]
-
-
-def _sphere_colours(mapper, directions: np.ndarray) -> Optional[np.ndarray]:
-    """RGB in 0..1 of the colour sphere along unit world ``directions`` (N, 3); None if not exposed."""
-    if not hasattr(mapper, "GetSphereColors"):
-        return None
-    front, back = (np.asarray(c, dtype=float)[:3] for c in mapper.GetSphereColors())
-    rotation = np.asarray(mapper.GetSphereOrientation() if hasattr(mapper, "GetSphereOrientation")
-                          else np.eye(3), dtype=float)
-    pole = rotation[:, 2] / np.linalg.norm(rotation[:, 2])
-    front_share = (1.0 + directions @ pole)[:, None] / 2.0
-    return back * (1.0 - front_share) + front * front_share
+def _sphere_colours(mapper, directions: np.ndarray) -> np.ndarray:
+    """RGB in 0..1 of the colour sphere along unit world ``directions`` (N, 3)."""
+    front, back = mapper.GetSphereColors()
+    axis = np.asarray(mapper.GetSphereOrientation(), dtype=float)[:, 2]
+    return sphere_color(directions, axis, front, back)
 
 
 def _sphere_legend_actor(mapper):

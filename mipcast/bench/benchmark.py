@@ -30,33 +30,27 @@ class Setting(NamedTuple):
     settings: tuple = ()                               # (Name, value) pairs for the mapper's SetName
 
 
-#: Stock VTK MIP has no float readout; mipcast's "mip" takes the very same
-#: samples (parity tests: identical pictures), so its readout stands for it.
-#: ``auto`` renders with mipcast's "mip": its sample positions are exact
-#: (``g_dataPos + i * step``), as its CPU calibration assumes, while VTK's
-#: stock loop sums its steps and drifts at dense sampling (head CT,
-#: 100-1500 HU, 256^2, 24 samples per voxel: 1.6 % of stock's pixels are
-#: over one grey level from ideal sampling, none of mipcast's).
-DEFAULT_SETTINGS = (
-    Setting("stock 1x", "stock", 1, "mip"),
-    Setting("stock 2x", "stock", 2, "mip"),
-    Setting("stock 4x", "stock", 4, "mip"),
-    Setting("stock 8x", "stock", 8, "mip"),
-    Setting("mip 1x", "mip", 1),
-    Setting("auto", "mip", "auto"),
-    Setting("analytic", "analytic"),
-    Setting("analytic, no skipping", "analytic", settings=(("Skipping", False),)),
-    Setting("demip", "demip", 1),
-    Setting("demip window depth", "demip", 1, settings=(("DepthMode", "window"),)),
-    Setting("demip steps depth", "demip", 1, settings=(("DepthMode", "steps"),)),
-    Setting("demip eye distance", "demip", 1, settings=(("DepthMode", "eye_distance"),)),
-    Setting("demip + sphere", "demip", 1, settings=(("SphereWeight", 0.5),)),
-    Setting("demip two passes", "demip_two_pass", 1),
-    Setting("foveated mip", "foveated", 1),
-    Setting("foveated mip, gaze at a corner", "foveated", 1, settings=(("GazePoint", (0.1, 0.1)),)),
-    Setting("foveated analytic", "foveated", None, settings=(("Method", "analytic"),)),
-    Setting("cpu 1x", "cpu", 1),
-)
+def default_settings() -> tuple:
+    """The benchmark's rows: every method's ``bench`` entries in :data:`mipcast.METHODS`, in table order.
+
+    A method without a float readout is read out through the method its
+    entry names in ``readout_by``: stock VTK MIP through mipcast's "mip",
+    which takes the very same samples (parity tests: identical pictures).
+    ``auto`` renders with mipcast's "mip": its sample positions are exact
+    (``entry + i * step``), as its CPU calibration assumes, while VTK's
+    stock loop sums its steps and drifts at dense sampling (head CT,
+    100-1500 HU, 256^2, 24 samples per voxel: 1.6 % of stock's pixels are
+    over one grey level from ideal sampling, none of mipcast's).
+
+    Examples
+    --------
+    >>> [s.label for s in default_settings()][:5]
+    ['stock 1x', 'stock 2x', 'stock 4x', 'stock 8x', 'mip 1x']
+    """
+    from mipcast.methods import METHODS
+
+    return tuple(Setting(label, method.name, rate, method.readout_by, settings)
+                 for method in METHODS.values() for label, rate, settings in method.bench)
 
 
 def resolve_settings(image, settings: Sequence[Setting], size, view: str, window=None) -> list:
@@ -69,7 +63,7 @@ def resolve_settings(image, settings: Sequence[Setting], size, view: str, window
     Examples
     --------
     >>> from mipcast.data_fixtures import make_fixture
-    >>> chosen = [s for s in DEFAULT_SETTINGS if s.label in ("auto", "analytic")]
+    >>> chosen = [s for s in default_settings() if s.label in ("auto", "analytic")]
     >>> [s.label for s in resolve_settings(make_fixture("spheres", size=16), chosen, (32, 32), "oblique")]
     ['auto (12x)', 'analytic']
     """
@@ -143,7 +137,7 @@ def time_settings(image, settings: Sequence[Setting], size=(256, 256), view: str
     Examples
     --------
     >>> from mipcast.data_fixtures import make_fixture
-    >>> times = time_settings(make_fixture("spheres", size=16), DEFAULT_SETTINGS[:2],
+    >>> times = time_settings(make_fixture("spheres", size=16), default_settings()[:2],
     ...                       size=(32, 32), rounds=1, frames=1, warmup=1)
     >>> times["stock 1x"]["ratio"]
     1.0
@@ -162,7 +156,7 @@ def setting_views(image, settings: Sequence[Setting], size=(256, 256), view: str
     Examples
     --------
     >>> from mipcast.data_fixtures import make_fixture
-    >>> views = setting_views(make_fixture("spheres", size=8), DEFAULT_SETTINGS[:2], size=(16, 16))
+    >>> views = setting_views(make_fixture("spheres", size=8), default_settings()[:2], size=(16, 16))
     >>> sorted(views), views["stock 2x"].sample_distance
     (['stock 1x', 'stock 2x'], 0.5)
     """
@@ -219,7 +213,7 @@ def errors_of_settings(image, settings: Sequence[Setting], size=(256, 256), view
     Examples
     --------
     >>> from mipcast.data_fixtures import make_fixture
-    >>> analytic = [s for s in DEFAULT_SETTINGS if s.label == "analytic"]
+    >>> analytic = [s for s in default_settings() if s.label == "analytic"]
     >>> errors = errors_of_settings(make_fixture("spheres", size=16), analytic, size=(24, 24))
     >>> errors["analytic"]["within_1_grey"]
     1.0
@@ -250,7 +244,7 @@ def errors_of_settings(image, settings: Sequence[Setting], size=(256, 256), view
 def _values(scene: OffscreenView) -> np.ndarray:
     """Per-pixel maxima: the float readout, or for mappers without one (the
     CPU peer) the 8-bit grey picture mapped back through the grey window."""
-    if hasattr(scene.mapper, "Attach"):
+    if scene.method.float_readout:
         return scene.float_image()
     low, high = scene.window
     grey = scene.screenshot()[..., 0].astype(np.float64)
@@ -259,10 +253,10 @@ def _values(scene: OffscreenView) -> np.ndarray:
 
 def measure_scene(image, scene: str, view: str, edge: int, rounds: int = 5, window=None,
                   progress: Optional[Callable[[str], None]] = None) -> list:
-    """All of :data:`DEFAULT_SETTINGS` on one scene, view and size: bench rows.
+    """All of :func:`default_settings` on one scene, view and size: bench rows.
 
     ``progress`` (optional) is called with a short label after each of the
-    ``1 + rounds + len(DEFAULT_SETTINGS)`` steps (sampling choice, timing
+    ``1 + rounds + len(default_settings())`` steps (sampling choice, timing
     rounds, error of each setting).
 
     Each row has the time ratio to stock MIP 1x, the error figures of
@@ -279,7 +273,7 @@ def measure_scene(image, scene: str, view: str, edge: int, rounds: int = 5, wind
     from mipcast.mappers.amip_stats import work_per_ray
 
     size = (edge, edge)
-    settings = resolve_settings(image, DEFAULT_SETTINGS, size, view, window)
+    settings = resolve_settings(image, default_settings(), size, view, window)
     if progress is not None:
         progress("sampling chosen for 'auto'")
     views = setting_views(image, settings, size, view, window)

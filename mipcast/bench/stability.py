@@ -123,6 +123,30 @@ CASES = (
 )
 
 
+
+def cases() -> tuple:
+    """:data:`CASES`, plus a thin-vessel case for every method of the table that has none.
+
+    Every method with a float readout is measured: those without a case of
+    their own get the default scene (thin vessels, one sample per voxel
+    where the method samples).
+
+    Examples
+    --------
+    >>> import mipcast
+    >>> {case.method for case in cases()} >= {"mip", "analytic", "demip", "foveated"}
+    True
+    """
+    from mipcast.methods import METHODS
+
+    covered = {case.method for case in CASES}
+    extra = tuple(
+        Case(name, "thin vessels, defaults",
+             lambda rate=(None if method.walks_cells else 1.0): (make_fixture("vessels", 48), "oblique", None, rate),
+             "the method's default settings on the thin-vessel fixture")
+        for name, method in METHODS.items() if method.float_readout and name not in covered)
+    return CASES + extra
+
 def measure(case: Case, size=None) -> dict:
     """Render one case and measure it (see the module docstring for what, per method).
 

@@ -85,6 +85,9 @@ DEFAULT_RADIUS = angle_to_height(FOVEA_DEGREES)
 #: the ray density falls from full to the coarsest level.
 DEFAULT_FALLOFF = angle_to_height(PERIPHERY_DEGREES) - DEFAULT_RADIUS
 
+#: How peripheral levels sample along their rays (see :func:`mipcast.mappers.volume_pyramid.level_sampling`).
+SAMPLING_POLICIES = ("footprint", "level", "rays")
+
 
 class Layer(NamedTuple):
     """One pyramid level as drawn in one frame."""

@@ -4,14 +4,17 @@ from __future__ import annotations
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkCommand
 
+from mipcast.core import parameter_tables
+from mipcast.core.object_state import object_state
+from mipcast.core.parameters import parameter_accessors
 from mipcast.mappers.corner_packing import CornerPacker, packable
 from mipcast.mappers.max_blocks import block_maxima_image
 from mipcast.mappers.mip import MIPVolumeMapper
-from mipcast.core.object_state import object_state
 from mipcast.core.transfer_bounds import normalised_ends
 from mipcast.core.validation import check_image
 
 
+@parameter_accessors
 class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     """Exact MIP on the GPU: no samples to miss, no sample distance to choose.
 
@@ -46,7 +49,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     """
 
     PIECES = ("mip_globals", "refusal", "amip_corners", "amip_cell", "amip_loop", "no_stock_sample", "mip_color")
-    WALKS_CELLS = True
+    PARAMETERS = parameter_tables.ANALYTIC
 
     #: Cells per edge of a skipping block (the coarse level is 1/BLOCK^3 the size).
     BLOCK = 8
@@ -55,8 +58,6 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         super().__init__()
         state = object_state(self)
         state["packer"] = CornerPacker()
-        state["packed"] = True
-        state["skipping"] = True
         # before MIPVolumeMapper's check (priority 0) updates the input
         self.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, _route_before_render, 1.0)
 
@@ -90,17 +91,16 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
             return None
         return packer.GetInputDataObject(0, 0)
 
-    def SetPackedCorners(self, packed: bool) -> None:
+    def SetPackedCorners(self, *packed) -> None:
         """Read four corners per texel from a packed copy of the volume (default True).
 
         True: two texture fetches per cell, four times the texture memory.
         False: the volume's own one-component texture, eight fetches per cell.
         """
-        state = object_state(self)
-        if state["packed"] != bool(packed):
-            state["packed"] = bool(packed)
+        packed = parameter_tables.ANALYTIC[0].check(*packed)
+        if self.GetPackedCorners() != packed:
+            self._set_parameter("packed_corners", packed)
             self._route_input()
-            self.Modified()
 
     def SetCornerPacker(self, packer: CornerPacker) -> None:
         """Pack through ``packer`` (shared by mappers that draw the same volume) instead of an own one."""
@@ -112,37 +112,23 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
                 packer.SetInputConnection(0, previous.GetInputConnection(0, 0))
             self._route_input()
 
-    def GetPackedCorners(self) -> bool:
-        return object_state(self)["packed"]
-
     def PackedCornersOn(self) -> None:
         self.SetPackedCorners(True)
 
     def PackedCornersOff(self) -> None:
         self.SetPackedCorners(False)
 
-    def SetSkipping(self, skipping: bool) -> None:
-        """Skip work that cannot change the answer (default True; False only to measure what it saves).
+    def SkippingOn(self) -> None:
+        self.SetSkipping(True)
 
-        True: no cubic for cells whose corners are not above the running
-        maximum, the block-maximum jumps and the transfer-function floor and
-        ceiling (see :meth:`GetShaderPieces`).  False: every crossed cell is
-        fetched and solved.  Both are exact.
-        """
-        state = object_state(self)
-        if state["skipping"] != bool(skipping):
-            state["skipping"] = bool(skipping)
-            self.Modified()
-
-    def GetSkipping(self) -> bool:
-        return object_state(self)["skipping"]
+    def SkippingOff(self) -> None:
+        self.SetSkipping(False)
 
     def _packing_active(self) -> bool:
         """Packed corners are set, the attached volume draws components independently,
         and the input's values pack exactly (:func:`mipcast.mappers.corner_packing.packable`)."""
-        state = object_state(self)
         volume = self.GetAttachedVolume()
-        if not state["packed"] or (volume is not None and not volume.GetProperty().GetIndependentComponents()):
+        if not self.GetPackedCorners() or (volume is not None and not volume.GetProperty().GetIndependentComponents()):
             return False
         image = self.GetInput()
         scalars = image.GetPointData().GetScalars() if image is not None else None
@@ -230,15 +216,14 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
             return 0.0, 1.0
         return normalised_ends(volume.GetProperty(), image.GetPointData().GetScalars()) or (0.0, 1.0)
 
-    def _push_uniforms(self, uniforms) -> None:
+    def _push_derived_uniforms(self, uniforms, settings) -> None:
         image = self.GetInput()
         dims = image.GetDimensions() if image is not None else (2, 2, 2)
         uniforms.SetUniform3f("u_mc_dims", [float(n) for n in dims])
         uniforms.SetUniformf("u_mc_blockSize", float(self.BLOCK))
 
         floor, ceiling = self._transfer_floor_ceiling()
-        skipping = self.GetSkipping()
-        uniforms.SetUniformf("u_mc_cornerBound", 1.0 if skipping else 0.0)
+        skipping = settings["skipping"]
         # the float readout is exact in data units; counting work keeps the display's shortcuts
         exact = (object_state(self).get("exact_readout", False) and object_state(self).get("stat") is None) \
             or not skipping

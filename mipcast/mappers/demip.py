@@ -10,24 +10,13 @@ from mipcast.core.transfer_bounds import normalised_ends
 from mipcast.core.shading import (DEPTH_MODES, DEPTH_OF, FLOOR_TOLERANCE, IDENTITY, PROJECTIONS, READOUTS,
                                   SPHERE_PRESETS)
 from mipcast.core import shading
-from mipcast.core.validation import check_choice, check_non_negative, check_unit
-
-_DEFAULTS = {
-    "depth_weight": 0.15,
-    "material_threshold": 0.1,
-    "depth_mode": "entry_plus_length",
-    "sphere_weight": 0.0,
-    "sphere_colors": SPHERE_PRESETS["red-blue"],
-    "sphere_orientation": IDENTITY,
-    "readout": "value",
-    "chroma_depth_weight": 0.0,
-    "depth_of": "same_material",
-    "projection": "mip",
-    "local_threshold": 0.5,
-    "attenuation": 0.05,
-}
+from mipcast.core import parameter_tables
+from mipcast.core.parameters import parameter_accessors
+from mipcast.core.validation import check_choice
 
 
+
+@parameter_accessors
 class DEMIPVolumeMapper(MIPVolumeMapper):
     """Depth-enhanced MIP: the MIP picture, brighter where its material is near.
 
@@ -72,178 +61,25 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
 
     PIECES = ("mip_globals", "refusal", "demip_helpers", "demip_loop", "no_stock_sample", "demip_color")
 
+    PARAMETERS = parameter_tables.DEMIP
     DEPTH_MODES = DEPTH_MODES
     SPHERE_PRESETS = SPHERE_PRESETS
     READOUTS = READOUTS
     PROJECTIONS = PROJECTIONS
     DEPTH_OF = DEPTH_OF
 
-    # -- settings ---------------------------------------------------------
-    def _settings(self) -> dict:
-        state = object_state(self)
-        if "demip" not in state:
-            state["demip"] = dict(_DEFAULTS)
-        return state["demip"]
-
-    def _set(self, name: str, value) -> None:
-        self._settings()[name] = value
-        volume = self.GetAttachedVolume()
-        if volume is not None:
-            self._push_uniforms(volume.GetShaderProperty().GetFragmentCustomUniforms())
-        self.Modified()
-
-    def SetDepthWeight(self, weight: float) -> None:
-        """Weight ``d_w`` of the depth term in Eq. 1, in [0, 1]; default 0.15 (the paper's).
-
-        0 is plain MIP; larger values brighten near and darken far structures.
-        """
-        self._set("depth_weight", check_unit("depth_weight", weight))
-
-    def GetDepthWeight(self) -> float:
-        """The depth weight ``d_w``."""
-        return self._settings()["depth_weight"]
-
-    def SetMaterialThreshold(self, eps: float) -> None:
-        """``eps``: how close (in material, i.e. fractions of the window) counts as the same, in (0, 1].
-
-        Default 0.1.  Near 0 the depth is that of the maximum's own sample
-        (noisy on noisy data); 1 accepts the first sample above the floor.
-        """
-        self._set("material_threshold", check_unit("material_threshold", eps, open_low=True))
-
-    def GetMaterialThreshold(self) -> float:
-        """The material threshold ``eps``."""
-        return self._settings()["material_threshold"]
-
-    def SetDepthMode(self, mode: str) -> None:
-        """How depth is measured: one of :data:`DEPTH_MODES`; default ``"entry_plus_length"``."""
-        self._set("depth_mode", check_choice("depth_mode", mode, DEPTH_MODES))
-
-    def GetDepthMode(self) -> str:
-        """The depth mode."""
-        return self._settings()["depth_mode"]
-
-    def SetSphereWeight(self, weight: float) -> None:
-        """Weight ``sph_w`` of the colour sphere in Eq. 2, in [0, 1]; default 0 (off)."""
-        self._set("sphere_weight", check_unit("sphere_weight", weight))
-
-    def GetSphereWeight(self) -> float:
-        """The colour sphere weight ``sph_w``."""
-        return self._settings()["sphere_weight"]
-
-    def SetSphereColors(self, *colors) -> None:
-        """The sphere's front and back colour: a preset name or two RGB triplets in [0, 1].
-
-        Presets (:data:`SPHERE_PRESETS`): ``"red-blue"`` (default),
-        ``"green-red"``, ``"green-blue"``.  Any two colours suit users who
-        tell other pairs apart better: ``SetSphereColors((1, 0.5, 0), (0, 0.6, 1))``,
-        ``SetSphereColors([front, back])`` or six numbers
-        (``mipcast render ... --sphere-colors 1 0.5 0 0 0.6 1``).
-        """
-        self._set("sphere_colors", shading.sphere_colors(colors))
-
-    def GetSphereColors(self) -> tuple:
-        """``(front, back)`` RGB triplets."""
-        return self._settings()["sphere_colors"]
-
-    def SetSphereOrientation(self, *rotation) -> None:
-        """Rotate the colour sphere in world coordinates (camera and volume unaffected).
-
-        Either three angles in degrees, ``SetSphereOrientation(rx, ry, rz)``
-        (the rotation ``Rz @ Ry @ Rx``: about x first), or a 3x3 rotation
-        matrix (orthonormal, determinant +1), given as one argument or as
-        three rows.  The sphere's front pole, +z of its frame, points along
-        the matrix's third column; the identity (default) puts it on world
-        +z.  ``SetSphereOrientation(0, 180, 0)`` swaps front and back.
-        """
-        self._set("sphere_orientation", shading.rotation(rotation))
-
-    def GetSphereOrientation(self) -> tuple:
-        """The sphere's rotation as a 3x3 tuple of rows."""
-        return self._settings()["sphere_orientation"]
-
+    # -- the float readout's quantity (internal: render_depth switches it) ----
     def SetReadout(self, readout: str) -> None:
         """What the float readout reports: ``"value"`` (the ray maximum, default) or ``"depth"``.
 
-        See :func:`render_depth`, which switches to ``"depth"`` for one render.
+        Internal to :func:`render_depth`, which switches to ``"depth"`` for one render.
         """
-        self._set("readout", check_choice("readout", readout, READOUTS))
+        object_state(self)["readout"] = check_choice("readout", readout, READOUTS)
+        self.Modified()
 
     def GetReadout(self) -> str:
         """The float readout's quantity."""
-        return self._settings()["readout"]
-
-    def SetChromaDepthWeight(self, weight: float) -> None:
-        """Weight of pseudo-chromadepth colouring (Ropinski et al.), in [0, 1]; default 0 (off).
-
-        After Eq. 1 and 2, ``colour = colour * (1 - w) + hue(depth) * w``
-        with the hue running from red (depth 0, near) through yellow, green
-        and cyan to blue (depth 1, far).  On DEMIP it colours by the depth of
-        the same-material sample; for pseudo-chromadepth on plain MIP use
-        ``SetDepthWeight(0)`` and ``SetDepthOf("maximum")``.
-        """
-        self._set("chroma_depth_weight", check_unit("chroma_depth_weight", weight))
-
-    def GetChromaDepthWeight(self) -> float:
-        """The pseudo-chromadepth weight."""
-        return self._settings()["chroma_depth_weight"]
-
-    def SetDepthOf(self, target: str) -> None:
-        """Which sample's depth is used: ``"same_material"`` (default, DEMIP) or ``"maximum"``.
-
-        ``"maximum"``: the first sample whose material equals the maximum's
-        (the maximum itself, or the first sample saturating the window), as
-        if ``eps`` were 0; the material threshold is then ignored.
-        """
-        self._set("depth_of", check_choice("depth_of", target, DEPTH_OF))
-
-    def GetDepthOf(self) -> str:
-        """Which sample gives the depth."""
-        return self._settings()["depth_of"]
-
-    def SetProjection(self, projection: str) -> None:
-        """The ray's value: one of :data:`PROJECTIONS`; default ``"mip"``.
-
-        ``"mip"``: the maximum (DEMIP as described above).
-        ``"lmip"``: local MIP (Sato et al.): the first local maximum above
-        :meth:`SetLocalThreshold` along the ray (the global maximum if no
-        sample exceeds it); DEMIP then works on the ray up to that sample
-        (the same-material search never goes past it).
-        ``"attenuated"``: napari-style attenuated MIP, the largest material
-        ``m_k * exp(-a * h * sum_{j<k} m_j)`` (``a``: :meth:`SetAttenuation`,
-        ``h``: sample distance in voxels), shown as the scalar of that
-        material; no DEMIP term.
-        ``"mida"``: maximum intensity difference accumulation (Bruckner &
-        Gröller), gamma 0: the transfer functions composited front to back,
-        what lies in front faded by ``1 - delta`` wherever the running
-        maximum of the material rises by ``delta``; no DEMIP term; the float
-        readout still reports the maximum.
-        Switching projections installs other shader pieces (one compile each).
-        """
-        self._set("projection", check_choice("projection", projection, PROJECTIONS))
-
-    def GetProjection(self) -> str:
-        """The ray projection."""
-        return self._settings()["projection"]
-
-    def SetLocalThreshold(self, threshold: float) -> None:
-        """LMIP's threshold as a material (place in the window), in [0, 1]; default 0.5."""
-        self._set("local_threshold", check_unit("local_threshold", threshold))
-
-    def GetLocalThreshold(self) -> float:
-        """LMIP's threshold."""
-        return self._settings()["local_threshold"]
-
-    def SetAttenuation(self, attenuation: float) -> None:
-        """Attenuated MIP's attenuation per voxel of full material, >= 0; default 0.05.
-
-        0 gives the MIP picture.
-        """
-        self._set("attenuation", check_non_negative("attenuation", attenuation, numbers_only=True))
-
-    def GetAttenuation(self) -> float:
-        """Attenuated MIP's attenuation."""
-        return self._settings()["attenuation"]
+        return object_state(self).get("readout", "value")
 
     # -- rendering rules -----------------------------------------------------
     def SetPartitions(self, x: int, y: int, z: int) -> None:
@@ -275,7 +111,7 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
         other shader once; VTK caches both).  A float readout uses DEMIP's
         own readout piece (value or depth, :meth:`SetReadout`).
         """
-        projection = self._settings()["projection"]
+        projection = self.GetProjection()
         if projection == "mip" and not self._needs_depth():
             return self._with_readout(MIPVolumeMapper.PIECES)
         swap = {"float_readout": "demip_readout"}
@@ -289,8 +125,8 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
 
     def _needs_depth(self) -> bool:
         """Whether anything uses the depth: a weight above 0, or a depth readout rendering."""
-        settings = self._settings()
-        reading_depth = settings["readout"] == "depth" and bool(object_state(self).get("exact_readout"))
+        settings = self._parameters()
+        reading_depth = self.GetReadout() == "depth" and bool(object_state(self).get("exact_readout"))
         return reading_depth or any(settings[name] > 0.0 for name in (
             "depth_weight", "sphere_weight", "chroma_depth_weight"))
 
@@ -306,28 +142,16 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
         ends = normalised_ends(volume.GetProperty(), image.GetPointData().GetScalars())
         return ends if ends is not None and ends[1] > ends[0] else (2.0, 3.0)
 
-    def _push_uniforms(self, uniforms) -> None:
-        settings = self._settings()
+    def _derived_settings(self) -> dict:
         floor, ceiling = self._window()
-        front, back = settings["sphere_colors"]
-        uniforms.SetUniformf("u_mc_floor", floor)
-        uniforms.SetUniformf("u_mc_ceiling", ceiling)
+        return {"floor": floor, "ceiling": ceiling}
+
+    def _push_derived_uniforms(self, uniforms, settings) -> None:
+        uniforms.SetUniformf("u_mc_floor", settings["floor"])
+        uniforms.SetUniformf("u_mc_ceiling", settings["ceiling"])
         uniforms.SetUniformf("u_mc_floorTolerance", FLOOR_TOLERANCE)
-        same = settings["depth_of"] == "same_material"
-        uniforms.SetUniformf("u_mc_materialThreshold", settings["material_threshold"] if same else 0.0)
-        lmip = settings["projection"] == "lmip"
-        uniforms.SetUniformf("u_mc_localThreshold",
-                             floor + settings["local_threshold"] * (ceiling - floor) if lmip else 1.0e30)
-        uniforms.SetUniformf("u_mc_attenuation", settings["attenuation"])
-        uniforms.SetUniformf("u_mc_chromaWeight", settings["chroma_depth_weight"])
         uniforms.SetUniformf("u_mc_needDepth", 1.0 if self._needs_depth() else 0.0)
-        uniforms.SetUniformf("u_mc_depthWeight", settings["depth_weight"])
-        uniforms.SetUniformf("u_mc_sphereWeight", settings["sphere_weight"])
-        uniforms.SetUniformf("u_mc_readDepth", 1.0 if settings["readout"] == "depth" else 0.0)
-        uniforms.SetUniformi("u_mc_depthMode", DEPTH_MODES.index(settings["depth_mode"]))
-        uniforms.SetUniform3f("u_mc_sphereFront", list(front))
-        uniforms.SetUniform3f("u_mc_sphereBack", list(back))
-        uniforms.SetUniform3f("u_mc_sphereAxis", [row[2] for row in settings["sphere_orientation"]])
+        uniforms.SetUniformf("u_mc_readDepth", 1.0 if self.GetReadout() == "depth" else 0.0)
 
 
 def render_depth(render_window, mapper: DEMIPVolumeMapper) -> np.ndarray:

@@ -12,7 +12,9 @@ from vtkmodules.vtkCommonMath import vtkMatrix4x4
 from vtkmodules.vtkRenderingCore import vtkCamera, vtkVolume
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
-from mipcast.core import foveation
+from mipcast.core import foveation, parameter_tables
+from mipcast.core.parameter_tables import FOVEATION_LAYERS
+from mipcast.core.parameters import parameter_accessors
 from mipcast.mappers import float_readout, volume_pyramid
 from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
 from mipcast.core.camera_rays import matrix_array
@@ -21,42 +23,29 @@ from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.core.object_state import object_state
 from mipcast.mappers.private_draw import follow_volume, rendering_renderer
 from mipcast.core.ray_cost import grid_cost
-from mipcast.core.validation import check_choice, check_finite, check_non_negative
+from mipcast.core.validation import check_choice
 
 #: Stand-in for an unbounded eccentricity in the shader's uniforms.
 _FAR = 1.0e30
-_DEFAULTS = {
-    "method": "mip",
-    "point": (0.5, 0.5),   # the explicit gaze point
-    "gaze": (0.5, 0.5),    # the gaze of the last render (from the current source)
-    "gaze_source": "point",
-    "radius": foveation.DEFAULT_RADIUS,
-    "falloff": foveation.DEFAULT_FALLOFF,
-    "levels": foveation.DEFAULT_LEVELS,
-    "foveation": True,
-    "sampling": "footprint",
-}
+#: State besides the parameters: the gaze of the last render (from the current source) and its source.
+_GAZE = {"gaze": (0.5, 0.5), "gaze_source": "point"}
 
 
 def layer_methods() -> tuple:
-    """Names of :data:`mipcast.METHODS` a :class:`FoveatedVolumeMapper` can use.
+    """Names of the methods a :class:`FoveatedVolumeMapper` can draw its levels with.
 
-    Every method whose mapper is a mipcast shader-piece mapper (not VTK's
-    stock MIP, not foveation itself), looked up at call time so methods
-    registered later (e.g. ``"demip"``) are included.
+    The methods of :data:`mipcast.METHODS` declared as foveation layers.
 
     Examples
     --------
+    >>> import mipcast
     >>> {"mip", "analytic"} <= set(layer_methods())
     True
     """
-    from mipcast.methods import METHODS
-
-    return tuple(name for name, factory in METHODS.items()
-                 if isinstance(factory, type) and issubclass(factory, MIPVolumeMapper)
-                 and not issubclass(factory, FoveatedVolumeMapper))
+    return tuple(FOVEATION_LAYERS)
 
 
+@parameter_accessors
 class FoveatedVolumeMapper(MIPVolumeMapper):
     """Gaze-directed rendering of any mipcast method (Levoy & Whitaker 1990).
 
@@ -116,39 +105,34 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     PIECES = ("refusal",)
     #: Pieces every level adds to its method's own.
     LEVEL_PIECES = ("foveated_skip", "foveated_weight")
+    PARAMETERS = parameter_tables.FOVEATED
 
     def __init__(self) -> None:
         super().__init__()
-        object_state(self).update(_DEFAULTS)
+        object_state(self).update(_GAZE)
         # after MIPVolumeMapper's own check (priority 0): levels draw only if it passed
         self.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, _draw_levels, -1.0)
         self.AddObserver(vtkCommand.VolumeMapperRenderEndEvent, _restore_own_draw, -1.0)
 
-    # -- settings -----------------------------------------------------------
-    def SetMethod(self, method: str) -> None:
+    # -- settings with side effects (the rest come from the table) ------------
+    def SetMethod(self, *method) -> None:
         """Use the mipcast method ``method`` (one of :func:`layer_methods`) for every level."""
-        check_choice("method", method, layer_methods())
-        state = object_state(self)
-        if state["method"] != method:
-            state["method"] = method
-            state.pop("levels_drawn", None)  # new private mappers at the next render
-            self.Modified()
+        method = self.PARAMETERS[0].check(*method)
+        if self.GetMethod() != method:
+            object_state(self).pop("levels_drawn", None)  # new private mappers at the next render
+            self._set_parameter("method", method)
 
-    def GetMethod(self) -> str:
-        """The method every level renders with."""
-        return object_state(self)["method"]
-
-    def SetGazePoint(self, x: float, y: float) -> None:
+    def SetGazePoint(self, *xy) -> None:
         """Look at ``(x, y)`` in normalised viewport coordinates ((0, 0) bottom-left).
 
         Points outside [0, 1] are allowed (the fovea is then partly or wholly
         off screen).  Stops following the mouse or a region of interest.
         """
-        gaze = (check_finite("x", x), check_finite("y", y))
+        gaze = _parameter("gaze_point").check(*xy)
         state = object_state(self)
-        state["point"] = state["gaze"] = gaze
+        state["gaze"] = gaze
         state["gaze_source"] = "point"
-        self.Modified()
+        self._set_parameter("gaze_point", gaze)
 
     def GetGazePoint(self) -> tuple:
         """The gaze point used by the last render (or set since), normalised viewport coordinates."""
@@ -157,63 +141,6 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     def GetGazeSource(self) -> str:
         """Where the gaze comes from: ``"point"``, ``"mouse"`` or ``"region"``."""
         return object_state(self)["gaze_source"]
-
-    def SetFovealRadius(self, radius: float) -> None:
-        """Radius of full quality around the gaze, in viewport heights (>= 0)."""
-        object_state(self)["radius"] = check_non_negative("radius", radius)
-        self.Modified()
-
-    def GetFovealRadius(self) -> float:
-        return object_state(self)["radius"]
-
-    def SetFalloff(self, width: float) -> None:
-        """Eccentricity (viewport heights, >= 0) from the fovea's edge to the coarsest level.
-
-        Acuity schedule: the ray spacing grows linearly from 1 to
-        ``2**(levels - 1)`` pixels over ``width`` (the minimum angle of
-        resolution grows linearly with eccentricity), so level ``k`` is
-        reached at ``width * (2**k - 1) / (2**(levels - 1) - 1)`` beyond the
-        fovea's edge: the blends widen outwards and the first, drawn at full
-        resolution, is the narrowest (:func:`mipcast.core.foveation.level_border`).
-        0 switches levels abruptly (visible seams).
-        """
-        object_state(self)["falloff"] = check_non_negative("falloff", width)
-        self.Modified()
-
-    def GetFalloff(self) -> float:
-        return object_state(self)["falloff"]
-
-    def SetNumberOfLevels(self, levels: int) -> None:
-        """Image pyramid levels, 1 (full quality only) to 5 (rays every 16 pixels)."""
-        if isinstance(levels, bool) or int(levels) != levels or not 1 <= int(levels) <= 5:
-            raise ValueError(f"levels must be an integer from 1 to 5, got {levels!r}")
-        object_state(self)["levels"] = int(levels)
-        self.Modified()
-
-    def GetNumberOfLevels(self) -> int:
-        return object_state(self)["levels"]
-
-    def SetFoveation(self, enabled: bool) -> None:
-        """False: the method at full quality everywhere (one level, no blending)."""
-        object_state(self)["foveation"] = bool(enabled)
-        self.Modified()
-
-    def GetFoveation(self) -> bool:
-        return object_state(self)["foveation"]
-
-    def SetPeripheralSampling(self, policy: str) -> None:
-        """How peripheral levels sample along their rays: ``"footprint"`` (default), ``"level"``, ``"rays"``.
-
-        See :func:`mipcast.mappers.volume_pyramid.level_sampling`: by default samples
-        along a ray are no farther apart than the level's rays (and at most
-        ``2**level`` times the full-quality distance), read from the
-        max-filtered pyramid level whose voxels match that spacing.
-        """
-        object_state(self)["sampling"] = check_choice("policy", policy, volume_pyramid.SAMPLING_POLICIES)
-        self.Modified()
-
-    def GetPeripheralSampling(self) -> str:
-        return object_state(self)["sampling"]
 
     def FoveationOn(self) -> None:
         self.SetFoveation(True)
@@ -268,25 +195,14 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         the foveal radius grows (never shrinks) to cover its projection.
         ``None`` returns to the last explicit gaze point (:meth:`SetGazePoint`).
         """
+        region = _parameter("region_of_interest").check(region)
         state = object_state(self)
         if region is None:
-            state.pop("region", None)
             if state["gaze_source"] == "region":
                 state["gaze_source"] = "point"
-            return
-        values = [check_finite("region", v) for v in region]
-        if len(values) == 3:
-            values = [values[0], values[0], values[1], values[1], values[2], values[2]]
-        if len(values) != 6 or any(values[2 * i] > values[2 * i + 1] for i in range(3)):
-            raise ValueError("region must be a point (x, y, z) or bounds (x0, x1, y0, y1, z0, z1) "
-                             f"with x0 <= x1 etc., got {tuple(region)!r}")
-        state["region"] = tuple(values)
-        state["gaze_source"] = "region"
-        self.Modified()
-
-    def GetRegionOfInterest(self):
-        """The region of interest's bounds, or None."""
-        return object_state(self).get("region")
+        else:
+            state["gaze_source"] = "region"
+        self._set_parameter("region_of_interest", region)
 
     # -- what the last frame did --------------------------------------------
     def GetLastPlan(self):
@@ -373,6 +289,7 @@ def _restore_own_draw(mapper, event) -> None:
 
 def _draw(mapper, state, volume, renderer) -> None:
     image = mapper.GetInput()
+    params = mapper._parameters()
     width, height, x0, y0 = [0], [0], [0], [0]
     renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
     viewport = (x0[0], y0[0], max(width[0], 1), max(height[0], 1))
@@ -382,11 +299,11 @@ def _draw(mapper, state, volume, renderer) -> None:
     auto = bool(mapper.GetAutoAdjustSampleDistances())
     base_isd = 1.0 if auto else float(mapper.GetImageSampleDistance())
     base_distance = _auto_sample_distance(image, volume) if auto else float(mapper.GetSampleDistance())
-    plan = foveation.plan_frame(viewport, gaze, radius, state["falloff"], state["levels"],
-                                state["foveation"], _level_cap(image, volume, camera, viewport),
+    plan = foveation.plan_frame(viewport, gaze, radius, params["falloff"], params["number_of_levels"],
+                                params["foveation"], _level_cap(image, volume, camera, viewport),
                                 base_isd)
-    cells = _walks_cells(state["method"])
-    spacings = volume_pyramid.pyramid_voxel_sizes(image, state["levels"])
+    cells = _walks_cells(params["method"])
+    spacings = volume_pyramid.pyramid_voxel_sizes(image, params["number_of_levels"])
     world_per_pixel = _world_per_pixel(camera, volume, viewport)
     readout = bool(state.get("exact_readout"))
     drawn = state.setdefault("levels_drawn", {})
@@ -397,8 +314,8 @@ def _draw(mapper, state, volume, renderer) -> None:
         level = layer.level
         footprint = world_per_pixel * viewport[3] / max(layer.grid[1], 1)
         volume_level, distance = volume_pyramid.level_sampling(
-            level, footprint, base_distance, spacings, cells, state["sampling"])
-        entry = drawn.get(level) or _new_level(state["method"])
+            level, footprint, base_distance, spacings, cells, params["peripheral_sampling"])
+        entry = drawn.get(level) or _new_level(params["method"])
         drawn[level] = entry
         level_mapper, level_volume = entry["mapper"], entry["volume"]
         if depth is not None and level_mapper.GetDepthTexture() is not depth:
@@ -437,7 +354,7 @@ def _draw(mapper, state, volume, renderer) -> None:
     snapshot = vtkCamera()
     snapshot.DeepCopy(camera)
     state["frame"] = {"plan": plan, "camera": snapshot, "matrix": matrix, "image": image,
-                      "layers": layers, "cells": cells, "method": state["method"],
+                      "layers": layers, "cells": cells, "method": params["method"],
                       "base_distance": base_distance, "base_isd": base_isd}
 
 
@@ -474,9 +391,7 @@ def _capture_depth(state, renderer):
 
 
 def _new_level(method: str) -> dict:
-    from mipcast.methods import METHODS
-
-    level_mapper = _level_class(METHODS[method])()
+    level_mapper = _level_class(FOVEATION_LAYERS[method].factory)()
     level_volume = vtkVolume()
     level_mapper.Attach(level_volume)
     return {"mapper": level_mapper, "volume": level_volume, "matrix": vtkMatrix4x4()}
@@ -536,18 +451,19 @@ def _level_values(level_mapper, grid) -> np.ndarray:
 def _current_gaze(state, renderer, camera, viewport):
     """(gaze, foveal radius) for this frame from the gaze source."""
     x0, y0, width, height = viewport
-    radius = state["radius"]
+    params = state["parameters"]
+    radius = params["foveal_radius"]
     source = state["gaze_source"]
     if source == "mouse" and state.get("mouse_seen"):
         interactor = state["mouse"][0].Get()
         if interactor is not None:
             x, y = interactor.GetEventPosition()
             return ((x + 0.5 - x0) / width, (y + 0.5 - y0) / height), radius
-    if source == "region" and "region" in state:
-        centre, reach = _project_region(state["region"], camera, width / height)
+    if source == "region" and params["region_of_interest"] is not None:
+        centre, reach = _project_region(params["region_of_interest"], camera, width / height)
         if centre is not None:
             return centre, max(radius, reach)
-    return tuple(state["point"]), radius
+    return tuple(params["gaze_point"]), radius
 
 
 def _project_region(bounds, camera, aspect):
@@ -606,16 +522,15 @@ def _auto_sample_distance(image, volume) -> float:
 
 
 def _walks_cells(method: str) -> bool:
-    from mipcast.methods import METHODS
-
-    return bool(getattr(METHODS[method], "WALKS_CELLS", False))
+    return FOVEATION_LAYERS[method].walks_cells
 
 
 def _pyramid(state, image) -> list:
-    stamp = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime(), state["levels"])
+    params = state["parameters"]
+    stamp = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime(), params["number_of_levels"])
     cached = state.get("pyramid")
     if cached is None or cached[0] != stamp:
-        cached = (stamp, volume_pyramid.build_max_pyramid(image, state["levels"]))
+        cached = (stamp, volume_pyramid.build_max_pyramid(image, params["number_of_levels"]))
         state["pyramid"] = cached
     return cached[1]
 
@@ -642,3 +557,7 @@ def _frame_cost(frame) -> dict:
             "ray_ratio": full_rays / rays if rays else math.inf,
             "sample_ratio": full_samples / samples if samples else math.inf,
             "levels": rows}
+
+
+def _parameter(name: str):
+    return next(p for p in parameter_tables.FOVEATED if p.name == name)

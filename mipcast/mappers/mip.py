@@ -5,11 +5,14 @@ from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow, vtkWeakReferen
 from vtkmodules.vtkRenderingCore import vtkVolume
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
-from mipcast.mappers import shader_pieces
+from mipcast.core import parameter_tables
 from mipcast.core.object_state import object_state
+from mipcast.core.parameters import defaults, parameter_accessors, uniform_values
+from mipcast.mappers import shader_pieces
 from mipcast.core.validation import check_image
 
 
+@parameter_accessors
 class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     """Sampled maximum intensity projection through mipcast's shader pieces.
 
@@ -40,10 +43,9 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
 
     #: Shader pieces this method installs (file names in ``shaders/``).
     PIECES = ("mip_globals", "refusal", "mip_sampled_loop", "no_stock_sample", "mip_color")
-    #: The method walks the cells a ray crosses instead of sampling it: the
-    #: sample distance plays no part (the viewer hides its slider, foveation
-    #: picks levels for it by pyramid level only).
-    WALKS_CELLS = False
+    #: The method's parameter table (:mod:`mipcast.core.parameter_tables`):
+    #: subclasses get a ``SetX``/``GetX`` per entry (:func:`parameter_accessors`).
+    PARAMETERS = parameter_tables.MIP
 
     def __init__(self) -> None:
         super().__init__()
@@ -140,8 +142,43 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
             state["checked_input"] = stamp
         return None
 
+    # -- parameters (the table's values) ------------------------------------
+    def _parameters(self) -> dict:
+        state = object_state(self)
+        if "parameters" not in state:
+            state["parameters"] = defaults(type(self).PARAMETERS)
+        return state["parameters"]
+
+    def _get_parameter(self, name: str):
+        return self._parameters()[name]
+
+    def _set_parameter(self, name: str, value) -> None:
+        """Store a checked value; its uniforms go up at the next render (nothing recompiles)."""
+        self._parameters()[name] = value
+        self.Modified()
+
     def _push_uniforms(self, uniforms) -> None:
-        """Write this method's custom uniforms (``u_mc_*``); called at Attach and every render."""
+        """Write this method's custom uniforms (``u_mc_*``); called at Attach and every render.
+
+        The table's uniforms (each parameter's :class:`~mipcast.core.parameters.Uniform`),
+        then :meth:`_push_derived_uniforms`.
+        """
+        settings = dict(self._parameters(), **self._derived_settings())
+        for name, (kind, value) in uniform_values(type(self).PARAMETERS, settings).items():
+            if kind == "int":
+                uniforms.SetUniformi(name, int(value))
+            elif kind == "vec3":
+                uniforms.SetUniform3f(name, list(value))
+            else:
+                uniforms.SetUniformf(name, float(value))
+        self._push_derived_uniforms(uniforms, settings)
+
+    def _derived_settings(self) -> dict:
+        """Values besides the parameters that the table's uniforms depend on (e.g. the window)."""
+        return {}
+
+    def _push_derived_uniforms(self, uniforms, settings) -> None:
+        """Uniforms that no single parameter drives (the window, readout flags, sizes)."""
 
     def IsAttached(self) -> bool:
         """True when the attached volume uses this mapper and still carries its pieces."""

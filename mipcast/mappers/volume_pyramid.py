@@ -30,6 +30,7 @@ import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
+from mipcast.core.foveation import SAMPLING_POLICIES
 from mipcast.core.validation import check_image
 
 
@@ -144,7 +145,6 @@ def pyramid_voxel_sizes(image: vtkImageData, levels: int) -> List[float]:
 
 
 #: How peripheral levels sample along their rays (see :func:`level_sampling`).
-SAMPLING_POLICIES = ("footprint", "level", "rays")
 
 
 def level_sampling(level: int, footprint: float, base_distance: float, voxel_sizes: Sequence[float],

@@ -16,33 +16,18 @@ from typing import Any
 import numpy as np
 
 from mipcast.core.camera_rays import index_space, matrix_array
-from mipcast.mappers.demip import _DEFAULTS  # interim: replaced by the parameter table
-from mipcast.core.shading import (DEPTH_MODES, DEPTH_OF, FLOOR_TOLERANCE, PROJECTIONS, chroma_color, rotation,
-                                  sphere_color, sphere_colors)
+from mipcast.core.parameter_tables import DEMIP
+from mipcast.core.parameters import check_values
+from mipcast.core.shading import FLOOR_TOLERANCE, chroma_color, sphere_color
+from mipcast.core.validation import check_choice, check_image, check_positive, check_size
 from mipcast.reference.rays import BUDGET, hit_rays, scatter, trilinear
-from mipcast.core.validation import (check_choice, check_image, check_non_negative, check_positive, check_size,
-                         check_unit)
 
 #: What :func:`render_demip` can return.
 OUTPUTS = ("depth", "rgb", "value")
 
-#: Parameters: name -> default (``None``: required).
-PARAMETERS = {
-    "sample_distance": None,
-    "window": None,
-    "depth_weight": _DEFAULTS["depth_weight"],
-    "material_threshold": _DEFAULTS["material_threshold"],
-    "depth_mode": _DEFAULTS["depth_mode"],
-    "sphere_weight": _DEFAULTS["sphere_weight"],
-    "sphere_colors": "red-blue",
-    "sphere_orientation": _DEFAULTS["sphere_orientation"],
-    "chroma_depth_weight": _DEFAULTS["chroma_depth_weight"],
-    "depth_of": _DEFAULTS["depth_of"],
-    "projection": _DEFAULTS["projection"],
-    "local_threshold": _DEFAULTS["local_threshold"],
-    "attenuation": _DEFAULTS["attenuation"],
-    "output": "depth",
-}
+#: Parameters besides the method's own (:data:`mipcast.core.parameter_tables.DEMIP`):
+#: name -> default (``None``: required).
+SCENE_PARAMETERS = {"sample_distance": None, "window": None, "output": "depth"}
 
 
 def render_demip(image: Any, camera: Any, size: tuple, **params: Any) -> np.ndarray:
@@ -113,32 +98,22 @@ def render_demip(image: Any, camera: Any, size: tuple, **params: Any) -> np.ndar
     """
     volume = check_image(image)
     width, height = check_size(size)
-    unknown = sorted(set(params) - set(PARAMETERS))
-    if unknown:
-        raise TypeError(f"unknown parameter(s) for method 'demip': {', '.join(unknown)}; "
-                        f"valid: {', '.join(PARAMETERS)}")
-    missing = [name for name, default in PARAMETERS.items() if default is None and name not in params]
+    scene = {name: params[name] for name in SCENE_PARAMETERS if name in params}
+    missing = [name for name, default in SCENE_PARAMETERS.items() if default is None and name not in scene]
     if missing:
         raise TypeError(f"method 'demip' requires parameter(s): {', '.join(missing)}")
-    p = {**PARAMETERS, **params}
-    step = check_positive("sample_distance", p["sample_distance"])
-    low, high = _window(p["window"])
-    depth_weight = check_unit("depth_weight", p["depth_weight"])
-    eps = check_unit("material_threshold", p["material_threshold"], open_low=True)
-    mode = check_choice("depth_mode", p["depth_mode"], DEPTH_MODES)
-    sphere_weight = check_unit("sphere_weight", p["sphere_weight"])
-    colors = p["sphere_colors"]
-    front, back = sphere_colors((colors,) if isinstance(colors, str) else tuple(colors))
-    orientation = np.array(rotation((p["sphere_orientation"],)))
-    chroma_weight = check_unit("chroma_depth_weight", p["chroma_depth_weight"])
-    if check_choice("depth_of", p["depth_of"], DEPTH_OF) == "maximum":
-        eps = 0.0
-    projection = check_choice("projection", p["projection"], PROJECTIONS)
-    local = low + check_unit("local_threshold", p["local_threshold"]) * (high - low)
+    p = check_values(DEMIP, {k: v for k, v in params.items() if k not in SCENE_PARAMETERS}, "method 'demip'")
+    step = check_positive("sample_distance", scene["sample_distance"])
+    low, high = _window(scene["window"])
+    output = check_choice("output", scene.get("output", "depth"), OUTPUTS)
+    depth_weight, mode, sphere_weight = p["depth_weight"], p["depth_mode"], p["sphere_weight"]
+    eps = 0.0 if p["depth_of"] == "maximum" else p["material_threshold"]
+    front, back = p["sphere_colors"]
+    orientation = np.array(p["sphere_orientation"])
+    chroma_weight, projection, attenuation = p["chroma_depth_weight"], p["projection"], p["attenuation"]
+    local = low + p["local_threshold"] * (high - low)
     local = local if projection == "lmip" else np.inf
-    attenuation = check_non_negative("attenuation", p["attenuation"], numbers_only=True)
     voxels_per_step = step / min(abs(v) for v in image.GetSpacing())
-    output = check_choice("output", p["output"], OUTPUTS)
 
     hit, entry, direction, length = hit_rays(image, camera, (width, height))
     values = np.array(volume, dtype=np.float64)

@@ -1,0 +1,153 @@
+"""Every method's parameter table: the one definition of each user parameter.
+
+The mappers' ``SetX``/``GetX`` and uniform uploads, the float64 references'
+argument checks, the command line, the viewer's sliders and ParaView's
+properties are all derived from these tuples (see
+:class:`mipcast.core.parameters.Parameter`).  A mapper's internal setters
+(e.g. analytic MIP's shared corner packer) are not parameters.
+
+Examples
+--------
+>>> [p.name for p in DEMIP][:3]
+['depth_weight', 'material_threshold', 'depth_mode']
+>>> {p.name: p.default for p in FOVEATED}["number_of_levels"]
+3
+"""
+from __future__ import annotations
+
+from mipcast.core import foveation, shading
+from mipcast.core.parameters import Parameter, Uniform
+from mipcast.core.validation import check_finite
+
+#: The sampled MIP loop has no parameters of its own (VTK's sample distance,
+#: image sample distance and jittering apply).
+MIP = ()
+
+ANALYTIC = (
+    Parameter("packed_corners", "bool", True,
+              "Read four corners per texel from a packed copy of the volume. "
+              "True: two texture fetches per cell, four times the texture memory; "
+              "False: the volume's own one-component texture, eight fetches per cell.", pieces=True),
+    Parameter("skipping", "bool", True,
+              "Skip work that cannot change the answer (False only to measure what it saves). "
+              "True: no cubic for cells whose corners are not above the running maximum, the "
+              "block-maximum jumps and the transfer-function floor and ceiling; False: every "
+              "crossed cell is fetched and solved. Both are exact.",
+              uniforms=(Uniform("u_mc_cornerBound", "float", lambda v, s: 1.0 if v else 0.0),), pieces=True),
+)
+
+
+def _local_threshold(value, settings) -> float:
+    """LMIP's threshold as a normalised scalar; far above every value when LMIP is off."""
+    if settings["projection"] != "lmip":
+        return 1.0e30
+    return settings["floor"] + value * (settings["ceiling"] - settings["floor"])
+
+
+DEMIP = (
+    Parameter("depth_weight", "float", 0.15,
+              "Weight d_w of the depth term in Eq. 1 (the paper's default 0.15). "
+              "0 is plain MIP; larger values brighten near and darken far structures.",
+              low=0.0, high=1.0, uniforms=(Uniform("u_mc_depthWeight"),)),
+    Parameter("material_threshold", "float", 0.1,
+              "How close in material (a fraction of the window) counts as the maximum's material, eps. "
+              "Near 0 the depth is that of the maximum's own sample (noisy on noisy data); 1 accepts "
+              "the first sample above the floor.", low=0.0, high=1.0, open_low=True, unit="of the window",
+              uniforms=(Uniform("u_mc_materialThreshold", "float",
+                                lambda v, s: v if s["depth_of"] == "same_material" else 0.0),)),
+    Parameter("depth_mode", "choice", "entry_plus_length",
+              "How depth is measured: the window depth of the hit, the steps inside the box, the entry's "
+              "depth plus the ray length to the hit (the paper's choice), or the exact eye distance.",
+              choices=shading.DEPTH_MODES,
+              uniforms=(Uniform("u_mc_depthMode", "int", lambda v, s: shading.DEPTH_MODES.index(v)),)),
+    Parameter("sphere_weight", "float", 0.0,
+              "Weight sph_w of the colour sphere in Eq. 2 (0: off).", low=0.0, high=1.0,
+              uniforms=(Uniform("u_mc_sphereWeight"),)),
+    Parameter("sphere_colors", "value", shading.SPHERE_PRESETS["red-blue"],
+              "The sphere's front and back colour: a preset (red-blue, green-red, green-blue) or two RGB "
+              "triplets in [0, 1], e.g. SetSphereColors((1, 0.5, 0), (0, 0.6, 1)), or six numbers "
+              "(--sphere-colors 1 0.5 0 0 0.6 1).", convert=lambda *c: shading.sphere_colors(c), variadic=True,
+              uniforms=(Uniform("u_mc_sphereFront", "vec3", lambda v, s: list(v[0])),
+                        Uniform("u_mc_sphereBack", "vec3", lambda v, s: list(v[1])))),
+    Parameter("sphere_orientation", "value", shading.IDENTITY,
+              "Rotate the colour sphere in world coordinates (camera and volume unaffected): three angles "
+              "in degrees (Rz @ Ry @ Rx: about x first) or a 3x3 rotation matrix. Its front pole points "
+              "along the matrix's third column; (0, 180, 0) swaps front and back.",
+              convert=lambda *r: shading.rotation(r), variadic=True, unit="degrees",
+              uniforms=(Uniform("u_mc_sphereAxis", "vec3", lambda v, s: [row[2] for row in v]),)),
+    Parameter("chroma_depth_weight", "float", 0.0,
+              "Weight of pseudo-chromadepth colouring (Ropinski et al.; 0: off): after Eq. 1 and 2 the "
+              "colour moves towards a hue running from red (near) to blue (far). For pseudo-chromadepth on "
+              "plain MIP use depth_weight 0 and depth_of 'maximum'.", low=0.0, high=1.0,
+              uniforms=(Uniform("u_mc_chromaWeight"),)),
+    Parameter("depth_of", "choice", "same_material",
+              "Which sample gives the depth: the first of the maximum's material (DEMIP), or the first "
+              "sample whose material equals the maximum's (the maximum itself; eps is then ignored).",
+              choices=shading.DEPTH_OF),
+    Parameter("projection", "choice", "mip",
+              "The ray's value: the maximum (DEMIP), local MIP (the first local maximum above "
+              "local_threshold), attenuated MIP (napari-style), or MIDA (gamma 0); the last two draw no "
+              "DEMIP term. Switching installs other shader pieces (one compile each).",
+              choices=shading.PROJECTIONS, pieces=True),
+    Parameter("local_threshold", "float", 0.5,
+              "LMIP's threshold as a material (place in the window).", low=0.0, high=1.0, unit="of the window",
+              uniforms=(Uniform("u_mc_localThreshold", "float", _local_threshold),)),
+    Parameter("attenuation", "float", 0.05,
+              "Attenuated MIP's attenuation per voxel of full material (0 gives the MIP picture).",
+              low=0.0, unit="per voxel", uniforms=(Uniform("u_mc_attenuation"),)),
+)
+
+
+def _gaze_point(*xy) -> tuple:
+    if len(xy) == 1 and isinstance(xy[0], (tuple, list)):
+        xy = tuple(xy[0])
+    if len(xy) != 2:
+        raise TypeError(f"gaze_point takes x and y (normalised viewport coordinates), got {xy!r}")
+    return check_finite("x", xy[0]), check_finite("y", xy[1])
+
+
+def _region(region):
+    if region is None:
+        return None
+    values = [check_finite("region", v) for v in region]
+    if len(values) == 3:
+        values = [values[0], values[0], values[1], values[1], values[2], values[2]]
+    if len(values) != 6 or any(values[2 * i] > values[2 * i + 1] for i in range(3)):
+        raise ValueError("region must be a point (x, y, z) or bounds (x0, x1, y0, y1, z0, z1) "
+                         f"with x0 <= x1 etc., got {tuple(region)!r}")
+    return tuple(values)
+
+
+#: Names of the methods a foveated mapper can draw its levels with; filled
+#: from the method table (:data:`mipcast.methods.METHODS`, capability
+#: ``foveation_layer``) when :mod:`mipcast.methods` is imported.
+FOVEATION_LAYERS: dict = {}
+
+FOVEATED = (
+    Parameter("method", "choice", "mip", "The mipcast method every level renders with.",
+              choices=lambda: tuple(FOVEATION_LAYERS)),
+    Parameter("gaze_point", "value", (0.5, 0.5),
+              "Look at (x, y) in normalised viewport coordinates ((0, 0) bottom-left). Points outside "
+              "[0, 1] are allowed (the fovea is then partly or wholly off screen). Stops following the "
+              "mouse or a region of interest.", convert=_gaze_point, variadic=True),
+    Parameter("foveal_radius", "float", foveation.DEFAULT_RADIUS,
+              "Radius of full quality around the gaze, in viewport heights.", low=0.0,
+              unit="viewport heights", numbers_only=False),
+    Parameter("falloff", "float", foveation.DEFAULT_FALLOFF,
+              "Eccentricity from the fovea's edge to the coarsest level, in viewport heights. The ray "
+              "spacing grows linearly from 1 to 2**(levels - 1) pixels over this width (the acuity "
+              "schedule); 0 switches levels abruptly (visible seams).", low=0.0,
+              unit="viewport heights", numbers_only=False),
+    Parameter("number_of_levels", "int", foveation.DEFAULT_LEVELS,
+              "Image pyramid levels, 1 (full quality only) to 5 (rays every 16 pixels).", low=1, high=5),
+    Parameter("foveation", "bool", True, "False: the method at full quality everywhere (one level, no blending)."),
+    Parameter("region_of_interest", "value", None,
+              "Keep a world-space region sharp: a point (x, y, z) or bounds (x0, x1, y0, y1, z0, z1). At "
+              "every render the gaze moves to the region's projected centre and the foveal radius grows "
+              "(never shrinks) to cover its projection; None returns to the last gaze point.",
+              convert=lambda region: _region(region), unit="world units"),
+    Parameter("peripheral_sampling", "choice", "footprint",
+              "How peripheral levels sample along their rays: no farther apart than the level's rays "
+              "(footprint, default), the paper's one level per image level (level), or full-quality "
+              "sampling (rays).", choices=foveation.SAMPLING_POLICIES),
+)
