@@ -14,7 +14,7 @@ HEADER = "// mipcast piece: p\n// fills: {tag}\n// mode: {mode}\n"
 
 
 def test_there_are_pieces():
-    assert {"mip_sampled_loop", "mip_color", "float_readout"} <= set(ALL_PIECES)
+    assert {"sampled_loop", "mip_hooks", "mip_color", "float_readout"} <= set(ALL_PIECES)
 
 
 @pytest.mark.parametrize("name", ALL_PIECES)
