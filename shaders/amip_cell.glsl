@@ -118,9 +118,3 @@ void mcWalkCell(McRay ray, ivec3 cell, float t1, inout float t0, inout vec3 tNex
   tNext += ray.tDelta * vec3(lessThanEqual(tNext, vec3(t1 * (1.0 + 1.0e-6) + 1.0e-7)));
   t0 = t1;
 }
-
-// Raw texel value <-> VTK's normalised scalar.
-float mcRaw(float normalised)
-{
-  return (normalised - in_volume_bias[0].r) / in_volume_scale[0].r;
-}

@@ -19,5 +19,5 @@
     float mc_t1 = min(min(min(mc_tNext.x, mc_tNext.y), mc_tNext.z), mc_ray.length);
     mcWalkCell(mc_ray, mcCellOf(mc_ray, mc_t0, mc_t1), mc_t1, mc_t0, mc_tNext, mc_rayMax);
   }
-  mc_rayMax = mc_rayMax * in_volume_scale[0].r + in_volume_bias[0].r;
+  mc_rayMax = mcNormalised(mc_rayMax);
   g_exit = true;

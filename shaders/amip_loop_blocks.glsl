@@ -34,5 +34,5 @@
     }
     mcWalkCell(mc_ray, mc_cell, mc_t1, mc_t0, mc_tNext, mc_rayMax);
   }
-  mc_rayMax = mc_rayMax * in_volume_scale[0].r + in_volume_bias[0].r;
+  mc_rayMax = mcNormalised(mc_rayMax);
   g_exit = true;

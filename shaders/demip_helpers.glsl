@@ -2,8 +2,11 @@
 // fills: Shading::Dec
 // mode: augment
 // Depth-enhanced MIP (docs/methods.md#demip, mipcast/mappers/demip.py): the
-// globals the ray loop (demip_loop) hands to the colour exit (demip_color)
-// and the float readout (demip_readout), and the depth and sphere helpers.
+// globals the DEMIP family's hook pieces (demip_hooks, demip_lmip_hooks,
+// demip_attenuated_hooks, demip_mida_hooks, demip_two_pass_*_hooks, run by
+// sampled_loop) hand to the colour exit (demip_color) and the float readout
+// (demip_readout); the first march's level bookkeeping, the second march's
+// hooks (the same-material search), and the depth and sphere helpers.
 //
 // Coordinates: "texture" is the space of g_dataPos (VTK's adjusted texture
 // coordinates, point bounds [in_texMin, in_texMax]); "eye" is VTK's camera
@@ -11,34 +14,15 @@
 int mc_matchIndex;   // loop index of the first same-material sample; -1: no DEMIP term
 float mc_depth;      // its normalised depth in [0, 1] (valid when mc_matchIndex >= 0)
 vec3 mc_hitTex;      // its position (texture coordinates)
-vec4 mc_composite;   // MIDA's premultiplied colour and opacity (demip_mida_loop)
-
-// Normalised scalar (VTK's scale/bias) -> raw texel value.
-float mcDemipRaw(float normalised)
-{
-  return (normalised - in_volume_bias[0].r) / in_volume_scale[0].r;
-}
-
-// Number of samples on this ray, exactly as mip_sampled_loop counts them:
-// the first at g_dataPos (one step after the box entry), then every
-// g_dirStep while inside the point bounds and before the depth-buffer /
-// clipping termination. Sample k sits at g_dataPos + k * g_dirStep.
-int mcSampleCount()
-{
-  vec3 limit = mix(in_texMin[0], in_texMax[0], vec3(greaterThan(g_dirStep, vec3(0.0))));
-  vec3 toExit = (limit - g_dataPos) / g_dirStep;
-  toExit = mix(toExit, vec3(1.0e30), vec3(equal(g_dirStep, vec3(0.0))));
-  int count = 1 + int(max(0.0, floor(min(min(toExit.x, toExit.y), toExit.z))));
-  return min(count, int(ceil(max(g_terminatePointMax, 0.0))) + 1);
-}
+vec4 mc_composite;   // MIDA's premultiplied colour and opacity (demip_mida_hooks)
 
 // The material window in raw texel units: (floor, ceiling, band, low) with
 // band = eps * (ceiling - floor) and low = floor + u_mc_floorTolerance *
 // (ceiling - floor), the value samples must exceed to count as tissue.
 vec4 mcMaterialWindow()
 {
-  float floorRaw = mcDemipRaw(u_mc_floor);
-  float ceilingRaw = mcDemipRaw(u_mc_ceiling);
+  float floorRaw = mcRaw(u_mc_floor);
+  float ceilingRaw = mcRaw(u_mc_ceiling);
   float width = ceilingRaw - floorRaw;
   return vec4(floorRaw, ceilingRaw, u_mc_materialThreshold * width, floorRaw + u_mc_floorTolerance * width);
 }
@@ -134,33 +118,89 @@ vec3 mcChromaColor(float depth)
   return clamp(abs(fract(hue + vec3(1.0, 2.0 / 3.0, 1.0 / 3.0)) * 6.0 - 3.0) - 1.0, 0.0, 1.0);
 }
 
-// The first march's bookkeeping (shared by the DEMIP and LMIP loops): the
-// level of the running maximum, where it entered that level, and where it
-// first reached the level below (the second march may start there).
-void mcTrackLevel(float sampleLevel, int i, inout float level, inout int entered, inout int start)
+// The material of a raw value v is its place in the transfer functions'
+// window, clamp((v - floor) / (ceiling - floor), 0, 1) (u_mc_floor and
+// u_mc_ceiling, normalised): mcBeginMaterial once per ray, then mcMaterial.
+float mc_floorRaw;
+float mc_toMaterial;
+
+void mcBeginMaterial()
 {
-  bool up = sampleLevel > level;
-  start = up ? (sampleLevel == level + 1.0 ? entered : i) : start;
-  entered = up ? i : entered;
-  level = max(level, sampleLevel);
+  mc_floorRaw = mcRaw(u_mc_floor);
+  mc_toMaterial = 1.0 / (mcRaw(u_mc_ceiling) - mc_floorRaw);
 }
 
-// March 2: from sample `start` on, the first sample of the same material as
-// the raw maximum `rayMax` (v >= min(rayMax, ceiling) - band && v > low);
-// sets mc_matchIndex, mc_hitTex and mc_depth. The maximum's own sample
-// always matches, so the loop ends at it at the latest.
-void mcFindSameMaterial(int start, int count, float rayMax, vec4 window)
+float mcMaterial(float value)
 {
-  float threshold = min(rayMax, window.y) - window.z;
-  for (int j = start; j < count; ++j)
-  {
-    float value = texture3D(in_volume[0], g_dataPos + float(j) * g_dirStep).r;
-    if (value >= threshold && value > window.w)
-    {
-      mc_matchIndex = j;
-      break;
-    }
-  }
+  return clamp((value - mc_floorRaw) * mc_toMaterial, 0.0, 1.0);
+}
+
+// DEMIP's two marches over the samples of sampled_loop.
+//
+// The material is monotone, so "within eps of the maximum's material, and
+// above the floor" is the raw test
+//   v >= min(max, ceiling) - band  &&  v > low
+// (mcMaterialWindow; a background exactly at the floor stays background).
+//
+// March 1 (mcDemipBeginRay, then mcDemipSample at every sample) takes the
+// maximum and follows the level of the running maximum,
+// floor((min(v, ceiling) - low) / band) (monotone in v), remembering where
+// it first reached the level below its current one. Every earlier sample
+// lies more than one band below the final maximum and cannot match (nor can
+// samples at or below low), so march 2 starts there: the result equals a
+// march from the ray start. Levels are at least 1e-6 of the window wide, so
+// that they stay distinct in float32 for tiny eps.
+vec4 mc_window;      // mcMaterialWindow()
+float mc_perLevel;
+float mc_levelBias;
+float mc_level;      // level of the running maximum
+int mc_entered;      // where the running maximum entered mc_level
+int mc_start;        // where it first reached mc_level - 1 or above: march 2 starts here
+float mc_sameAbove;  // march 2's threshold, min(max, ceiling) - band
+
+void mcDemipBeginRay()
+{
+  mc_window = mcMaterialWindow();
+  mc_perLevel = 1.0 / max(mc_window.z, 1.0e-6 * (mc_window.y - mc_window.x));
+  mc_levelBias = -mc_window.w * mc_perLevel;
+  mc_level = -1.0e30;
+  mc_entered = 0;
+  mc_start = 0;
+  mc_rayMax = -1.0e30;
+  mc_matchIndex = -1;
+}
+
+void mcDemipSample(float value, int i)
+{
+  mc_rayMax = max(mc_rayMax, value);
+  float sampleLevel = floor(min(value, mc_window.y) * mc_perLevel + mc_levelBias);
+  bool up = sampleLevel > mc_level;
+  mc_start = up ? (sampleLevel == mc_level + 1.0 ? mc_entered : i) : mc_start;
+  mc_entered = up ? i : mc_entered;
+  mc_level = max(mc_level, sampleLevel);
+}
+
+// March 2, sampled_loop's second-march hooks (on with MC_SECOND_MARCH): from
+// sample mc_start on, the first sample of the same material as the raw
+// maximum mc_rayMax; sets mc_matchIndex, mc_hitTex and mc_depth. The
+// maximum's own sample always matches, so the march ends at it at the
+// latest. Skipped when nothing uses the depth (u_mc_needDepth = 0) or the
+// maximum is not above the floor.
+bool mcBeginSecondMarch(inout int first, inout int count)
+{
+  first = mc_start;
+  mc_sameAbove = min(mc_rayMax, mc_window.y) - mc_window.z;
+  return mc_rayMax > mc_window.w && u_mc_needDepth > 0.5;
+}
+
+bool mcSecondSample(float value, int i)
+{
+  return value >= mc_sameAbove && value > mc_window.w;
+}
+
+void mcEndSecondMarch(int found)
+{
+  mc_matchIndex = found;
   if (mc_matchIndex >= 0)
   {
     mc_hitTex = g_dataPos + float(mc_matchIndex) * g_dirStep;

@@ -11,10 +11,7 @@
 // reduced-resolution or render-to-image buffer (u_mc_toImage = 1), where
 // VTK's window uniforms may still carry the viewport's offset in the window.
 // Also does the refusal piece's job (this tag takes one piece).
-  if (u_mc_refused > 0.5)
-  {
-    discard;
-  }
+  mcRefuseIfAsked();
   vec2 mc_at = (gl_FragCoord.xy - (1.0 - u_mc_toImage) * in_windowLowerLeftCorner) * in_inverseWindowSize;
   float mc_code = texture2D(in_depthSampler, mc_at).r;
   if (mc_code > 0.5 && mc_code < 1.5)
@@ -32,13 +29,6 @@
     mc_firstStart = 0;
     mc_firstMax = int(mc_code - 2.0);
   }
-  // VTK's bookkeeping, with the ray ending at the far plane (NDC z = 1):
+  // VTK's bookkeeping (mcSetRayEnd, mip_globals), with the ray ending at the far plane (NDC z = 1):
   // clipping planes (Clipping::Init) move the ray's start exactly as in pass 1.
-  vec4 mc_termination = vec4(mc_at * 2.0 - 1.0, 1.0, 1.0);
-  mc_termination = ip_inverseTextureDataAdjusted * in_inverseVolumeMatrix[0] *
-                   in_inverseModelViewMatrix * in_inverseProjectionMatrix * mc_termination;
-  g_rayTermination = mc_termination.xyz / mc_termination.w;
-  g_dataPos = g_rayOrigin;
-  g_terminatePos = g_rayTermination;
-  g_terminatePointMax = length(g_terminatePos.xyz - g_dataPos.xyz) / length(g_dirStep);
-  g_currentT = 0.0;
+  mcSetRayEnd(mc_at, 1.0);

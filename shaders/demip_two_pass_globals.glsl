@@ -6,7 +6,7 @@
 // ray sits at g_dataPos + k * g_dirStep in both passes (same camera, volume
 // and sample distance), so two sample indices say everything:
 //   mc_firstMax    index of the ray's (first) maximum sample;
-//   mc_firstStart  where the second march may start (demip_loop's level
+//   mc_firstStart  where the second march may start (demip_hooks's level
 //                  bookkeeping: no earlier sample can be the same material).
 // Encoding in the float (exact: integers below 2^24):
 //   -1 - (start * u_mc_indexBase + max)  when the ray has at most

@@ -9,11 +9,8 @@
 // window's corner VTK would read the scene depth of other pixels. Pixel
 // coordinates are therefore taken from gl_FragCoord alone (VTK's code is
 // identical when the offset is 0). Also does the refusal piece's job (this
-// tag takes one piece).
-  if (u_mc_refused > 0.5)
-  {
-    discard;
-  }
+// tag takes one piece); the ray set-up is mcSetRayEnd (mip_globals).
+  mcRefuseIfAsked();
   g_terminatePointMax = 0.0;
   vec2 mc_at = gl_FragCoord.xy * in_inverseWindowSize;
   float mc_sceneDepth = texture2D(in_depthSampler, mc_at).x;
@@ -21,13 +18,5 @@
   {
     discard;  // opaque geometry hides the volume here
   }
-  vec4 mc_termination = vec4(mc_at * 2.0 - 1.0,
-                             (2.0 * mc_sceneDepth - (gl_DepthRange.near + gl_DepthRange.far))
-                             / gl_DepthRange.diff, 1.0);
-  mc_termination = ip_inverseTextureDataAdjusted * in_inverseVolumeMatrix[0] *
-                   in_inverseModelViewMatrix * in_inverseProjectionMatrix * mc_termination;
-  g_rayTermination = mc_termination.xyz / mc_termination.w;
-  g_dataPos = g_rayOrigin;
-  g_terminatePos = g_rayTermination;
-  g_terminatePointMax = length(g_terminatePos.xyz - g_dataPos.xyz) / length(g_dirStep);
-  g_currentT = 0.0;
+  mcSetRayEnd(mc_at, (2.0 * mc_sceneDepth - (gl_DepthRange.near + gl_DepthRange.far))
+                     / gl_DepthRange.diff);

@@ -1,6 +1,46 @@
 // mipcast piece: mip_globals
 // fills: Base::Dec
 // mode: augment
-// Global shared by castRay() and finalizeRayCast(): the ray's maximum of the
-// normalised scalar (VTK's scale/bias applied).
+// Globals and helpers every mipcast shader shares: the ray's maximum of the
+// normalised scalar (VTK's scale/bias applied), set in castRay() and read in
+// finalizeRayCast(); conversions between raw texel values and VTK's
+// normalised scalar; and the ray set-up of the Terminate::Init pieces
+// (refusal, image_terminate, demip_two_pass_fetch).
 float mc_rayMax;
+
+// Normalised scalar (VTK's scale/bias) -> raw texel value.
+float mcRaw(float normalised)
+{
+  return (normalised - in_volume_bias[0].r) / in_volume_scale[0].r;
+}
+
+// Raw texel value -> VTK's normalised scalar.
+float mcNormalised(float raw)
+{
+  return raw * in_volume_scale[0].r + in_volume_bias[0].r;
+}
+
+// A mipcast mapper that refuses to render (bad input, a limit exceeded; the
+// reason goes to VTK's error output) sets u_mc_refused: no ray is cast and
+// the volume draws nothing, rather than a wrong picture.
+void mcRefuseIfAsked()
+{
+  if (u_mc_refused > 0.5)
+  {
+    discard;
+  }
+}
+
+// VTK's ray bookkeeping (as at Terminate::Init) for a ray that ends at the
+// window point `at` (0..1 in the image) and NDC depth ndcDepth.
+void mcSetRayEnd(vec2 at, float ndcDepth)
+{
+  vec4 termination = vec4(at * 2.0 - 1.0, ndcDepth, 1.0);
+  termination = ip_inverseTextureDataAdjusted * in_inverseVolumeMatrix[0] *
+                in_inverseModelViewMatrix * in_inverseProjectionMatrix * termination;
+  g_rayTermination = termination.xyz / termination.w;
+  g_dataPos = g_rayOrigin;
+  g_terminatePos = g_rayTermination;
+  g_terminatePointMax = length(g_terminatePos.xyz - g_dataPos.xyz) / length(g_dirStep);
+  g_currentT = 0.0;
+}

@@ -397,13 +397,13 @@ def test_pieces_follow_the_settings():
     mapper.SetDepthWeight(0.0)
     assert mapper.GetShaderPieces() == mipcast.MIPVolumeMapper.PIECES, "nothing to draw: MIP's pieces"
     mapper.SetChromaDepthWeight(0.5)
-    assert "demip_loop" in mapper.GetShaderPieces()
+    assert "demip_hooks" in mapper.GetShaderPieces()
     mapper.SetProjection("lmip")
-    assert "demip_lmip_loop" in mapper.GetShaderPieces()
+    assert "demip_lmip_hooks" in mapper.GetShaderPieces()
     mapper.SetProjection("mida")
-    assert {"demip_mida_loop", "demip_mida_color"} <= set(mapper.GetShaderPieces())
+    assert {"demip_mida_hooks", "demip_mida_color"} <= set(mapper.GetShaderPieces())
     mapper.SetProjection("attenuated")
-    assert "demip_attenuated_loop" in mapper.GetShaderPieces()
+    assert "demip_attenuated_hooks" in mapper.GetShaderPieces()
 
 
 def test_partitioned_rendering_is_refused():

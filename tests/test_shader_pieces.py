@@ -1,12 +1,19 @@
-"""The GLSL piece loader: headers, tags, slots, no user values in source."""
+"""The GLSL piece loader: headers, tags, slots, no user values in source; the one sampled loop."""
+import re
 from importlib import resources
 
+import numpy as np
 import pytest
 from vtkmodules.vtkRenderingCore import vtkVolume
 
 import mipcast
+from mipcast.data_fixtures import make_fixture
 from mipcast.mappers import shader_pieces
-from mipcast.mappers.shader_pieces import TEMPLATE_TAGS, install, installed_tags, load_piece, parse_piece, uninstall
+from mipcast.mappers.demip_two_pass import DEMIPFirstPassMapper
+from mipcast.mappers.mip import MIPVolumeMapper, sampled_projection_mapper
+from mipcast.mappers.shader_pieces import (HOOK_TAG, SAMPLED_HOOKS, SAMPLED_LOOP, TEMPLATE_TAGS, check_hooks,
+                                           install, installed_tags, load_piece, parse_piece, uninstall)
+from mipcast.offscreen import OffscreenView
 
 ALL_PIECES = sorted(p.name[:-5] for p in resources.files("mipcast.shaders").iterdir()
                     if p.name.endswith(".glsl"))
@@ -14,7 +21,7 @@ HEADER = "// mipcast piece: p\n// fills: {tag}\n// mode: {mode}\n"
 
 
 def test_there_are_pieces():
-    assert {"mip_sampled_loop", "mip_color", "float_readout"} <= set(ALL_PIECES)
+    assert {"sampled_loop", "mip_hooks", "mip_color", "float_readout"} <= set(ALL_PIECES)
 
 
 @pytest.mark.parametrize("name", ALL_PIECES)
@@ -80,3 +87,164 @@ def test_no_python_module_builds_glsl_from_values():
             source = module.read_text()
             assert "AddFragmentShaderReplacement(" not in source or module.name == "shader_pieces.py"
     assert shader_pieces.install.__module__ == "mipcast.mappers.shader_pieces"
+
+
+# -- the one sampled ray loop and its hooks ------------------------------------------
+
+HOOK_PIECES = [name for name in ALL_PIECES if load_piece(name).tag == HOOK_TAG]
+#: The analytic method walks cells with loops of its own (they share amip_cell).
+CELL_WALKS = {"amip_loop", "amip_loop_blocks"}
+TOY_FIRST_SAMPLE = """// mipcast piece: toy_first_sample
+// fills: Picking::Dec
+// mode: augment
+// Toy projection: the first sample along the ray.
+void mcBeginRay(inout int first, inout int count)
+{
+  mc_rayMax = -1.0e30;
+}
+
+bool mcSample(float value, int i)
+{
+  mc_rayMax = value;
+  return false;
+}
+
+void mcEndRay(int count)
+{
+  mc_rayMax = mcNormalised(mc_rayMax);
+}
+"""
+
+
+def _code(piece) -> str:
+    """The piece's GLSL without its comments."""
+    return re.sub(r"//[^\n]*", "", piece.text)
+
+
+def _sampled_piece_lists() -> dict:
+    """Every sampled method's piece list, by a name for the message."""
+    lists = {"mip": MIPVolumeMapper.PIECES}
+    demip = mipcast.DEMIPVolumeMapper()
+    demip.SetDepthWeight(0.5)
+    for projection in ("mip", "lmip", "attenuated", "mida"):
+        demip.SetProjection(projection)
+        lists[f"demip {projection}"] = demip.GetShaderPieces()
+    first = DEMIPFirstPassMapper()
+    lists["two-pass first"] = first.GetShaderPieces()
+    lists["two-pass second"] = mipcast.DEMIPTwoPassVolumeMapper().GetShaderPieces()
+    return lists
+
+
+@pytest.mark.parametrize("method, names", sorted(_sampled_piece_lists().items()))
+def test_every_sampled_method_runs_the_one_loop_with_one_hook_piece(method, names):
+    assert SAMPLED_LOOP in names, method
+    hooks = [name for name in names if load_piece(name).tag == HOOK_TAG]
+    assert len(hooks) == 1, (method, hooks)
+    check_hooks(load_piece(hooks[0]))
+    assert not [name for name in names if name in CELL_WALKS or name.endswith("_loop") and name != SAMPLED_LOOP]
+
+
+def test_the_analytic_method_keeps_its_cell_walk():
+    names = mipcast.AnalyticMIPVolumeMapper.PIECES
+    assert SAMPLED_LOOP not in names and "amip_cell" in names and "amip_loop" in names
+
+
+@pytest.mark.parametrize("name", ALL_PIECES)
+def test_no_piece_but_the_loops_marches(name):
+    # one sampled march (sampled_loop) and analytic MIP's cell walks; every other
+    # piece fills hooks or helpers without a loop of its own
+    loops = re.findall(r"\b(?:for|while)\s*\(", _code(load_piece(name)))
+    if name == SAMPLED_LOOP:
+        assert len(loops) == 2, "the first march and the optional second march"
+    elif name not in CELL_WALKS:
+        assert not loops, f"{name} has a loop of its own; fill sampled_loop's hooks instead"
+
+
+def test_the_loop_samples_at_entry_plus_i_steps_and_calls_every_hook():
+    code = _code(load_piece(SAMPLED_LOOP))
+    assert code.count("g_dataPos + float(mc_") == 2
+    for hook in list(SAMPLED_HOOKS) + ["mcBeginSecondMarch", "mcSecondSample", "mcEndSecondMarch"]:
+        assert f"{hook}(" in code
+
+
+@pytest.mark.parametrize("name", HOOK_PIECES)
+def test_every_hook_piece_defines_every_hook(name):
+    assert check_hooks(load_piece(name)) is load_piece(name)
+
+
+def test_hook_pieces_exist_for_every_sampled_method():
+    assert {"mip_hooks", "demip_hooks", "demip_lmip_hooks", "demip_attenuated_hooks", "demip_mida_hooks",
+            "demip_two_pass_first_hooks", "demip_two_pass_second_hooks"} <= set(HOOK_PIECES)
+
+
+def test_the_refusal_test_is_written_once():
+    owners = [name for name in ALL_PIECES if "u_mc_refused" in _code(load_piece(name))]
+    assert owners == ["mip_globals"]
+
+
+@pytest.fixture
+def piece_folder(tmp_path):
+    folder = shader_pieces.register_folder(tmp_path)
+    yield tmp_path
+    shader_pieces.unregister_folder(folder)
+
+
+def test_a_piece_from_a_registered_folder_loads(piece_folder):
+    (piece_folder / "toy_first_sample.glsl").write_text(TOY_FIRST_SAMPLE)
+    piece = load_piece("toy_first_sample")
+    assert piece.tag == HOOK_TAG and check_hooks(piece) is piece
+    cls = sampled_projection_mapper("toy_first_sample")
+    assert issubclass(cls, MIPVolumeMapper)
+    assert "toy_first_sample" in cls.PIECES and "mip_hooks" not in cls.PIECES
+    shader_pieces.unregister_folder(piece_folder)
+    with pytest.raises(ValueError, match="no shader piece"):
+        load_piece("toy_first_sample")
+
+
+def test_package_pieces_come_before_registered_ones(piece_folder):
+    (piece_folder / "mip_hooks.glsl").write_text(TOY_FIRST_SAMPLE.replace("toy_first_sample", "mip_hooks"))
+    assert "return false" not in load_piece("mip_hooks").text
+
+
+def test_a_missing_folder_is_refused(tmp_path):
+    with pytest.raises(ValueError, match="no folder"):
+        shader_pieces.register_folder(tmp_path / "absent")
+
+
+@pytest.mark.parametrize("hook", list(SAMPLED_HOOKS))
+def test_a_missing_hook_is_a_clear_error(piece_folder, hook):
+    text = TOY_FIRST_SAMPLE.replace(hook + "(", "notAHook(")
+    (piece_folder / "toy_first_sample.glsl").write_text(text)
+    with pytest.raises(ValueError, match=rf"does not define the sampled loop's hook.*{hook}"):
+        sampled_projection_mapper("toy_first_sample")
+    pieces = [load_piece(name) for name in MIPVolumeMapper.PIECES if name != "mip_hooks"]
+    with pytest.raises(ValueError, match=rf"{hook}"):
+        install(vtkVolume().GetShaderProperty(), pieces + [load_piece("toy_first_sample")])
+
+
+def test_the_loop_without_a_hook_piece_is_refused():
+    pieces = [load_piece(name) for name in MIPVolumeMapper.PIECES if name != "mip_hooks"]
+    with pytest.raises(ValueError, match="needs a hook piece"):
+        install(vtkVolume().GetShaderProperty(), pieces)
+
+
+def test_a_hook_piece_in_another_slot_is_refused(piece_folder):
+    (piece_folder / "toy_first_sample.glsl").write_text(TOY_FIRST_SAMPLE.replace("Picking::Dec", "Shading::Dec"))
+    with pytest.raises(ValueError, match=HOOK_TAG):
+        sampled_projection_mapper("toy_first_sample")
+
+
+def test_a_one_piece_projection_renders(piece_folder, monkeypatch):
+    # the toy method "first sample along the ray": one hook piece, nothing else
+    (piece_folder / "toy_first_sample.glsl").write_text(TOY_FIRST_SAMPLE)
+    (piece_folder / "toy_mip.glsl").write_text(load_piece("mip_hooks").text.replace("mip_hooks", "toy_mip", 1))
+    monkeypatch.setitem(mipcast.methods.METHODS, "toy_first", sampled_projection_mapper("toy_first_sample"))
+    monkeypatch.setitem(mipcast.methods.METHODS, "toy_mip", sampled_projection_mapper("toy_mip"))
+    image = make_fixture("vessels", size=32)
+    mip = OffscreenView(image, "mip", size=(48, 40)).float_image()
+    first = OffscreenView(image, "toy_first", size=(48, 40)).float_image()
+    again = OffscreenView(image, "toy_mip", size=(48, 40)).float_image()
+    np.testing.assert_array_equal(again, mip)  # the same hooks under another name: the same picture
+    hits = ~np.isnan(mip)
+    assert 0.1 < hits.mean() and np.array_equal(np.isnan(first), ~hits)
+    assert np.all(first[hits] <= mip[hits]) and np.mean(first[hits] < mip[hits]) > 0.2

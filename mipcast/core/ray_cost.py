@@ -7,7 +7,7 @@ volume's matrix and the image's index mapping.  A ray is *cast* when its
 texel is not skipped and it meets the volume's point-bounds box (only then
 does the rasterised box produce a fragment).  *Samples* are what the ray
 loop reads: ``max(1, floor(L / d))`` for a sampled loop with step ``d`` over
-the length ``L`` inside the box (``shaders/mip_sampled_loop.glsl``), or the
+the length ``L`` inside the box (``shaders/sampled_loop.glsl``), or the
 cells a cell-walking loop visits (analytic MIP, ``shaders/amip_loop.glsl``).
 """
 from __future__ import annotations

@@ -59,7 +59,8 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
     attenuated MIP and MIDA): ``docs/methods.md#demip``.
     """
 
-    PIECES = ("mip_globals", "refusal", "demip_helpers", "demip_loop", "no_stock_sample", "demip_color")
+    PIECES = ("mip_globals", "refusal", "demip_helpers", "sampled_loop", "demip_hooks", "no_stock_sample",
+              "demip_color")
 
     PARAMETERS = parameter_tables.DEMIP
     DEPTH_MODES = DEPTH_MODES
@@ -116,11 +117,11 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
             return self._with_readout(MIPVolumeMapper.PIECES)
         swap = {"float_readout": "demip_readout"}
         if projection == "lmip":
-            swap["demip_loop"] = "demip_lmip_loop"
+            swap["demip_hooks"] = "demip_lmip_hooks"
         elif projection == "attenuated":
-            swap["demip_loop"] = "demip_attenuated_loop"
+            swap["demip_hooks"] = "demip_attenuated_hooks"
         elif projection == "mida":
-            swap.update(demip_loop="demip_mida_loop", demip_color="demip_mida_color")
+            swap.update(demip_hooks="demip_mida_hooks", demip_color="demip_mida_color")
         return tuple(swap.get(n, n) for n in self._with_readout(self.PIECES))
 
     def _needs_depth(self) -> bool:

@@ -34,7 +34,7 @@ class DEMIPFirstPassMapper(MIPVolumeMapper):
     """Pass 1 of :class:`DEMIPTwoPassVolumeMapper`: MIP that writes sample indices, not a picture.
 
     Marches exactly like the one-pass DEMIP's first march
-    (``shaders/demip_two_pass_first.glsl``) and writes, per pixel, the index
+    (``shaders/demip_two_pass_first_hooks.glsl``) and writes, per pixel, the index
     of the ray's maximum and the start of the second march into its float
     render-to-image "depth" image (``shaders/demip_two_pass_store.glsl``;
     encoding in ``shaders/demip_two_pass_globals.glsl``).  Its colour image
@@ -43,7 +43,8 @@ class DEMIPFirstPassMapper(MIPVolumeMapper):
     """
 
     PIECES = ("mip_globals", "demip_two_pass_globals", "image_terminate", "demip_helpers",
-              "demip_two_pass_first", "no_stock_sample", "mip_color", "demip_two_pass_store")
+              "sampled_loop", "demip_two_pass_first_hooks", "no_stock_sample", "mip_color",
+              "demip_two_pass_store")
 
     def __init__(self) -> None:
         super().__init__()
@@ -93,7 +94,7 @@ class DEMIPTwoPassVolumeMapper(DEMIPVolumeMapper):
     """
 
     PIECES = ("mip_globals", "demip_two_pass_globals", "demip_two_pass_fetch", "demip_helpers",
-              "demip_two_pass_second", "no_stock_sample", "demip_color")
+              "sampled_loop", "demip_two_pass_second_hooks", "no_stock_sample", "demip_color")
 
     #: The one projection the two passes implement.
     PROJECTIONS = ("mip",)

@@ -101,8 +101,8 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     ``docs/methods.md#foveated-rendering``.
     """
 
-    #: The mapper's own (skipped) draw only needs the refusal piece.
-    PIECES = ("refusal",)
+    #: The mapper's own (skipped) draw only needs the refusal piece (and its helper).
+    PIECES = ("mip_globals", "refusal")
     #: Pieces every level adds to its method's own.
     LEVEL_PIECES = ("foveated_skip", "foveated_weight")
     PARAMETERS = parameter_tables.FOVEATED

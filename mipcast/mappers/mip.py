@@ -41,8 +41,10 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     See docs/methods.md, section MIP: ``docs/methods.md#mip``.
     """
 
-    #: Shader pieces this method installs (file names in ``shaders/``).
-    PIECES = ("mip_globals", "refusal", "mip_sampled_loop", "no_stock_sample", "mip_color")
+    #: Shader pieces this method installs (file names in ``shaders/``):
+    #: ``sampled_loop`` is the one sampled ray loop, ``mip_hooks`` fills its
+    #: hooks (see :func:`sampled_projection_mapper` for other projections).
+    PIECES = ("mip_globals", "refusal", "sampled_loop", "mip_hooks", "no_stock_sample", "mip_color")
     #: The method's parameter table (:mod:`mipcast.core.parameter_tables`):
     #: subclasses get a ``SetX``/``GetX`` per entry (:func:`parameter_accessors`).
     PARAMETERS = parameter_tables.MIP
@@ -224,3 +226,46 @@ def _restore_after_refused_render(mapper, event) -> None:
     if refused is not None:
         mapper.SetCropping(refused[0])
         mapper.SetCroppingRegionPlanes(*refused[1])
+
+
+def sampled_projection_mapper(hooks: str, color: str = "mip_color") -> type:
+    """A :class:`MIPVolumeMapper` subclass whose sampled loop runs the hook piece ``hooks``.
+
+    A new sampled projection (MinIP, average, ...) is one GLSL piece that fills
+    the hooks of the one sampled ray loop (``shaders/sampled_loop.glsl``
+    documents them: ``mcBeginRay``, ``mcSample``, ``mcEndRay``) and leaves the
+    ray's normalised value in ``mc_rayMax``; everything else (ray set-up,
+    refusal, colour through the transfer functions, float readout) is MIP's.
+    Pieces outside the package load from folders added with
+    :func:`mipcast.mappers.shader_pieces.register_folder`.
+
+    Parameters
+    ----------
+    hooks : str
+        Name of the hook piece (file name without ``.glsl``).
+    color : str
+        The ``Shading::Exit`` piece that colours ``mc_rayMax``.
+
+    Returns
+    -------
+    type
+        The mapper class; its :data:`~MIPVolumeMapper.PIECES` are MIP's with
+        ``mip_hooks`` (and ``mip_color``) swapped.
+
+    Raises
+    ------
+    ValueError
+        The piece is missing, or is not a hook piece defining every hook.
+
+    Examples
+    --------
+    >>> cls = sampled_projection_mapper("mip_hooks")
+    >>> cls.PIECES == MIPVolumeMapper.PIECES
+    True
+    """
+    shader_pieces.check_hooks(shader_pieces.load_piece(hooks))
+    shader_pieces.load_piece(color)
+    swap = {"mip_hooks": hooks, "mip_color": color}
+    return type(f"SampledProjectionMapper_{hooks}", (MIPVolumeMapper,), {
+        "__doc__": f"Sampled projection through the hook piece {hooks!r} (see sampled_projection_mapper).",
+        "PIECES": tuple(swap.get(name, name) for name in MIPVolumeMapper.PIECES)})

@@ -3,7 +3,7 @@
 Every piece is one file in ``mipcast/shaders`` (``shaders/`` in the source
 tree) whose header names the VTK template tag it fills and how::
 
-    // mipcast piece: mip_sampled_loop
+    // mipcast piece: sampled_loop
     // fills: Shading::Init
     // mode: replace
 
@@ -12,6 +12,14 @@ code and appends the piece after it.  Tags are checked against
 :data:`TEMPLATE_TAGS`, and a piece may not contain VTK's tag marker itself
 (VTK would substitute it again).  User values never enter the source: numbers
 reach the shader through custom uniforms only.
+
+Sampled methods share one ray loop, the ``sampled_loop`` piece, whose hooks
+(:data:`SAMPLED_HOOKS`: before the loop, at each sample, after the loop) one
+*hook piece* per method fills at :data:`HOOK_TAG`; the hook contract is
+documented at the top of ``shaders/sampled_loop.glsl``.  A new sampled
+projection is one hook piece plus the generic pieces
+(:func:`mipcast.mappers.mip.sampled_projection_mapper`); pieces outside the
+package load from folders added with :func:`register_folder`.
 """
 from __future__ import annotations
 
@@ -19,6 +27,7 @@ import functools
 import re
 from dataclasses import dataclass
 from importlib import resources
+from pathlib import Path
 from typing import Iterable
 
 #: Tags of VTK's ``Rendering/VolumeOpenGL2/shaders/raycasterfs.glsl``, taken
@@ -39,6 +48,22 @@ RenderToImage::Dec RenderToImage::Exit RenderToImage::Impl RenderToImage::Init
 Shading::Dec Shading::Exit Shading::Impl Shading::Init System::Dec
 Terminate::Exit Terminate::Impl Terminate::Init Termination::Dec Transfer2D::Dec
 """.split())
+
+#: The one sampled ray loop (``shaders/sampled_loop.glsl``).
+SAMPLED_LOOP = "sampled_loop"
+#: The tag a sampled method's hook piece fills: global scope, after VTK's
+#: ``computeColor``/``computeOpacity`` and mipcast's helpers, before castRay().
+HOOK_TAG = "Picking::Dec"
+#: The functions a hook piece defines for ``sampled_loop`` (name: signature).
+SAMPLED_HOOKS = {
+    "mcBeginRay": "void mcBeginRay(inout int first, inout int count)",
+    "mcSample": "bool mcSample(float value, int i)",
+    "mcEndRay": "void mcEndRay(int count)",
+}
+
+#: Folders searched, in order, after the package's own ``shaders`` folder
+#: (see :func:`register_folder`).
+PIECE_FOLDERS: list = []
 
 MARKER = "// mipcast piece: "
 VTK_TAG_PREFIX = "//VTK::"
@@ -68,14 +93,59 @@ class Piece:
         return self.text
 
 
+def register_folder(path) -> Path:
+    """Let :func:`load_piece` find pieces in the folder ``path`` too (after the package's).
+
+    Returns the folder as a :class:`~pathlib.Path`.  Registering a folder twice
+    is harmless.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> folder = register_folder(tempfile.mkdtemp())
+    >>> folder in PIECE_FOLDERS
+    True
+    >>> unregister_folder(folder)
+    """
+    folder = Path(path)
+    if not folder.is_dir():
+        raise ValueError(f"no folder {str(folder)!r} to load shader pieces from")
+    if folder not in PIECE_FOLDERS:
+        PIECE_FOLDERS.append(folder)
+    load_piece.cache_clear()
+    return folder
+
+
+def unregister_folder(path) -> None:
+    """Undo :func:`register_folder` (a folder not registered is ignored)."""
+    folder = Path(path)
+    if folder in PIECE_FOLDERS:
+        PIECE_FOLDERS.remove(folder)
+    load_piece.cache_clear()
+
+
+def _read_piece_text(name: str) -> str:
+    try:
+        return resources.files("mipcast.shaders").joinpath(f"{name}.glsl").read_text()
+    except FileNotFoundError:
+        pass
+    for folder in PIECE_FOLDERS:
+        path = folder / f"{name}.glsl"
+        if path.is_file():
+            return path.read_text()
+    where = ", ".join(["mipcast/shaders"] + [str(folder) for folder in PIECE_FOLDERS])
+    raise ValueError(f"no shader piece named {name!r} in {where}")
+
+
 @functools.lru_cache(maxsize=None)
 def load_piece(name: str) -> Piece:
-    """Read and check one piece from the package's ``shaders`` folder.
+    """Read and check one piece from the package's ``shaders`` folder or a registered one.
 
     Parameters
     ----------
     name : str
-        File name without ``.glsl``.
+        File name without ``.glsl``; the package's ``shaders`` folder is
+        searched first, then :data:`PIECE_FOLDERS` in order.
 
     Returns
     -------
@@ -86,11 +156,34 @@ def load_piece(name: str) -> Piece:
     >>> load_piece("mip_color").tag
     'Shading::Exit'
     """
-    try:
-        text = resources.files("mipcast.shaders").joinpath(f"{name}.glsl").read_text()
-    except FileNotFoundError:
-        raise ValueError(f"no shader piece named {name!r} in mipcast/shaders") from None
-    return parse_piece(name, text)
+    if not re.fullmatch(r"\w+", name):
+        raise ValueError(f"shader piece names are file names without .glsl, not {name!r}")
+    return parse_piece(name, _read_piece_text(name))
+
+
+def check_hooks(piece: Piece) -> Piece:
+    """Check that ``piece`` is a hook piece for ``sampled_loop``; return it.
+
+    It must fill :data:`HOOK_TAG` and define every function of
+    :data:`SAMPLED_HOOKS`; ``ValueError`` names what is missing.
+
+    Examples
+    --------
+    >>> check_hooks(load_piece("mip_hooks")).name
+    'mip_hooks'
+    """
+    if piece.tag != HOOK_TAG:
+        raise ValueError(
+            f"shader piece {piece.name!r} fills {piece.tag}, but the sampled loop's hook "
+            f"piece must fill {HOOK_TAG}")
+    code = re.sub(r"//[^\n]*", "", piece.text)
+    missing = [signature for name, signature in SAMPLED_HOOKS.items()
+               if not re.search(rf"\b{signature.split()[0]}\s+{name}\s*\(", code)]
+    if missing:
+        raise ValueError(
+            f"shader piece {piece.name!r} does not define the sampled loop's hook(s) "
+            f"{'; '.join(missing)} (see shaders/sampled_loop.glsl)")
+    return piece
 
 
 def parse_piece(name: str, text: str) -> Piece:
@@ -126,7 +219,8 @@ def install(shader_property, pieces: Iterable[Piece]) -> None:
 
     Refuses (``ValueError``) two pieces for one tag, and a tag that already
     carries a replacement that is not mipcast's (someone else's code would be
-    silently lost).
+    silently lost), and the ``sampled_loop`` piece without a hook piece that
+    defines its hooks (:func:`check_hooks`).
 
     Examples
     --------
@@ -138,6 +232,13 @@ def install(shader_property, pieces: Iterable[Piece]) -> None:
     ['//VTK::Shading::Exit']
     """
     pieces = list(pieces)
+    if any(piece.name == SAMPLED_LOOP for piece in pieces):
+        hooks = [piece for piece in pieces if piece.tag == HOOK_TAG]
+        if not hooks:
+            raise ValueError(
+                f"the {SAMPLED_LOOP} piece needs a hook piece filling {HOOK_TAG} "
+                f"(defining {', '.join(SAMPLED_HOOKS)}); none is among the pieces")
+        check_hooks(hooks[0])
     claimed: dict = {}
     for piece in pieces:
         if piece.vtk_tag in claimed:

@@ -1,0 +1,70 @@
+// mipcast piece: sampled_loop
+// fills: Shading::Init
+// mode: replace
+// The one sampled ray loop, shared by every sampled method (MIP, DEMIP, LMIP,
+// attenuated MIP, MIDA, both passes of two-pass DEMIP, and any new sampled
+// projection). Samples sit where VTK's stock loop puts them: the first one
+// step after the box entry (g_dataPos), then every g_dirStep while the
+// position stays inside the point bounds and before the depth-buffer /
+// clipping termination (g_terminatePointMax). Sample i is at
+// g_dataPos + i * g_dirStep, not a running sum: summing thousands of float
+// steps (dense sampling) drifts by a good fraction of a voxel.
+//
+// Hooks (after vispy's volume.py: one template, a method fills only its
+// hooks). A sampled method is ONE hook piece filling Picking::Dec (global
+// scope, after VTK's computeColor/computeOpacity and mipcast's mip_globals
+// and demip_helpers) that defines:
+//   void mcBeginRay(inout int first, inout int count)
+//       before the loop: samples first .. count - 1 are marched (on entry 0
+//       and this ray's number of samples; a method may narrow them).
+//   bool mcSample(float value, int i)
+//       at sample i; value is the raw texel value (VTK's normalised scalar:
+//       mcNormalised(value), mip_globals). Return false to end the ray before
+//       sample i (then count becomes i).
+//   void mcEndRay(int count)
+//       after the loop(s), count the samples marched: leave the ray's
+//       normalised value in mc_rayMax for the colour and readout pieces.
+// Optional second march over the same samples (DEMIP's same-material
+// search), run when the hook piece does "#define MC_SECOND_MARCH"; DEMIP's
+// second-march hooks are in demip_helpers:
+//   bool mcBeginSecondMarch(inout int first, inout int count)
+//       after the first march (on entry 0 and its count); false: no march.
+//   bool mcSecondSample(float value, int i)   true: sample i is the one, stop.
+//   void mcEndSecondMarch(int found)          the index found, -1 if none.
+// Per-sample work is the hooks' only: every lane of a SIMD group runs the
+// same loop (llvmpipe runs lanes in lockstep).
+  vec3 mc_limit = mix(in_texMin[0], in_texMax[0], vec3(greaterThan(g_dirStep, vec3(0.0))));
+  vec3 mc_toExit = (mc_limit - g_dataPos) / g_dirStep;
+  mc_toExit = mix(mc_toExit, vec3(1.0e30), vec3(equal(g_dirStep, vec3(0.0))));
+  float mc_stepsInBox = min(min(mc_toExit.x, mc_toExit.y), mc_toExit.z);
+  int mc_first = 0;
+  int mc_count = 1 + int(max(0.0, floor(mc_stepsInBox)));
+  mc_count = min(mc_count, int(ceil(max(g_terminatePointMax, 0.0))) + 1);
+  mcBeginRay(mc_first, mc_count);
+  for (int mc_i = mc_first; mc_i < mc_count; ++mc_i)
+  {
+    if (!mcSample(texture3D(in_volume[0], g_dataPos + float(mc_i) * g_dirStep).r, mc_i))
+    {
+      mc_count = mc_i;
+      break;
+    }
+  }
+#ifdef MC_SECOND_MARCH
+  int mc_from = 0;
+  int mc_to = mc_count;
+  if (mcBeginSecondMarch(mc_from, mc_to))
+  {
+    int mc_found = -1;
+    for (int mc_j = mc_from; mc_j < mc_to; ++mc_j)
+    {
+      if (mcSecondSample(texture3D(in_volume[0], g_dataPos + float(mc_j) * g_dirStep).r, mc_j))
+      {
+        mc_found = mc_j;
+        break;
+      }
+    }
+    mcEndSecondMarch(mc_found);
+  }
+#endif
+  mcEndRay(mc_count);
+  g_exit = true;
