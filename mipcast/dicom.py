@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence, Union
 
@@ -39,11 +40,37 @@ SCALARS_NAME = "values"
 #: Name of the one-value string array in the field data holding the units.
 UNITS_NAME = "units"
 
-# Tolerances (see _assemble for how they are used).
+# Tolerances (see _check_steps for how they are used).  Positions are fitted
+# with a least-squares regular grid; the tolerances scale with the voxel.
 ORIENTATION_TOL = 1e-3      # cosines: about 0.06 degrees
-SPACING_TOL = 0.01          # relative: non-uniform slice steps beyond 1 % are refused
+POSITION_TOL = 0.2          # a slice may sit up to 0.2 x the step off the fitted grid
+WARN_TOL = 1e-3             # warn (once per volume) beyond 0.1 % of the step
+DUPLICATE_FACTOR = 0.1      # a step < 0.1 x the median step is a duplicate position
 GAP_FACTOR = 1.5            # a step > 1.5 x the median step is a missing slice
-TILT_TOL_PIXELS = 0.1       # lateral drift of slice origins, in pixels
+TILT_TOL_PIXELS = 0.1       # systematic lateral drift of slice origins, in pixels
+LATERAL_TOL_PIXELS = 0.5    # scatter of slice origins sideways to the normal, in pixels
+#: Largest decoded volume in bytes (4 GiB); a header asking for more is refused
+#: before anything is allocated.
+MAX_BYTES = 4 * 2 ** 30
+#: Largest ratio of decoded to stored bytes accepted for compressed pixel data.
+MAX_COMPRESSION = 1000
+
+
+class DicomError(ValueError):
+    """A DICOM input that cannot be read as a volume; the message says why and what to do.
+
+    A subclass of ValueError, so ``except ValueError`` keeps working.
+
+    Examples
+    --------
+    >>> issubclass(DicomError, ValueError)
+    True
+    """
+
+
+class DicomGeometryWarning(UserWarning):
+    """Slice positions off a regular grid within the tolerance (issued once per volume)."""
+
 
 # Suggested `pip install` per transfer syntax whose decoder can be missing.
 _DECODER_PACKAGES = {
@@ -161,7 +188,7 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
     images = [(file, ds) for file, ds in datasets if _has_pixels(ds)]
     if not images:
         kinds = sorted({str(ds.get("Modality", "?")) for _, ds in datasets})
-        raise ValueError(
+        raise DicomError(
             f"'{path}' holds {len(datasets)} DICOM file(s) but none with pixel data "
             f"(modalities: {', '.join(kinds)}); these are non-image objects (structure "
             "sets, plans, reports, DICOMDIR ...): point to the folder holding the image slices")
@@ -171,7 +198,7 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
     if series_uid is None:
         if len(series) > 1:
             listing = "\n".join(f"  {_describe(entry)}" for entry in _summaries(images))
-            raise ValueError(
+            raise DicomError(
                 f"'{path}' holds {len(series)} image series; choose one with "
                 "series_uid=... (read_dicom(path, series_uid=...) or "
                 "read_volume(path, series_uid=...)), or move each series into its own "
@@ -180,7 +207,7 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
     else:
         if str(series_uid) not in series:
             listing = "\n".join(f"  {_describe(entry)}" for entry in _summaries(images))
-            raise ValueError(
+            raise DicomError(
                 f"no image series with SeriesInstanceUID {series_uid!r} in '{path}'; "
                 f"the image series there are:\n{listing}")
         chosen = series[str(series_uid)]
@@ -252,7 +279,7 @@ def _scan(path: Path, pydicom) -> list:
     if path.is_file():
         ds = _read_header(path, pydicom)
         if ds is None:
-            raise ValueError(
+            raise DicomError(
                 f"'{path}' is not a DICOM file (no 'DICM' marker and no DICOM data set at "
                 "its start); pass a DICOM file or the folder holding the series")
         return [(path, ds)]
@@ -268,7 +295,7 @@ def _scan(path: Path, pydicom) -> list:
                 f"{', ...' if len(subfolders) > 5 else ''}) -- subfolders are not searched, "
                 "pass the folder that holds the slices" if subfolders else
                 "; pass the folder that holds the slices of one series")
-        raise ValueError(f"no DICOM files in '{path}' ({len(files)} file(s) checked){hint}")
+        raise DicomError(f"no DICOM files in '{path}' ({len(files)} file(s) checked){hint}")
     return found
 
 
@@ -281,7 +308,7 @@ def _read_header(file: Path, pydicom):
     except InvalidDicomError:
         pass
     except Exception as error:  # a DICOM file that does not parse
-        raise ValueError(
+        raise DicomError(
             f"'{file}' is a DICOM file but could not be read ({error}); remove or "
             "re-export it") from error
     # Old files without the 128-byte preamble and 'DICM': accept only if they
@@ -365,7 +392,7 @@ def _floats(value, count: int, what: str, where: str) -> np.ndarray:
     except (TypeError, ValueError):
         numbers = np.array([])
     if numbers.shape != (count,) or not np.isfinite(numbers).all():
-        raise ValueError(f"{where}: {what} is {value!r}, expected {count} numbers")
+        raise DicomError(f"{where}: {what} is {value!r}, expected {count} numbers")
     return numbers
 
 
@@ -381,7 +408,7 @@ def _frames_of(file: Path, ds) -> List[_Frame]:
     where = f"'{file}'"
     samples = int(ds.get("SamplesPerPixel", 1) or 1)
     if samples != 1:
-        raise ValueError(
+        raise DicomError(
             f"{where} is a colour image ({samples} samples per pixel, "
             f"{ds.get('PhotometricInterpretation', '?')}); a MIP needs one value per voxel: "
             "use a greyscale series")
@@ -396,7 +423,7 @@ def _frames_of(file: Path, ds) -> List[_Frame]:
     shared = _first_item(ds, "SharedFunctionalGroupsSequence")
     if per_frame is not None or shared is not None:  # enhanced multi-frame
         if per_frame is not None and len(per_frame) != frames:
-            raise ValueError(f"{where}: {len(per_frame)} per-frame functional groups for "
+            raise DicomError(f"{where}: {len(per_frame)} per-frame functional groups for "
                              f"{frames} frames; the file is inconsistent")
         result = []
         for index in range(frames):
@@ -435,7 +462,7 @@ def _frames_of(file: Path, ds) -> List[_Frame]:
                        top_type, where, ds)]
     offsets = ds.get("GridFrameOffsetVector", None)
     if offsets is None:
-        raise ValueError(
+        raise DicomError(
             f"{where} has {frames} frames but no per-frame positions (no "
             "PerFrameFunctionalGroupsSequence and no GridFrameOffsetVector): mipcast cannot "
             "tell where the frames are; convert it to a slice series or an enhanced "
@@ -459,16 +486,16 @@ def _frame(file, index, position, orientation, spacing, slope, intercept, rescal
            ds) -> _Frame:
     if position is None or orientation is None:
         kind = f"{ds.get('Modality', '?')} {getattr(ds.get('SOPClassUID', None), 'name', '')}"
-        raise ValueError(
+        raise DicomError(
             f"{where} ({kind.strip()}) has no ImagePositionPatient/ImageOrientationPatient: it "
             "is not a slice of a 3D volume (a projection, scout or secondary capture?); "
             "mipcast needs cross-sectional images (CT, MR, PET, RT dose ...)")
     if spacing is None:
-        raise ValueError(f"{where} has no PixelSpacing, so the voxel size is unknown; "
+        raise DicomError(f"{where} has no PixelSpacing, so the voxel size is unknown; "
                          "add it to the files (e.g. with pydicom) before reading")
     pixel_spacing = _floats(spacing, 2, "PixelSpacing", where)
     if not (pixel_spacing > 0).all():
-        raise ValueError(f"{where}: PixelSpacing {list(pixel_spacing)} must be > 0")
+        raise DicomError(f"{where}: PixelSpacing {list(pixel_spacing)} must be > 0")
     return _Frame(file, index, _floats(position, 3, "ImagePositionPatient", where),
                   _floats(orientation, 6, "ImageOrientationPatient", where), pixel_spacing,
                   float(slope), float(intercept), rescale_type)
@@ -512,16 +539,16 @@ def _pixels(file: Path, ds) -> np.ndarray:
     """Decoded pixels of one file as (frames, rows, columns)."""
     problem = _decoder_problem(ds)
     if problem:
-        raise ValueError(f"cannot decode '{file}': {problem}")
+        raise DicomError(f"cannot decode '{file}': {problem}")
     try:
         array = ds.pixel_array
     except Exception as error:
         meta = getattr(ds, "file_meta", None)
         syntax = meta.get("TransferSyntaxUID", None) if meta is not None else None
         if syntax is not None and syntax.is_compressed:
-            raise ValueError(f"cannot decode '{file}': "
+            raise DicomError(f"cannot decode '{file}': "
                              f"{_missing_decoder_text(syntax, [])}; pydicom said: {error}") from error
-        raise ValueError(f"cannot decode the pixel data of '{file}': {error}") from error
+        raise DicomError(f"cannot decode the pixel data of '{file}': {error}") from error
     frames = int(ds.get("NumberOfFrames", 1) or 1)
     return array.reshape((frames,) + array.shape[-2:])
 
@@ -536,25 +563,25 @@ def _assemble(frames: List[_Frame], files, pydicom) -> vtkImageData:
     headers = {file: ds for file, ds in files}
     size = {(int(headers[f.file].Rows), int(headers[f.file].Columns)) for f in frames}
     if len(size) > 1:
-        raise ValueError(f"the images of the series have different sizes {sorted(size)} "
+        raise DicomError(f"the images of the series have different sizes {sorted(size)} "
                          "(rows, columns); keep only the slices of one stack")
     rows, cols = size.pop()
 
     for frame in frames[1:]:
         if np.abs(frame.orientation - first.orientation).max() > ORIENTATION_TOL:
-            raise ValueError(
+            raise DicomError(
                 f"inconsistent orientation: {frame.name} has ImageOrientationPatient "
                 f"{_fmt(frame.orientation)} but {first.name} has {_fmt(first.orientation)}; "
                 "the series mixes differently oriented images (a scout/localizer or "
                 "reformats?): keep only the slices of one stack")
         if np.abs(frame.pixel_spacing - first.pixel_spacing).max() > 1e-4 * first.pixel_spacing.max():
-            raise ValueError(
+            raise DicomError(
                 f"inconsistent PixelSpacing: {frame.name} has {_fmt(frame.pixel_spacing)} but "
                 f"{first.name} has {_fmt(first.pixel_spacing)}; keep only the slices of one stack")
     row = first.orientation[:3] / np.linalg.norm(first.orientation[:3])
     col = first.orientation[3:] / np.linalg.norm(first.orientation[3:])
     if abs(float(row @ col)) > ORIENTATION_TOL:
-        raise ValueError(
+        raise DicomError(
             f"ImageOrientationPatient {_fmt(first.orientation)} of {first.name} is not made of "
             "two perpendicular unit vectors; the files are corrupt")
     normal = np.cross(row, col)
@@ -576,8 +603,9 @@ def _assemble(frames: List[_Frame], files, pydicom) -> vtkImageData:
                 step = float(value)
                 break
         step = step or 1.0  # one slice: the step has no effect on any point
+        origin = positions[0]
     else:
-        step = _check_steps(frames, positions, along, normal, pixel)
+        step, origin = _check_steps(frames, positions, along, normal, pixel)
 
     ds0 = headers[first.file]
     values = _stack(frames, headers, rows, cols)
@@ -585,7 +613,7 @@ def _assemble(frames: List[_Frame], files, pydicom) -> vtkImageData:
     image.SetDimensions(cols, rows, len(frames))
     # PixelSpacing = (between rows, between columns) = (along j, along i)
     image.SetSpacing(float(first.pixel_spacing[1]), float(first.pixel_spacing[0]), step)
-    image.SetOrigin(*(float(v) for v in positions[0]))
+    image.SetOrigin(*(float(v) for v in origin))
     image.SetDirectionMatrix(*np.column_stack([row, col, normal]).ravel())
     values.SetName(SCALARS_NAME)
     image.GetPointData().SetScalars(values)
@@ -596,57 +624,103 @@ def _assemble(frames: List[_Frame], files, pydicom) -> vtkImageData:
     return image
 
 
-def _check_steps(frames, positions, along, normal, pixel) -> float:
-    """Refuse duplicates, tilt, gaps and uneven steps; return the slice step."""
+def _check_steps(frames, positions, along, normal, pixel):
+    """Fit a regular grid to the slice positions; return (step, origin).
+
+    Duplicates, gaps, gantry tilt, scattered origins and slices more than
+    ``POSITION_TOL`` x step off the least-squares grid are refused, naming
+    the slices.  Within the tolerance, the least-squares step and origin are
+    used and one :class:`DicomGeometryWarning` gives the largest misplacement.
+    """
     steps = np.diff(along)
+    _refuse_duplicates(frames, along, steps)
+    lateral, scatter = _check_lateral(frames, positions, along, normal, pixel)
+    _refuse_gaps(frames, along, steps)
+    n = len(along)
+    k = np.arange(n, dtype=float)
+    step = float((along[-1] - along[0]) / (n - 1))
+    intercept = float(along[0])
+    if np.abs(along - (intercept + step * k)).max() > 1e-6 * step:  # not exactly even
+        step, intercept = (float(v) for v in np.polyfit(k, along, 1))
+    residual = along - (intercept + step * k)
+    worst = int(np.argmax(np.abs(residual)))
+    if abs(residual[worst]) > POSITION_TOL * step:
+        raise DicomError(
+            f"the slice positions are not evenly spaced: {frames[worst].name} lies "
+            f"{abs(residual[worst]):.3g} mm off the best regular grid (step {step:.4g} mm; "
+            f"steps range from {steps.min():.4g} to {steps.max():.4g} mm; limit "
+            f"{POSITION_TOL:g} x the step). The folder probably mixes stacks with different "
+            "spacing; keep the slices of one stack (or resample the series to a uniform step "
+            "first)")
+    misplacement = np.sqrt(residual ** 2 + scatter ** 2)
+    worst = int(np.argmax(misplacement))
+    if misplacement[worst] > max(WARN_TOL * step, 1e-4):
+        warnings.warn(
+            f"the slice positions deviate from a regular grid (steps {steps.min():.4g} to "
+            f"{steps.max():.4g} mm, rounded positions in the headers?): using the least-squares "
+            f"step {step:.6g} mm; the largest misplacement is {misplacement[worst]:.3g} mm "
+            f"({100 * misplacement[worst] / step:.2g} % of the step) at {frames[worst].name}",
+            DicomGeometryWarning, stacklevel=4)
+    origin = positions[0] + (intercept - along[0]) * normal + lateral.mean(axis=0)
+    return step, origin
+
+
+def _refuse_duplicates(frames, along, steps) -> None:
     nonzero = steps[steps > 1e-6]
     median = float(np.median(nonzero)) if nonzero.size else 0.0
-    duplicates = np.flatnonzero(steps <= max(1e-4, 0.01 * median))
+    duplicates = np.flatnonzero(steps <= max(1e-4, DUPLICATE_FACTOR * median))
     if duplicates.size:
         pairs = "; ".join(f"{frames[d].name} and {frames[d + 1].name} at {along[d]:.3f} mm"
                           for d in duplicates[:3])
-        raise ValueError(
+        raise DicomError(
             f"{duplicates.size} duplicate slice position(s) along the slice normal ({pairs}"
             f"{'; ...' if duplicates.size > 3 else ''}): the series holds several images per "
             "position (repeated files, several time points, echoes or acquisitions?); keep "
             "one image per position (e.g. one acquisition/echo per folder)")
 
-    offsets = positions - positions[0]
-    lateral = offsets - np.outer(offsets @ normal, normal)
-    drift = np.linalg.norm(lateral, axis=1)
-    tolerance = max(TILT_TOL_PIXELS * pixel, 1e-3)
-    if drift.max() > tolerance:
-        last = int(np.argmax(drift))
-        angle = math.degrees(math.atan2(drift[last], along[last] - along[0]))
-        raise ValueError(
-            f"the slice origins drift sideways to the slice normal by up to {drift.max():.3f} mm "
-            f"(gantry tilt of about {angle:.2f} deg, or slices of several stacks): stacking "
-            "them on a regular grid would shear the anatomy. mipcast refuses tilted series; "
-            "resample onto an untilted grid first (e.g. 3D Slicer's 'Gantry tilt correction', "
-            "dcm2niix, or SimpleITK's ResampleImageFilter)")
 
+def _refuse_gaps(frames, along, steps) -> None:
+    median = float(np.median(steps))
     gaps = np.flatnonzero(steps > GAP_FACTOR * median)
     if gaps.size:
         where = "; ".join(
             f"between {frames[g].name} ({along[g]:.3f} mm) and {frames[g + 1].name} "
             f"({along[g + 1]:.3f} mm): about {max(1, round(steps[g] / median) - 1)} missing"
             for g in gaps[:3])
-        raise ValueError(
+        raise DicomError(
             f"missing slice(s): {gaps.size} gap(s) larger than {GAP_FACTOR} x the usual step "
             f"of {median:.4g} mm ({where}{'; ...' if gaps.size > 3 else ''}); copy the whole "
             "series into the folder (or remove the stray slices)")
 
-    step = float((along[-1] - along[0]) / (len(along) - 1))
-    deviation = float(np.abs(steps - step).max())
-    if deviation > SPACING_TOL * step:
-        raise ValueError(
-            f"the slice step is not uniform: it ranges from {steps.min():.4g} to "
-            f"{steps.max():.4g} mm (mean {step:.4g} mm, {100 * deviation / step:.1f} % off, "
-            f"limit {100 * SPACING_TOL:g} %). A regular grid would misplace slices by up to "
-            f"{deviation:.3g} mm and resampling would silently change the geometry, so "
-            "mipcast refuses; resample the series to a uniform step first, or read a "
-            "uniformly spaced part of it")
-    return step
+
+def _check_lateral(frames, positions, along, normal, pixel):
+    """Refuse tilt and scattered origins; return (lateral offsets, their scatter)."""
+    offsets = positions - positions[0]
+    lateral = offsets - np.outer(offsets @ normal, normal)
+    depth = along - along[0]
+    design = np.column_stack([np.ones_like(depth), depth])
+    (base, slope), *_ = np.linalg.lstsq(design, lateral, rcond=None)
+    fitted = base + np.outer(depth, slope)
+    noise = float(np.linalg.norm(lateral - fitted, axis=1).max())
+    drift = float(np.linalg.norm(slope) * depth[-1])
+    if drift > max(TILT_TOL_PIXELS * pixel + 3 * noise, 1e-3):
+        angle = math.degrees(math.atan(float(np.linalg.norm(slope))))
+        raise DicomError(
+            f"the slice origins drift sideways to the slice normal by {drift:.3f} mm from "
+            f"{frames[0].name} to {frames[-1].name} (gantry tilt of about {angle:.2f} deg, or "
+            "slices of several stacks): stacking them on a regular grid would shear the "
+            "anatomy. mipcast refuses tilted series; resample onto an untilted grid first "
+            "(e.g. 3D Slicer's 'Gantry tilt correction', dcm2niix, or SimpleITK's "
+            "ResampleImageFilter)")
+    scatter = np.linalg.norm(lateral - lateral.mean(axis=0), axis=1)
+    worst = int(np.argmax(scatter))
+    if scatter[worst] > LATERAL_TOL_PIXELS * pixel:
+        raise DicomError(
+            f"the slice origins are scattered sideways to the slice normal: {frames[worst].name} "
+            f"is {scatter[worst]:.3g} mm off the others (limit {LATERAL_TOL_PIXELS:g} pixel = "
+            f"{LATERAL_TOL_PIXELS * pixel:.3g} mm); the folder mixes stacks: keep the slices "
+            "of one stack")
+    return lateral, scatter
 
 
 def _stack(frames: List[_Frame], headers, rows: int, cols: int) -> vtkDataArray:
