@@ -78,8 +78,8 @@ _DECODER_PACKAGES = {
     "1.2.840.10008.1.2.4.51": "pylibjpeg pylibjpeg-libjpeg",   # JPEG extended
     "1.2.840.10008.1.2.4.57": "pylibjpeg pylibjpeg-libjpeg",   # JPEG lossless
     "1.2.840.10008.1.2.4.70": "pylibjpeg pylibjpeg-libjpeg",   # JPEG lossless SV1
-    "1.2.840.10008.1.2.4.80": "pyjpegls",                      # JPEG-LS lossless
-    "1.2.840.10008.1.2.4.81": "pyjpegls",                      # JPEG-LS near-lossless
+    "1.2.840.10008.1.2.4.80": "pylibjpeg pylibjpeg-libjpeg",   # JPEG-LS lossless
+    "1.2.840.10008.1.2.4.81": "pylibjpeg pylibjpeg-libjpeg",   # JPEG-LS near-lossless
     "1.2.840.10008.1.2.4.90": "pylibjpeg pylibjpeg-openjpeg",  # JPEG 2000 lossless
     "1.2.840.10008.1.2.4.91": "pylibjpeg pylibjpeg-openjpeg",  # JPEG 2000
     "1.2.840.10008.1.2.4.201": "pylibjpeg pylibjpeg-openjpeg",  # HTJ2K lossless
@@ -87,7 +87,7 @@ _DECODER_PACKAGES = {
     "1.2.840.10008.1.2.4.203": "pylibjpeg pylibjpeg-openjpeg",  # HTJ2K
     "1.2.840.10008.1.2.5": "pylibjpeg pylibjpeg-rle",          # RLE (numpy decoder built in)
 }
-_ANY_DECODER = "pylibjpeg pylibjpeg-libjpeg pylibjpeg-openjpeg"
+_ANY_DECODER = "pylibjpeg pylibjpeg-libjpeg pylibjpeg-openjpeg pylibjpeg-rle"
 
 
 # ---------------------------------------------------------------------------
@@ -535,11 +535,60 @@ def _missing_decoder_text(syntax, missing: Sequence[str]) -> str:
     return text
 
 
+def _expected_bytes(ds) -> int:
+    """Bytes of the decoded pixels of ``ds`` as its header describes them."""
+    rows, cols = int(ds.get("Rows", 0) or 0), int(ds.get("Columns", 0) or 0)
+    frames = int(ds.get("NumberOfFrames", 1) or 1)
+    samples = int(ds.get("SamplesPerPixel", 1) or 1)
+    bits = int(ds.get("BitsAllocated", 8) or 8)
+    return rows * cols * frames * samples * max(1, (bits + 7) // 8)
+
+
+def _refuse_lying_size(file: Path, ds) -> None:
+    """Refuse, before decoding, pixel data that cannot hold what the header says."""
+    where = f"'{file}'"
+    for keyword in ("Rows", "Columns", "NumberOfFrames", "BitsAllocated", "SamplesPerPixel"):
+        value = ds.get(keyword, None)
+        if value not in (None, "") and (not isinstance(value, (int, float, str))
+                                        or int(float(value)) < 0):
+            raise DicomError(f"{where}: {keyword} is {value!r}, not a count; the file is corrupt")
+    expected = _expected_bytes(ds)
+    if expected == 0:
+        raise DicomError(f"{where}: Rows or Columns is 0; the file holds no image")
+    if expected > MAX_BYTES:
+        raise DicomError(
+            f"{where}: the header describes {expected / 2 ** 30:.3g} GiB of pixels "
+            f"(Rows x Columns x frames x bytes), more than mipcast reads "
+            f"({MAX_BYTES / 2 ** 30:g} GiB); the header is corrupt, or split the volume")
+    raw = ds.get_item("PixelData")
+    length = getattr(raw, "length", None)
+    tell = getattr(raw, "value_tell", None)
+    size = file.stat().st_size
+    if length is not None and length != 0xFFFFFFFF and tell is not None and tell + length > size:
+        raise DicomError(f"{where} is truncated: its pixel data should be {length} bytes but the "
+                         f"file ends {size - tell} bytes after its start; re-export or re-copy it")
+    stored = len(ds.PixelData)
+    syntax = getattr(getattr(ds, "file_meta", None), "get", lambda *_: None)("TransferSyntaxUID")
+    compressed = syntax is not None and syntax.is_compressed
+    if not compressed and stored < expected:
+        raise DicomError(
+            f"{where}: the header describes {expected} bytes of pixels (Rows x Columns x frames "
+            f"x bytes) but the file holds {stored}: truncated file or wrong Rows/Columns/"
+            "NumberOfFrames; re-export it")
+    if compressed and expected > MAX_COMPRESSION * stored + 2 ** 20:
+        raise DicomError(
+            f"{where}: the header describes {expected} bytes of pixels but only {stored} "
+            f"compressed bytes are stored (more than {MAX_COMPRESSION}:1); the header lies "
+            "about Rows/Columns/NumberOfFrames or the file is truncated; re-export it")
+
+
 def _pixels(file: Path, ds) -> np.ndarray:
     """Decoded pixels of one file as (frames, rows, columns)."""
     problem = _decoder_problem(ds)
     if problem:
         raise DicomError(f"cannot decode '{file}': {problem}")
+    if "PixelData" in ds:
+        _refuse_lying_size(file, ds)
     try:
         array = ds.pixel_array
     except Exception as error:
@@ -550,6 +599,10 @@ def _pixels(file: Path, ds) -> np.ndarray:
                              f"{_missing_decoder_text(syntax, [])}; pydicom said: {error}") from error
         raise DicomError(f"cannot decode the pixel data of '{file}': {error}") from error
     frames = int(ds.get("NumberOfFrames", 1) or 1)
+    if array.ndim not in (2, 3) or array.size != frames * int(ds.Rows) * int(ds.Columns):
+        raise DicomError(f"cannot decode the pixel data of '{file}': decoded shape "
+                         f"{array.shape} does not match {frames} frame(s) of "
+                         f"{ds.Rows} x {ds.Columns}; the file is corrupt")
     return array.reshape((frames,) + array.shape[-2:])
 
 
@@ -566,6 +619,11 @@ def _assemble(frames: List[_Frame], files, pydicom) -> vtkImageData:
         raise DicomError(f"the images of the series have different sizes {sorted(size)} "
                          "(rows, columns); keep only the slices of one stack")
     rows, cols = size.pop()
+    if len(frames) * rows * cols * 8 > MAX_BYTES:
+        raise DicomError(
+            f"the series describes {len(frames)} slices of {rows} x {cols} pixels, more than "
+            f"mipcast reads ({MAX_BYTES / 2 ** 30:g} GiB as float64); the header is corrupt, "
+            "or read a part of the series")
 
     for frame in frames[1:]:
         if np.abs(frame.orientation - first.orientation).max() > ORIENTATION_TOL:
