@@ -368,10 +368,12 @@ class _Frame:
     """One 2D image: where it is, how to scale it, where its pixels are."""
 
     __slots__ = ("file", "index", "position", "orientation", "pixel_spacing",
-                 "slope", "intercept", "rescale_type")
+                 "slope", "intercept", "rescale_type", "tile")
 
     def __init__(self, file, index, position, orientation, pixel_spacing, slope, intercept,
-                 rescale_type):
+                 rescale_type, tile=None):
+        #: (first row, first column, rows, columns) of a mosaic tile, else None
+        self.tile = tile
         self.file = file
         self.index = index
         self.position = position
@@ -383,7 +385,23 @@ class _Frame:
 
     @property
     def name(self) -> str:
+        if self.tile is not None:
+            return f"{self.file.name} mosaic tile {self.tile[4] + 1}"
         return self.file.name if self.index is None else f"{self.file.name} frame {self.index + 1}"
+
+    def shape(self, ds) -> tuple:
+        """(rows, columns) of this frame's image."""
+        if self.tile is not None:
+            return self.tile[2], self.tile[3]
+        return int(ds.Rows), int(ds.Columns)
+
+    def pixels(self, decoded: np.ndarray) -> np.ndarray:
+        """This frame's pixels from the decoded (frames, rows, columns) of its file."""
+        image = decoded[self.index or 0]
+        if self.tile is None:
+            return image
+        r, c, rows, cols, _ = self.tile
+        return image[r:r + rows, c:c + cols]
 
 
 def _floats(value, count: int, what: str, where: str) -> np.ndarray:
@@ -457,6 +475,10 @@ def _frames_of(file: Path, ds) -> List[_Frame]:
     position = ds.get("ImagePositionPatient", None)
     orientation = ds.get("ImageOrientationPatient", None)
     spacing = ds.get("PixelSpacing", None)
+    if frames == 1 and _is_mosaic(ds):
+        base = _frame(file, None, position, orientation, spacing, top_slope, top_intercept,
+                      top_type, where, ds)
+        return _mosaic_frames(file, ds, base, where)
     if frames == 1:
         return [_frame(file, None, position, orientation, spacing, top_slope, top_intercept,
                        top_type, where, ds)]
@@ -480,6 +502,100 @@ def _frames_of(file: Path, ds) -> List[_Frame]:
     return [_Frame(file, index, base.position + offset * normal, base.orientation,
                    base.pixel_spacing, top_slope, top_intercept, top_type)
             for index, offset in enumerate(offsets)]
+
+
+def _is_mosaic(ds) -> bool:
+    """A Siemens mosaic: ImageType says MOSAIC (as dcm2niix and nibabel check)."""
+    image_type = ds.get("ImageType", None) or []
+    if isinstance(image_type, str):
+        image_type = [image_type]
+    return any(str(v).upper() == "MOSAIC" for v in image_type)
+
+
+def _nibabel_nicom():
+    """nibabel's CSA reader and DICOM wrappers, without its 'experimental' import warning."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="The DICOM readers are highly experimental")
+        from nibabel.nicom import csareader, dicomwrappers
+    return csareader, dicomwrappers
+
+
+def _csa_image_header(ds, where):
+    """The parsed Siemens CSA image header of ``ds`` (nibabel.nicom.csareader), or None."""
+    if (0x0029, 0x0010) not in ds:
+        return None
+    try:
+        csareader, _ = _nibabel_nicom()
+    except ImportError:
+        raise DicomError(f"{where} is a Siemens mosaic; reading its CSA header needs nibabel: "
+                         "pip install nibabel") from None
+    try:
+        return csareader.get_csa_header(ds, "image")
+    except Exception as error:  # CSAReadError, struct.error ... on a damaged header
+        raise DicomError(f"{where}: the Siemens CSA image header (0029,1010) is damaged "
+                         f"({error}); re-export the series from the scanner") from error
+
+
+def _mosaic_count(ds, where) -> Optional[int]:
+    """NumberOfImagesInMosaic from the CSA header, else the private tag (0019,100A)."""
+    csa = _csa_image_header(ds, where)
+    count = None
+    if csa is not None:
+        count = _nibabel_nicom()[0].get_n_mosaic(csa)
+    if count in (None, "", 0):
+        try:
+            block = ds.private_block(0x0019, "SIEMENS MR HEADER")
+            value = block[0x0A].value if 0x0A in block else None
+        except (KeyError, ValueError):
+            value = None
+        if isinstance(value, bytes) and len(value) in (2, 4):  # implicit VR: raw little endian
+            value = int.from_bytes(value, "little")
+        count = value
+    try:
+        return int(count) if count not in (None, "") else None
+    except (TypeError, ValueError):
+        return None
+
+
+def _mosaic_frames(file, ds, base: _Frame, where) -> List[_Frame]:
+    """The tiles of a Siemens mosaic as frames, with nibabel's mosaic geometry."""
+    count = _mosaic_count(ds, where)
+    if count is None or not 1 <= count <= 4096:
+        raise DicomError(
+            f"{where} is a Siemens mosaic (ImageType MOSAIC) but its number of images "
+            f"(CSA NumberOfImagesInMosaic or (0019,100A)) is {count!r}; without it the tiles "
+            "cannot be unpacked: convert the series with dcm2niix")
+    size = int(math.ceil(math.sqrt(count)))
+    rows, cols = int(ds.Rows), int(ds.Columns)
+    if rows % size or cols % size:
+        raise DicomError(f"{where}: a mosaic of {count} images ({size} x {size} tiles) cannot "
+                         f"be {rows} x {cols} pixels; the header is inconsistent")
+    csareader, dicomwrappers = _nibabel_nicom()
+    csa = _csa_image_header(ds, where) or {}
+    wrapper = dicomwrappers.MosaicWrapper(ds, csa, count)
+    try:
+        normal = np.asarray(wrapper.slice_normal, dtype=float)
+        first = np.asarray(wrapper.image_position, dtype=float)
+    except (AssertionError, TypeError, ValueError) as error:
+        csa_normal = csareader.get_slice_normal(csa) if csa else None
+        raise DicomError(
+            f"{where}: the mosaic's CSA SliceNormalVector {csa_normal} is not the normal of "
+            f"ImageOrientationPatient {_fmt(base.orientation)}; the header is inconsistent"
+        ) from error
+    step = None
+    for keyword in ("SpacingBetweenSlices", "SliceThickness"):
+        value = ds.get(keyword, None)
+        if value not in (None, "") and float(value) > 0:
+            step = float(value)
+            break
+    if step is None:
+        raise DicomError(f"{where}: a mosaic without SpacingBetweenSlices or SliceThickness; "
+                         "the slice step is unknown")
+    tile_rows, tile_cols = rows // size, cols // size
+    return [_Frame(file, None, first + k * step * normal, base.orientation, base.pixel_spacing,
+                   base.slope, base.intercept, base.rescale_type,
+                   ((k // size) * tile_rows, (k % size) * tile_cols, tile_rows, tile_cols, k))
+            for k in range(count)]
 
 
 def _frame(file, index, position, orientation, spacing, slope, intercept, rescale_type, where,
@@ -614,7 +730,7 @@ def _assemble(frames: List[_Frame], files, pydicom) -> vtkImageData:
     """Check the geometry of ``frames``, sort them along the normal, stack them."""
     first = frames[0]
     headers = {file: ds for file, ds in files}
-    size = {(int(headers[f.file].Rows), int(headers[f.file].Columns)) for f in frames}
+    size = {f.shape(headers[f.file]) for f in frames}
     if len(size) > 1:
         raise DicomError(f"the images of the series have different sizes {sorted(size)} "
                          "(rows, columns); keep only the slices of one stack")
@@ -788,7 +904,7 @@ def _stack(frames: List[_Frame], headers, rows: int, cols: int) -> vtkDataArray:
     for frame in frames:
         if frame.file not in decoded:
             decoded[frame.file] = _pixels(frame.file, headers[frame.file])
-        raw.append(decoded[frame.file][frame.index or 0])
+        raw.append(frame.pixels(decoded[frame.file]))
     slopes = np.array([f.slope for f in frames])
     intercepts = np.array([f.intercept for f in frames])
     integral = (all(a.dtype.kind in "iub" for a in raw)
