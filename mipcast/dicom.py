@@ -195,25 +195,36 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
     series: Dict[str, list] = {}
     for file, ds in images:
         series.setdefault(_series_uid(ds), []).append((file, ds))
-    if series_uid is None:
+    uid, _, volume = str(series_uid).partition("#") if series_uid is not None else (None, "", "")
+    if uid is None:
         if len(series) > 1:
-            listing = "\n".join(f"  {_describe(entry)}" for entry in _summaries(images))
             raise DicomError(
                 f"'{path}' holds {len(series)} image series; choose one with "
                 "series_uid=... (read_dicom(path, series_uid=...) or "
                 "read_volume(path, series_uid=...)), or move each series into its own "
-                f"folder:\n{listing}")
-        chosen = next(iter(series.values()))
-    else:
-        if str(series_uid) not in series:
-            listing = "\n".join(f"  {_describe(entry)}" for entry in _summaries(images))
-            raise DicomError(
-                f"no image series with SeriesInstanceUID {series_uid!r} in '{path}'; "
-                f"the image series there are:\n{listing}")
-        chosen = series[str(series_uid)]
+                f"folder:\n{_listing(images)}")
+        uid = next(iter(series))
+    elif uid not in series:
+        raise DicomError(
+            f"no image series with SeriesInstanceUID {uid!r} in '{path}'; "
+            f"the image series there are:\n{_listing(images)}")
+    chosen = series[uid]
     frames = []
     for file, ds in chosen:
         frames.extend(_frames_of(file, ds))
+    volumes = _split(frames)
+    if volume not in volumes:
+        if volume or len(volumes) > 1:
+            ids = ", ".join(repr(f"{uid}#{key}") for key in volumes if key)
+            raise DicomError(
+                f"series {uid} in '{path}' holds {len(volumes)} volumes (several images per "
+                f"slice position or several orientations, told apart by {next(iter(volumes)).split('=')[0]}); choose "
+                f"one with series_uid= one of {ids}" if len(volumes) > 1 else
+                f"series {uid} in '{path}' is one volume; {series_uid!r} names none: pass "
+                f"series_uid={uid!r}")
+        volume = ""
+    frames = volumes[volume]
+    chosen = [(file, ds) for file, ds in chosen if any(f.file == file for f in frames)]
     image = _assemble(frames, chosen, pydicom)
     try:
         import pyvista
@@ -255,7 +266,7 @@ def list_series(path: PathLike) -> List[Dict[str, Any]]:
     [('CT', 5, 5)]
     """
     pydicom = _import_pydicom()
-    return _summaries(_scan(Path(path), pydicom))
+    return _volume_entries(_scan(Path(path), pydicom))
 
 
 # ---------------------------------------------------------------------------
@@ -351,8 +362,35 @@ def _summaries(datasets) -> List[Dict[str, Any]]:
     return sorted(table.values(), key=lambda s: (s["number"] is None, s["number"] or 0, s["uid"]))
 
 
+def _volume_entries(datasets) -> List[Dict[str, Any]]:
+    """:func:`_summaries`, with a series split into its volumes where it holds several."""
+    entries = []
+    for entry in _summaries(datasets):
+        entry["id"], entry["volume"] = entry["uid"], ""
+        files = [(file, ds) for file, ds in datasets
+                 if _series_uid(ds) == entry["uid"] and _has_pixels(ds)]
+        try:
+            frames = [frame for file, ds in files for frame in _frames_of(file, ds)]
+            volumes = _split(frames) if frames else {"": []}
+        except DicomError:  # not a stack of slices (e.g. secondary captures): one entry
+            volumes = {"": None}
+        for key, group in volumes.items():
+            item = dict(entry)
+            item["n_slices"] = len(group) if group is not None else None
+            if key:
+                item["id"], item["volume"] = f"{entry['uid']}#{key}", key
+                names = {frame.file for frame in group}
+                item["n_files"] = item["n_images"] = len(names)
+            entries.append(item)
+    return entries
+
+
+def _listing(images) -> str:
+    return "\n".join(f"  {_describe(entry)}" for entry in _volume_entries(images))
+
+
 def _describe(entry: Dict[str, Any]) -> str:
-    text = f"{entry['uid'] or '(no SeriesInstanceUID)'}: {entry['modality'] or '?'}"
+    text = f"{entry.get('id') or entry['uid'] or '(no SeriesInstanceUID)'}: {entry['modality'] or '?'}"
     if entry["number"] is not None:
         text += f" #{entry['number']}"
     if entry["description"]:
@@ -368,12 +406,14 @@ class _Frame:
     """One 2D image: where it is, how to scale it, where its pixels are."""
 
     __slots__ = ("file", "index", "position", "orientation", "pixel_spacing",
-                 "slope", "intercept", "rescale_type", "tile")
+                 "slope", "intercept", "rescale_type", "tile", "labels")
 
     def __init__(self, file, index, position, orientation, pixel_spacing, slope, intercept,
                  rescale_type, tile=None):
         #: (first row, first column, rows, columns) of a mosaic tile, else None
         self.tile = tile
+        #: attributes that can tell volumes of one series apart (see _split)
+        self.labels: Dict[str, str] = {}
         self.file = file
         self.index = index
         self.position = position
@@ -421,7 +461,89 @@ def _first_item(container, keyword):
     return sequence[0] if sequence else None
 
 
+# Attributes that tell the volumes of one series apart, tried in this order
+# when a series has several images at one position (see _split).
+SPLIT_KEYS = ("EchoNumbers", "TemporalPositionIdentifier", "TemporalPositionIndex", "StackID",
+              "EffectiveEchoTime", "AcquisitionNumber", "TriggerTime", "ImageType",
+              "orientation", "file")
+
+
 def _frames_of(file: Path, ds) -> List[_Frame]:
+    """The frames of one file, with their geometry, rescale and volume labels."""
+    frames = _frames_unlabelled(file, ds)
+    common = {}
+    for keyword in ("EchoNumbers", "TemporalPositionIdentifier", "AcquisitionNumber",
+                    "TriggerTime", "ImageType"):
+        value = ds.get(keyword, None)
+        if value not in (None, ""):
+            common[keyword] = _label(value)
+    per_frame = ds.get("PerFrameFunctionalGroupsSequence", None)
+    for frame in frames:
+        frame.labels = dict(common, file=file.name,
+                            orientation=_fmt(np.round(frame.orientation, 3)))
+        if per_frame is not None and frame.index is not None and frame.index < len(per_frame):
+            content = _first_item(per_frame[frame.index], "FrameContentSequence")
+            echo = _first_item(per_frame[frame.index], "MREchoSequence")
+            for item, keyword in ((content, "StackID"), (content, "TemporalPositionIndex"),
+                                  (echo, "EffectiveEchoTime")):
+                value = item.get(keyword, None) if item is not None else None
+                if value not in (None, ""):
+                    frame.labels[keyword] = _label(value)
+    return frames
+
+
+def _split(frames: List[_Frame]) -> Dict[str, List[_Frame]]:
+    """The volumes of one series: ``{"": frames}``, or ``{"Key=value": frames}``.
+
+    A series is split only when it has several images at one position (or
+    several orientations, or an enhanced multi-frame has several StackIDs), by the first of :data:`SPLIT_KEYS` whose groups
+    are each one clean stack of at least two images.
+    """
+    stacks = {frame.labels.get("StackID") for frame in frames}
+    if not _needs_split(frames) and (len(stacks) < 2 or None in stacks):
+        return {"": frames}
+    for key in SPLIT_KEYS:
+        groups: Dict[Any, List[_Frame]] = {}
+        for frame in frames:
+            groups.setdefault(frame.labels.get(key), []).append(frame)
+        if len(groups) < 2 or None in groups:
+            continue
+        if any(len(group) < 2 for group in groups.values()):  # not stacks: refuse later
+            continue
+        if any(_needs_split(group) for group in groups.values()):
+            continue
+        return {f"{key}={value}": groups[value] for value in sorted(groups, key=_natural)}
+    return {"": frames}
+
+
+def _natural(value: str):
+    try:
+        return (0, float(value), value)
+    except ValueError:
+        return (1, 0.0, value)
+
+
+def _needs_split(frames: List[_Frame]) -> bool:
+    if len({frame.labels.get("orientation") for frame in frames}) > 1:
+        return True
+    if len(frames) < 2:
+        return False
+    orientation = frames[0].orientation
+    normal = np.cross(orientation[:3], orientation[3:])
+    along = np.sort([float(frame.position @ normal) for frame in frames])
+    steps = np.diff(along)
+    nonzero = steps[steps > 1e-6]
+    median = float(np.median(nonzero)) if nonzero.size else 0.0
+    return bool((steps <= max(1e-4, DUPLICATE_FACTOR * median)).any())
+
+
+def _label(value) -> str:
+    if isinstance(value, (list, tuple)) or type(value).__name__ == "MultiValue":
+        return "\\".join(str(v) for v in value)
+    return str(value)
+
+
+def _frames_unlabelled(file: Path, ds) -> List[_Frame]:
     """The frames of one file, with per-frame geometry and rescale."""
     where = f"'{file}'"
     samples = int(ds.get("SamplesPerPixel", 1) or 1)

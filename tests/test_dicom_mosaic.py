@@ -125,11 +125,3 @@ def test_csa_normal_contradicting_the_orientation_is_refused(tmp_path):
     mosaic.normal = mosaic.row.copy()  # not perpendicular to the slices
     with pytest.raises(DicomError, match="SliceNormalVector"):
         read_dicom(mosaic.write(tmp_path / "m.dcm"))
-
-
-def test_time_series_of_mosaics_are_separate_volumes(tmp_path):
-    mosaic = Mosaic(n=4, tile=(4, 4))
-    mosaic.write(tmp_path / "t1.dcm")
-    mosaic.write(tmp_path / "t2.dcm")
-    with pytest.raises(ValueError, match="image series"):
-        read_dicom(tmp_path)  # two SeriesInstanceUIDs here (base_dataset makes one each)
