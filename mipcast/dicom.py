@@ -22,6 +22,7 @@ patient's left, +y posterior, +z superior, in mm):
 """
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 import warnings
@@ -184,6 +185,16 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
     """
     pydicom = _import_pydicom()
     path = Path(path)
+    with _damaged_as_dicom_error(path):
+        image = _read(path, series_uid, pydicom)
+    try:
+        import pyvista
+    except ImportError:  # e.g. ParaView's Python: plain VTK is enough
+        return image
+    return pyvista.wrap(image)
+
+
+def _read(path: Path, series_uid: Optional[str], pydicom) -> vtkImageData:
     datasets = _scan(path, pydicom)
     images = [(file, ds) for file, ds in datasets if _has_pixels(ds)]
     if not images:
@@ -225,12 +236,7 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
         volume = ""
     frames = volumes[volume]
     chosen = [(file, ds) for file, ds in chosen if any(f.file == file for f in frames)]
-    image = _assemble(frames, chosen, pydicom)
-    try:
-        import pyvista
-    except ImportError:  # e.g. ParaView's Python: plain VTK is enough
-        return image
-    return pyvista.wrap(image)
+    return _assemble(frames, chosen, pydicom)
 
 
 def list_series(path: PathLike) -> List[Dict[str, Any]]:
@@ -266,7 +272,27 @@ def list_series(path: PathLike) -> List[Dict[str, Any]]:
     [('CT', 5, 5)]
     """
     pydicom = _import_pydicom()
-    return _volume_entries(_scan(Path(path), pydicom))
+    with _damaged_as_dicom_error(Path(path)):
+        return _volume_entries(_scan(Path(path), pydicom))
+
+
+@contextlib.contextmanager
+def _damaged_as_dicom_error(path: Path):
+    """Report pydicom's and numpy's errors on damaged files as one :class:`DicomError`.
+
+    Damaged files make pydicom fail lazily, when a value is first used, with
+    whatever the bytes trigger (struct.error, KeyError, TypeError,
+    UnicodeDecodeError, OverflowError ...); callers see one documented class.
+    """
+    try:
+        yield
+    except (DicomError, FileNotFoundError, MemoryError):
+        raise
+    except Exception as error:
+        raise DicomError(
+            f"'{path}' holds damaged DICOM data that could not be read "
+            f"({type(error).__name__}: {error}); re-export or re-copy the files "
+            "(or remove the damaged one)") from error
 
 
 # ---------------------------------------------------------------------------
@@ -310,14 +336,61 @@ def _scan(path: Path, pydicom) -> list:
     return found
 
 
+class _BoundedFile:
+    """A binary file whose reads stop at its end, even when asked for more.
+
+    pydicom reads a value with ``read(length)`` where ``length`` comes from the
+    file; Python allocates ``length`` bytes first, so a corrupt length of
+    0xFFFFFFF0 would allocate 4 GiB.  Reads through this class never ask for
+    more than what is left.  pydicom reopens files with the same class for its
+    deferred reads (pixel data), so those are bounded too.
+    """
+
+    def __init__(self, path, mode: str = "rb"):
+        self._file = open(path, "rb")
+        self.name = str(path)
+        self._size = os.fstat(self._file.fileno()).st_size
+
+    def read(self, size: Optional[int] = -1) -> bytes:
+        if size is None or size < 0:
+            return self._file.read()
+        return self._file.read(min(size, max(0, self._size - self._file.tell())))
+
+    def seek(self, offset: int, whence: int = 0) -> int:
+        return self._file.seek(offset, whence)
+
+    def tell(self) -> int:
+        return self._file.tell()
+
+    def close(self) -> None:
+        self._file.close()
+
+    @property
+    def closed(self) -> bool:
+        return self._file.closed
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+
+def _dcmread(file: Path, pydicom, **options):
+    with _BoundedFile(file) as handle:
+        return pydicom.dcmread(handle, defer_size="16 KB", **options)
+
+
 def _read_header(file: Path, pydicom):
     """The data set of ``file`` with its large values (pixels) deferred, or None."""
     from pydicom.errors import InvalidDicomError
 
     try:
-        return pydicom.dcmread(str(file), defer_size="16 KB")
+        return _dcmread(file, pydicom)
     except InvalidDicomError:
         pass
+    except MemoryError:
+        raise
     except Exception as error:  # a DICOM file that does not parse
         raise DicomError(
             f"'{file}' is a DICOM file but could not be read ({error}); remove or "
@@ -329,7 +402,7 @@ def _read_header(file: Path, pydicom):
     if head[:2] not in (b"\x02\x00", b"\x08\x00"):
         return None
     try:
-        ds = pydicom.dcmread(str(file), defer_size="16 KB", force=True)
+        ds = _dcmread(file, pydicom, force=True)
         return ds if "SOPClassUID" in ds else None
     except Exception:
         return None
@@ -820,6 +893,16 @@ def _refuse_lying_size(file: Path, ds) -> None:
             "about Rows/Columns/NumberOfFrames or the file is truncated; re-export it")
 
 
+def _decode_error(file: Path, ds, error: BaseException) -> DicomError:
+    meta = getattr(ds, "file_meta", None)
+    syntax = meta.get("TransferSyntaxUID", None) if meta is not None else None
+    if syntax is not None and syntax.is_compressed:
+        return DicomError(f"cannot decode '{file}': its {syntax.name} pixel data is damaged or "
+                          f"does not match Rows/Columns/BitsAllocated (the decoder said: "
+                          f"{error}); re-export the file")
+    return DicomError(f"cannot decode the pixel data of '{file}': {error}")
+
+
 def _pixels(file: Path, ds) -> np.ndarray:
     """Decoded pixels of one file as (frames, rows, columns)."""
     problem = _decoder_problem(ds)
@@ -830,12 +913,11 @@ def _pixels(file: Path, ds) -> np.ndarray:
     try:
         array = ds.pixel_array
     except Exception as error:
-        meta = getattr(ds, "file_meta", None)
-        syntax = meta.get("TransferSyntaxUID", None) if meta is not None else None
-        if syntax is not None and syntax.is_compressed:
-            raise DicomError(f"cannot decode '{file}': "
-                             f"{_missing_decoder_text(syntax, [])}; pydicom said: {error}") from error
-        raise DicomError(f"cannot decode the pixel data of '{file}': {error}") from error
+        raise _decode_error(file, ds, error) from error
+    except BaseException as error:  # Rust decoders (pylibjpeg-rle) panic with a BaseException
+        if type(error).__name__ != "PanicException":
+            raise
+        raise _decode_error(file, ds, error) from None
     frames = int(ds.get("NumberOfFrames", 1) or 1)
     if array.ndim not in (2, 3) or array.size != frames * int(ds.Rows) * int(ds.Columns):
         raise DicomError(f"cannot decode the pixel data of '{file}': decoded shape "
