@@ -18,7 +18,12 @@ patient's left, +y posterior, +z superior, in mm):
   volume ``(nz, ny, nx) = (slices, Rows, Columns)`` flattened in C order.
 - Spacing is ``(PixelSpacing[1], PixelSpacing[0], slice step)``: DICOM's
   PixelSpacing lists the row spacing (between rows) first.  The slice step
-  comes from the slice positions, never from SliceThickness.
+  comes from the slice positions (a least-squares fit), never from
+  SliceThickness (except for a Siemens mosaic, whose tiles have one
+  position: SpacingBetweenSlices, else SliceThickness, as nibabel does).
+
+Every problem with the input is raised as :class:`DicomError`, a ValueError
+(FileNotFoundError for a missing path).  See docs/dicom.md.
 """
 from __future__ import annotations
 
@@ -108,7 +113,9 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
         Subfolders are not searched.
     series_uid : str, optional
         The SeriesInstanceUID to read when the folder holds several image
-        series (see :func:`list_series`).
+        series, or the ``"id"`` that :func:`list_series` gives a volume of
+        a series that holds several (echoes, time points, acquisitions,
+        stacks), e.g. ``"1.2.3.4#EchoNumbers=2"``.
 
     Returns
     -------
@@ -128,6 +135,13 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
           ``(PixelSpacing[1], PixelSpacing[0], slice step)``, origin the
           ImagePositionPatient of the first slice along the normal, and the
           direction matrix with columns (row cosine, column cosine, normal).
+          The slice step and origin are the least-squares regular grid
+          through the slice positions; when a slice sits more than 0.1 % of
+          the step off it (positions rounded in the headers), one
+          :class:`DicomGeometryWarning` names the largest misplacement.
+        - Siemens MOSAIC files are unpacked into their slices; enhanced
+          multi-frame files use their shared and per-frame functional
+          groups (position, orientation, pixel spacing, rescale).
 
         A single slice gives an image one point thick: it is returned, but
         :func:`mipcast.io.read_volume` and the renderers refuse it.
@@ -137,18 +151,25 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
     ------
     FileNotFoundError
         If ``path`` does not exist.
-    ValueError
-        With what is wrong and how to fix it: no DICOM files; no images
-        among them (only non-image objects such as RT structure sets); several
-        image series and no ``series_uid``; an unknown ``series_uid``;
-        missing slices (a step > 1.5 x the median step); two slices at the
-        same position; slice steps differing by more than 1 % (refused
-        rather than resampled, which would silently change the geometry);
-        slices with different orientations, sizes or pixel spacings; gantry
-        tilt (slice origins drifting sideways to the slice normal); colour
-        images; images without ImagePositionPatient/ImageOrientationPatient;
-        compressed pixel data without an installed decoder (the message names
-        the package to install).
+    DicomError
+        (a ValueError) with what is wrong and how to fix it: no DICOM files;
+        no images among them (only non-image objects such as RT structure
+        sets); several image series, or several volumes in one series, and
+        no ``series_uid``; an unknown ``series_uid``; missing slices (a step
+        > 1.5 x the median step); two slices at the same position; a slice
+        more than 0.2 x the step off the least-squares grid (stacks with
+        different spacing mixed); slices with different orientations, sizes
+        or pixel spacings; gantry tilt (slice origins drifting sideways to
+        the normal) or origins scattered sideways by more than half a pixel;
+        colour images; images without ImagePositionPatient/
+        ImageOrientationPatient; a mosaic without its image count;
+        compressed pixel data without an installed decoder (the message
+        names the package to install); a header describing more pixels than
+        the file stores (or more than 4 GiB, or more than 1000:1 compressed),
+        refused before anything is allocated; damaged files (whatever pydicom
+        or a decoder raised is chained as ``__cause__``).
+    ImportError
+        If pydicom is not installed.
 
     Examples
     --------
@@ -176,12 +197,12 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
     >>> read_dicom(get_testdata_file("CT_small.dcm")).dimensions
     (128, 128, 1)
 
-    JPEG 2000 pixel data decodes if a decoder (Pillow with OpenJPEG,
-    pylibjpeg-openjpeg or GDCM) is installed, else a ValueError names the
-    package to install:
+    Compressed pixel data (JPEG, JPEG-LS, JPEG 2000, RLE) decodes through
+    pydicom's plugins (pylibjpeg and its libjpeg, openjpeg and rle
+    packages are dependencies):
 
-    >>> read_dicom(get_testdata_file("693_J2KI.dcm")).dimensions  # doctest: +SKIP
-    (512, 512, 1)
+    >>> read_dicom(get_testdata_file("MR_small_jpeg_ls_lossless.dcm")).dimensions
+    (64, 64, 1)
     """
     pydicom = _import_pydicom()
     path = Path(path)
@@ -254,7 +275,14 @@ def list_series(path: PathLike) -> List[Dict[str, Any]]:
         ``"uid"``, ``"modality"``, ``"description"`` (SeriesDescription, may
         be ``""``), ``"number"`` (SeriesNumber or ``None``), ``"n_files"``
         and ``"n_images"`` (files with pixel data; series with 0 images, such
-        as structure sets, cannot be read as volumes).
+        as structure sets, cannot be read as volumes), ``"n_slices"`` (2D
+        images, mosaic tiles and frames counted; ``None`` if they are not
+        slices of a volume), ``"volume"`` and ``"id"``.  A series holding
+        several volumes (several images per position: echoes, time points,
+        acquisitions; or several stacks) gives one dict per volume, with
+        ``"volume"`` naming what tells it apart (e.g. ``"EchoNumbers=2"``)
+        and ``"id"`` = ``"uid#volume"`` to pass as ``series_uid``; else
+        ``"volume"`` is ``""`` and ``"id"`` is the uid.
 
     Raises
     ------
@@ -268,8 +296,8 @@ def list_series(path: PathLike) -> List[Dict[str, Any]]:
     >>> import os
     >>> from pydicom.data import get_testdata_file
     >>> folder = os.path.dirname(get_testdata_file("dicomdirtests/98892001/CT5N/2062"))
-    >>> [(s["modality"], s["n_files"], s["n_images"]) for s in list_series(folder)]
-    [('CT', 5, 5)]
+    >>> [(s["modality"], s["n_files"], s["n_images"], s["n_slices"]) for s in list_series(folder)]
+    [('CT', 5, 5, 5)]
     """
     pydicom = _import_pydicom()
     with _damaged_as_dicom_error(Path(path)):

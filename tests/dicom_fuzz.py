@@ -53,6 +53,10 @@ LIES = {"Rows": (0, 1, 3, 1000, 65535), "Columns": (0, 1, 7, 4096, 65535),
         "PixelRepresentation": (1, 7), "BitsStored": (0, 33)}
 
 
+#: For DicomError outcomes: the class of the error it wraps (``__cause__``), or "-" if none.
+CAUSES = collections.Counter()
+
+
 class Hang(BaseException):  # not an Exception: the reader must not catch it
     pass
 
@@ -159,8 +163,9 @@ def run_case(data, path):
             warnings.simplefilter("ignore")
             read_dicom(path)
         outcome = "read"
-    except DicomError:
+    except DicomError as error:
         outcome = "DicomError"
+        CAUSES[type(error.__cause__).__name__ if error.__cause__ is not None else "-"] += 1
     except Hang:
         outcome = "Hang"
     except Exception as error:  # undocumented: a failure
@@ -211,6 +216,7 @@ def main(argv=None):
     print(f"cases: {args.cases} ({dict(kinds)}), seeds: {len(files)} files "
           f"({', '.join(name for name, _ in files)}), wall {time.perf_counter() - started:.0f} s")
     print(f"outcomes: {dict(outcomes.most_common())}")
+    print(f"DicomError wrapping (cause class: count): {dict(CAUSES.most_common())}")
     print(f"max time per case: {slowest[0]:.3f} s ({slowest[1]})")
     print(f"peak traced allocation per case: {peak[0] / 2**20:.1f} MiB ({peak[1]}); "
           f"bound {MEMORY_BOUND / 2**20:.0f} MiB")
