@@ -125,3 +125,14 @@ def test_csa_normal_contradicting_the_orientation_is_refused(tmp_path):
     mosaic.normal = mosaic.row.copy()  # not perpendicular to the slices
     with pytest.raises(DicomError, match="SliceNormalVector"):
         read_dicom(mosaic.write(tmp_path / "m.dcm"))
+
+
+def test_a_35_slice_384_pixel_mosaic_like_the_reported_one(tmp_path):
+    # 35 tiles of 64 x 64 in a 6 x 6 grid: 384 x 384 pixels, read before as one flat slice
+    mosaic = Mosaic(n=35, tile=(64, 64), spacing=(3.0, 3.0), step=3.6, rot=rotation(-8, 12))
+    image = read_dicom(mosaic.write(tmp_path / "mosaic.dcm"))
+    assert image.GetDimensions() == (64, 64, 35)
+    assert image.GetSpacing() == pytest.approx((3.0, 3.0, 3.6), abs=1e-6)
+    for c, r, k in [(0, 0, 0), (63, 63, 34), (10, 50, 17)]:
+        np.testing.assert_allclose(physical(image, c, r, k), mosaic.voxel(c, r, k), atol=1e-4)
+    np.testing.assert_array_equal(check_image(image)[34], mosaic.tile_pixels(34))

@@ -139,3 +139,31 @@ def test_enhanced_multiframe_with_two_stacks_is_split_by_stack_id(tmp_path):
     image = read_dicom(path, series_uid=f"{a.uid}#StackID=2")
     np.testing.assert_allclose(image.GetOrigin(), b.ipp(0), atol=1e-4)
     assert image.GetSpacing()[2] == pytest.approx(1.25, abs=1e-4)
+
+
+def test_distinct_acquisition_numbers_per_slice_do_not_split(tmp_path):
+    # some CT scanners number every slice's acquisition: one clean stack stays one volume
+    series = Series(n=5)
+    folder = series.write(tmp_path / "s")
+    for number, file in enumerate(sorted(folder.iterdir())):
+        ds = pydicom.dcmread(str(file))
+        ds.AcquisitionNumber = number + 1
+        save(ds, file)
+    (entry,) = list_series(folder)
+    assert entry["volume"] == "" and entry["n_slices"] == 5
+    assert read_dicom(folder).GetDimensions() == (5, 4, 5)
+
+
+def test_enhanced_multiframe_time_points_split_by_temporal_position_index(tmp_path):
+    stack = Series(rot=rotation(10), n=3)
+    path = enhanced(tmp_path / "e.dcm", {1: stack, 2: stack})  # two "stacks" at the same place
+    ds = pydicom.dcmread(str(path))
+    for group in ds.PerFrameFunctionalGroupsSequence:  # make them time points of one stack
+        content = group.FrameContentSequence[0]
+        content.TemporalPositionIndex, content.StackID = int(content.StackID), "1"
+    save(ds, path)
+    assert [s["volume"] for s in list_series(path)] == ["TemporalPositionIndex=1",
+                                                        "TemporalPositionIndex=2"]
+    image = read_dicom(path, series_uid=f"{stack.uid}#TemporalPositionIndex=2")
+    assert image.GetDimensions() == (5, 4, 3)
+    np.testing.assert_allclose(image.GetOrigin(), stack.ipp(0), atol=1e-4)
