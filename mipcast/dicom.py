@@ -1066,7 +1066,7 @@ def _check_steps(frames, positions, along, normal, pixel):
             f"{steps.max():.4g} mm, rounded positions in the headers?): using the least-squares "
             f"step {step:.6g} mm; the largest misplacement is {misplacement[worst]:.3g} mm "
             f"({100 * misplacement[worst] / step:.2g} % of the step) at {frames[worst].name}",
-            DicomGeometryWarning, stacklevel=4)
+            DicomGeometryWarning, stacklevel=5)  # the caller of read_dicom
     origin = positions[0] + (intercept - along[0]) * normal + lateral.mean(axis=0)
     return step, origin
 

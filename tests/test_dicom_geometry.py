@@ -50,6 +50,7 @@ def test_rounded_oblique_mr_is_read_with_one_warning(tmp_path):
     geometry = [w for w in caught if issubclass(w.category, DicomGeometryWarning)]
     assert len(geometry) == 1
     assert "least-squares step" in str(geometry[0].message)
+    assert geometry[0].filename == __file__  # points at the caller of read_dicom
     assert image.GetDimensions() == (7, 6, 24)
     assert image.GetSpacing() == pytest.approx((0.6, 0.6, step), abs=1e-9)
     np.testing.assert_allclose(image.GetOrigin(), origin, atol=1e-9)
