@@ -29,9 +29,17 @@ setup(
         "pyvista>=0.48",
         "numpy>=1.24",
         "pydicom>=2.4",
+        # DICOM decoders used through pydicom's pixel-data plugins (see docs/dicom.md):
+        # JPEG baseline/extended/lossless and JPEG-LS, JPEG 2000 and HTJ2K, fast RLE.
+        "pylibjpeg>=2.0",
+        "pylibjpeg-libjpeg>=2.1",
+        "pylibjpeg-openjpeg>=2.3",
+        "pylibjpeg-rle>=2.0",
+        # Siemens CSA headers and mosaic geometry (nibabel.nicom)
+        "nibabel>=5.0",
         "matplotlib>=3.6",
         "tqdm>=4.60",
     ],
-    extras_require={"test": ["pytest>=7", "scipy>=1.9", "hypothesis>=6"]},
+    extras_require={"test": ["pytest>=7", "scipy>=1.9", "hypothesis>=6", "pydicom-data"]},
     entry_points={"console_scripts": ["mipcast=mipcast.app.cli:main"]},
 )

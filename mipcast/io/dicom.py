@@ -18,12 +18,19 @@ patient's left, +y posterior, +z superior, in mm):
   volume ``(nz, ny, nx) = (slices, Rows, Columns)`` flattened in C order.
 - Spacing is ``(PixelSpacing[1], PixelSpacing[0], slice step)``: DICOM's
   PixelSpacing lists the row spacing (between rows) first.  The slice step
-  comes from the slice positions, never from SliceThickness.
+  comes from the slice positions (a least-squares fit), never from
+  SliceThickness (except for a Siemens mosaic, whose tiles have one
+  position: SpacingBetweenSlices, else SliceThickness, as nibabel does).
+
+Every problem with the input is raised as :class:`DicomError`, a ValueError
+(FileNotFoundError for a missing path).  See docs/dicom.md.
 """
 from __future__ import annotations
 
+import contextlib
 import math
 import os
+import warnings
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence, Union
 
@@ -39,11 +46,37 @@ SCALARS_NAME = "values"
 #: Name of the one-value string array in the field data holding the units.
 UNITS_NAME = "units"
 
-# Tolerances (see _assemble for how they are used).
+# Tolerances (see _check_steps for how they are used).  Positions are fitted
+# with a least-squares regular grid; the tolerances scale with the voxel.
 ORIENTATION_TOL = 1e-3      # cosines: about 0.06 degrees
-SPACING_TOL = 0.01          # relative: non-uniform slice steps beyond 1 % are refused
+POSITION_TOL = 0.2          # a slice may sit up to 0.2 x the step off the fitted grid
+WARN_TOL = 1e-3             # warn (once per volume) beyond 0.1 % of the step
+DUPLICATE_FACTOR = 0.1      # a step < 0.1 x the median step is a duplicate position
 GAP_FACTOR = 1.5            # a step > 1.5 x the median step is a missing slice
-TILT_TOL_PIXELS = 0.1       # lateral drift of slice origins, in pixels
+TILT_TOL_PIXELS = 0.1       # systematic lateral drift of slice origins, in pixels
+LATERAL_TOL_PIXELS = 0.5    # scatter of slice origins sideways to the normal, in pixels
+#: Largest decoded volume in bytes (4 GiB); a header asking for more is refused
+#: before anything is allocated.
+MAX_BYTES = 4 * 2 ** 30
+#: Largest ratio of decoded to stored bytes accepted for compressed pixel data.
+MAX_COMPRESSION = 1000
+
+
+class DicomError(ValueError):
+    """A DICOM input that cannot be read as a volume; the message says why and what to do.
+
+    A subclass of ValueError, so ``except ValueError`` keeps working.
+
+    Examples
+    --------
+    >>> issubclass(DicomError, ValueError)
+    True
+    """
+
+
+class DicomGeometryWarning(UserWarning):
+    """Slice positions off a regular grid within the tolerance (issued once per volume)."""
+
 
 # Suggested `pip install` per transfer syntax whose decoder can be missing.
 _DECODER_PACKAGES = {
@@ -51,8 +84,8 @@ _DECODER_PACKAGES = {
     "1.2.840.10008.1.2.4.51": "pylibjpeg pylibjpeg-libjpeg",   # JPEG extended
     "1.2.840.10008.1.2.4.57": "pylibjpeg pylibjpeg-libjpeg",   # JPEG lossless
     "1.2.840.10008.1.2.4.70": "pylibjpeg pylibjpeg-libjpeg",   # JPEG lossless SV1
-    "1.2.840.10008.1.2.4.80": "pyjpegls",                      # JPEG-LS lossless
-    "1.2.840.10008.1.2.4.81": "pyjpegls",                      # JPEG-LS near-lossless
+    "1.2.840.10008.1.2.4.80": "pylibjpeg pylibjpeg-libjpeg",   # JPEG-LS lossless
+    "1.2.840.10008.1.2.4.81": "pylibjpeg pylibjpeg-libjpeg",   # JPEG-LS near-lossless
     "1.2.840.10008.1.2.4.90": "pylibjpeg pylibjpeg-openjpeg",  # JPEG 2000 lossless
     "1.2.840.10008.1.2.4.91": "pylibjpeg pylibjpeg-openjpeg",  # JPEG 2000
     "1.2.840.10008.1.2.4.201": "pylibjpeg pylibjpeg-openjpeg",  # HTJ2K lossless
@@ -60,7 +93,7 @@ _DECODER_PACKAGES = {
     "1.2.840.10008.1.2.4.203": "pylibjpeg pylibjpeg-openjpeg",  # HTJ2K
     "1.2.840.10008.1.2.5": "pylibjpeg pylibjpeg-rle",          # RLE (numpy decoder built in)
 }
-_ANY_DECODER = "pylibjpeg pylibjpeg-libjpeg pylibjpeg-openjpeg"
+_ANY_DECODER = "pylibjpeg pylibjpeg-libjpeg pylibjpeg-openjpeg pylibjpeg-rle"
 
 
 # ---------------------------------------------------------------------------
@@ -80,7 +113,9 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
         Subfolders are not searched.
     series_uid : str, optional
         The SeriesInstanceUID to read when the folder holds several image
-        series (see :func:`list_series`).
+        series, or the ``"id"`` that :func:`list_series` gives a volume of
+        a series that holds several (echoes, time points, acquisitions,
+        stacks), e.g. ``"1.2.3.4#EchoNumbers=2"``.
 
     Returns
     -------
@@ -100,6 +135,13 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
           ``(PixelSpacing[1], PixelSpacing[0], slice step)``, origin the
           ImagePositionPatient of the first slice along the normal, and the
           direction matrix with columns (row cosine, column cosine, normal).
+          The slice step and origin are the least-squares regular grid
+          through the slice positions; when a slice sits more than 0.1 % of
+          the step off it (positions rounded in the headers), one
+          :class:`DicomGeometryWarning` names the largest misplacement.
+        - Siemens MOSAIC files are unpacked into their slices; enhanced
+          multi-frame files use their shared and per-frame functional
+          groups (position, orientation, pixel spacing, rescale).
 
         A single slice gives an image one point thick: it is returned, but
         :func:`mipcast.io.read_volume` and the renderers refuse it.
@@ -109,18 +151,25 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
     ------
     FileNotFoundError
         If ``path`` does not exist.
-    ValueError
-        With what is wrong and how to fix it: no DICOM files; no images
-        among them (only non-image objects such as RT structure sets); several
-        image series and no ``series_uid``; an unknown ``series_uid``;
-        missing slices (a step > 1.5 x the median step); two slices at the
-        same position; slice steps differing by more than 1 % (refused
-        rather than resampled, which would silently change the geometry);
-        slices with different orientations, sizes or pixel spacings; gantry
-        tilt (slice origins drifting sideways to the slice normal); colour
-        images; images without ImagePositionPatient/ImageOrientationPatient;
-        compressed pixel data without an installed decoder (the message names
-        the package to install).
+    DicomError
+        (a ValueError) with what is wrong and how to fix it: no DICOM files;
+        no images among them (only non-image objects such as RT structure
+        sets); several image series, or several volumes in one series, and
+        no ``series_uid``; an unknown ``series_uid``; missing slices (a step
+        > 1.5 x the median step); two slices at the same position; a slice
+        more than 0.2 x the step off the least-squares grid (stacks with
+        different spacing mixed); slices with different orientations, sizes
+        or pixel spacings; gantry tilt (slice origins drifting sideways to
+        the normal) or origins scattered sideways by more than half a pixel;
+        colour images; images without ImagePositionPatient/
+        ImageOrientationPatient; a mosaic without its image count;
+        compressed pixel data without an installed decoder (the message
+        names the package to install); a header describing more pixels than
+        the file stores (or more than 4 GiB, or more than 1000:1 compressed),
+        refused before anything is allocated; damaged files (whatever pydicom
+        or a decoder raised is chained as ``__cause__``).
+    ImportError
+        If pydicom is not installed.
 
     Examples
     --------
@@ -148,51 +197,67 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
     >>> read_dicom(get_testdata_file("CT_small.dcm")).dimensions
     (128, 128, 1)
 
-    JPEG 2000 pixel data decodes if a decoder (Pillow with OpenJPEG,
-    pylibjpeg-openjpeg or GDCM) is installed, else a ValueError names the
-    package to install:
+    Compressed pixel data (JPEG, JPEG-LS, JPEG 2000, RLE) decodes through
+    pydicom's plugins (pylibjpeg and its libjpeg, openjpeg and rle
+    packages are dependencies):
 
-    >>> read_dicom(get_testdata_file("693_J2KI.dcm")).dimensions  # doctest: +SKIP
-    (512, 512, 1)
+    >>> read_dicom(get_testdata_file("MR_small_jpeg_ls_lossless.dcm")).dimensions
+    (64, 64, 1)
     """
     pydicom = _import_pydicom()
     path = Path(path)
+    with _damaged_as_dicom_error(path):
+        image = _read(path, series_uid, pydicom)
+    try:
+        import pyvista
+    except ImportError:  # e.g. ParaView's Python: plain VTK is enough
+        return image
+    return pyvista.wrap(image)
+
+
+def _read(path: Path, series_uid: Optional[str], pydicom) -> vtkImageData:
     datasets = _scan(path, pydicom)
     images = [(file, ds) for file, ds in datasets if _has_pixels(ds)]
     if not images:
         kinds = sorted({str(ds.get("Modality", "?")) for _, ds in datasets})
-        raise ValueError(
+        raise DicomError(
             f"'{path}' holds {len(datasets)} DICOM file(s) but none with pixel data "
             f"(modalities: {', '.join(kinds)}); these are non-image objects (structure "
             "sets, plans, reports, DICOMDIR ...): point to the folder holding the image slices")
     series: Dict[str, list] = {}
     for file, ds in images:
         series.setdefault(_series_uid(ds), []).append((file, ds))
-    if series_uid is None:
+    uid, _, volume = str(series_uid).partition("#") if series_uid is not None else (None, "", "")
+    if uid is None:
         if len(series) > 1:
-            listing = "\n".join(f"  {_describe(entry)}" for entry in _summaries(images))
-            raise ValueError(
+            raise DicomError(
                 f"'{path}' holds {len(series)} image series; choose one with "
                 "series_uid=... (read_dicom(path, series_uid=...) or "
                 "read_volume(path, series_uid=...)), or move each series into its own "
-                f"folder:\n{listing}")
-        chosen = next(iter(series.values()))
-    else:
-        if str(series_uid) not in series:
-            listing = "\n".join(f"  {_describe(entry)}" for entry in _summaries(images))
-            raise ValueError(
-                f"no image series with SeriesInstanceUID {series_uid!r} in '{path}'; "
-                f"the image series there are:\n{listing}")
-        chosen = series[str(series_uid)]
+                f"folder:\n{_listing(images)}")
+        uid = next(iter(series))
+    elif uid not in series:
+        raise DicomError(
+            f"no image series with SeriesInstanceUID {uid!r} in '{path}'; "
+            f"the image series there are:\n{_listing(images)}")
+    chosen = series[uid]
     frames = []
     for file, ds in chosen:
         frames.extend(_frames_of(file, ds))
-    image = _assemble(frames, chosen, pydicom)
-    try:
-        import pyvista
-    except ImportError:  # e.g. ParaView's Python: plain VTK is enough
-        return image
-    return pyvista.wrap(image)
+    volumes = _split(frames)
+    if volume not in volumes:
+        if volume or len(volumes) > 1:
+            ids = ", ".join(repr(f"{uid}#{key}") for key in volumes if key)
+            raise DicomError(
+                f"series {uid} in '{path}' holds {len(volumes)} volumes (several images per "
+                f"slice position or several orientations, told apart by {next(iter(volumes)).split('=')[0]}); choose "
+                f"one with series_uid= one of {ids}" if len(volumes) > 1 else
+                f"series {uid} in '{path}' is one volume; {series_uid!r} names none: pass "
+                f"series_uid={uid!r}")
+        volume = ""
+    frames = volumes[volume]
+    chosen = [(file, ds) for file, ds in chosen if any(f.file == file for f in frames)]
+    return _assemble(frames, chosen, pydicom)
 
 
 def list_series(path: PathLike) -> List[Dict[str, Any]]:
@@ -210,7 +275,14 @@ def list_series(path: PathLike) -> List[Dict[str, Any]]:
         ``"uid"``, ``"modality"``, ``"description"`` (SeriesDescription, may
         be ``""``), ``"number"`` (SeriesNumber or ``None``), ``"n_files"``
         and ``"n_images"`` (files with pixel data; series with 0 images, such
-        as structure sets, cannot be read as volumes).
+        as structure sets, cannot be read as volumes), ``"n_slices"`` (2D
+        images, mosaic tiles and frames counted; ``None`` if they are not
+        slices of a volume), ``"volume"`` and ``"id"``.  A series holding
+        several volumes (several images per position: echoes, time points,
+        acquisitions; or several stacks) gives one dict per volume, with
+        ``"volume"`` naming what tells it apart (e.g. ``"EchoNumbers=2"``)
+        and ``"id"`` = ``"uid#volume"`` to pass as ``series_uid``; else
+        ``"volume"`` is ``""`` and ``"id"`` is the uid.
 
     Raises
     ------
@@ -224,11 +296,31 @@ def list_series(path: PathLike) -> List[Dict[str, Any]]:
     >>> import os
     >>> from pydicom.data import get_testdata_file
     >>> folder = os.path.dirname(get_testdata_file("dicomdirtests/98892001/CT5N/2062"))
-    >>> [(s["modality"], s["n_files"], s["n_images"]) for s in list_series(folder)]
-    [('CT', 5, 5)]
+    >>> [(s["modality"], s["n_files"], s["n_images"], s["n_slices"]) for s in list_series(folder)]
+    [('CT', 5, 5, 5)]
     """
     pydicom = _import_pydicom()
-    return _summaries(_scan(Path(path), pydicom))
+    with _damaged_as_dicom_error(Path(path)):
+        return _volume_entries(_scan(Path(path), pydicom))
+
+
+@contextlib.contextmanager
+def _damaged_as_dicom_error(path: Path):
+    """Report pydicom's and numpy's errors on damaged files as one :class:`DicomError`.
+
+    Damaged files make pydicom fail lazily, when a value is first used, with
+    whatever the bytes trigger (struct.error, KeyError, TypeError,
+    UnicodeDecodeError, OverflowError ...); callers see one documented class.
+    """
+    try:
+        yield
+    except (DicomError, FileNotFoundError, MemoryError):
+        raise
+    except Exception as error:
+        raise DicomError(
+            f"'{path}' holds damaged DICOM data that could not be read "
+            f"({type(error).__name__}: {error}); re-export or re-copy the files "
+            "(or remove the damaged one)") from error
 
 
 # ---------------------------------------------------------------------------
@@ -252,7 +344,7 @@ def _scan(path: Path, pydicom) -> list:
     if path.is_file():
         ds = _read_header(path, pydicom)
         if ds is None:
-            raise ValueError(
+            raise DicomError(
                 f"'{path}' is not a DICOM file (no 'DICM' marker and no DICOM data set at "
                 "its start); pass a DICOM file or the folder holding the series")
         return [(path, ds)]
@@ -268,8 +360,53 @@ def _scan(path: Path, pydicom) -> list:
                 f"{', ...' if len(subfolders) > 5 else ''}) -- subfolders are not searched, "
                 "pass the folder that holds the slices" if subfolders else
                 "; pass the folder that holds the slices of one series")
-        raise ValueError(f"no DICOM files in '{path}' ({len(files)} file(s) checked){hint}")
+        raise DicomError(f"no DICOM files in '{path}' ({len(files)} file(s) checked){hint}")
     return found
+
+
+class _BoundedFile:
+    """A binary file whose reads stop at its end, even when asked for more.
+
+    pydicom reads a value with ``read(length)`` where ``length`` comes from the
+    file; Python allocates ``length`` bytes first, so a corrupt length of
+    0xFFFFFFF0 would allocate 4 GiB.  Reads through this class never ask for
+    more than what is left.  pydicom reopens files with the same class for its
+    deferred reads (pixel data), so those are bounded too.
+    """
+
+    def __init__(self, path, mode: str = "rb"):
+        self._file = open(path, "rb")
+        self.name = str(path)
+        self._size = os.fstat(self._file.fileno()).st_size
+
+    def read(self, size: Optional[int] = -1) -> bytes:
+        if size is None or size < 0:
+            return self._file.read()
+        return self._file.read(min(size, max(0, self._size - self._file.tell())))
+
+    def seek(self, offset: int, whence: int = 0) -> int:
+        return self._file.seek(offset, whence)
+
+    def tell(self) -> int:
+        return self._file.tell()
+
+    def close(self) -> None:
+        self._file.close()
+
+    @property
+    def closed(self) -> bool:
+        return self._file.closed
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+
+def _dcmread(file: Path, pydicom, **options):
+    with _BoundedFile(file) as handle:
+        return pydicom.dcmread(handle, defer_size="16 KB", **options)
 
 
 def _read_header(file: Path, pydicom):
@@ -277,11 +414,13 @@ def _read_header(file: Path, pydicom):
     from pydicom.errors import InvalidDicomError
 
     try:
-        return pydicom.dcmread(str(file), defer_size="16 KB")
+        return _dcmread(file, pydicom)
     except InvalidDicomError:
         pass
+    except MemoryError:
+        raise
     except Exception as error:  # a DICOM file that does not parse
-        raise ValueError(
+        raise DicomError(
             f"'{file}' is a DICOM file but could not be read ({error}); remove or "
             "re-export it") from error
     # Old files without the 128-byte preamble and 'DICM': accept only if they
@@ -291,7 +430,7 @@ def _read_header(file: Path, pydicom):
     if head[:2] not in (b"\x02\x00", b"\x08\x00"):
         return None
     try:
-        ds = pydicom.dcmread(str(file), defer_size="16 KB", force=True)
+        ds = _dcmread(file, pydicom, force=True)
         return ds if "SOPClassUID" in ds else None
     except Exception:
         return None
@@ -324,8 +463,35 @@ def _summaries(datasets) -> List[Dict[str, Any]]:
     return sorted(table.values(), key=lambda s: (s["number"] is None, s["number"] or 0, s["uid"]))
 
 
+def _volume_entries(datasets) -> List[Dict[str, Any]]:
+    """:func:`_summaries`, with a series split into its volumes where it holds several."""
+    entries = []
+    for entry in _summaries(datasets):
+        entry["id"], entry["volume"] = entry["uid"], ""
+        files = [(file, ds) for file, ds in datasets
+                 if _series_uid(ds) == entry["uid"] and _has_pixels(ds)]
+        try:
+            frames = [frame for file, ds in files for frame in _frames_of(file, ds)]
+            volumes = _split(frames) if frames else {"": []}
+        except DicomError:  # not a stack of slices (e.g. secondary captures): one entry
+            volumes = {"": None}
+        for key, group in volumes.items():
+            item = dict(entry)
+            item["n_slices"] = len(group) if group is not None else None
+            if key:
+                item["id"], item["volume"] = f"{entry['uid']}#{key}", key
+                names = {frame.file for frame in group}
+                item["n_files"] = item["n_images"] = len(names)
+            entries.append(item)
+    return entries
+
+
+def _listing(images) -> str:
+    return "\n".join(f"  {_describe(entry)}" for entry in _volume_entries(images))
+
+
 def _describe(entry: Dict[str, Any]) -> str:
-    text = f"{entry['uid'] or '(no SeriesInstanceUID)'}: {entry['modality'] or '?'}"
+    text = f"{entry.get('id') or entry['uid'] or '(no SeriesInstanceUID)'}: {entry['modality'] or '?'}"
     if entry["number"] is not None:
         text += f" #{entry['number']}"
     if entry["description"]:
@@ -341,10 +507,14 @@ class _Frame:
     """One 2D image: where it is, how to scale it, where its pixels are."""
 
     __slots__ = ("file", "index", "position", "orientation", "pixel_spacing",
-                 "slope", "intercept", "rescale_type")
+                 "slope", "intercept", "rescale_type", "tile", "labels")
 
     def __init__(self, file, index, position, orientation, pixel_spacing, slope, intercept,
-                 rescale_type):
+                 rescale_type, tile=None):
+        #: (first row, first column, rows, columns) of a mosaic tile, else None
+        self.tile = tile
+        #: attributes that can tell volumes of one series apart (see _split)
+        self.labels: Dict[str, str] = {}
         self.file = file
         self.index = index
         self.position = position
@@ -356,7 +526,23 @@ class _Frame:
 
     @property
     def name(self) -> str:
+        if self.tile is not None:
+            return f"{self.file.name} mosaic tile {self.tile[4] + 1}"
         return self.file.name if self.index is None else f"{self.file.name} frame {self.index + 1}"
+
+    def shape(self, ds) -> tuple:
+        """(rows, columns) of this frame's image."""
+        if self.tile is not None:
+            return self.tile[2], self.tile[3]
+        return int(ds.Rows), int(ds.Columns)
+
+    def pixels(self, decoded: np.ndarray) -> np.ndarray:
+        """This frame's pixels from the decoded (frames, rows, columns) of its file."""
+        image = decoded[self.index or 0]
+        if self.tile is None:
+            return image
+        r, c, rows, cols, _ = self.tile
+        return image[r:r + rows, c:c + cols]
 
 
 def _floats(value, count: int, what: str, where: str) -> np.ndarray:
@@ -365,7 +551,7 @@ def _floats(value, count: int, what: str, where: str) -> np.ndarray:
     except (TypeError, ValueError):
         numbers = np.array([])
     if numbers.shape != (count,) or not np.isfinite(numbers).all():
-        raise ValueError(f"{where}: {what} is {value!r}, expected {count} numbers")
+        raise DicomError(f"{where}: {what} is {value!r}, expected {count} numbers")
     return numbers
 
 
@@ -376,12 +562,94 @@ def _first_item(container, keyword):
     return sequence[0] if sequence else None
 
 
+# Attributes that tell the volumes of one series apart, tried in this order
+# when a series has several images at one position (see _split).
+SPLIT_KEYS = ("EchoNumbers", "TemporalPositionIdentifier", "TemporalPositionIndex", "StackID",
+              "EffectiveEchoTime", "AcquisitionNumber", "TriggerTime", "ImageType",
+              "orientation", "file")
+
+
 def _frames_of(file: Path, ds) -> List[_Frame]:
+    """The frames of one file, with their geometry, rescale and volume labels."""
+    frames = _frames_unlabelled(file, ds)
+    common = {}
+    for keyword in ("EchoNumbers", "TemporalPositionIdentifier", "AcquisitionNumber",
+                    "TriggerTime", "ImageType"):
+        value = ds.get(keyword, None)
+        if value not in (None, ""):
+            common[keyword] = _label(value)
+    per_frame = ds.get("PerFrameFunctionalGroupsSequence", None)
+    for frame in frames:
+        frame.labels = dict(common, file=file.name,
+                            orientation=_fmt(np.round(frame.orientation, 3)))
+        if per_frame is not None and frame.index is not None and frame.index < len(per_frame):
+            content = _first_item(per_frame[frame.index], "FrameContentSequence")
+            echo = _first_item(per_frame[frame.index], "MREchoSequence")
+            for item, keyword in ((content, "StackID"), (content, "TemporalPositionIndex"),
+                                  (echo, "EffectiveEchoTime")):
+                value = item.get(keyword, None) if item is not None else None
+                if value not in (None, ""):
+                    frame.labels[keyword] = _label(value)
+    return frames
+
+
+def _split(frames: List[_Frame]) -> Dict[str, List[_Frame]]:
+    """The volumes of one series: ``{"": frames}``, or ``{"Key=value": frames}``.
+
+    A series is split only when it has several images at one position (or
+    several orientations, or an enhanced multi-frame has several StackIDs), by the first of :data:`SPLIT_KEYS` whose groups
+    are each one clean stack of at least two images.
+    """
+    stacks = {frame.labels.get("StackID") for frame in frames}
+    if not _needs_split(frames) and (len(stacks) < 2 or None in stacks):
+        return {"": frames}
+    for key in SPLIT_KEYS:
+        groups: Dict[Any, List[_Frame]] = {}
+        for frame in frames:
+            groups.setdefault(frame.labels.get(key), []).append(frame)
+        if len(groups) < 2 or None in groups:
+            continue
+        if any(len(group) < 2 for group in groups.values()):  # not stacks: refuse later
+            continue
+        if any(_needs_split(group) for group in groups.values()):
+            continue
+        return {f"{key}={value}": groups[value] for value in sorted(groups, key=_natural)}
+    return {"": frames}
+
+
+def _natural(value: str):
+    try:
+        return (0, float(value), value)
+    except ValueError:
+        return (1, 0.0, value)
+
+
+def _needs_split(frames: List[_Frame]) -> bool:
+    if len({frame.labels.get("orientation") for frame in frames}) > 1:
+        return True
+    if len(frames) < 2:
+        return False
+    orientation = frames[0].orientation
+    normal = np.cross(orientation[:3], orientation[3:])
+    along = np.sort([float(frame.position @ normal) for frame in frames])
+    steps = np.diff(along)
+    nonzero = steps[steps > 1e-6]
+    median = float(np.median(nonzero)) if nonzero.size else 0.0
+    return bool((steps <= max(1e-4, DUPLICATE_FACTOR * median)).any())
+
+
+def _label(value) -> str:
+    if isinstance(value, (list, tuple)) or type(value).__name__ == "MultiValue":
+        return "\\".join(str(v) for v in value)
+    return str(value)
+
+
+def _frames_unlabelled(file: Path, ds) -> List[_Frame]:
     """The frames of one file, with per-frame geometry and rescale."""
     where = f"'{file}'"
     samples = int(ds.get("SamplesPerPixel", 1) or 1)
     if samples != 1:
-        raise ValueError(
+        raise DicomError(
             f"{where} is a colour image ({samples} samples per pixel, "
             f"{ds.get('PhotometricInterpretation', '?')}); a MIP needs one value per voxel: "
             "use a greyscale series")
@@ -396,7 +664,7 @@ def _frames_of(file: Path, ds) -> List[_Frame]:
     shared = _first_item(ds, "SharedFunctionalGroupsSequence")
     if per_frame is not None or shared is not None:  # enhanced multi-frame
         if per_frame is not None and len(per_frame) != frames:
-            raise ValueError(f"{where}: {len(per_frame)} per-frame functional groups for "
+            raise DicomError(f"{where}: {len(per_frame)} per-frame functional groups for "
                              f"{frames} frames; the file is inconsistent")
         result = []
         for index in range(frames):
@@ -430,12 +698,16 @@ def _frames_of(file: Path, ds) -> List[_Frame]:
     position = ds.get("ImagePositionPatient", None)
     orientation = ds.get("ImageOrientationPatient", None)
     spacing = ds.get("PixelSpacing", None)
+    if frames == 1 and _is_mosaic(ds):
+        base = _frame(file, None, position, orientation, spacing, top_slope, top_intercept,
+                      top_type, where, ds)
+        return _mosaic_frames(file, ds, base, where)
     if frames == 1:
         return [_frame(file, None, position, orientation, spacing, top_slope, top_intercept,
                        top_type, where, ds)]
     offsets = ds.get("GridFrameOffsetVector", None)
     if offsets is None:
-        raise ValueError(
+        raise DicomError(
             f"{where} has {frames} frames but no per-frame positions (no "
             "PerFrameFunctionalGroupsSequence and no GridFrameOffsetVector): mipcast cannot "
             "tell where the frames are; convert it to a slice series or an enhanced "
@@ -455,20 +727,114 @@ def _frames_of(file: Path, ds) -> List[_Frame]:
             for index, offset in enumerate(offsets)]
 
 
+def _is_mosaic(ds) -> bool:
+    """A Siemens mosaic: ImageType says MOSAIC (as dcm2niix and nibabel check)."""
+    image_type = ds.get("ImageType", None) or []
+    if isinstance(image_type, str):
+        image_type = [image_type]
+    return any(str(v).upper() == "MOSAIC" for v in image_type)
+
+
+def _nibabel_nicom():
+    """nibabel's CSA reader and DICOM wrappers, without its 'experimental' import warning."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="The DICOM readers are highly experimental")
+        from nibabel.nicom import csareader, dicomwrappers
+    return csareader, dicomwrappers
+
+
+def _csa_image_header(ds, where):
+    """The parsed Siemens CSA image header of ``ds`` (nibabel.nicom.csareader), or None."""
+    if (0x0029, 0x0010) not in ds:
+        return None
+    try:
+        csareader, _ = _nibabel_nicom()
+    except ImportError:
+        raise DicomError(f"{where} is a Siemens mosaic; reading its CSA header needs nibabel: "
+                         "pip install nibabel") from None
+    try:
+        return csareader.get_csa_header(ds, "image")
+    except Exception as error:  # CSAReadError, struct.error ... on a damaged header
+        raise DicomError(f"{where}: the Siemens CSA image header (0029,1010) is damaged "
+                         f"({error}); re-export the series from the scanner") from error
+
+
+def _mosaic_count(ds, where) -> Optional[int]:
+    """NumberOfImagesInMosaic from the CSA header, else the private tag (0019,100A)."""
+    csa = _csa_image_header(ds, where)
+    count = None
+    if csa is not None:
+        count = _nibabel_nicom()[0].get_n_mosaic(csa)
+    if count in (None, "", 0):
+        try:
+            block = ds.private_block(0x0019, "SIEMENS MR HEADER")
+            value = block[0x0A].value if 0x0A in block else None
+        except (KeyError, ValueError):
+            value = None
+        if isinstance(value, bytes) and len(value) in (2, 4):  # implicit VR: raw little endian
+            value = int.from_bytes(value, "little")
+        count = value
+    try:
+        return int(count) if count not in (None, "") else None
+    except (TypeError, ValueError):
+        return None
+
+
+def _mosaic_frames(file, ds, base: _Frame, where) -> List[_Frame]:
+    """The tiles of a Siemens mosaic as frames, with nibabel's mosaic geometry."""
+    count = _mosaic_count(ds, where)
+    if count is None or not 1 <= count <= 4096:
+        raise DicomError(
+            f"{where} is a Siemens mosaic (ImageType MOSAIC) but its number of images "
+            f"(CSA NumberOfImagesInMosaic or (0019,100A)) is {count!r}; without it the tiles "
+            "cannot be unpacked: convert the series with dcm2niix")
+    size = int(math.ceil(math.sqrt(count)))
+    rows, cols = int(ds.Rows), int(ds.Columns)
+    if rows % size or cols % size:
+        raise DicomError(f"{where}: a mosaic of {count} images ({size} x {size} tiles) cannot "
+                         f"be {rows} x {cols} pixels; the header is inconsistent")
+    csareader, dicomwrappers = _nibabel_nicom()
+    csa = _csa_image_header(ds, where) or {}
+    wrapper = dicomwrappers.MosaicWrapper(ds, csa, count)
+    try:
+        normal = np.asarray(wrapper.slice_normal, dtype=float)
+        first = np.asarray(wrapper.image_position, dtype=float)
+    except (AssertionError, TypeError, ValueError) as error:
+        csa_normal = csareader.get_slice_normal(csa) if csa else None
+        raise DicomError(
+            f"{where}: the mosaic's CSA SliceNormalVector {csa_normal} is not the normal of "
+            f"ImageOrientationPatient {_fmt(base.orientation)}; the header is inconsistent"
+        ) from error
+    step = None
+    for keyword in ("SpacingBetweenSlices", "SliceThickness"):
+        value = ds.get(keyword, None)
+        if value not in (None, "") and float(value) > 0:
+            step = float(value)
+            break
+    if step is None:
+        raise DicomError(f"{where}: a mosaic without SpacingBetweenSlices or SliceThickness; "
+                         "the slice step is unknown")
+    tile_rows, tile_cols = rows // size, cols // size
+    return [_Frame(file, None, first + k * step * normal, base.orientation, base.pixel_spacing,
+                   base.slope, base.intercept, base.rescale_type,
+                   ((k // size) * tile_rows, (k % size) * tile_cols, tile_rows, tile_cols, k))
+            for k in range(count)]
+
+
 def _frame(file, index, position, orientation, spacing, slope, intercept, rescale_type, where,
            ds) -> _Frame:
     if position is None or orientation is None:
         kind = f"{ds.get('Modality', '?')} {getattr(ds.get('SOPClassUID', None), 'name', '')}"
-        raise ValueError(
+        raise DicomError(
             f"{where} ({kind.strip()}) has no ImagePositionPatient/ImageOrientationPatient: it "
             "is not a slice of a 3D volume (a projection, scout or secondary capture?); "
             "mipcast needs cross-sectional images (CT, MR, PET, RT dose ...)")
     if spacing is None:
-        raise ValueError(f"{where} has no PixelSpacing, so the voxel size is unknown; "
+        raise DicomError(f"{where} has no PixelSpacing, so the voxel size is unknown; "
                          "add it to the files (e.g. with pydicom) before reading")
     pixel_spacing = _floats(spacing, 2, "PixelSpacing", where)
     if not (pixel_spacing > 0).all():
-        raise ValueError(f"{where}: PixelSpacing {list(pixel_spacing)} must be > 0")
+        raise DicomError(f"{where}: PixelSpacing {list(pixel_spacing)} must be > 0")
     return _Frame(file, index, _floats(position, 3, "ImagePositionPatient", where),
                   _floats(orientation, 6, "ImageOrientationPatient", where), pixel_spacing,
                   float(slope), float(intercept), rescale_type)
@@ -508,21 +874,83 @@ def _missing_decoder_text(syntax, missing: Sequence[str]) -> str:
     return text
 
 
+def _expected_bytes(ds) -> int:
+    """Bytes of the decoded pixels of ``ds`` as its header describes them."""
+    rows, cols = int(ds.get("Rows", 0) or 0), int(ds.get("Columns", 0) or 0)
+    frames = int(ds.get("NumberOfFrames", 1) or 1)
+    samples = int(ds.get("SamplesPerPixel", 1) or 1)
+    bits = int(ds.get("BitsAllocated", 8) or 8)
+    return rows * cols * frames * samples * max(1, (bits + 7) // 8)
+
+
+def _refuse_lying_size(file: Path, ds) -> None:
+    """Refuse, before decoding, pixel data that cannot hold what the header says."""
+    where = f"'{file}'"
+    for keyword in ("Rows", "Columns", "NumberOfFrames", "BitsAllocated", "SamplesPerPixel"):
+        value = ds.get(keyword, None)
+        if value not in (None, "") and (not isinstance(value, (int, float, str))
+                                        or int(float(value)) < 0):
+            raise DicomError(f"{where}: {keyword} is {value!r}, not a count; the file is corrupt")
+    expected = _expected_bytes(ds)
+    if expected == 0:
+        raise DicomError(f"{where}: Rows or Columns is 0; the file holds no image")
+    if expected > MAX_BYTES:
+        raise DicomError(
+            f"{where}: the header describes {expected / 2 ** 30:.3g} GiB of pixels "
+            f"(Rows x Columns x frames x bytes), more than mipcast reads "
+            f"({MAX_BYTES / 2 ** 30:g} GiB); the header is corrupt, or split the volume")
+    raw = ds.get_item("PixelData")
+    length = getattr(raw, "length", None)
+    tell = getattr(raw, "value_tell", None)
+    size = file.stat().st_size
+    if length is not None and length != 0xFFFFFFFF and tell is not None and tell + length > size:
+        raise DicomError(f"{where} is truncated: its pixel data should be {length} bytes but the "
+                         f"file ends {size - tell} bytes after its start; re-export or re-copy it")
+    stored = len(ds.PixelData)
+    syntax = getattr(getattr(ds, "file_meta", None), "get", lambda *_: None)("TransferSyntaxUID")
+    compressed = syntax is not None and syntax.is_compressed
+    if not compressed and stored < expected:
+        raise DicomError(
+            f"{where}: the header describes {expected} bytes of pixels (Rows x Columns x frames "
+            f"x bytes) but the file holds {stored}: truncated file or wrong Rows/Columns/"
+            "NumberOfFrames; re-export it")
+    if compressed and expected > MAX_COMPRESSION * stored + 2 ** 20:
+        raise DicomError(
+            f"{where}: the header describes {expected} bytes of pixels but only {stored} "
+            f"compressed bytes are stored (more than {MAX_COMPRESSION}:1); the header lies "
+            "about Rows/Columns/NumberOfFrames or the file is truncated; re-export it")
+
+
+def _decode_error(file: Path, ds, error: BaseException) -> DicomError:
+    meta = getattr(ds, "file_meta", None)
+    syntax = meta.get("TransferSyntaxUID", None) if meta is not None else None
+    if syntax is not None and syntax.is_compressed:
+        return DicomError(f"cannot decode '{file}': its {syntax.name} pixel data is damaged or "
+                          f"does not match Rows/Columns/BitsAllocated (the decoder said: "
+                          f"{error}); re-export the file")
+    return DicomError(f"cannot decode the pixel data of '{file}': {error}")
+
+
 def _pixels(file: Path, ds) -> np.ndarray:
     """Decoded pixels of one file as (frames, rows, columns)."""
     problem = _decoder_problem(ds)
     if problem:
-        raise ValueError(f"cannot decode '{file}': {problem}")
+        raise DicomError(f"cannot decode '{file}': {problem}")
+    if "PixelData" in ds:
+        _refuse_lying_size(file, ds)
     try:
         array = ds.pixel_array
     except Exception as error:
-        meta = getattr(ds, "file_meta", None)
-        syntax = meta.get("TransferSyntaxUID", None) if meta is not None else None
-        if syntax is not None and syntax.is_compressed:
-            raise ValueError(f"cannot decode '{file}': "
-                             f"{_missing_decoder_text(syntax, [])}; pydicom said: {error}") from error
-        raise ValueError(f"cannot decode the pixel data of '{file}': {error}") from error
+        raise _decode_error(file, ds, error) from error
+    except BaseException as error:  # Rust decoders (pylibjpeg-rle) panic with a BaseException
+        if type(error).__name__ != "PanicException":
+            raise
+        raise _decode_error(file, ds, error) from None
     frames = int(ds.get("NumberOfFrames", 1) or 1)
+    if array.ndim not in (2, 3) or array.size != frames * int(ds.Rows) * int(ds.Columns):
+        raise DicomError(f"cannot decode the pixel data of '{file}': decoded shape "
+                         f"{array.shape} does not match {frames} frame(s) of "
+                         f"{ds.Rows} x {ds.Columns}; the file is corrupt")
     return array.reshape((frames,) + array.shape[-2:])
 
 
@@ -534,27 +962,32 @@ def _assemble(frames: List[_Frame], files, pydicom) -> vtkImageData:
     """Check the geometry of ``frames``, sort them along the normal, stack them."""
     first = frames[0]
     headers = {file: ds for file, ds in files}
-    size = {(int(headers[f.file].Rows), int(headers[f.file].Columns)) for f in frames}
+    size = {f.shape(headers[f.file]) for f in frames}
     if len(size) > 1:
-        raise ValueError(f"the images of the series have different sizes {sorted(size)} "
+        raise DicomError(f"the images of the series have different sizes {sorted(size)} "
                          "(rows, columns); keep only the slices of one stack")
     rows, cols = size.pop()
+    if len(frames) * rows * cols * 8 > MAX_BYTES:
+        raise DicomError(
+            f"the series describes {len(frames)} slices of {rows} x {cols} pixels, more than "
+            f"mipcast reads ({MAX_BYTES / 2 ** 30:g} GiB as float64); the header is corrupt, "
+            "or read a part of the series")
 
     for frame in frames[1:]:
         if np.abs(frame.orientation - first.orientation).max() > ORIENTATION_TOL:
-            raise ValueError(
+            raise DicomError(
                 f"inconsistent orientation: {frame.name} has ImageOrientationPatient "
                 f"{_fmt(frame.orientation)} but {first.name} has {_fmt(first.orientation)}; "
                 "the series mixes differently oriented images (a scout/localizer or "
                 "reformats?): keep only the slices of one stack")
         if np.abs(frame.pixel_spacing - first.pixel_spacing).max() > 1e-4 * first.pixel_spacing.max():
-            raise ValueError(
+            raise DicomError(
                 f"inconsistent PixelSpacing: {frame.name} has {_fmt(frame.pixel_spacing)} but "
                 f"{first.name} has {_fmt(first.pixel_spacing)}; keep only the slices of one stack")
     row = first.orientation[:3] / np.linalg.norm(first.orientation[:3])
     col = first.orientation[3:] / np.linalg.norm(first.orientation[3:])
     if abs(float(row @ col)) > ORIENTATION_TOL:
-        raise ValueError(
+        raise DicomError(
             f"ImageOrientationPatient {_fmt(first.orientation)} of {first.name} is not made of "
             "two perpendicular unit vectors; the files are corrupt")
     normal = np.cross(row, col)
@@ -576,8 +1009,9 @@ def _assemble(frames: List[_Frame], files, pydicom) -> vtkImageData:
                 step = float(value)
                 break
         step = step or 1.0  # one slice: the step has no effect on any point
+        origin = positions[0]
     else:
-        step = _check_steps(frames, positions, along, normal, pixel)
+        step, origin = _check_steps(frames, positions, along, normal, pixel)
 
     ds0 = headers[first.file]
     values = _stack(frames, headers, rows, cols)
@@ -585,7 +1019,7 @@ def _assemble(frames: List[_Frame], files, pydicom) -> vtkImageData:
     image.SetDimensions(cols, rows, len(frames))
     # PixelSpacing = (between rows, between columns) = (along j, along i)
     image.SetSpacing(float(first.pixel_spacing[1]), float(first.pixel_spacing[0]), step)
-    image.SetOrigin(*(float(v) for v in positions[0]))
+    image.SetOrigin(*(float(v) for v in origin))
     image.SetDirectionMatrix(*np.column_stack([row, col, normal]).ravel())
     values.SetName(SCALARS_NAME)
     image.GetPointData().SetScalars(values)
@@ -596,57 +1030,103 @@ def _assemble(frames: List[_Frame], files, pydicom) -> vtkImageData:
     return image
 
 
-def _check_steps(frames, positions, along, normal, pixel) -> float:
-    """Refuse duplicates, tilt, gaps and uneven steps; return the slice step."""
+def _check_steps(frames, positions, along, normal, pixel):
+    """Fit a regular grid to the slice positions; return (step, origin).
+
+    Duplicates, gaps, gantry tilt, scattered origins and slices more than
+    ``POSITION_TOL`` x step off the least-squares grid are refused, naming
+    the slices.  Within the tolerance, the least-squares step and origin are
+    used and one :class:`DicomGeometryWarning` gives the largest misplacement.
+    """
     steps = np.diff(along)
+    _refuse_duplicates(frames, along, steps)
+    lateral, scatter = _check_lateral(frames, positions, along, normal, pixel)
+    _refuse_gaps(frames, along, steps)
+    n = len(along)
+    k = np.arange(n, dtype=float)
+    step = float((along[-1] - along[0]) / (n - 1))
+    intercept = float(along[0])
+    if np.abs(along - (intercept + step * k)).max() > 1e-6 * step:  # not exactly even
+        step, intercept = (float(v) for v in np.polyfit(k, along, 1))
+    residual = along - (intercept + step * k)
+    worst = int(np.argmax(np.abs(residual)))
+    if abs(residual[worst]) > POSITION_TOL * step:
+        raise DicomError(
+            f"the slice positions are not evenly spaced: {frames[worst].name} lies "
+            f"{abs(residual[worst]):.3g} mm off the best regular grid (step {step:.4g} mm; "
+            f"steps range from {steps.min():.4g} to {steps.max():.4g} mm; limit "
+            f"{POSITION_TOL:g} x the step). The folder probably mixes stacks with different "
+            "spacing; keep the slices of one stack (or resample the series to a uniform step "
+            "first)")
+    misplacement = np.sqrt(residual ** 2 + scatter ** 2)
+    worst = int(np.argmax(misplacement))
+    if misplacement[worst] > max(WARN_TOL * step, 1e-4):
+        warnings.warn(
+            f"the slice positions deviate from a regular grid (steps {steps.min():.4g} to "
+            f"{steps.max():.4g} mm, rounded positions in the headers?): using the least-squares "
+            f"step {step:.6g} mm; the largest misplacement is {misplacement[worst]:.3g} mm "
+            f"({100 * misplacement[worst] / step:.2g} % of the step) at {frames[worst].name}",
+            DicomGeometryWarning, stacklevel=5)  # the caller of read_dicom
+    origin = positions[0] + (intercept - along[0]) * normal + lateral.mean(axis=0)
+    return step, origin
+
+
+def _refuse_duplicates(frames, along, steps) -> None:
     nonzero = steps[steps > 1e-6]
     median = float(np.median(nonzero)) if nonzero.size else 0.0
-    duplicates = np.flatnonzero(steps <= max(1e-4, 0.01 * median))
+    duplicates = np.flatnonzero(steps <= max(1e-4, DUPLICATE_FACTOR * median))
     if duplicates.size:
         pairs = "; ".join(f"{frames[d].name} and {frames[d + 1].name} at {along[d]:.3f} mm"
                           for d in duplicates[:3])
-        raise ValueError(
+        raise DicomError(
             f"{duplicates.size} duplicate slice position(s) along the slice normal ({pairs}"
             f"{'; ...' if duplicates.size > 3 else ''}): the series holds several images per "
             "position (repeated files, several time points, echoes or acquisitions?); keep "
             "one image per position (e.g. one acquisition/echo per folder)")
 
-    offsets = positions - positions[0]
-    lateral = offsets - np.outer(offsets @ normal, normal)
-    drift = np.linalg.norm(lateral, axis=1)
-    tolerance = max(TILT_TOL_PIXELS * pixel, 1e-3)
-    if drift.max() > tolerance:
-        last = int(np.argmax(drift))
-        angle = math.degrees(math.atan2(drift[last], along[last] - along[0]))
-        raise ValueError(
-            f"the slice origins drift sideways to the slice normal by up to {drift.max():.3f} mm "
-            f"(gantry tilt of about {angle:.2f} deg, or slices of several stacks): stacking "
-            "them on a regular grid would shear the anatomy. mipcast refuses tilted series; "
-            "resample onto an untilted grid first (e.g. 3D Slicer's 'Gantry tilt correction', "
-            "dcm2niix, or SimpleITK's ResampleImageFilter)")
 
+def _refuse_gaps(frames, along, steps) -> None:
+    median = float(np.median(steps))
     gaps = np.flatnonzero(steps > GAP_FACTOR * median)
     if gaps.size:
         where = "; ".join(
             f"between {frames[g].name} ({along[g]:.3f} mm) and {frames[g + 1].name} "
             f"({along[g + 1]:.3f} mm): about {max(1, round(steps[g] / median) - 1)} missing"
             for g in gaps[:3])
-        raise ValueError(
+        raise DicomError(
             f"missing slice(s): {gaps.size} gap(s) larger than {GAP_FACTOR} x the usual step "
             f"of {median:.4g} mm ({where}{'; ...' if gaps.size > 3 else ''}); copy the whole "
             "series into the folder (or remove the stray slices)")
 
-    step = float((along[-1] - along[0]) / (len(along) - 1))
-    deviation = float(np.abs(steps - step).max())
-    if deviation > SPACING_TOL * step:
-        raise ValueError(
-            f"the slice step is not uniform: it ranges from {steps.min():.4g} to "
-            f"{steps.max():.4g} mm (mean {step:.4g} mm, {100 * deviation / step:.1f} % off, "
-            f"limit {100 * SPACING_TOL:g} %). A regular grid would misplace slices by up to "
-            f"{deviation:.3g} mm and resampling would silently change the geometry, so "
-            "mipcast refuses; resample the series to a uniform step first, or read a "
-            "uniformly spaced part of it")
-    return step
+
+def _check_lateral(frames, positions, along, normal, pixel):
+    """Refuse tilt and scattered origins; return (lateral offsets, their scatter)."""
+    offsets = positions - positions[0]
+    lateral = offsets - np.outer(offsets @ normal, normal)
+    depth = along - along[0]
+    design = np.column_stack([np.ones_like(depth), depth])
+    (base, slope), *_ = np.linalg.lstsq(design, lateral, rcond=None)
+    fitted = base + np.outer(depth, slope)
+    noise = float(np.linalg.norm(lateral - fitted, axis=1).max())
+    drift = float(np.linalg.norm(slope) * depth[-1])
+    if drift > max(TILT_TOL_PIXELS * pixel + 3 * noise, 1e-3):
+        angle = math.degrees(math.atan(float(np.linalg.norm(slope))))
+        raise DicomError(
+            f"the slice origins drift sideways to the slice normal by {drift:.3f} mm from "
+            f"{frames[0].name} to {frames[-1].name} (gantry tilt of about {angle:.2f} deg, or "
+            "slices of several stacks): stacking them on a regular grid would shear the "
+            "anatomy. mipcast refuses tilted series; resample onto an untilted grid first "
+            "(e.g. 3D Slicer's 'Gantry tilt correction', dcm2niix, or SimpleITK's "
+            "ResampleImageFilter)")
+    scatter = np.linalg.norm(lateral - lateral.mean(axis=0), axis=1)
+    worst = int(np.argmax(scatter))
+    if scatter[worst] > LATERAL_TOL_PIXELS * pixel:
+        raise DicomError(
+            f"the slice origins are scattered sideways to the slice normal: {frames[worst].name} "
+            f"is {scatter[worst]:.3g} mm off the others (limit {LATERAL_TOL_PIXELS:g} pixel = "
+            f"{LATERAL_TOL_PIXELS * pixel:.3g} mm); the folder mixes stacks: keep the slices "
+            "of one stack")
+    return lateral, scatter
 
 
 def _stack(frames: List[_Frame], headers, rows: int, cols: int) -> vtkDataArray:
@@ -656,7 +1136,7 @@ def _stack(frames: List[_Frame], headers, rows: int, cols: int) -> vtkDataArray:
     for frame in frames:
         if frame.file not in decoded:
             decoded[frame.file] = _pixels(frame.file, headers[frame.file])
-        raw.append(decoded[frame.file][frame.index or 0])
+        raw.append(frame.pixels(decoded[frame.file]))
     slopes = np.array([f.slope for f in frames])
     intercepts = np.array([f.intercept for f in frames])
     integral = (all(a.dtype.kind in "iub" for a in raw)
