@@ -19,7 +19,7 @@ Examples
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Callable, Dict, Optional, Tuple
 
 import numpy as np
@@ -76,8 +76,10 @@ class Method:
         A method without a float readout whose samples another method's
         readout reproduces exactly (stock VTK MIP: mipcast's ``"mip"``); the
         benchmark reads its error there.
-    bench : tuple of (label, samples_per_voxel, settings)
-        Its rows in ``mipcast bench``: ``settings`` are ``(name, value)`` pairs.
+    bench : tuple of (label, samples_per_voxel, settings), optional
+        Its rows in ``mipcast bench``: ``settings`` are ``(Name, value)``
+        pairs for its setters; default one row, the method's own name at one
+        sample per voxel (no sampling rate if it walks cells).
     """
 
     name: str
@@ -92,11 +94,17 @@ class Method:
     walks_cells: bool = False
     in_view: bool = True
     readout_by: Optional[str] = None
-    bench: Tuple[Tuple[str, Any, tuple], ...] = field(default=())
+    bench: Optional[Tuple[Tuple[str, Any, tuple], ...]] = None
 
     def create(self):
         """A new, unconfigured mapper of this method."""
         return self.factory()
+
+    def bench_rows(self) -> Tuple[Tuple[str, Any, tuple], ...]:
+        """Its ``mipcast bench`` rows (see ``bench``)."""
+        if self.bench is not None:
+            return self.bench
+        return ((self.name, None if self.walks_cells else 1, ()),)
 
 
 # -- factories of VTK's own mappers --------------------------------------------

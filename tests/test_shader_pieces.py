@@ -234,12 +234,26 @@ def test_a_hook_piece_in_another_slot_is_refused(piece_folder):
         sampled_projection_mapper("toy_first_sample")
 
 
-def test_a_one_piece_projection_renders(piece_folder, monkeypatch):
+@pytest.fixture
+def toy_methods():
+    """Register methods for one test; unregistered afterwards."""
+    names = []
+
+    def add(name, hooks):
+        mipcast.methods.register(mipcast.methods.Method(name, name, "a toy", sampled_projection_mapper(hooks)))
+        names.append(name)
+
+    yield add
+    for name in names:
+        mipcast.methods.unregister(name)
+
+
+def test_a_one_piece_projection_renders(piece_folder, toy_methods):
     # the toy method "first sample along the ray": one hook piece, nothing else
     (piece_folder / "toy_first_sample.glsl").write_text(TOY_FIRST_SAMPLE)
     (piece_folder / "toy_mip.glsl").write_text(load_piece("mip_hooks").text.replace("mip_hooks", "toy_mip", 1))
-    monkeypatch.setitem(mipcast.methods.METHODS, "toy_first", sampled_projection_mapper("toy_first_sample"))
-    monkeypatch.setitem(mipcast.methods.METHODS, "toy_mip", sampled_projection_mapper("toy_mip"))
+    toy_methods("toy_first", "toy_first_sample")
+    toy_methods("toy_mip", "toy_mip")
     image = make_fixture("vessels", size=32)
     mip = OffscreenView(image, "mip", size=(48, 40)).float_image()
     first = OffscreenView(image, "toy_first", size=(48, 40)).float_image()

@@ -50,7 +50,7 @@ def default_settings() -> tuple:
     from mipcast.methods import METHODS
 
     return tuple(Setting(label, method.name, rate, method.readout_by, settings)
-                 for method in METHODS.values() for label, rate, settings in method.bench)
+                 for method in METHODS.values() for label, rate, settings in method.bench_rows())
 
 
 def resolve_settings(image, settings: Sequence[Setting], size, view: str, window=None) -> list:
