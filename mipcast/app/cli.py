@@ -66,7 +66,7 @@ def _parser() -> argparse.ArgumentParser:
                             formatter_class=argparse.RawDescriptionHelpFormatter, allow_abbrev=False)
     render.add_argument("input", type=Path)
     render.add_argument("--method", default="mip", choices=sorted(METHODS))
-    render.add_argument("--out", type=Path, required=True, help="PNG file to write")
+    render.add_argument("--out", type=Path, required=True, help="PNG file to write (.gif/.mp4 with --turntable)")
     render.add_argument("--view", default="oblique", choices=VIEW_NAMES,
                         help="camera: volume axes (oblique, perspective, front, back, side) or the patient's "
                              "side (anterior, posterior, left, right, superior, inferior; LPS world)")
@@ -74,7 +74,7 @@ def _parser() -> argparse.ArgumentParser:
     render.add_argument("--sample-distance", type=_distance, default=None,
                         help="world units between samples (default: one per voxel), or 'auto': the "
                              "fewest samples that keep 99%% of pixels within one grey level of the exact maximum")
-    render.add_argument("--window", nargs="+", default=None, metavar="LOW HIGH|full|PRESET",
+    render.add_argument("--window", nargs="+", default=None, metavar=("LOW|full|PRESET", "HIGH"),
                         help=_WINDOW_HELP)
     render.add_argument("--turntable", type=int, default=None, metavar="N",
                         help="write N frames turning 360 degrees about the view-up axis (--out spin.gif, "
@@ -90,7 +90,7 @@ def _parser() -> argparse.ArgumentParser:
                           formatter_class=argparse.RawDescriptionHelpFormatter, allow_abbrev=False)
     view.add_argument("input", type=Path)
     view.add_argument("--method", default="mip", choices=sorted(METHODS))
-    view.add_argument("--window", nargs="+", default=None, metavar="LOW HIGH|full|PRESET",
+    view.add_argument("--window", nargs="+", default=None, metavar=("LOW|full|PRESET", "HIGH"),
                       help=_WINDOW_HELP)
     view.add_argument("--view", default=None, choices=VIEW_NAMES, help="first camera (default: pyvista's)")
     view.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
