@@ -88,6 +88,23 @@ def test_window_words_and_explicit_windows():
         OffscreenView(image, window=(1.0, 0.0))
 
 
+def test_a_dicom_ct_series_gets_the_ct_preset():
+    import os
+    from pydicom.data import get_testdata_file
+    from mipcast.io import read_volume
+
+    folder = os.path.dirname(get_testdata_file("dicomdirtests/98892001/CT5N/2062"))
+    image = read_volume(folder)  # the reader records units "HU" (Modality CT)
+    assert looks_like_ct(image)
+    # its 16 x 16 x 5 crop holds -888..85 HU: nothing reaches the preset's 150 HU, so the histogram rule
+    window, reason = window_and_reason(image)
+    assert reason == "histogram percentiles" and -888 <= window[0] < window[1] <= 85
+    scalars = image.GetPointData().GetScalars()
+    scalars.SetValue(0, 700)  # a bone voxel
+    scalars.Modified()
+    assert window_and_reason(image) == ((150.0, 700.0), "CT preset ct-mip (HU)")
+
+
 @pytest.mark.skipif(head_ct_path() is None, reason="head CT absent (apt-get install invesalius-examples)")
 def test_head_ct_gets_the_ct_preset():
     window, reason = window_and_reason(load_head_ct())

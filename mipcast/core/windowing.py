@@ -6,7 +6,8 @@ voxel (metal, a dental filling) darkens everything else.  The rule here,
 also stated in docs/usage.md ("The default window"):
 
 - **CT** (Hounsfield units): the ``"ct-mip"`` preset, 150 to 1800 HU (the
-  high end lowered to the data maximum if that is below 1800).  Soft
+  high end lowered to the data maximum if that is below 1800; a CT whose
+  maximum is not above 150 HU gets the histogram rule below).  Soft
   tissue, blood and water (< 150 HU) are black; contrast-filled vessels
   (~150-500 HU) and bone (~300-2000 HU) show.  The data count as HU when
   the image's field data ``"units"`` says ``"HU"`` (the DICOM reader records
