@@ -23,7 +23,8 @@ import numpy as np
 
 from mipcast.io import with_scalars
 from mipcast.methods import attach, create_mapper
-from mipcast.offscreen import OffscreenView
+from mipcast.offscreen import OffscreenView, set_view
+from mipcast.core.windowing import resolve_window
 from mipcast.core.parameters import method_parameters, set_parameters
 from mipcast.core.validation import check_image, check_positive
 
@@ -45,11 +46,16 @@ def render(image, method: str = "mip", *, scalars: Optional[str] = None, size: S
     size : sequence of int, default: (256, 256)
         Image (width, height) in pixels.
     view : str, default: "oblique"
-        A camera preset of ``mipcast.offscreen.VIEWS``.
+        A camera preset of ``mipcast.offscreen.VIEWS`` or a patient view
+        (``"anterior"``, ``"posterior"``, ``"left"``, ``"right"``,
+        ``"superior"``, ``"inferior"``; see :mod:`mipcast.core.patient_views`).
     sample_distance : float, optional
         World units between samples; default one sample per voxel.
-    window : sequence of float, optional
-        Grey window (low, high) in data units; default the data range.
+    window : sequence of float or str, optional
+        Grey window (low, high) in data units; default (``"auto"``) the
+        window a viewer would pick (a CT preset for HU, else histogram
+        percentiles: :func:`mipcast.core.windowing.default_window`);
+        ``"full"`` the data range; or a preset name such as ``"ct-bone"``.
     as_float : bool, default: False
         Return each pixel's maximum in data units (float32, NaN where a ray
         misses) instead of the 8-bit RGB picture.
@@ -99,8 +105,10 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
         The image itself is not modified.
     cmap : str or matplotlib colormap, default: "gray"
         Colour map over ``clim``, as in ``Plotter.add_volume``.
-    clim : sequence of float, optional
-        Colour limits (low, high); default the data range.
+    clim : sequence of float or str, optional
+        Colour limits (low, high); default (``"auto"``) the window a viewer
+        would pick (:func:`mipcast.core.windowing.default_window`);
+        ``"full"`` the data range; or a preset name such as ``"ct-bone"``.
     opacity : float or str, default: 1.0
         A constant opacity, or one of pyvista's opacity transfer function
         names (``"linear"``, ``"sigmoid"``, ...), as in ``add_volume``.
@@ -139,7 +147,7 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
 
     image = with_scalars(image, scalars)
     check_image(image)
-    low, high = clim if clim is not None else image.GetPointData().GetScalars().GetRange(0)
+    low, high = resolve_window(image, clim)
     if sample_distance is None:
         sample_distance = min(abs(s) for s in image.GetSpacing())
     mapper = create_mapper(method)
@@ -155,7 +163,7 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
 
 
 def plot(image, method: str = "mip", *, off_screen: Optional[bool] = None,
-         window_size: Optional[Sequence[int]] = None, screenshot=None, **kwargs):
+         window_size: Optional[Sequence[int]] = None, screenshot=None, view: Optional[str] = None, **kwargs):
     """Show ``image`` in a new pyvista ``Plotter`` with a mipcast method, like ``grid.plot(volume=True)``.
 
     Parameters
@@ -167,6 +175,9 @@ def plot(image, method: str = "mip", *, off_screen: Optional[bool] = None,
     off_screen, window_size, screenshot
         As in ``pyvista.Plotter`` and ``Plotter.show`` (``screenshot``: a PNG
         path to write).
+    view : str, optional
+        A camera preset or patient view, as in :func:`render`
+        (``"anterior"``, ...); default pyvista's camera.
     **kwargs
         Keyword arguments of :func:`add_volume` (``cmap``, ``clim``,
         ``scalars``, ... and method parameters such as ``depth_weight``).
@@ -194,6 +205,9 @@ def plot(image, method: str = "mip", *, off_screen: Optional[bool] = None,
     plotter = pyvista.Plotter(off_screen=off_screen, window_size=window_size)
     try:
         add_volume(plotter, image, method, **kwargs)
+        if view is not None:
+            set_view(plotter.renderer, image, view)
+            plotter.camera_set = True  # else pyvista puts its own camera back on the first render
     except BaseException:
         plotter.close()
         raise

@@ -60,11 +60,13 @@ class MipAccessor:
         size : sequence of int, default: (256, 256)
             Image (width, height) in pixels.
         view : str, default: "oblique"
-            A camera preset of ``mipcast.offscreen.VIEWS``.
+            A camera preset of ``mipcast.offscreen.VIEWS`` or a patient view
+            (``"anterior"``, ``"superior"``, ...).
         sample_distance : float, optional
             World units between samples; default one sample per voxel.
-        window : sequence of float, optional
-            Grey window (low, high) in data units; default the data range.
+        window : sequence of float or str, optional
+            Grey window (low, high) in data units; default the window a
+            viewer would pick (``"auto"``); ``"full"`` the data range.
         as_float : bool, default: False
             Return each pixel's maximum in data units (float32, NaN where a
             ray misses) instead of the 8-bit RGB picture.
@@ -172,8 +174,9 @@ class MipPlotterComponent:
             Name of the point array to project; default the active scalars.
         cmap : str or matplotlib colormap, default: "gray"
             Colour map over ``clim``, as in ``Plotter.add_volume``.
-        clim : sequence of float, optional
-            Colour limits (low, high); default the data range.
+        clim : sequence of float or str, optional
+            Colour limits (low, high); default the window a viewer would
+            pick (``"auto"``); ``"full"`` the data range.
         opacity : float or str, default: 1.0
             A constant opacity or one of pyvista's opacity transfer function
             names, as in ``Plotter.add_volume``.

@@ -24,6 +24,8 @@ import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL back 
 
 from mipcast import methods
 from mipcast.mappers.float_readout import render_float
+from mipcast.core.patient_views import PATIENT_VIEWS, set_patient_view
+from mipcast.core.windowing import resolve_window
 from mipcast.core.validation import check_choice, check_image, check_positive, check_size
 
 #: View presets: (azimuth, elevation, parallel projection).  Azimuth and
@@ -35,6 +37,9 @@ VIEWS = {
     "back": (180.0, 0.0, True),
     "side": (90.0, 0.0, True),
 }
+#: Every view name: the presets of :data:`VIEWS` (volume axes) and the patient
+#: views of :data:`mipcast.core.patient_views.PATIENT_VIEWS` (anterior, ...).
+VIEW_NAMES = tuple(VIEWS) + tuple(PATIENT_VIEWS)
 
 
 def grey_property(window: Sequence[float]) -> vtkVolumeProperty:
@@ -62,7 +67,10 @@ def grey_property(window: Sequence[float]) -> vtkVolumeProperty:
 
 
 def set_view(renderer, image, view: str) -> None:
-    """Point the renderer's camera at ``image`` from a preset of :data:`VIEWS`.
+    """Point the renderer's camera at ``image`` from a preset of :data:`VIEWS` or a patient view.
+
+    Patient views (``anterior``, ``posterior``, ``left``, ``right``,
+    ``superior``, ``inferior``) are described in :mod:`mipcast.core.patient_views`.
 
     Examples
     --------
@@ -73,7 +81,10 @@ def set_view(renderer, image, view: str) -> None:
     >>> renderer.GetActiveCamera().GetParallelProjection()
     1
     """
-    azimuth, elevation, parallel = VIEWS[check_choice("view", view, tuple(VIEWS))]
+    if check_choice("view", view, VIEW_NAMES) in PATIENT_VIEWS:
+        set_patient_view(renderer, image, view)
+        return
+    azimuth, elevation, parallel = VIEWS[view]
     camera = renderer.GetActiveCamera()
     camera.SetPosition(0.0, 0.0, 1.0)
     camera.SetFocalPoint(0.0, 0.0, 0.0)
@@ -98,12 +109,18 @@ class OffscreenView:
     size : tuple of int, default: (256, 256)
         Window (width, height) in pixels.
     view : str, default: "oblique"
-        A preset of :data:`VIEWS`.
+        A preset of :data:`VIEWS` or a patient view (``"anterior"``, ...;
+        :data:`VIEW_NAMES`).
     sample_distance : float, optional
         World units between samples; default one sample per voxel (the
         smallest spacing).  Auto-adjust and jittering are off.
-    window : tuple of float, optional
-        Grey window (low, high); default the data range.
+    window : tuple of float or str, optional
+        Grey window (low, high) in data units, used as given; default (or
+        ``"auto"``) the window a viewer would pick
+        (:func:`mipcast.core.windowing.default_window`: a CT preset for
+        Hounsfield units, else histogram percentiles); ``"full"`` the data
+        range; or a preset name (:data:`mipcast.core.windowing.PRESETS`).
+        The chosen (low, high) is ``self.window``.
 
     Examples
     --------
@@ -121,7 +138,7 @@ class OffscreenView:
         if sample_distance is None:
             sample_distance = min(abs(s) for s in image.GetSpacing())
         self.sample_distance = check_positive("sample_distance", sample_distance)
-        self.window = tuple(window) if window is not None else image.GetPointData().GetScalars().GetRange(0)
+        self.window = resolve_window(image, window)
         #: The :class:`mipcast.methods.Method` entry.
         self.method = methods.METHODS[check_choice("method", method, tuple(methods.METHODS))]
         self.mapper = self.method.create()

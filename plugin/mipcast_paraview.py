@@ -295,7 +295,7 @@ class MipcastMIPRender(VTKPythonAlgorithmBase):
         sample_distance = None
         if self._sample_distance != 0.0:
             sample_distance = check_positive("SampleDistance", self._sample_distance)
-        window = None
+        window = "full"  # Window 0, 0: the data range, as documented
         if self._window != (0.0, 0.0):
             window = self._window
             if not window[1] > window[0]:

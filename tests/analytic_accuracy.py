@@ -26,7 +26,7 @@ def accuracy_rows(size=(128, 128)):
     for name, image in scenes:
         low, high = image.GetPointData().GetScalars().GetRange(0)
         for view in ("oblique", "perspective"):
-            gpu = OffscreenView(image, "analytic", size=size, view=view)
+            gpu = OffscreenView(image, "analytic", size=size, view=view, window="full")
             values, picture = gpu.float_image(), gpu.screenshot()
             exact = reference.render(image, gpu.camera, size, method="analytic")
             hits = ~np.isnan(exact) & ~np.isnan(values)

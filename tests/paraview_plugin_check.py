@@ -91,7 +91,7 @@ def fetch_arrays(render):
 def compare(image, render, method):
     """Plugin output vs a direct OffscreenView render of the same scene."""
     dims, rgb, values, active = fetch_arrays(render)
-    view = OffscreenView(image, method, size=(WIDTH, HEIGHT), view="oblique")
+    view = OffscreenView(image, method, size=(WIDTH, HEIGHT), view="oblique", window="full")  # Window 0, 0
     direct_rgb = view.screenshot()
     diff = np.abs(rgb.astype(np.int16) - direct_rgb.astype(np.int16)).max(axis=-1)
     result = {

@@ -24,8 +24,8 @@ def parity(fixture="vessels", size=48, window=(128, 128)):
     image = make_fixture(fixture, size=size)
     result = {"vtk": vtkVersion.GetVTKVersion()}
     for view in ("oblique", "perspective"):
-        stock = OffscreenView(image, "stock", size=window, view=view).screenshot()
-        mip = OffscreenView(image, "mip", size=window, view=view)
+        stock = OffscreenView(image, "stock", size=window, view=view, window="full").screenshot()
+        mip = OffscreenView(image, "mip", size=window, view=view, window="full")
         ours = mip.screenshot()
         result[view] = grey_diff(stock, ours)
         result[view]["lit"] = float((ours.max(axis=-1) > 0).mean())

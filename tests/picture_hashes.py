@@ -69,7 +69,7 @@ def picture_hashes() -> dict:
         image = make_fixture(fixture, size=32)
         for label, method, params in VARIANTS:
             for view_name in VIEWS:
-                view = OffscreenView(image, method, size=SIZE, view=view_name)
+                view = OffscreenView(image, method, size=SIZE, view=view_name, window="full")
                 set_parameters(view.mapper, **params)
                 key = f"{fixture}/{label}/{view_name}"
                 hashes[key + "/8bit"] = _digest(view.screenshot())

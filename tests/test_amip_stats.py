@@ -6,7 +6,7 @@ from mipcast.offscreen import OffscreenView
 
 
 def test_full_range_walks_every_crossed_cell():
-    scene = OffscreenView(make_fixture("vessels", size=48), "analytic", size=(64, 64))
+    scene = OffscreenView(make_fixture("vessels", size=48), "analytic", size=(64, 64), window="full")
     work = work_per_ray(scene)
     assert abs(work["cells_walked"] - work["cells_crossed"]) < 0.02 * work["cells_crossed"]
     assert work["blocks_jumped"] == 0.0 and work["texel_fetches"] == 2 * work["cells_walked"]  # packed corners

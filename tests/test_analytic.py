@@ -16,7 +16,7 @@ def _image(values, spacing=(1.0, 1.0, 1.0), direction=None):
 
 def _compare(image, view="oblique", size=SIZE, camera=None):
     """GPU float readout and 8-bit picture vs the exact reference: error shares."""
-    gpu = OffscreenView(image, "analytic", size=size, view=view)
+    gpu = OffscreenView(image, "analytic", size=size, view=view, window="full")
     if camera is not None:
         camera(gpu.camera)
         gpu.renderer.ResetCameraClippingRange()

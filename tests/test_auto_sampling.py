@@ -11,7 +11,7 @@ SIZE = (96, 96)
 
 
 def _within_one_grey(image, view, rate):
-    gpu = OffscreenView(image, "mip", size=SIZE, view=view, sample_distance=1.0 / rate)
+    gpu = OffscreenView(image, "mip", size=SIZE, view=view, sample_distance=1.0 / rate, window="full")
     values = gpu.float_image()
     exact = reference.render(image, gpu.camera, SIZE, method="analytic")
     hits = ~np.isnan(exact)

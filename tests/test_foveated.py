@@ -15,10 +15,10 @@ SIZE = (128, 96)
 GAZE = (0.4, 0.6)
 
 
-def _views(image, method="mip", size=SIZE, zoom=1.0, **settings):
+def _views(image, method="mip", size=SIZE, zoom=1.0, window=None, **settings):
     """(full-quality view, foveated view) of one scene; settings go to the foveated mapper."""
-    full = OffscreenView(image, method, size=size)
-    fov = OffscreenView(image, "foveated", size=size)
+    full = OffscreenView(image, method, size=size, window=window)
+    fov = OffscreenView(image, "foveated", size=size, window=window)
     fov.mapper.SetMethod(method)
     for view in (full, fov):
         view.camera.Zoom(zoom)
@@ -300,10 +300,10 @@ def test_volume_smaller_than_the_coarsest_pyramid_level():
     tiny = _image(np.random.default_rng(3).random((3, 2, 3)) + 0.2)
     assert len(build_max_pyramid(tiny, 3)) == 2  # 3 points shrink to 2, then nothing can
     assert len(build_max_pyramid(_image(np.ones((2, 2, 2))), 3)) == 1
-    full, fov = _views(tiny, size=(96, 96), GazePoint=(0.9, 0.9), FovealRadius=0.0)
+    full, fov = _views(tiny, size=(96, 96), window="full", GazePoint=(0.9, 0.9), FovealRadius=0.0)
     picture = fov.screenshot()
     assert picture.max() > 50
-    full, fov = _views(tiny, size=(96, 96), zoom=0.08, GazePoint=(0.95, 0.95), FovealRadius=0.0)
+    full, fov = _views(tiny, size=(96, 96), zoom=0.08, window="full", GazePoint=(0.95, 0.95), FovealRadius=0.0)
     # the volume covers a few pixels, fewer than a level-2 texel: coarse levels would miss it
     reference, picture = full.screenshot(), fov.screenshot()
     assert 0 < np.count_nonzero(reference.max(axis=-1)) < 64

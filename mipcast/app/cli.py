@@ -14,7 +14,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from mipcast import METHODS
-from mipcast.offscreen import VIEWS, OffscreenView
+from mipcast.offscreen import VIEW_NAMES, VIEWS, OffscreenView
 
 DEMO_FIXTURE = "vessels"
 DEMO_SIZE = 96
@@ -66,14 +66,21 @@ def _parser() -> argparse.ArgumentParser:
                             formatter_class=argparse.RawDescriptionHelpFormatter, allow_abbrev=False)
     render.add_argument("input", type=Path)
     render.add_argument("--method", default="mip", choices=sorted(METHODS))
-    render.add_argument("--out", type=Path, required=True, help="PNG file to write")
-    render.add_argument("--view", default="oblique", choices=sorted(VIEWS))
+    render.add_argument("--out", type=Path, required=True, help="PNG file to write (.gif/.mp4 with --turntable)")
+    render.add_argument("--view", default="oblique", choices=VIEW_NAMES,
+                        help="camera: volume axes (oblique, perspective, front, back, side) or the patient's "
+                             "side (anterior, posterior, left, right, superior, inferior; LPS world)")
     render.add_argument("--size", type=int, nargs=2, default=(512, 512), metavar=("W", "H"))
     render.add_argument("--sample-distance", type=_distance, default=None,
                         help="world units between samples (default: one per voxel), or 'auto': the "
                              "fewest samples that keep 99%% of pixels within one grey level of the exact maximum")
-    render.add_argument("--window", type=float, nargs=2, default=None, metavar=("LOW", "HIGH"),
-                        help="grey window in data units (default: data range)")
+    render.add_argument("--window", nargs="+", default=None, metavar=("LOW|full|PRESET", "HIGH"),
+                        help=_WINDOW_HELP)
+    render.add_argument("--turntable", type=int, default=None, metavar="N",
+                        help="write N frames turning 360 degrees about the view-up axis (--out spin.gif, "
+                             "or .mp4 with imageio[ffmpeg])")
+    render.add_argument("--slab-sweep", action="store_true",
+                        help="sweep a slab through the volume (needs --slab, not available yet)")
     render.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
     render.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
     render.set_defaults(run=_run_render)
@@ -83,8 +90,9 @@ def _parser() -> argparse.ArgumentParser:
                           formatter_class=argparse.RawDescriptionHelpFormatter, allow_abbrev=False)
     view.add_argument("input", type=Path)
     view.add_argument("--method", default="mip", choices=sorted(METHODS))
-    view.add_argument("--window", type=float, nargs=2, default=None, metavar=("LOW", "HIGH"),
-                      help="colour limits in data units (default: data range)")
+    view.add_argument("--window", nargs="+", default=None, metavar=("LOW|full|PRESET", "HIGH"),
+                      help=_WINDOW_HELP)
+    view.add_argument("--view", default=None, choices=VIEW_NAMES, help="first camera (default: pyvista's)")
     view.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
     view.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
     view.set_defaults(run=run_view)
@@ -109,6 +117,11 @@ def _parser() -> argparse.ArgumentParser:
                        help="methods the foveated variants render with (--foveation)")
     bench.set_defaults(run=_run_bench)
     return parser
+
+
+_WINDOW_HELP = ("grey window: LOW HIGH in data units, 'full' (the data range), or a preset (ct-mip, ct-bone, "
+                "ct-angio); default: CT preset ct-mip (150 1800) for HU data, else histogram percentiles "
+                "(docs/usage.md, 'The default window')")
 
 
 def _check_input_not_a_value(parser, args, argv) -> None:
@@ -189,7 +202,7 @@ def _run_demo(args) -> int:
         _write_png(picture, view.screenshot())
         if exact is None:
             exact = reference.render(image, view.camera, size, method="analytic")
-            _write_png(args.out / "reference_exact.png", _grey8(exact, low, high))
+            _write_png(args.out / "reference_exact.png", _grey8(exact, *view.window))
         entry = {"png": str(picture)}
         if view.method.float_readout:
             values = view.float_image()
@@ -223,24 +236,45 @@ def _run_render(args) -> int:
     from mipcast.core.parameters import set_parameters
 
     image = with_scalars(read_volume(args.input, series_uid=args.series), args.scalars)
+    if args.slab_sweep:
+        raise ValueError("--slab-sweep needs --slab (slab projections), which this version does not have yet")
+    window = _window(image, args.window)
     distance = args.sample_distance
     if distance == "auto":
         from mipcast.bench.auto_sampling import choose_samples_per_voxel
 
-        camera = OffscreenView(image, "mip", size=tuple(args.size), view=args.view, window=args.window).camera
-        choice = choose_samples_per_voxel(image, camera, tuple(args.size), window=args.window)
+        camera = OffscreenView(image, "mip", size=tuple(args.size), view=args.view, window=window).camera
+        choice = choose_samples_per_voxel(image, camera, tuple(args.size), window=window)
         distance = choice.sample_distance
         verdict = "meets" if choice.met else "misses (densest candidate used)"
         print(f"auto sampling: {choice.samples_per_voxel:g} samples per voxel (distance {distance:.4g}); "
               f"{100 * choice.within_target:.1f}% of {choice.calibration_rays} calibration rays within one "
               f"grey level: {verdict} the target")
     view = OffscreenView(image, args.method, size=tuple(args.size), view=args.view,
-                         sample_distance=distance, window=args.window)
+                         sample_distance=distance, window=window)
     set_parameters(view.mapper, **args.params)
+    if args.turntable is not None:
+        from mipcast.app.turntable import write_turntable
+
+        write_turntable(view, args.turntable, args.out)
+        print(f"wrote {args.out} ({args.turntable} frames)")
+        return 0
     args.out.parent.mkdir(parents=True, exist_ok=True)
     _write_png(args.out, view.screenshot())
     print(f"wrote {args.out}")
     return 0
+
+
+def _window(image, tokens):
+    """``--window`` tokens -> (low, high); says which rule chose a default one."""
+    from mipcast.core.windowing import parse_window, resolve_window, window_and_reason
+
+    spec = parse_window(tokens)
+    if spec is None or spec == "auto":
+        window, reason = window_and_reason(image)
+        print(f"window {window[0]:.6g} to {window[1]:.6g} ({reason}; --window full for the data range)")
+        return window
+    return resolve_window(image, spec)
 
 
 def _distance(text: str):
@@ -277,7 +311,8 @@ def run_view(args) -> int:
     from mipcast.io import read_volume, with_scalars
 
     image = with_scalars(read_volume(args.input, series_uid=args.series), args.scalars)
-    run_viewer(image, args.method, clim=args.window, params=args.params)  # checks params before the window
+    run_viewer(image, args.method, clim=_window(image, args.window), params=args.params,  # checks params
+               view=args.view)  # before the window
     return 0
 
 
@@ -381,7 +416,7 @@ def _run_stability(args) -> int:
 
 
 def _load_scene(scene: str, volume_size: int):
-    """``NAME[@LOW,HIGH]`` -> (vtkImageData, window or None).
+    """``NAME[@LOW,HIGH]`` -> (vtkImageData, window; default the data range).
 
     NAME is a fixture, ``head`` (the head CT) or a volume file; ``@LOW,HIGH``
     sets the grey window (e.g. ``head@100,1500``, a CT angiography window).
@@ -393,11 +428,14 @@ def _load_scene(scene: str, volume_size: int):
     if window is not None and len(window) != 2:
         raise ValueError(f"scene window must be @LOW,HIGH, got {scene!r}")
     if name in FIXTURES:
-        return make_fixture(name, size=volume_size), window
-    if name == "head":
-        return load_head_ct(), window
-    from mipcast.io import read_volume
-    return read_volume(Path(name)), window
+        image = make_fixture(name, size=volume_size)
+    elif name == "head":
+        image = load_head_ct()
+    else:
+        from mipcast.io import read_volume
+        image = read_volume(Path(name))
+    # the measured tables (docs/bench.md, ...) use the data range, not the default window
+    return image, window if window is not None else tuple(image.GetPointData().GetScalars().GetRange(0))
 
 
 def _write_png(path: Path, pixels: np.ndarray) -> None:

@@ -37,7 +37,9 @@ import numpy as np
 from mipcast.core.parameters import Parameter, set_parameters, setter_name
 from mipcast.core.shading import sphere_color
 from mipcast.core.validation import check_choice
+from mipcast.core.windowing import resolve_window
 from mipcast.methods import METHODS
+from mipcast.offscreen import set_view
 
 #: Normalised (x0, y0, x1, y1) of the colour-sphere legend in the window.
 LEGEND_VIEWPORT = (0.78, 0.0, 1.0, 0.22)
@@ -97,7 +99,7 @@ def has_display(environ=None, platform: Optional[str] = None) -> bool:
 
 def build_viewer(image, method: str = "mip", *, cmap="gray", clim: Optional[Sequence[float]] = None,
                  window_size: Sequence[int] = (900, 800), off_screen: bool = False,
-                 params: Optional[dict] = None):
+                 params: Optional[dict] = None, view: Optional[str] = None):
     """Build the interactive viewer's plotter without showing it.
 
     The volume is added through ``plotter.mip.add_volume`` on a black
@@ -114,8 +116,9 @@ def build_viewer(image, method: str = "mip", *, cmap="gray", clim: Optional[Sequ
         The first method, a name from ``mipcast.METHODS``.
     cmap : str or matplotlib colormap, default: "gray"
         Colour map, as in ``Plotter.add_volume``.
-    clim : sequence of float, optional
-        Colour limits (low, high); default the data range.
+    clim : sequence of float or str, optional
+        Colour limits (low, high); default the window a viewer would pick
+        (:func:`mipcast.core.windowing.default_window`); ``"full"`` the data range.
     window_size : sequence of int, default: (900, 800)
         Window (width, height) in pixels.
     off_screen : bool, default: False
@@ -124,6 +127,9 @@ def build_viewer(image, method: str = "mip", *, cmap="gray", clim: Optional[Sequ
         Method parameters to start with (``{"depth_weight": 0.5}``, see
         :func:`mipcast.core.parameters.set_parameters`); carried over to other
         methods that have them.
+    view : str, optional
+        The first camera: a preset of ``mipcast.offscreen.VIEWS`` or a patient
+        view (``"anterior"``, ...); default pyvista's.
 
     Returns
     -------
@@ -142,7 +148,7 @@ def build_viewer(image, method: str = "mip", *, cmap="gray", clim: Optional[Sequ
     >>> plotter.close()
     """
     return _Viewer(image, method, cmap=cmap, clim=clim, window_size=window_size,
-                   off_screen=off_screen, params=params).plotter
+                   off_screen=off_screen, params=params, view=view).plotter
 
 
 def run_viewer(image, method: str = "mip", **options) -> None:
@@ -156,7 +162,7 @@ def run_viewer(image, method: str = "mip", **options) -> None:
         The first method, a name from ``mipcast.METHODS``.
     **options
         Keyword arguments of :func:`build_viewer` (``cmap``, ``clim``,
-        ``window_size``, ``params``).
+        ``window_size``, ``params``, ``view``).
 
     Raises
     ------
@@ -182,7 +188,7 @@ class _Viewer:
     """The viewer's state: plotter, current method and volume, widgets, parameter values."""
 
     def __init__(self, image, method, *, cmap="gray", clim=None, window_size=(900, 800),
-                 off_screen=False, params=None) -> None:
+                 off_screen=False, params=None, view=None) -> None:
         import pyvista
 
         importlib.import_module("mipcast.filters")  # registers plotter.mip
@@ -190,7 +196,7 @@ class _Viewer:
         self.params = _checked_params(method, dict(params or {}))  # name -> value, carried across methods
         self.grid = pyvista.wrap(image)
         self.cmap = cmap
-        self.clim = tuple(clim) if clim is not None else self.grid.GetPointData().GetScalars().GetRange(0)
+        self.clim = resolve_window(self.grid, clim)
         self.voxel = min(abs(s) for s in self.grid.GetSpacing())
         self.sample_voxels = 1.0
         self.volume = None
@@ -203,6 +209,10 @@ class _Viewer:
             self.plotter.add_key_event("d", self.next_depth_mode)
             self.plotter.iren.add_observer("MouseMoveEvent", self._on_mouse_move)
         self.set_method(method)
+        if view is not None:
+            set_view(self.plotter.renderer, self.grid, view)
+            self.plotter.camera_set = True  # else pyvista puts its own camera back on the first render
+            self.plotter.render()
 
     @property
     def mapper(self):

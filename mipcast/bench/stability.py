@@ -160,7 +160,7 @@ def measure(case: Case, size=None) -> dict:
     image, view, adjust, rate = case.build()
     spacing = min(abs(s) for s in image.GetSpacing())
     scene = OffscreenView(image, case.method, size=size, view=view,
-                          sample_distance=spacing / rate if rate else None)
+                          sample_distance=spacing / rate if rate else None, window="full")
     apply_settings(scene.mapper, case.settings)
     if adjust is not None:
         adjust(scene.camera)
@@ -201,7 +201,7 @@ def _demip_figures(scene: OffscreenView, settings: dict) -> dict:
 
 
 def _fovea_agreement(scene: OffscreenView, image, view: str, adjust, size) -> float:
-    full = OffscreenView(image, scene.mapper.GetMethod(), size=size, view=view)
+    full = OffscreenView(image, scene.mapper.GetMethod(), size=size, view=view, window="full")
     if adjust is not None:
         adjust(full.camera)
         full.renderer.ResetCameraClippingRange()

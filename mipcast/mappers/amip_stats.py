@@ -38,7 +38,7 @@ def work_per_ray(scene) -> dict:
     --------
     >>> from mipcast.offscreen import OffscreenView
     >>> from mipcast.data_fixtures import make_fixture
-    >>> scene = OffscreenView(make_fixture("vessels", size=24), "analytic", size=(32, 32))
+    >>> scene = OffscreenView(make_fixture("vessels", size=24), "analytic", size=(32, 32), window="full")
     >>> work = work_per_ray(scene)
     >>> round(work["cells_crossed"]), round(work["cells_walked"]), work["blocks_jumped"]
     (24, 23, 0.0)

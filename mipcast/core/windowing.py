@@ -1,0 +1,214 @@
+"""The default grey window: what a viewer shows when the user gives no range.
+
+A MIP keeps the brightest value along each ray, so the data range is a poor
+window: the noisy background's maxima come out as a grey box and one hot
+voxel (metal, a dental filling) darkens everything else.  The rule here,
+also stated in docs/usage.md ("The default window"):
+
+- **CT** (Hounsfield units): the ``"ct-mip"`` preset, 150 to 1800 HU (the
+  high end lowered to the data maximum if that is below 1800; a CT whose
+  maximum is not above 150 HU gets the histogram rule below).  Soft
+  tissue, blood and water (< 150 HU) are black; contrast-filled vessels
+  (~150-500 HU) and bone (~300-2000 HU) show.  The data count as HU when
+  the image's field data ``"units"`` says ``"HU"`` (the DICOM reader records
+  it for Modality CT or RescaleType HU), when the scalars are named ``"HU"``
+  (the bundled head CT), or when the scalars are signed integers whose 1st
+  percentile lies within -1100..-900 (air at -1000) and whose maximum is
+  above 300.
+- **Anything else**: percentiles of the histogram.  ``low`` = median + 3
+  robust standard deviations (1.4826 x the median absolute deviation), the
+  brightest the background noise reaches in a projection, but at most the
+  99.5th percentile (so at least 0.5 % of the voxels are above it); ``high``
+  = the 99.5th percentile of the voxels above ``low`` (a few of the
+  brightest voxels saturate).  Where that gives no range, the data range.
+
+``"full"`` is the data range (the default before this rule), ``"auto"`` the
+rule, a preset name (:data:`PRESETS`) its window, and ``(low, high)`` itself.
+
+Examples
+--------
+>>> from mipcast.data_fixtures import make_fixture
+>>> low, high = default_window(make_fixture("vessels", size=32))
+>>> 0.15 < low < 0.3 < 0.8 < high <= 1.0
+True
+>>> resolve_window(make_fixture("spheres", size=16), "full")
+(0.0, 1.0)
+"""
+from __future__ import annotations
+
+from typing import Optional, Sequence, Tuple, Union
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+#: Named windows (low, high) in data units; CT ones in HU.  ``ct-mip`` is the
+#: default for CT (the window docs/images/depth_figure.png has always used
+#: for the head CT: contrast and bone, the skull not saturated);
+#: ``ct-bone`` is the usual bone window (width 2000, level 500);
+#: ``ct-angio`` a CT angiography window (width 700, level 200).
+PRESETS = {"ct-mip": (150.0, 1800.0), "ct-bone": (-500.0, 1500.0), "ct-angio": (-150.0, 550.0)}
+#: The words :func:`resolve_window` takes besides presets and (low, high).
+KEYWORDS = ("auto", "full")
+#: At most this many voxels enter the percentiles (an even stride over the rest).
+SAMPLE_LIMIT = 2_000_000
+
+WindowSpec = Union[None, str, Sequence[float]]
+
+
+def data_range(image) -> Tuple[float, float]:
+    """(min, max) of the active point scalars."""
+    low, high = image.GetPointData().GetScalars().GetRange(0)
+    return float(low), float(high)
+
+
+def units(image) -> str:
+    """The image's units: field data ``"units"`` if present, else ``"HU"`` for scalars named so, else ``""``.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> units(make_fixture("spheres", size=8))
+    ''
+    """
+    array = image.GetFieldData().GetAbstractArray("units")
+    if array is not None and array.GetNumberOfValues() > 0:
+        return str(array.GetVariantValue(0).ToString())
+    name = image.GetPointData().GetScalars().GetName() or ""
+    return "HU" if name.upper() == "HU" else ""
+
+
+def looks_like_ct(image, values: Optional[np.ndarray] = None) -> bool:
+    """Whether the scalars are Hounsfield units (see the module docstring for the rule).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mipcast.data_fixtures.synthetic import image_from_array
+    >>> ct = np.full((8, 8, 8), -1000, np.int16); ct[2:6, 2:6, 2:6] = 800
+    >>> looks_like_ct(image_from_array(ct)), looks_like_ct(image_from_array(ct.astype(np.float32)))
+    (True, False)
+    """
+    if units(image).upper() == "HU":
+        return True
+    values = _sample(image) if values is None else values
+    if not np.issubdtype(values.dtype, np.signedinteger) or values.size == 0:
+        return False
+    return -1100.0 <= float(np.percentile(values, 1)) <= -900.0 and float(values.max()) > 300.0
+
+
+def default_window(image) -> Tuple[float, float]:
+    """The window a viewer would pick for ``image`` (module docstring: the rule).
+
+    Returns
+    -------
+    tuple of float
+        (low, high) with high > low in data units; the data range for
+        constant data (no better choice exists).
+    """
+    return window_and_reason(image)[0]
+
+
+def window_and_reason(image) -> Tuple[Tuple[float, float], str]:
+    """:func:`default_window` and a few words saying which rule chose it (for messages).
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> window_and_reason(make_fixture("spheres", size=16))[1]
+    'histogram percentiles'
+    """
+    values = _sample(image)
+    full = data_range(image)
+    if looks_like_ct(image, values):
+        low, high = PRESETS["ct-mip"]
+        high = min(high, full[1])
+        if high > low:
+            return (low, high), "CT preset ct-mip (HU)"
+    if values.size:
+        values = values.astype(np.float64, copy=False)
+        median = float(np.median(values))
+        spread = 1.4826 * float(np.median(np.abs(values - median)))
+        low = min(median + 3.0 * spread, float(np.percentile(values, 99.5)))
+        above = values[values > low]
+        if above.size:
+            high = float(np.percentile(above, 99.5))
+            if not high > low:
+                high = float(above.max())
+            if high > low:
+                return (low, high), "histogram percentiles"
+    if full[1] > full[0]:
+        return full, "data range"
+    return (full[0], full[0] + 1.0), "constant data"
+
+
+def resolve_window(image, window: WindowSpec = None) -> Tuple[float, float]:
+    """Turn a window request into (low, high).
+
+    Parameters
+    ----------
+    image : vtkImageData
+        The volume the window is for.
+    window : None, str or sequence of two floats
+        ``None`` or ``"auto"``: :func:`default_window`; ``"full"``: the data
+        range; a name of :data:`PRESETS`; or ``(low, high)``, returned as floats.
+
+    Raises
+    ------
+    ValueError
+        For an unknown name or not two numbers.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> resolve_window(make_fixture("spheres", size=8), (0, 2))
+    (0.0, 2.0)
+    >>> resolve_window(make_fixture("spheres", size=8), "ct-bone")
+    (-500.0, 1500.0)
+    """
+    if window is None:
+        return default_window(image)
+    if isinstance(window, str):
+        name = window.strip().lower()
+        if name == "auto":
+            return default_window(image)
+        if name == "full":
+            return data_range(image)
+        if name in PRESETS:
+            return PRESETS[name]
+        raise ValueError(f"window must be (low, high), 'auto', 'full' or one of {sorted(PRESETS)}; got {window!r}")
+    values = tuple(window)
+    if len(values) != 2:
+        raise ValueError(f"window must be (low, high), got {tuple(window)}")
+    return float(values[0]), float(values[1])
+
+
+def parse_window(tokens: Optional[Sequence[str]]) -> WindowSpec:
+    """The command line's ``--window``: ``LOW HIGH``, ``auto``, ``full`` or a preset name.
+
+    Examples
+    --------
+    >>> parse_window(["100", "1500"]), parse_window(["full"]), parse_window(None)
+    ((100.0, 1500.0), 'full', None)
+    """
+    if tokens is None:
+        return None
+    if len(tokens) == 1:
+        word = tokens[0].strip().lower()
+        if word in KEYWORDS or word in PRESETS:
+            return word
+    if len(tokens) == 2:
+        try:
+            return float(tokens[0]), float(tokens[1])
+        except ValueError:
+            pass
+    raise ValueError(f"--window takes LOW HIGH, 'auto', 'full' or one of {', '.join(sorted(PRESETS))}; "
+                     f"got {' '.join(tokens)!r}")
+
+
+def _sample(image) -> np.ndarray:
+    values = vtk_to_numpy(image.GetPointData().GetScalars())
+    if values.ndim > 1:
+        values = values[:, 0]
+    if values.size > SAMPLE_LIMIT:
+        values = values[:: -(-values.size // SAMPLE_LIMIT)]
+    return values
