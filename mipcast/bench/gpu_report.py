@@ -721,3 +721,26 @@ def write_chart(report: dict, path: Path) -> None:
     figure.tight_layout()
     figure.savefig(path, dpi=100)
     pyplot.close(figure)
+
+
+def run_cli(args) -> int:
+    """``mipcast bench --gpu-report`` / ``--peers``: run, print the renderer and progress, return the exit code.
+
+    ``args`` has ``gpu_report``, ``peers``, ``quick``, ``allow_software``,
+    ``out`` and, for ``--peers``, ``scenes``, ``size``, ``views``,
+    ``rounds``, ``volume_size``.  A refused software renderer returns 2
+    with a message naming ``--allow-software`` on stderr.
+    """
+    import sys
+
+    if args.peers and not args.gpu_report:
+        from mipcast.bench.peers import run_peers
+
+        return run_peers(args, log=print)
+    try:
+        run_report(Path(args.out), quick=args.quick, allow_software=args.allow_software,
+                   log=lambda line: print(line, flush=True))
+    except SoftwareRenderer as error:
+        print(f"mipcast bench --gpu-report: error: {error}", file=sys.stderr)
+        return 2
+    return 0

@@ -488,3 +488,69 @@ def _number(value, spec: str = ".1f") -> str:
 
 def _percent(value) -> str:
     return f"{100 * value:.1f} %" if isinstance(value, (int, float)) and np.isfinite(value) else "-"
+
+
+def load_scene(scene: str, volume_size: int = 128):
+    """``NAME[@LOW,HIGH]`` -> (vtkImageData, window or None); NAME a fixture, ``head``, ``ct`` or a file.
+
+    ``ct`` is :func:`mipcast.bench.gpu_report.ct_volume` at ``volume_size``
+    points per axis (``volume_size * 25 // 32`` slices).
+
+    Examples
+    --------
+    >>> image, window = load_scene("spheres@0.2,0.8", 16)
+    >>> image.GetDimensions(), window
+    ((16, 16, 16), (0.2, 0.8))
+    """
+    from mipcast.data_fixtures import FIXTURES, load_head_ct, make_fixture
+
+    name, _, window_text = scene.partition("@")
+    window = tuple(float(v) for v in window_text.split(",")) if window_text else None
+    if window is not None and len(window) != 2:
+        raise ValueError(f"scene window must be @LOW,HIGH, got {scene!r}")
+    if name in FIXTURES:
+        return make_fixture(name, size=volume_size), window
+    if name == "head":
+        return load_head_ct(), window
+    if name == "ct":
+        from mipcast.bench.gpu_report import ct_volume
+
+        return ct_volume((max(8, volume_size * 25 // 32), volume_size, volume_size)), window
+    from pathlib import Path
+
+    from mipcast.io import read_volume
+    return read_volume(Path(name)), window
+
+
+def run_peers(args, log: Callable[[str], None] = print) -> int:
+    """``mipcast bench --peers``: :func:`measure_peers` per scene, view and size; peers.md and peers.json.
+
+    ``--quick`` caps the volume at 48 points and the images at 96².
+    """
+    from pathlib import Path
+
+    from mipcast.bench.gpu_report import renderer_info, strict_json
+
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    sizes = args.size or ([64, 96] if args.quick else [256, 512])
+    volume_size = min(args.volume_size, 48) if args.quick else args.volume_size
+    if args.quick:
+        sizes = [min(edge, 96) for edge in sizes]
+    info = renderer_info()
+    log(f"OpenGL renderer: {info['renderer']} ({info['vendor']}, {info['version']})")
+    if not vispy_available():
+        log("vispy (or PyOpenGL) is not importable: VTK rows only (pip install mipcast[bench])")
+    started = time.perf_counter()
+    rows = []
+    for scene in args.scenes:
+        image, window = load_scene(scene, volume_size)
+        for view in args.views:
+            for edge in sizes:
+                rows += measure_peers(image, scene, edge, view=view, window=window, rounds=args.rounds)
+                log(peers_table([r for r in rows if (r["scene"], r["view"], r["size"]) == (scene, view, edge)]))
+    report = {"renderer": info, "rows": rows, "elapsed_s": time.perf_counter() - started}
+    (out / "peers.json").write_text(strict_json(report) + "\n")
+    (out / "peers.md").write_text(f"OpenGL renderer: {info['renderer']}\n\n" + peers_table(rows) + "\n")
+    log(f"wrote {out}/peers.json, peers.md ({report['elapsed_s']:.0f} s)")
+    return 0
