@@ -135,7 +135,7 @@ def vispy_samples(image, camera, size: Sequence[int], relative_step: float, meth
     >>> view = OffscreenView(make_fixture("spheres", size=16), "stock", size=(8, 8), view="front")
     >>> counts = vispy_samples(view.image, view.camera, (8, 8), 1.0, method="average")
     >>> counts["rays"], counts["steps"] // counts["rays"], counts["fetches"] // counts["rays"]
-    (64, 16, 15)
+    (16, 16, 15)
     """
     (near, far), upper = _index_rays(image, camera, size)
     delta = far - near
@@ -164,7 +164,7 @@ def vtk_samples(view: OffscreenView) -> dict:
     >>> from mipcast.data_fixtures import make_fixture
     >>> counts = vtk_samples(OffscreenView(make_fixture("spheres", size=16), "stock", size=(8, 8), view="front"))
     >>> counts["rays"], counts["samples"] // counts["rays"]
-    (64, 15)
+    (16, 15)
     """
     size = view.render_window.GetSize()
     rays, samples = grid_cost(view.image, view.camera, size, size, sample_distance=view.sample_distance)
