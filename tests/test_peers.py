@@ -77,6 +77,6 @@ def test_bench_peers_quick_writes_markdown_and_strict_json(tmp_path, capsys):
     assert main(["bench", "--peers", "--quick", "--scenes", "vessels", "--views", "oblique", "--size", "48",
                  "--rounds", "1", "--out", str(tmp_path)]) == 0
     report = json.loads((tmp_path / "peers.json").read_text(), parse_constant=pytest.fail)
-    assert {"renderer", "rows", "elapsed_s"} <= set(report)
+    assert {"renderer", "rows", "cost_model", "elapsed_s"} <= set(report)
     assert (tmp_path / "peers.md").read_text().startswith("OpenGL renderer: ")
     assert "OpenGL renderer" in capsys.readouterr().out

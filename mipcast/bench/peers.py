@@ -549,8 +549,107 @@ def run_peers(args, log: Callable[[str], None] = print) -> int:
             for edge in sizes:
                 rows += measure_peers(image, scene, edge, view=view, window=window, rounds=args.rounds)
                 log(peers_table([r for r in rows if (r["scene"], r["view"], r["size"]) == (scene, view, edge)]))
-    report = {"renderer": info, "rows": rows, "elapsed_s": time.perf_counter() - started}
+    image, _ = load_scene(args.scenes[0], volume_size)
+    edges = (32, 48, 64) if args.quick else (128, 256, 384)
+    costs = cost_model(image, edges=edges, view=args.views[0], rounds=args.rounds, progress=log)
+    log(cost_table(costs))
+    report = {"renderer": info, "rows": rows, "cost_model": costs, "elapsed_s": time.perf_counter() - started}
     (out / "peers.json").write_text(strict_json(report) + "\n")
-    (out / "peers.md").write_text(f"OpenGL renderer: {info['renderer']}\n\n" + peers_table(rows) + "\n")
+    (out / "peers.md").write_text(f"OpenGL renderer: {info['renderer']}\n\n" + peers_table(rows) + "\n\n"
+                                  f"Cost model on {args.scenes[0]} ({args.views[0]}, edges {list(edges)}, "
+                                  "0.5/1/2 samples per voxel):\n\n" + cost_table(costs) + "\n")
     log(f"wrote {out}/peers.json, peers.md ({report['elapsed_s']:.0f} s)")
     return 0
+
+
+#: Rows of :func:`cost_model`: what is timed.
+COST_ROWS = ("empty VTK frame", "stock", "mip", "vispy mip", UNCLIPPED)
+
+
+def cost_model(image, edges: Sequence[int] = (128, 256, 384), rates: Sequence[float] = (0.5, 1.0, 2.0),
+               view: str = "oblique", rounds: int = 3, frames: int = 2,
+               progress: Optional[Callable[[str], None]] = None) -> list:
+    """Where the frame time goes: a least-squares fit ``t = fixed + per_ray * rays + per_sample * samples``.
+
+    Every renderer is timed (interleaved, one process) at each window edge
+    and sampling rate (samples per voxel), its rays and samples counted from
+    the geometry (:func:`vtk_samples`, :func:`vispy_samples`: fetches).
+    ``"empty VTK frame"`` is an OffscreenView with the volume hidden: VTK's
+    own per-frame cost (render pass set-up, clear, blit), without any ray.
+
+    Returns
+    -------
+    list of dict
+        One per renderer: ``fixed_ms``, ``per_ray_ns``, ``per_sample_ns``,
+        ``r2`` (of the fit), ``points`` (the measured ``edge``, ``rate``,
+        ``rays``, ``samples``, ``median_ms``).
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> rows = cost_model(make_fixture("spheres", size=16), edges=(16, 24), rates=(1.0, 2.0), rounds=1, frames=1)
+    >>> [row["renderer"] for row in rows][:3]
+    ['empty VTK frame', 'stock', 'mip']
+    """
+    report = progress or (lambda label: None)
+    spacing = min(abs(s) for s in image.GetSpacing())
+    use_vispy = vispy_available()
+    points: dict = {name: [] for name in COST_ROWS if use_vispy or not name.startswith("vispy")}
+    for edge in edges:
+        for rate in rates:
+            size = (edge, edge)
+            items = {name: OffscreenView(image, "stock" if name == "empty VTK frame" else name, size=size,
+                                         view=view, sample_distance=spacing / rate)
+                     for name in ("empty VTK frame", "stock", "mip")}
+            items["empty VTK frame"].volume.VisibilityOff()
+            camera = items["stock"].camera
+            count = vtk_samples(items["stock"])
+            counts = {"empty VTK frame": (0, 0), "stock": (count["rays"], count["samples"]),
+                      "mip": (count["rays"], count["samples"])}
+            if use_vispy:
+                step = matched_step(image, camera, size, spacing / rate)
+                for name, clip in (("vispy mip", True), (UNCLIPPED, False)):
+                    items[name] = VispyView(image, camera, size, "mip", (0.0, 1.0), step, clip=clip)
+                    counted = vispy_samples(image, camera, size, step, "mip", clip=clip)
+                    counts[name] = (counted["rays"], counted["fetches"])
+            times = _interleaved(items, rounds, frames, 2, lambda label: None)
+            for name, item in items.items():
+                points[name].append({"edge": edge, "rate": rate, "rays": counts[name][0],
+                                     "samples": counts[name][1], "median_ms": 1000 * statistics.median(times[name])})
+                if isinstance(item, VispyView):
+                    item.close()
+                else:
+                    item.render_window.Finalize()
+            report(f"cost model: {edge}², {rate:g} samples per voxel")
+    return [{"renderer": name, **_fit(measured), "points": measured} for name, measured in points.items()]
+
+
+def _fit(points: Sequence[dict]) -> dict:
+    """Least squares of median_ms on (1, rays, samples); the empty frame on 1 alone."""
+    t = np.array([p["median_ms"] for p in points])
+    rays = np.array([p["rays"] for p in points], float)
+    samples = np.array([p["samples"] for p in points], float)
+    design = np.column_stack([np.ones_like(t), rays, samples]) if rays.any() else np.ones((len(t), 1))
+    coefficients, *_ = np.linalg.lstsq(design, t, rcond=None)
+    predicted = design @ coefficients
+    spread = float(np.sum((t - t.mean()) ** 2))
+    r2 = 1.0 - float(np.sum((t - predicted) ** 2)) / spread if spread > 0 else float("nan")
+    coefficients = list(coefficients) + [0.0] * (3 - len(coefficients))
+    return {"fixed_ms": float(coefficients[0]), "per_ray_ns": 1e6 * float(coefficients[1]),
+            "per_sample_ns": 1e6 * float(coefficients[2]), "r2": r2}
+
+
+def cost_table(rows: Sequence[dict]) -> str:
+    """Markdown table of :func:`cost_model` rows.
+
+    Examples
+    --------
+    >>> print(cost_table([{"renderer": "stock", "fixed_ms": 1.0, "per_ray_ns": 20.0, "per_sample_ns": 2.0,
+    ...                    "r2": 0.99}]).splitlines()[-1])
+    | stock | 1.00 | 20.0 | 2.00 | 0.990 |
+    """
+    lines = ["| renderer | fixed per frame (ms) | per ray (ns) | per sample (ns) | R² of the fit |",
+             "| --- | --- | --- | --- | --- |"]
+    lines += [f"| {r['renderer']} | {r['fixed_ms']:.2f} | {r['per_ray_ns']:.1f} | {r['per_sample_ns']:.2f} | "
+              f"{r['r2']:.3f} |" for r in rows]
+    return "\n".join(lines)
