@@ -66,7 +66,7 @@ class Sizes(NamedTuple):
     frames: int                 # frames per round
 
 
-FULL = Sizes(64, 128, (400, 512, 512), (512, 1024), 1, 16384, 3, 2)
+FULL = Sizes(64, 128, (400, 512, 512), (512, 1024), 1, 8192, 3, 2)
 QUICK = Sizes(24, 48, (40, 48, 48), (64, 96), 6, None, 1, 1)
 
 
