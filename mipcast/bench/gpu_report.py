@@ -701,25 +701,34 @@ def write_chart(report: dict, path: Path) -> None:
 
     rows = report.get("speed_accuracy", [])
     panels = sorted({(r["scene"], str(r["window"]), r["size"]) for r in rows})
-    figure, axes = pyplot.subplots(1, len(panels) + 2, figsize=(4.2 * (len(panels) + 2), 4.0), squeeze=False)
-    for axis, panel in zip(axes[0], panels):
+    columns = 4
+    lines = -(-(len(panels) + 2) // columns)
+    figure, grid = pyplot.subplots(lines, columns, figsize=(4.2 * columns, 3.8 * lines), squeeze=False)
+    axes = list(grid.flat)
+    colours = {method: f"C{i}" for i, method in enumerate(METHODS)}
+    for axis, panel in zip(axes, panels):
         for row in rows:
             if (row["scene"], str(row["window"]), row["size"]) == panel:
                 error = row["p99_pct"] if row["p99_pct"] is not None and np.isfinite(row["p99_pct"]) else 0.0
-                axis.scatter(row["ratio_to_stock"], max(error, 1e-4))
-                axis.annotate(row["method"], (row["ratio_to_stock"], max(error, 1e-4)), fontsize=7)
+                point = (row["ratio_to_stock"], max(error, 1e-4))
+                axis.scatter(*point, color=colours.get(row["method"], "k"))
+                axis.annotate(row["method"], point, fontsize=7, xytext=(4, 2), textcoords="offset points")
         axis.set_yscale("log")
         axis.set_title(f"{panel[0]}, window {panel[1]}, {panel[2]}²", fontsize=8)
         axis.set_xlabel("frame time / stock", fontsize=8)
         axis.set_ylabel("p99 error, % of data range (0 at 1e-4)", fontsize=8)
     first = report.get("first_frame", [])
     names = [row["method"] for row in first]
-    axes[0][-2].bar(names, [row["first_s"] for row in first])
-    axes[0][-2].set_title("first frame (s)", fontsize=8)
-    axes[0][-1].bar(names, [row["texture_bytes"]["total"] / 2 ** 20 for row in first])
-    axes[0][-1].set_title("volume textures (MiB, computed)", fontsize=8)
-    for axis in axes[0][-2:]:
+    bars = axes[len(panels)], axes[len(panels) + 1]
+    bars[0].bar(names, [row["first_s"] for row in first], color=[colours.get(n, "k") for n in names])
+    bars[0].set_title("first frame (s), synthetic CT", fontsize=8)
+    bars[1].bar(names, [row["texture_bytes"]["total"] / 2 ** 20 for row in first],
+                color=[colours.get(n, "k") for n in names])
+    bars[1].set_title("volume textures (MiB, computed)", fontsize=8)
+    for axis in bars:
         axis.tick_params(axis="x", labelsize=7, rotation=30)
+    for axis in axes[len(panels) + 2:]:
+        axis.axis("off")
     figure.tight_layout()
     figure.savefig(path, dpi=100)
     pyplot.close(figure)
