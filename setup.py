@@ -40,6 +40,8 @@ setup(
         "matplotlib>=3.6",
         "tqdm>=4.60",
     ],
-    extras_require={"test": ["pytest>=7", "scipy>=1.9", "hypothesis>=6", "pydicom-data"]},
+    extras_require={"test": ["pytest>=7", "scipy>=1.9", "hypothesis>=6", "pydicom-data"],
+                    # peers beside VTK in `mipcast bench --peers` and the GPU report (never required)
+                    "bench": ["vispy>=0.14", "PyOpenGL>=3.1"]},
     entry_points={"console_scripts": ["mipcast=mipcast.app.cli:main"]},
 )

@@ -115,6 +115,15 @@ def _parser() -> argparse.ArgumentParser:
                             "whole, gaze at the centre and a corner (foveation.md/json/png)")
     bench.add_argument("--foveation-methods", nargs="+", default=["mip"],
                        help="methods the foveated variants render with (--foveation)")
+    bench.add_argument("--gpu-report", action="store_true",
+                       help="instead: the fixed GPU suite (parity, speed x accuracy at 512/1024, foveation, "
+                            "first frame, memory, peers): gpu-report.md/json/png; refuses software OpenGL")
+    bench.add_argument("--peers", action="store_true",
+                       help="instead: vispy's volume visual beside stock VTK, mip and analytic on equal "
+                            "views (peers.md/json; needs the 'bench' extra)")
+    bench.add_argument("--quick", action="store_true", help="--gpu-report/--peers at tiny sizes")
+    bench.add_argument("--allow-software", action="store_true",
+                       help="--gpu-report on a software renderer (llvmpipe, softpipe, swrast) too")
     bench.set_defaults(run=_run_bench)
     return parser
 
@@ -318,6 +327,9 @@ def run_view(args) -> int:
 
 def _run_bench(args) -> int:
     """Time and check every setting against stock VTK MIP on each scene, view and size."""
+    if args.gpu_report or args.peers:
+        from mipcast.bench.gpu_report import run_cli
+        return run_cli(args)
     if args.stability:
         return _run_stability(args)
     if args.foveation:

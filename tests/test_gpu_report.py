@@ -1,0 +1,111 @@
+"""``mipcast bench --gpu-report``: the quick suite end to end on llvmpipe, and the refusal of software OpenGL."""
+import json
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+from mipcast.app.cli import main
+from mipcast.bench import gpu_report
+
+TOP_KEYS = {"renderer", "software", "quick", "sizes", "notes", "parity", "speed_accuracy", "foveation",
+            "first_frame", "first_frame_goal", "peers", "elapsed_s"}
+ROW_KEYS = {"scene", "window", "size", "method", "median_ms", "ratio_to_stock", "p99_pct", "max_pct",
+            "within_1_grey", "rays", "misses"}
+
+
+@pytest.fixture(scope="module")
+def quick_report(tmp_path_factory):
+    out = tmp_path_factory.mktemp("gpu-report")
+    code = main(["bench", "--gpu-report", "--quick", "--allow-software", "--out", str(out)])
+    return code, out
+
+
+def test_quick_report_writes_three_files_with_the_expected_keys(quick_report):
+    code, out = quick_report
+    assert code == 0
+    assert {p.name for p in out.iterdir()} >= {"gpu-report.json", "gpu-report.md", "gpu-report.png"}
+    report = json.loads((out / "gpu-report.json").read_text(), parse_constant=pytest.fail)  # strict JSON
+    assert TOP_KEYS <= set(report)
+    assert report["software"] is True and report["quick"] is True
+    assert set(report["parity"]) == {"mip_vs_stock", "analytic_vs_exact", "demip_vs_reference"}
+    assert all(view["passed"] for check in report["parity"].values() for view in check.values())
+    rows = report["speed_accuracy"]
+    assert rows and all(ROW_KEYS <= set(row) for row in rows)
+    assert {row["method"] for row in rows} == set(gpu_report.METHODS)
+    assert {row["scene"] for row in rows} <= {"ct", "head"} and "ct" in {row["scene"] for row in rows}
+    assert {tuple(row["window"] or ()) for row in rows} == {(), gpu_report.CLINICAL_WINDOW}
+    assert all(row["size"] <= 96 for row in rows)
+    assert all(row["within_1_grey"] == 1.0 for row in rows if row["method"] == "analytic")
+    assert {row["gaze_name"] for row in report["foveation"] if "gaze_name" in row} >= {"centre", "corner"}
+    assert [row["method"] for row in report["first_frame"]] == list(gpu_report.METHODS)
+    assert all(row["texture_bytes"]["total"] > 0 for row in report["first_frame"])
+    assert {"analytic_over_stock", "goal", "met"} <= set(report["first_frame_goal"])
+    assert (out / "gpu-report.png").stat().st_size > 10_000
+
+
+def test_quick_report_markdown_starts_with_the_renderer(quick_report):
+    _, out = quick_report
+    text = (out / "gpu-report.md").read_text()
+    assert text.splitlines()[2].startswith("OpenGL renderer: **")
+    for section in ("## Parity", "## Speed x accuracy", "## Foveation", "## First frame and memory"):
+        assert section in text
+
+
+def test_software_renderer_is_refused_with_exit_code_2(tmp_path, capsys):
+    assert main(["bench", "--gpu-report", "--quick", "--out", str(tmp_path)]) == 2
+    captured = capsys.readouterr()
+    assert "OpenGL renderer: llvmpipe" in captured.out  # the renderer string is printed first
+    assert "--allow-software" in captured.err and "software renderer" in captured.err
+    assert not (tmp_path / "gpu-report.json").exists()
+
+
+@pytest.mark.parametrize("renderer, software", [("llvmpipe (LLVM 15.0.6, 256 bits)", True), ("softpipe", True),
+                                                ("Mesa swrast", True), ("Microsoft Basic Render Driver Software", True),
+                                                ("NVIDIA H200/PCIe/SSE2", False), ("AMD Radeon Pro W7900", False)])
+def test_software_renderers_are_recognised(renderer, software):
+    assert gpu_report.is_software(renderer) is software
+
+
+def test_report_path_imports_only_vtk_numpy_matplotlib_tqdm_and_mipcast(tmp_path):
+    """As on a lent GPU machine: no pyvista, scipy or pydicom (vispy blocked, as it is absent there)."""
+    script = textwrap.dedent(f"""
+        import sys
+        for name in ("vispy", "OpenGL"):
+            sys.modules[name] = None
+        from pathlib import Path
+        from mipcast.bench.gpu_report import run_report
+        run_report(Path({str(tmp_path)!r}), quick=True, allow_software=True)
+        roots = {{name.split(".")[0] for name, module in sys.modules.items() if module is not None}}
+        print(sorted(roots & {{"pyvista", "scipy", "pydicom", "vispy", "OpenGL"}}))
+    """)
+    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=tmp_path, timeout=300)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert run.stdout.strip().splitlines()[-1] == "[]"
+    report = json.loads((tmp_path / "gpu-report.json").read_text())
+    assert report["peers"] == [] and any("vispy" in note for note in report["notes"])
+
+
+def test_errors_on_a_ray_subset_are_the_full_reference_at_those_pixels():
+    import numpy as np
+
+    from mipcast import reference
+    from mipcast.data_fixtures import make_fixture
+    from mipcast.offscreen import OffscreenView
+
+    view = OffscreenView(make_fixture("vessels", size=24), size=(40, 32))
+    rays = gpu_report.exact_on_rays(view.image, view.camera, (40, 32), max_rays=200, seed=3)
+    full = reference.render(view.image, view.camera, (40, 32), method="analytic").ravel()
+    assert len(rays["pixels"]) == 200 and rays["hit_pixels"] == int(np.sum(~np.isnan(full)))
+    np.testing.assert_allclose(rays["exact"], full[rays["pixels"]], rtol=0, atol=1e-12)
+
+
+def test_ct_volume_is_int16_with_vessels_above_the_clinical_window_floor():
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    image = gpu_report.ct_volume((32, 40, 40))
+    values = vtk_to_numpy(image.GetPointData().GetScalars())
+    assert values.dtype == "int16" and image.GetDimensions() == (40, 40, 32)
+    assert values.min() >= 0 and 0.001 < (values > gpu_report.CLINICAL_WINDOW[0]).mean() < 0.5
+    assert values.max() >= 1200
