@@ -1,0 +1,88 @@
+"""The ParaView GUI with mipcast's representation: run as ``paraview --script=<this file>``.
+
+Environment: ``MIPCAST_PLUGIN`` (the built MipcastRepresentation.so),
+``MIPCAST_GUI_OUT`` (a folder for the pictures), PYTHONPATH with the
+repository and tests/.  Loads the plugin, opens a 48^3 vessel phantom,
+saves the view as ParaView shows it by default (``default.png``), switches
+the representation to "mipcast" (DEMIP, a colour legend) and saves the view
+again (``mipcast.png``); writes ``report.json``; then a background ``xwd``
+grabs the whole screen (the main window with its Properties panel) into
+``window.xwd`` a few seconds later, once the event loop has drawn the panel,
+and ends this ParaView (its own process id).
+"""
+import inspect
+import json
+import os
+import subprocess
+
+if not hasattr(inspect, "getargspec"):  # ParaView 5.11's plugin loader on Python 3.11
+    inspect.getargspec = inspect.getfullargspec
+
+import numpy as np
+from paraview.simple import (ColorBy, GetActiveViewOrCreate, LoadPlugin, OpenDataFile, Render,
+                             RenameSource, ResetCamera, SaveScreenshot, SetActiveSource, Show)
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkIOImage import vtkPNGReader
+from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
+
+from mipcast.data_fixtures import make_fixture
+
+OUT = os.environ["MIPCAST_GUI_OUT"]
+os.makedirs(OUT, exist_ok=True)
+SIZE = [480, 400]
+
+
+def pixels(path):
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    output = reader.GetOutput()
+    width, height, _ = output.GetDimensions()
+    return vtk_to_numpy(output.GetPointData().GetScalars()).reshape(height, width, -1)[..., :3].astype(int)
+
+
+LoadPlugin(os.environ["MIPCAST_PLUGIN"], ns=globals())
+path = os.path.join(OUT, "vessels.vti")
+writer = vtkXMLImageDataWriter()
+writer.SetFileName(path)
+writer.SetInputData(make_fixture("vessels", size=48))
+writer.Write()
+
+reader = OpenDataFile(path)
+RenameSource("vessels.vti", reader)
+view = GetActiveViewOrCreate("RenderView")
+display = Show(reader, view)
+Render(view)
+ResetCamera(view)
+SaveScreenshot(os.path.join(OUT, "default.png"), view, ImageResolution=SIZE)
+
+display.SetRepresentationType("mipcast")
+ColorBy(display, ("POINTS", "scalars"))
+display.RescaleTransferFunctionToDataRange(True, False)
+display.MipcastMethod = "demip"
+display.demip_depth_weight = 0.3
+display.SetScalarBarVisibility(view, True)
+SetActiveSource(reader)
+camera = view.GetActiveCamera()
+camera.Azimuth(35.0)
+camera.Elevation(25.0)
+camera.OrthogonalizeViewUp()
+ResetCamera(view)
+Render(view)
+SaveScreenshot(os.path.join(OUT, "mipcast.png"), view, ImageResolution=SIZE)
+
+default, mipcast = pixels(os.path.join(OUT, "default.png")), pixels(os.path.join(OUT, "mipcast.png"))
+background = np.median(mipcast.reshape(-1, 3), axis=0)
+report = {
+    "representation": str(display.Representation).strip("'"),
+    "method": str(display.MipcastMethod).strip("'"),
+    "mipcast_lit": float(np.mean(np.abs(mipcast - background).max(axis=-1) > 24)),
+    "differs_from_default": float(np.mean(np.abs(mipcast - default).max(axis=-1) > 24)),
+}
+with open(os.path.join(OUT, "report.json"), "w") as handle:
+    json.dump(report, handle)
+
+# the whole window once Qt has drawn the Properties panel, then end this ParaView
+subprocess.Popen(["sh", "-c", f'sleep {os.environ.get("MIPCAST_GUI_WAIT", "6")}; '
+                  f'xwd -root -silent > "{OUT}/window.xwd"; kill {os.getpid()}'],
+                 start_new_session=True)
