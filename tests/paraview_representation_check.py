@@ -3,7 +3,7 @@
 Usage (from the repository root, the plugin built by plugin/representation/build.sh)::
 
     PYTHONPATH=$PWD xvfb-run -a -s "-screen 0 1280x1024x24" pvpython \\
-        tests/paraview_representation_check.py --plugin PATH [--png-dir DIR] [--server URL] [--parts a,b]
+        tests/paraview_representation_check.py --plugin PATH [--png-dir DIR] [--server HOST:PORT] [--parts a,b]
 
 Writes the "vessels" fixture (48^3) to a .vti, opens it with ParaView's XML
 reader and shows it with ``Show(reader, view)`` and the representation type
@@ -19,7 +19,7 @@ picture changes, no new shader program), ``eye`` (Hide/Show), ``trace`` (a
 traced property change replayed), ``state`` (.pvsm saved, session reset,
 loaded), ``bad`` (multi-component, cell data, NaN voxels, out-of-range
 values), ``bench`` (frame time against the offscreen view).  With
-``--server URL`` it connects to a running pvserver first and runs
+``--server HOST:PORT`` it connects to a running pvserver first and runs
 ``methods`` there.  Prints one JSON object on the last line of stdout; used by
 tests/test_paraview_representation.py.
 """
@@ -364,7 +364,7 @@ def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--plugin", required=True)
     parser.add_argument("--png-dir")
-    parser.add_argument("--server")
+    parser.add_argument("--server", help="HOST:PORT of a running pvserver")
     parser.add_argument("--methods", help="comma-separated methods (default: all of mipcast.METHODS)")
     parser.add_argument("--parts", default="methods,parameter,eye,trace,state,bad,bench")
     args = parser.parse_args()
@@ -382,7 +382,8 @@ def main():
 
     report = {}
     if args.server:
-        Connect(args.server)
+        host, _, port = args.server.rpartition(":")
+        Connect(host or "localhost", int(port))
         LoadPlugin(args.plugin, remote=True, ns=globals())
         report["session"] = "client-server"
     LoadPlugin(args.plugin, remote=False, ns=globals())

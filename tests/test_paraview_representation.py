@@ -54,8 +54,8 @@ def test_plugin_methods_lists_every_method_with_getter_defaults():
             getter = getattr(mapper, "Get" + setter_name(p["name"])[3:], None)
             if getter is not None and p["name"] != "region_of_interest":
                 value = getter()
-                flat = [x for row in value for x in row] if p["shape"] else value
-                expected = tuple(flat) if isinstance(flat, tuple) else flat
+                flat = tuple(x for row in value for x in row) if p["shape"] else value
+                expected = tuple(flat) if isinstance(flat, (tuple, list)) else flat
                 assert p["default"] == expected, (name, p["name"])
     weight = {p["name"]: p for p in table["demip"]["parameters"]}["depth_weight"]
     assert weight["range"] == (0.0, 1.0) and weight["type"] == "double"

@@ -352,6 +352,9 @@ class _Entry:
         self.programs = []  # addresses of the shader programs seen after the volume drew
         self.renders = 0
         self.problem = None
+        from vtkmodules.vtkCommonCore import vtkWeakReference
+
+        self.render_window = vtkWeakReference()
 
     def stats(self):
         return dict(method=self.method, mapper=type(self.mapper).__name__ if self.mapper else None,
@@ -467,7 +470,7 @@ def _new_mapper(entry, volume, assign):
 
     def drawn(caller, event, entry=entry):
         entry.renders += 1
-        window = entry.render_window
+        window = entry.render_window.Get()
         cache = window.GetShaderCache() if window is not None and hasattr(window, "GetShaderCache") else None
         program = cache.GetLastShaderBound() if cache is not None else None
         if program is not None:
@@ -488,7 +491,8 @@ def prepare(key, volume, assign, renderer, interactor):
     """
     _import_mipcast()
     entry = _entry(key)
-    entry.render_window = renderer.GetRenderWindow() if renderer is not None else None
+    if renderer is not None and entry.render_window.Get() is not renderer.GetRenderWindow():
+        entry.render_window.Set(renderer.GetRenderWindow())  # weak: the view owns its window
     assign.Update()
     image = assign.GetOutputDataObject(0)
     if image is None or image.GetNumberOfPoints() == 0 or not image.IsA("vtkImageData"):
