@@ -13,6 +13,7 @@ and ends this ParaView (its own process id).
 import inspect
 import json
 import os
+import shutil
 import subprocess
 
 if not hasattr(inspect, "getargspec"):  # ParaView 5.11's plugin loader on Python 3.11
@@ -30,6 +31,10 @@ from mipcast.data_fixtures import make_fixture
 OUT = os.environ["MIPCAST_GUI_OUT"]
 os.makedirs(OUT, exist_ok=True)
 SIZE = [480, 400]
+#: Where the Properties panel's search box is once the window fills a 1280 x 1024 screen.
+SEARCH_BOX = os.environ.get("MIPCAST_GUI_SEARCH_BOX", "90 548")
+WELCOME_CLOSE = os.environ.get("MIPCAST_GUI_WELCOME_CLOSE", "891 576")
+SEARCH_TEXT = os.environ.get("MIPCAST_GUI_SEARCH", "depth")
 
 
 def pixels(path):
@@ -82,7 +87,18 @@ report = {
 with open(os.path.join(OUT, "report.json"), "w") as handle:
     json.dump(report, handle)
 
-# the whole window once Qt has drawn the Properties panel, then end this ParaView
-subprocess.Popen(["sh", "-c", f'sleep {os.environ.get("MIPCAST_GUI_WAIT", "6")}; '
-                  f'xwd -root -silent > "{OUT}/window.xwd"; kill {os.getpid()}'],
-                 start_new_session=True)
+# the whole window once Qt has drawn the Properties panel, then end this ParaView; with
+# xdotool the window fills the screen first and the panel's search box gets "mipcast"
+wait = os.environ.get("MIPCAST_GUI_WAIT", "6")
+commands = [f"sleep {wait}"]
+if shutil.which("xdotool"):
+    commands += [
+        f"xdotool mousemove {WELCOME_CLOSE} click 1",  # the Welcome dialog's Close (no window manager)
+        "sleep 1",
+        "w=$(xdotool search --onlyvisible --name 'ParaView' | head -n 1)",
+        '[ -n "$w" ] && xdotool windowmove "$w" 0 0 windowsize "$w" 1280 1024',
+        "sleep 2",
+        f'[ -n "$w" ] && xdotool mousemove {SEARCH_BOX} click 1 type --delay 30 "{SEARCH_TEXT}"',
+        "sleep 2"]
+commands += [f'xwd -root -silent > "{OUT}/window.xwd"', f"kill {os.getpid()}"]
+subprocess.Popen(["sh", "-c", "; ".join(commands)], start_new_session=True)

@@ -276,3 +276,12 @@ def test_paraview_gui_shows_the_representation(plugin, tmp_path):
     assert report["representation"] == "mipcast", report
     assert report["mipcast_lit"] > 0.05, report  # the volume covers about a tenth of the view
     assert report["differs_from_default"] > 0.05, report
+    grab = out / "window.xwd"
+    if grab.exists():  # the whole screen, main window and Properties panel (needs xwd)
+        import numpy as np
+        from vtk_png import write_png
+        from xwd import read_xwd
+
+        screen = read_xwd(grab)
+        write_png(str(out / "window.png"), screen)
+        assert screen.std() > 20 and len(np.unique(screen.reshape(-1, 3), axis=0)) > 100
