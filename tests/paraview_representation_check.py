@@ -178,8 +178,6 @@ def methods_part(reader, image, view, png, methods, stats=True):
     set_camera(view)
     for method in methods:
         display.MipcastMethod = method
-        if os.environ.get("MIPCAST_NOFOLLOW"):
-            display.foveated_follow_mouse = 0
         pv = screenshot(view, png(f"rep_{method}"))
         ref, _ = reference(image, method, view)
         write_png(png(f"ref_{method}"), ref)
@@ -340,9 +338,6 @@ def bench_part(reader, image, png, method="mip", size=(512, 512), frames=8):
     """Median frame times: ParaView's StillRender vs the offscreen view's Render, and the
     volume renderer's own time (``GetLastRenderTimeInSeconds``) in each, same size and camera."""
     view = plain_view(size)
-    if os.environ.get("MIPCAST_BENCH_NOPEEL"):
-        view.EnableRenderOnInteraction = 0
-        view.DepthPeeling = 0
     show_mipcast(reader, view, method)
     set_camera(view)
     screenshot(view, png("bench_view"), size)
