@@ -1,0 +1,574 @@
+"""Python side of ParaView's "mipcast" representation (plugin/representation).
+
+The C++ class ``vtkMipcastRepresentation`` (a thin subclass of ParaView's
+``vtkImageVolumeRepresentation``) owns a plain ``vtkVolume`` in the render
+view's renderer and calls this module, through ParaView's embedded Python, to
+create and configure that volume's mapper: a mipcast Python mapper made by
+``mipcast.create_mapper(method)``.  So the GLSL (``shaders/*.glsl``) and the
+mapper logic (uniforms, corner packing, block maxima, foveation levels) exist
+once, in mipcast.
+
+Two roles:
+
+- **Build time** (``python mipcast_representation.py --xml OUT --header OUT
+  --template IN``): :func:`plugin_methods` lists every method and its
+  parameters; :func:`server_manager_xml` and :func:`cxx_setters` turn that
+  list into the Properties panel (ServerManager XML) and the C++ setters the
+  XML calls.  Nothing is copied by hand: re-run CMake after changing a
+  method's parameters.
+- **Run time** (called from C++): :func:`set_method`, :func:`set_value`,
+  :func:`prepare`, :func:`release`.  Every call reports its errors in VTK's
+  output window (ParaView: *Output Messages*) and never raises into C++.
+"""
+from __future__ import annotations
+
+import os
+import re
+import sys
+
+_HERE = os.path.dirname(os.path.abspath(__file__))
+#: The folder holding the ``mipcast`` package in the source tree (plugin/representation -> root).
+_ROOT = os.path.dirname(os.path.dirname(_HERE))
+
+
+def _import_mipcast():
+    """``import mipcast``, appending the source tree's root to ``sys.path`` if needed."""
+    try:
+        import mipcast
+    except ImportError:
+        if os.path.isdir(os.path.join(_ROOT, "mipcast")) and _ROOT not in sys.path:
+            sys.path.append(_ROOT)  # appended: ParaView's numpy and VTK stay first
+        import mipcast
+    return mipcast
+
+
+# -- the method table ---------------------------------------------------------------------
+#: Labels shown in the panel's documentation (the property values are the method names).
+_LABELS = {
+    "mip": "MIP (sampled, mipcast's loop)",
+    "analytic": "Analytic MIP (exact)",
+    "demip": "DEMIP (depth-enhanced MIP)",
+    "demip_two_pass": "DEMIP, two GPU passes",
+    "foveated": "Foveated",
+    "stock": "VTK's GPU MIP (stock)",
+    "cpu": "VTK's CPU MIP",
+}
+#: Setters the panel does not offer: objects, not values.
+_NOT_VALUES = {"corner_packer"}
+#: Parameters whose getter cannot tell their type (default None), described here.
+_EXTRA = {
+    ("foveated", "region_of_interest"): dict(
+        type="double", size=6, default=(1.0, 0.0, 1.0, 0.0, 1.0, 0.0),
+        doc="World-space bounds (x0 x1 y0 y1 z0 z1) kept sharp; x0 > x1 (the default) means none."),
+}
+#: Parameters every method gets (VTK's sampling), prefixed "common".
+_COMMON = [
+    dict(name="sample_distance", type="double", size=1, default=0.0, range=(0.0, None),
+         doc="World units between samples; 0 = one sample per voxel (the smallest spacing)."),
+    dict(name="image_sample_distance", type="double", size=1, default=1.0, range=(0.1, 8.0),
+         doc="Pixels between rays (VTK's ImageSampleDistance); 2 = half resolution."),
+]
+#: Representation-level extras of a method (not mapper setters), handled in prepare().
+_REPRESENTATION_EXTRAS = {
+    "foveated": [dict(name="follow_mouse", type="bool", size=1, default=True,
+                      doc="The gaze follows the mouse over the render view (builtin sessions); "
+                          "until the mouse moves, the gaze point is used.")],
+}
+
+
+def plugin_methods():
+    """Every method the representation offers, with its parameters.
+
+    Returns a list of ``{"name", "label", "parameters": [...]}``; each
+    parameter is ``{"name", "type" ("double", "int", "bool", "string"),
+    "size" (number of values), "shape" (nested tuple shape or None),
+    "default", "range" ((low, high), None = open) or None, "choices" (strings)
+    or None, "doc"}``.
+
+    Today the defaults are read from the mappers' getters and ranges and
+    choices from their setters' docstrings and the modules' constant tables;
+    this is the one function to re-point at ``mipcast.METHODS``' parameter
+    tables.
+
+    Examples
+    --------
+    >>> methods = {m["name"]: m for m in plugin_methods()}
+    >>> "mip" in methods and "analytic" in methods and "demip" in methods
+    True
+    >>> weight = [p for p in methods["demip"]["parameters"] if p["name"] == "depth_weight"][0]
+    >>> weight["type"], weight["default"], weight["range"]
+    ('double', 0.15, (0.0, 1.0))
+    """
+    mipcast = _import_mipcast()
+    from mipcast.parameters import method_parameters, setter_name
+
+    table = []
+    for name in mipcast.METHODS:
+        mapper = mipcast.create_mapper(name)
+        parameters = [dict(p, name="common_" + p["name"], shape=None,
+                           choices=None, range=p.get("range")) for p in _COMMON]
+        for parameter in method_parameters(mapper):
+            if parameter in _NOT_VALUES:
+                continue
+            setter = getattr(type(mapper), setter_name(parameter))
+            doc = " ".join((setter.__doc__ or "").split("\n\n")[0].split())
+            extra = _EXTRA.get((name, parameter))
+            if extra is not None:
+                parameters.append(dict(extra, name=parameter, shape=None, range=None, choices=None))
+                continue
+            getter = getattr(mapper, "Get" + setter_name(parameter)[3:], None)
+            if getter is None:
+                continue
+            default = getter()
+            parameters.append(_describe(parameter, default, doc, mapper))
+        for extra in _REPRESENTATION_EXTRAS.get(name, []):
+            parameters.append(dict(extra, shape=None, range=None, choices=None))
+        table.append(dict(name=name, label=_LABELS.get(name, name), parameters=parameters))
+    return table
+
+
+def _describe(name, default, doc, mapper):
+    entry = dict(name=name, doc=doc, shape=None, range=None, choices=None, default=default)
+    if isinstance(default, bool):
+        entry.update(type="bool", size=1)
+    elif isinstance(default, int):
+        entry.update(type="int", size=1, range=_range(doc, integer=True))
+    elif isinstance(default, float):
+        entry.update(type="double", size=1, range=_range(doc))
+    elif isinstance(default, str):
+        entry.update(type="string", size=1, choices=_choices(name, default, doc, mapper))
+    elif isinstance(default, tuple):
+        flat, shape = _flatten(default)
+        entry.update(type="double", size=len(flat), default=tuple(flat), shape=shape,
+                     range=_range(doc))
+    else:
+        raise TypeError(f"{type(mapper).__name__}.{name}: no panel widget for {default!r}")
+    return entry
+
+
+def _flatten(value):
+    if all(isinstance(v, (int, float)) for v in value):
+        return [float(v) for v in value], None
+    rows = [list(v) for v in value]
+    return [float(x) for row in rows for x in row], (len(rows), len(rows[0]))
+
+
+_NUMBER = r"-?\d+(?:\.\d+)?"
+
+
+def _range(doc, integer=False):
+    """(low, high) from a setter's docstring: "in [0, 1]", "in (0, 1]", ">= 0", "1 ... to 5"."""
+    match = re.search(rf"in [\[(]({_NUMBER}), ({_NUMBER})[\])]", doc)
+    if match:
+        return float(match.group(1)), float(match.group(2))
+    match = re.search(rf"\b({_NUMBER})\b[^.]*?\bto ({_NUMBER})\b", doc) if integer else None
+    if match:
+        return int(match.group(1)), int(match.group(2))
+    match = re.search(rf">= ?({_NUMBER})", doc)
+    if match:
+        return float(match.group(1)), None
+    return None
+
+
+def _choices(name, default, doc, mapper):
+    """The allowed strings: a module table named in the docstring, else the quoted words."""
+    module = sys.modules[type(mapper).__module__]
+    for kind, symbol in re.findall(r":(data|func):`(\w+)`", doc):
+        value = getattr(module, symbol, None) or getattr(type(mapper), symbol, None)
+        if callable(value):
+            value = value()
+        if isinstance(value, (tuple, list, dict)):
+            return [str(v) for v in value]
+    quoted = re.findall(r'``"(\w+)"``', doc)
+    choices = list(dict.fromkeys(quoted + [default]))
+    return choices
+
+
+# -- generated XML and C++ ------------------------------------------------------------------
+def property_name(method, parameter):
+    """The ServerManager property of a method's parameter: ``demip_depth_weight``."""
+    return f"{method}_{parameter}"
+
+
+def _setter(method, parameter):
+    return f"SetP_{method}_{parameter}"
+
+
+def _label(method, parameter):
+    words = parameter.replace("common_", "").split("_")
+    return " ".join(w.capitalize() for w in words)
+
+
+def _xml_escape(text):
+    return (str(text).replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+            .replace('"', "&quot;"))
+
+
+def _format(value):
+    if isinstance(value, bool):
+        return str(int(value))
+    if isinstance(value, float):
+        return repr(value)
+    return str(value)
+
+
+def _visibility(method):
+    return (
+        '        <Hints>\n'
+        '          <PropertyWidgetDecorator type="CompositeDecorator">\n'
+        '            <Expression type="and">\n'
+        '              <PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
+        'property="Representation" value="mipcast" />\n'
+        '              <PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
+        f'property="MipcastMethod" value="{method}" />\n'
+        '            </Expression>\n'
+        '          </PropertyWidgetDecorator>\n'
+        '        </Hints>\n')
+
+
+def server_manager_xml(methods=None):
+    """The ServerManager XML of the representation, generated from :func:`plugin_methods`."""
+    methods = plugin_methods() if methods is None else methods
+    props, exposed = [], []
+    names = "".join(f'          <String value="{m["name"]}" />\n' for m in methods)
+    listing = "; ".join(f'{m["name"]}: {m["label"]}' for m in methods)
+    props.append(
+        '      <StringVectorProperty name="MipcastMethod" label="mipcast Method" '
+        'command="SetMipcastMethod" number_of_elements="1" default_values="mip">\n'
+        f'        <StringListDomain name="list">\n{names}        </StringListDomain>\n'
+        f'        <Documentation>The mipcast method that renders the volume ({_xml_escape(listing)}).'
+        '</Documentation>\n'
+        '        <Hints>\n'
+        '          <PropertyWidgetDecorator type="GenericDecorator" mode="visibility" '
+        'property="Representation" value="mipcast" />\n'
+        '        </Hints>\n'
+        '      </StringVectorProperty>\n')
+    exposed.append('          <Property name="MipcastMethod" />\n')
+    for method in methods:
+        group = []
+        for p in method["parameters"]:
+            name = property_name(method["name"], p["name"])
+            kind = {"double": "DoubleVectorProperty", "int": "IntVectorProperty",
+                    "bool": "IntVectorProperty", "string": "StringVectorProperty"}[p["type"]]
+            default = p["default"]
+            values = " ".join(_format(v) for v in (default if isinstance(default, tuple) else (default,)))
+            advanced = ' panel_visibility="advanced"' if p["name"].startswith("common_") or p["size"] > 3 else ""
+            text = (f'      <{kind} name="{name}" label="{_label(method["name"], p["name"])}" '
+                    f'command="{_setter(method["name"], p["name"])}" '
+                    f'number_of_elements="{p["size"]}" default_values="{_xml_escape(values)}"{advanced}>\n')
+            if p["type"] == "bool":
+                text += '        <BooleanDomain name="bool" />\n'
+            elif p["type"] == "string":
+                choices = "".join(f'          <String value="{c}" />\n' for c in p["choices"])
+                text += f'        <StringListDomain name="list">\n{choices}        </StringListDomain>\n'
+            elif p["range"] is not None:
+                low, high = p["range"]
+                domain = "IntRangeDomain" if p["type"] == "int" else "DoubleRangeDomain"
+                bounds = "".join(f' {k}="{_format(v)}"' for k, v in (("min", low), ("max", high))
+                                 if v is not None)
+                text += f'        <{domain} name="range"{bounds} />\n'
+            text += f'        <Documentation>{_xml_escape(p["doc"])}</Documentation>\n'
+            text += _visibility(method["name"])
+            text += f'      </{kind}>\n'
+            props.append(text)
+            group.append(f'            <Property name="{name}" />\n')
+        if group:
+            exposed.append(f'          <PropertyGroup label="mipcast: {_xml_escape(method["label"])}">\n'
+                           + "".join(group) + '          </PropertyGroup>\n')
+    return (
+        "<!-- Generated by plugin/representation/mipcast_representation.py from plugin_methods(); "
+        "do not edit. -->\n"
+        "<ServerManagerConfiguration>\n"
+        '  <ProxyGroup name="representations">\n'
+        '    <RepresentationProxy name="MipcastRepresentation" class="vtkMipcastRepresentation"\n'
+        '        processes="client|renderserver|dataserver"\n'
+        '        base_proxygroup="representations" base_proxyname="UniformGridVolumeRepresentation">\n'
+        "      <Documentation>ParaView's volume representation drawn by a mipcast method "
+        "(a mipcast Python mapper on a plain vtkVolume).</Documentation>\n"
+        + "".join(props) +
+        "    </RepresentationProxy>\n"
+        '    <Extension name="UniformGridRepresentation">\n'
+        '      <RepresentationType subproxy="MipcastRepresentation" text="mipcast" />\n'
+        "      <SubProxy>\n"
+        '        <Proxy name="MipcastRepresentation" proxygroup="representations" '
+        'proxyname="MipcastRepresentation" />\n'
+        '        <ShareProperties subproxy="VolumeRepresentation">\n'
+        '          <Exception name="Input" />\n'
+        '          <Exception name="Visibility" />\n'
+        '          <Exception name="Representation" />\n'
+        "        </ShareProperties>\n"
+        "        <ExposedProperties>\n"
+        + "".join(exposed) +
+        "        </ExposedProperties>\n"
+        "      </SubProxy>\n"
+        "    </Extension>\n"
+        "  </ProxyGroup>\n"
+        "</ServerManagerConfiguration>\n")
+
+
+def cxx_setters(methods=None):
+    """The C++ setters the XML's commands name, one per parameter, generated like the XML."""
+    methods = plugin_methods() if methods is None else methods
+    lines = []
+    for method in methods:
+        for p in method["parameters"]:
+            name, n = _setter(method["name"], p["name"]), p["size"]
+            where = f'"{method["name"]}", "{p["name"]}"'
+            if p["type"] == "string":
+                lines.append(f"  void {name}(const char* value) {{ this->SetMipcastString({where}, value); }}")
+                continue
+            ctype = "double" if p["type"] == "double" else "int"
+            args = ", ".join(f"{ctype} a{i}" for i in range(n))
+            values = ", ".join(f"a{i}" for i in range(n))
+            helper = "SetMipcastDoubles" if ctype == "double" else "SetMipcastInts"
+            lines.append(f"  void {name}({args}) {{ const {ctype} v[] = {{ {values} }}; "
+                         f"this->{helper}({where}, {n}, v); }}")
+    return "\n".join(lines) + "\n"
+
+
+# -- run time (called from vtkMipcastRepresentation) ----------------------------------------
+#: Representation key (the C++ object's address) -> _Entry.
+_REGISTRY: dict = {}
+_TABLE: dict = {}
+
+
+def _table():
+    """method name -> {parameter name -> description} (built once per process)."""
+    if not _TABLE:
+        for method in plugin_methods():
+            _TABLE[method["name"]] = {p["name"]: p for p in method["parameters"]}
+    return _TABLE
+
+
+class _Entry:
+    """One representation's mapper and the values ParaView set."""
+
+    def __init__(self):
+        self.method = "mip"
+        self.values = {}  # method -> {parameter -> value}
+        self.mapper = None
+        self.mapper_method = None
+        self.applied = {}  # parameter -> value applied on self.mapper
+        self.programs = []  # addresses of the shader programs seen after the volume drew
+        self.renders = 0
+        self.problem = None
+        from vtkmodules.vtkCommonCore import vtkWeakReference
+
+        self.render_window = vtkWeakReference()
+
+    def stats(self):
+        return dict(method=self.method, mapper=type(self.mapper).__name__ if self.mapper else None,
+                    programs=len(set(self.programs)), renders=self.renders, problem=self.problem)
+
+
+def _entry(key):
+    entry = _REGISTRY.get(key)
+    if entry is None:
+        entry = _REGISTRY[key] = _Entry()
+    return entry
+
+
+def _report(text, error=True):
+    from vtkmodules.vtkCommonCore import vtkOutputWindow
+
+    window = vtkOutputWindow.GetInstance()
+    (window.DisplayErrorText if error else window.DisplayWarningText)(f"mipcast representation: {text}\n")
+
+
+def _guarded(function):
+    def call(*args):
+        try:
+            return function(*args)
+        except Exception as error:  # never into C++: a message in Output Messages instead
+            _report(f"{type(error).__name__}: {error}")
+            return False
+    call.__name__ = function.__name__
+    call.__doc__ = function.__doc__
+    return call
+
+
+@_guarded
+def set_method(key, method):
+    """ParaView set the MipcastMethod property."""
+    _import_mipcast()
+    if method not in _table():
+        raise ValueError(f"unknown method {method!r}; the methods are {', '.join(_table())}")
+    _entry(key).method = method
+    return True
+
+
+@_guarded
+def set_value(key, method, name, value):
+    """ParaView set a parameter property; applied now if ``method`` is drawing."""
+    _import_mipcast()
+    entry = _entry(key)
+    entry.values.setdefault(method, {})[name] = value
+    if entry.mapper is not None and entry.mapper_method == method:
+        _apply(entry, {name: value})
+    return True
+
+
+def _value(description, value):
+    """A property's values as the mapper's setter takes them."""
+    if description["type"] == "bool":
+        return bool(value[0])
+    if description["type"] == "int":
+        return int(value[0])
+    if description["type"] == "string":
+        return value
+    values = [float(v) for v in value]
+    if description["name"] == "region_of_interest":
+        return None if values[0] > values[1] else tuple(values)
+    if description["shape"] is not None:
+        rows, columns = description["shape"]
+        return tuple(tuple(values[r * columns:(r + 1) * columns]) for r in range(rows))
+    return values[0] if len(values) == 1 else tuple(values)
+
+
+def _apply(entry, values):
+    """Set changed values on the entry's mapper: method parameters only, never a rebuild of ours."""
+    from mipcast.parameters import set_parameters
+
+    table = _table()[entry.mapper_method]
+    settings = {}
+    for name, raw in values.items():
+        description = table.get(name)
+        if description is None:
+            continue
+        value = _value(description, raw)
+        if entry.applied.get(name, object()) == value:
+            continue
+        entry.applied[name] = value
+        if name.startswith("common_") or name in ("follow_mouse",):
+            continue  # applied in prepare()
+        settings[name] = value
+    for name, value in settings.items():
+        try:
+            set_parameters(entry.mapper, **{name: value})
+        except (TypeError, ValueError) as error:
+            entry.applied.pop(name, None)
+            description = table[name]
+            _report(f"{entry.mapper_method} {name}={value!r} refused ({error}); "
+                    f"kept the previous value (allowed: {description.get('range') or description.get('choices') or description['doc']})")
+
+
+def _new_mapper(entry, volume, assign):
+    from mipcast.methods import attach, create_mapper
+    from vtkmodules.vtkCommonCore import vtkCommand
+
+    old = entry.mapper
+    if old is not None and hasattr(old, "Detach"):
+        old.Detach()
+    mapper = create_mapper(entry.method)
+    mapper.SetAutoAdjustSampleDistances(False)
+    if hasattr(mapper, "SetUseJittering"):
+        mapper.SetUseJittering(False)
+    mapper.SetInputConnection(assign.GetOutputPort())
+    entry.mapper, entry.mapper_method, entry.applied = mapper, entry.method, {}
+    _apply(entry, entry.values.get(entry.method, {}))
+    attach(mapper, volume)
+
+    def drawn(caller, event, entry=entry):
+        entry.renders += 1
+        window = entry.render_window.Get()
+        cache = window.GetShaderCache() if window is not None and hasattr(window, "GetShaderCache") else None
+        program = cache.GetLastShaderBound() if cache is not None else None
+        if program is not None:
+            entry.programs.append(program.GetAddressAsString("vtkObjectBase"))
+    mapper.AddObserver(vtkCommand.VolumeMapperRenderEndEvent, drawn)
+    return mapper
+
+
+@_guarded
+def prepare(key, volume, assign, renderer, interactor):
+    """Before a frame: the volume's mapper for the current method, up to date; False hides it.
+
+    ``assign`` is the C++ representation's ``vtkAssignAttribute`` (the
+    coloured array made the active scalars) fed by ParaView's delivered
+    piece.  A process without data (a client of a remote server) hides the
+    volume quietly; unusable data is refused by the mipcast mapper itself
+    with a message.
+    """
+    _import_mipcast()
+    entry = _entry(key)
+    if renderer is not None and entry.render_window.Get() is not renderer.GetRenderWindow():
+        entry.render_window.Set(renderer.GetRenderWindow())  # weak: the view owns its window
+    assign.Update()
+    image = assign.GetOutputDataObject(0)
+    if image is None or image.GetNumberOfPoints() == 0 or not image.IsA("vtkImageData"):
+        return False
+    if entry.mapper is None or entry.mapper_method != entry.method:
+        _new_mapper(entry, volume, assign)
+    elif volume.GetMapper() is not entry.mapper:
+        from mipcast.methods import attach
+        attach(entry.mapper, volume)
+    mapper = entry.mapper
+    _apply(entry, entry.values.get(entry.method, {}))
+    common = entry.applied
+    spacing = min(abs(s) for s in image.GetSpacing()) or 1.0
+    distance = common.get("common_sample_distance", 0.0) or spacing
+    if mapper.GetSampleDistance() != distance:
+        mapper.SetSampleDistance(distance)
+    if hasattr(mapper, "SetImageSampleDistance"):
+        isd = common.get("common_image_sample_distance", 1.0)
+        if mapper.GetImageSampleDistance() != isd:
+            mapper.SetImageSampleDistance(isd)
+    if hasattr(mapper, "FollowMouse"):
+        follow = common.get("follow_mouse", True) and interactor is not None
+        if follow != bool(getattr(entry, "following", False)):
+            mapper.FollowMouse(interactor if follow else None)
+            entry.following = follow
+            if not follow:  # back to the panel's gaze point
+                gaze = entry.values.get(entry.method, {}).get("gaze_point")
+                if gaze is not None:
+                    mapper.SetGazePoint(*gaze)
+    return True
+
+
+@_guarded
+def release(key):
+    """The C++ representation is deleted: drop its mapper."""
+    entry = _REGISTRY.pop(key, None)
+    if entry is not None and entry.mapper is not None and hasattr(entry.mapper, "Detach"):
+        entry.mapper.Detach()
+    return True
+
+
+def stats():
+    """Per representation: method, mapper class, distinct shader programs seen, renders (for tests)."""
+    return {key: entry.stats() for key, entry in _REGISTRY.items()}
+
+
+def _main(argv):
+    import argparse
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--xml", help="write the ServerManager XML here")
+    parser.add_argument("--header", help="write the C++ header here (needs --template)")
+    parser.add_argument("--template", help="the header template with @MIPCAST_SETTERS@")
+    parser.add_argument("--table", action="store_true", help="print plugin_methods() as JSON")
+    args = parser.parse_args(argv)
+    methods = plugin_methods()
+    if args.xml:
+        _write(args.xml, server_manager_xml(methods))
+    if args.header:
+        with open(args.template) as handle:
+            template = handle.read()
+        _write(args.header, template.replace("@MIPCAST_SETTERS@", cxx_setters(methods)))
+    if args.table:
+        import json
+        print(json.dumps(methods, indent=1, default=str))
+
+
+def _write(path, text):
+    """Write ``text`` unless the file already holds it (no needless rebuilds)."""
+    if os.path.exists(path):
+        with open(path) as handle:
+            if handle.read() == text:
+                return
+    with open(path, "w") as handle:
+        handle.write(text)
+
+
+if __name__ == "__main__":
+    _main(sys.argv[1:])

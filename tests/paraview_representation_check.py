@@ -1,0 +1,435 @@
+"""ParaView's "mipcast" representation (plugin/representation), measured in pvpython.
+
+Usage (from the repository root, the plugin built by plugin/representation/build.sh)::
+
+    PYTHONPATH=$PWD xvfb-run -a -s "-screen 0 1280x1024x24" pvpython \\
+        tests/paraview_representation_check.py --plugin PATH [--png-dir DIR] [--server HOST:PORT] [--parts a,b]
+
+Writes the "vessels" fixture (48^3) to a .vti, opens it with ParaView's XML
+reader and shows it with ``Show(reader, view)`` and the representation type
+"mipcast".  Each picture (``SaveScreenshot``, FXAA, orientation axes and
+palette background off) is compared with :class:`mipcast.offscreen.OffscreenView`
+of the same image and method given ParaView's camera (copied after
+ParaView's render), the same size and transfer functions rebuilt from the
+proxies' values.
+
+Parts (``--parts``, default all in a builtin session): ``methods`` (every
+method of the Method list), ``parameter`` (a DEMIP parameter changed: the
+picture changes, no new shader program), ``eye`` (Hide/Show), ``trace`` (a
+traced property change replayed), ``state`` (.pvsm saved, session reset,
+loaded), ``bad`` (multi-component, cell data, NaN voxels, out-of-range
+values), ``bench`` (frame time against the offscreen view).  With
+``--server HOST:PORT`` it connects to a running pvserver first and runs
+``methods`` there.  Prints one JSON object on the last line of stdout; used by
+tests/test_paraview_representation.py.
+"""
+import argparse
+import json
+import os
+import sys
+import tempfile
+import time
+
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+
+from mipcast.data_fixtures import make_fixture
+from mipcast.offscreen import OffscreenView
+from paraview_view_check import changed_share, compare, plain_view, reference_property
+from vtk_png import write_png
+
+WIDTH, HEIGHT = 160, 128
+ARRAY = "scalars"
+
+
+def screenshot(view, path, size=(WIDTH, HEIGHT)):
+    """SaveScreenshot to ``path``; (H, W, 3) uint8, top row first."""
+    from paraview.simple import Render, SaveScreenshot
+    from vtkmodules.vtkIOImage import vtkPNGReader
+
+    Render(view)
+    SaveScreenshot(path, view, ImageResolution=list(size), TransparentBackground=0)
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    output = reader.GetOutput()
+    width, height, _ = output.GetDimensions()
+    pixels = vtk_to_numpy(output.GetPointData().GetScalars())
+    return pixels.reshape(height, width, -1)[::-1, :, :3].copy()
+
+
+def set_camera(view, azimuth=35.0, elevation=25.0):
+    from paraview.simple import Render
+
+    Render(view)  # the first render resets the camera: after it, ours stays
+    view.CameraPosition = [0.0, 0.0, 1.0]
+    view.CameraFocalPoint = [0.0, 0.0, 0.0]
+    view.CameraViewUp = [0.0, 1.0, 0.0]
+    view.ResetCamera(False)
+    camera = view.GetActiveCamera()
+    camera.Azimuth(azimuth)
+    camera.Elevation(elevation)
+    camera.OrthogonalizeViewUp()
+    view.ResetCamera(False)
+    Render(view)
+
+
+def camera_of(view):
+    """ParaView's camera as a vtkCamera (builtin: the view's own; client-server: rebuilt from the proxy)."""
+    from vtkmodules.vtkRenderingCore import vtkCamera
+
+    camera = vtkCamera()
+    camera.SetPosition(*view.CameraPosition)
+    camera.SetFocalPoint(*view.CameraFocalPoint)
+    camera.SetViewUp(*view.CameraViewUp)
+    camera.SetViewAngle(view.CameraViewAngle)
+    camera.SetParallelProjection(int(view.CameraParallelProjection))
+    camera.SetParallelScale(view.CameraParallelScale)
+    client = view.GetClientSideObject()
+    if client is not None and client.GetActiveCamera() is not None:
+        camera.SetClippingRange(client.GetActiveCamera().GetClippingRange())
+    return camera
+
+
+def reference(image, method, view, size=(WIDTH, HEIGHT), **settings):
+    """mipcast's own offscreen render with ParaView's camera and functions."""
+    from mipcast.parameters import set_parameters
+    from paraview.simple import GetColorTransferFunction, GetOpacityTransferFunction
+
+    scene = OffscreenView(image, method, size=size)
+    set_parameters(scene.mapper, **settings)
+    scene.volume.SetProperty(reference_property(GetColorTransferFunction(ARRAY),
+                                                GetOpacityTransferFunction(ARRAY)))
+    scene.renderer.GetActiveCamera().DeepCopy(camera_of(view))
+    pixels = scene.screenshot()
+    return pixels, scene
+
+
+def write_vti(image, path):
+    from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
+
+    writer = vtkXMLImageDataWriter()
+    writer.SetFileName(path)
+    writer.SetInputData(image)
+    writer.Write()
+
+
+def read_vti(path):
+    from vtkmodules.vtkIOXML import vtkXMLImageDataReader
+
+    reader = vtkXMLImageDataReader()
+    reader.SetFileName(path)
+    reader.Update()
+    image = reader.GetOutput()
+    image.GetPointData().SetActiveScalars(ARRAY)
+    return image
+
+
+def show_mipcast(source, view, method="mip"):
+    from paraview.simple import ColorBy, Show
+
+    display = Show(source, view)
+    display.SetRepresentationType("mipcast")
+    ColorBy(display, ("POINTS", ARRAY))
+    display.RescaleTransferFunctionToDataRange(True, False)
+    display.MipcastMethod = method
+    return display
+
+
+def glue_stats():
+    """The glue's per-representation record (builtin sessions: the same process)."""
+    import mipcast_representation
+
+    return list(mipcast_representation.stats().values())
+
+
+class Messages:
+    """Collect VTK's output-window text (what ParaView's Output Messages shows)."""
+
+    def __enter__(self):
+        from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
+
+        self.previous = vtkOutputWindow.GetInstance()
+        self.previous.Register(None)
+        self.window = vtkStringOutputWindow()
+        vtkOutputWindow.SetInstance(self.window)
+        return self
+
+    def text(self):
+        return self.window.GetOutput()
+
+    def __exit__(self, *exc):
+        from vtkmodules.vtkCommonCore import vtkOutputWindow
+
+        vtkOutputWindow.SetInstance(self.previous)
+        return False
+
+
+def lit(pixels):
+    return float(np.mean(pixels.max(axis=-1) > 8))
+
+
+# -- parts --------------------------------------------------------------------------------------
+def methods_part(reader, image, view, png, methods, stats=True):
+    import mipcast
+
+    report = {}
+    display = show_mipcast(reader, view)
+    set_camera(view)
+    for method in methods:
+        display.MipcastMethod = method
+        pv = screenshot(view, png(f"rep_{method}"))
+        ref, _ = reference(image, method, view)
+        write_png(png(f"ref_{method}"), ref)
+        result = compare(pv, ref)
+        if stats:
+            result["mapper"] = glue_stats()[0]["mapper"]
+        report[method] = result
+    report["_listed"] = sorted(display.GetProperty("MipcastMethod").SMProperty.GetDomain("list")
+                               .GetString(i) for i in range(
+        display.GetProperty("MipcastMethod").SMProperty.GetDomain("list").GetNumberOfStrings()))
+    report["_methods"] = sorted(mipcast.METHODS)
+    return report
+
+
+def parameter_part(reader, image, view, png):
+    display = show_mipcast(reader, view, "demip")
+    set_camera(view)
+    before = screenshot(view, png("param_before"))
+    programs = glue_stats()[0]["programs"]
+    display.demip_depth_weight = 0.6
+    display.demip_sphere_weight = 0.5
+    after = screenshot(view, png("param_after"))
+    stats = glue_stats()[0]
+    ref, _ = reference(image, "demip", view, depth_weight=0.6, sphere_weight=0.5)
+    write_png(png("param_ref"), ref)
+    return dict(changed_share=changed_share(before, after), programs_before=programs,
+                programs_after=stats["programs"], renders=stats["renders"],
+                parity=compare(after, ref))
+
+
+def eye_part(reader, image, view, png):
+    from paraview.simple import Hide, Show
+
+    show_mipcast(reader, view, "analytic")
+    set_camera(view)
+    shown = screenshot(view, png("eye_shown"))
+    Hide(reader, view)
+    hidden = screenshot(view, png("eye_hidden"))
+    Show(reader, view)
+    again = screenshot(view, png("eye_again"))
+    return dict(shown_lit=lit(shown), hidden_lit=lit(hidden), again_vs_shown=compare(again, shown))
+
+
+def trace_part(reader, image, view, png):
+    """A property change traced as the Properties panel's Apply traces it, then replayed."""
+    from paraview import smtrace
+    import paraview.simple as simple
+
+    display = show_mipcast(reader, view, "mip")
+    set_camera(view)
+    simple.SetActiveSource(reader)
+    simple.SetActiveView(view)
+    smtrace.start_trace()
+    item = smtrace.PropertiesModified(display.SMProxy)  # what pqProxyWidget::apply() records
+    display.MipcastMethod = "demip"
+    display.demip_depth_weight = 0.45
+    item.finalize()
+    text = smtrace.stop_trace()
+    traced = screenshot(view, png("trace_traced"))
+    display.MipcastMethod = "mip"
+    display.demip_depth_weight = 0.15
+    reset = screenshot(view, png("trace_reset"))
+    exec(compile(text, "trace", "exec"), {})
+    replayed = screenshot(view, png("trace_replayed"))
+    lines = [line.strip() for line in text.splitlines() if "Mipcast" in line or "demip_" in line]
+    return dict(lines=lines, replayed_vs_traced=compare(replayed, traced),
+                reset_changed=changed_share(traced, reset),
+                method_after_replay=str(display.MipcastMethod))
+
+
+def state_part(reader_path, view_size, png, plugin):
+    from paraview.simple import (CreateView, GetActiveView, GetSources, LoadPlugin, LoadState,
+                                 OpenDataFile, ResetSession, SaveState, SetActiveView)
+
+    ResetSession()  # the state holds this scene only
+    LoadPlugin(plugin, ns=globals())
+    reader = OpenDataFile(reader_path)
+    view = plain_view(view_size)
+    display = show_mipcast(reader, view, "demip")
+    display.demip_depth_weight = 0.5
+    display.demip_depth_mode = "eye_distance"
+    set_camera(view)
+    before = screenshot(view, png("state_saved"))
+    path = os.path.join(tempfile.mkdtemp(prefix="mipcast-pvsm-"), "mipcast.pvsm")
+    SaveState(path)
+    ResetSession()
+    LoadPlugin(plugin, ns=globals())
+    LoadState(path)
+    import paraview.simple as simple
+    from paraview import servermanager
+
+    simple._DisableFirstRenderCameraReset()  # the state's camera stays
+    found = [(v, servermanager.GetRepresentation(s, v)) for v in simple.GetViews()
+             for s in GetSources().values() if v.GetXMLName() == "RenderView"]
+    view, loaded = [(v, r) for v, r in found if r is not None][0]
+    simple.SetActiveView(view)
+    view.ViewSize = list(view_size)
+    after = screenshot(view, png("state_loaded"))
+    with open(path) as handle:
+        saved = handle.read()
+    return dict(loaded_vs_saved=compare(after, before), saved_lit=lit(before),
+                representation=str(loaded.Representation), method=str(loaded.MipcastMethod),
+                depth_weight=float(loaded.demip_depth_weight),
+                pvsm_mentions_method="MipcastMethod" in saved)
+
+
+def bad_part(directory, view, png):
+    from paraview.simple import Calculator, ColorBy, OpenDataFile, PointDatatoCellData, Show, Hide
+
+    report = {}
+    image = make_fixture("vessels", size=24)
+    values = vtk_to_numpy(image.GetPointData().GetScalars()).astype(np.float32).copy()
+    values[::7] = np.nan
+    nan_image = make_fixture("vessels", size=24)
+    array = numpy_to_vtk(values, deep=True)
+    array.SetName(ARRAY)
+    nan_image.GetPointData().SetScalars(array)
+    nan_path = os.path.join(directory, "nan.vti")
+    write_vti(nan_image, nan_path)
+    good_path = os.path.join(directory, "small.vti")
+    write_vti(image, good_path)
+
+    def case(name, make, array_spec, setter=None):
+        with Messages() as messages:
+            source = make()
+            display = Show(source, view)
+            display.SetRepresentationType("mipcast")
+            ColorBy(display, array_spec)
+            display.MipcastMethod = "mip"
+            if setter is not None:
+                setter(display)
+            set_camera(view)
+            pixels = screenshot(view, png(f"bad_{name}"))
+            Hide(source, view)
+            text = messages.text()
+        report[name] = dict(message=[line for line in text.splitlines() if line.strip()][:3],
+                            lit=lit(pixels))
+
+    good = OpenDataFile(good_path)
+    case("multi_component", lambda: Calculator(Input=good, ResultArrayName="vec",
+                                               Function=f"{ARRAY}*iHat+{ARRAY}*jHat"),
+         ("POINTS", "vec", "Magnitude"))
+    case("cell_data", lambda: PointDatatoCellData(Input=good), ("CELLS", ARRAY))
+    case("nan_voxels", lambda: OpenDataFile(nan_path), ("POINTS", ARRAY))
+
+    def out_of_range(display):
+        display.demip_depth_weight = 5.0
+        display.MipcastMethod = "demip"
+    case("out_of_range", lambda: OpenDataFile(good_path), ("POINTS", ARRAY), out_of_range)
+
+    def unknown_method(display):
+        display.MipcastMethod = "no_such_method"
+    case("unknown_method", lambda: OpenDataFile(good_path), ("POINTS", ARRAY), unknown_method)
+    return report
+
+
+def bench_part(reader, image, png, method="mip", size=(512, 512), frames=8):
+    """Median frame times: ParaView's StillRender vs the offscreen view's Render, and the
+    volume renderer's own time (``GetLastRenderTimeInSeconds``) in each, same size and camera."""
+    view = plain_view(size)
+    show_mipcast(reader, view, method)
+    set_camera(view)
+    screenshot(view, png("bench_view"), size)
+    window = view.GetRenderWindow()
+    renderer = view.GetRenderer()
+
+    def paraview_frame():
+        view.StillRender()
+        window.WaitForCompletion()
+
+    for _ in range(3):
+        paraview_frame()
+    times, renderer_times = [], []
+    for _ in range(frames):
+        start = time.perf_counter()
+        paraview_frame()
+        times.append(time.perf_counter() - start)
+        renderer_times.append(renderer.GetLastRenderTimeInSeconds())
+    _, scene = reference(image, method, view, size=size)
+    offscreen, offscreen_renderer = [], []
+    for _ in range(3):
+        scene._render_and_wait()
+    for _ in range(frames):
+        start = time.perf_counter()
+        scene._render_and_wait()
+        offscreen.append(time.perf_counter() - start)
+        offscreen_renderer.append(scene.renderer.GetLastRenderTimeInSeconds())
+    pv, off = float(np.median(times)), float(np.median(offscreen))
+    pv_r, off_r = float(np.median(renderer_times)), float(np.median(offscreen_renderer))
+    return dict(method=method, size=list(size), paraview_s=pv, offscreen_s=off, ratio=pv / off,
+                paraview_renderer_s=pv_r, offscreen_renderer_s=off_r, renderer_ratio=pv_r / off_r)
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--plugin", required=True)
+    parser.add_argument("--png-dir")
+    parser.add_argument("--server", help="HOST:PORT of a running pvserver")
+    parser.add_argument("--methods", help="comma-separated methods (default: all of mipcast.METHODS)")
+    parser.add_argument("--parts", default="methods,parameter,eye,trace,state,bad,bench")
+    args = parser.parse_args()
+    import inspect
+    if not hasattr(inspect, "getargspec"):  # ParaView 5.11's plugin loader on Python 3.11
+        inspect.getargspec = inspect.getfullargspec
+    from paraview.simple import Connect, Delete, GetRepresentation, LoadPlugin, OpenDataFile
+
+    directory = tempfile.mkdtemp(prefix="mipcast-pvrep-")
+    png_dir = args.png_dir or directory
+    os.makedirs(png_dir, exist_ok=True)
+
+    def png(name):
+        return os.path.join(png_dir, name + ".png")
+
+    report = {}
+    if args.server:
+        host, _, port = args.server.rpartition(":")
+        Connect(host or "localhost", int(port))
+        LoadPlugin(args.plugin, remote=True, ns=globals())
+        report["session"] = "client-server"
+    LoadPlugin(args.plugin, remote=False, ns=globals())
+    image = make_fixture("vessels", size=48)
+    path = os.path.join(directory, "vessels.vti")
+    write_vti(image, path)
+    image = read_vti(path)
+    parts = args.parts.split(",")
+
+    def fresh():
+        reader = OpenDataFile(path)
+        reader.PointArrayStatus = [ARRAY]
+        return reader, plain_view()
+
+    import mipcast
+    if "methods" in parts:
+        reader, view = fresh()
+        report["methods"] = methods_part(reader, image, view, png, args.methods.split(",") if args.methods else list(mipcast.METHODS),
+                                         stats=not args.server)
+        Delete(view)
+    for name, part in (("parameter", parameter_part), ("eye", eye_part), ("trace", trace_part)):
+        if name in parts:
+            reader, view = fresh()
+            report[name] = part(reader, image, view, png)
+            Delete(view)
+    if "bad" in parts:
+        report["bad"] = bad_part(directory, plain_view(), png)
+    if "bench" in parts:
+        reader, _ = fresh()
+        report["bench"] = bench_part(reader, image, png)
+    if "state" in parts:  # last: it resets the session
+        report["state"] = state_part(path, (WIDTH, HEIGHT), png, args.plugin)
+    report["png_dir"] = png_dir
+    print(json.dumps(report))
+
+
+if __name__ == "__main__":
+    main()
