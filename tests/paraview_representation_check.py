@@ -93,7 +93,7 @@ def camera_of(view):
 
 def reference(image, method, view, size=(WIDTH, HEIGHT), **settings):
     """mipcast's own offscreen render with ParaView's camera and functions."""
-    from mipcast.parameters import set_parameters
+    from mipcast.core.parameters import set_parameters
     from paraview.simple import GetColorTransferFunction, GetOpacityTransferFunction
 
     scene = OffscreenView(image, method, size=size)

@@ -20,6 +20,7 @@ import xml.dom.minidom
 from pathlib import Path
 
 import pytest
+from installed import pvpython_env
 from xvfb import SERVER, run_under_xvfb
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -39,7 +40,7 @@ import mipcast_representation  # noqa: E402  (build-time half: no ParaView neede
 # -- the generated panel (no ParaView needed) ----------------------------------------------------
 def test_plugin_methods_lists_every_method_with_getter_defaults():
     import mipcast
-    from mipcast.parameters import method_parameters, setter_name
+    from mipcast.core.parameters import method_parameters, setter_name
 
     table = {m["name"]: m for m in mipcast_representation.plugin_methods()}
     assert set(table) == set(mipcast.METHODS)
@@ -60,7 +61,7 @@ def test_plugin_methods_lists_every_method_with_getter_defaults():
     weight = {p["name"]: p for p in table["demip"]["parameters"]}["depth_weight"]
     assert weight["range"] == (0.0, 1.0) and weight["type"] == "double"
     mode = {p["name"]: p for p in table["demip"]["parameters"]}["depth_mode"]
-    assert mode["choices"] == list(mipcast.demip_mapper.DEPTH_MODES)
+    assert mode["choices"] == list(mipcast.mappers.demip.DEPTH_MODES)
 
 
 def test_generated_xml_has_a_property_per_parameter_hidden_for_other_methods():
@@ -97,7 +98,7 @@ def plugin():
         pytest.skip(f"{', '.join(missing)} not on PATH: the representation needs Debian's paraview, "
                     "paraview-dev, cmake, g++ and xvfb")
     built = subprocess.run(["sh", str(GLUE_DIR / "build.sh"), str(BUILD)], capture_output=True,
-                           text=True, timeout=900)
+                           text=True, timeout=900, env=pvpython_env())  # the panel from the installed mipcast
     if built.returncode != 0:
         log = Path(str(BUILD) + ".configure.log")
         text = log.read_text() if log.exists() else ""
@@ -115,8 +116,8 @@ def test_built_panel_is_the_generated_one(plugin):
 
 
 def _env():
-    env = dict(os.environ, PYTHONPATH=f"{ROOT}{os.pathsep}{ROOT / 'tests'}")
-    env.pop("PYTHONHOME", None)
+    env = pvpython_env()  # the installed mipcast only
+    env["PYTHONPATH"] += f"{os.pathsep}{ROOT / 'tests'}"
     return env
 
 

@@ -43,18 +43,6 @@ def _import_mipcast():
 
 
 # -- the method table ---------------------------------------------------------------------
-#: Labels shown in the panel's documentation (the property values are the method names).
-_LABELS = {
-    "mip": "MIP (sampled, mipcast's loop)",
-    "analytic": "Analytic MIP (exact)",
-    "demip": "DEMIP (depth-enhanced MIP)",
-    "demip_two_pass": "DEMIP, two GPU passes",
-    "foveated": "Foveated",
-    "stock": "VTK's GPU MIP (stock)",
-    "cpu": "VTK's CPU MIP",
-}
-#: Setters the panel does not offer: objects, not values.
-_NOT_VALUES = {"corner_packer"}
 #: Parameters whose getter cannot tell their type (default None), described here.
 _EXTRA = {
     ("foveated", "region_of_interest"): dict(
@@ -77,18 +65,15 @@ _REPRESENTATION_EXTRAS = {
 
 
 def plugin_methods():
-    """Every method the representation offers, with its parameters.
+    """Every method the representation offers, with its parameters: from ``mipcast.METHODS``.
 
-    Returns a list of ``{"name", "label", "parameters": [...]}``; each
-    parameter is ``{"name", "type" ("double", "int", "bool", "string"),
-    "size" (number of values), "shape" (nested tuple shape or None),
-    "default", "range" ((low, high), None = open) or None, "choices" (strings)
-    or None, "doc"}``.
-
-    Today the defaults are read from the mappers' getters and ranges and
-    choices from their setters' docstrings and the modules' constant tables;
-    this is the one function to re-point at ``mipcast.METHODS``' parameter
-    tables.
+    The methods of the method table that render in a view, each with its
+    parameter table (:mod:`mipcast.core.parameter_tables`) plus VTK's
+    sampling settings.  Returns a list of ``{"name", "label", "parameters":
+    [...]}``; each parameter is ``{"name", "type" ("double", "int", "bool",
+    "string"), "size" (number of values), "shape" (nested tuple shape or
+    None), "default", "range" ((low, high), None = open) or None, "choices"
+    (strings) or None, "doc"}``.
 
     Examples
     --------
@@ -100,49 +85,42 @@ def plugin_methods():
     ('double', 0.15, (0.0, 1.0))
     """
     mipcast = _import_mipcast()
-    from mipcast.parameters import method_parameters, setter_name
-
     table = []
-    for name in mipcast.METHODS:
-        mapper = mipcast.create_mapper(name)
+    for name, method in mipcast.METHODS.items():
+        if not method.in_view:
+            continue
         parameters = [dict(p, name="common_" + p["name"], shape=None,
                            choices=None, range=p.get("range")) for p in _COMMON]
-        for parameter in method_parameters(mapper):
-            if parameter in _NOT_VALUES:
-                continue
-            setter = getattr(type(mapper), setter_name(parameter))
-            doc = " ".join((setter.__doc__ or "").split("\n\n")[0].split())
-            extra = _EXTRA.get((name, parameter))
+        for parameter in method.parameters:
+            extra = _EXTRA.get((name, parameter.name))
             if extra is not None:
-                parameters.append(dict(extra, name=parameter, shape=None, range=None, choices=None))
-                continue
-            getter = getattr(mapper, "Get" + setter_name(parameter)[3:], None)
-            if getter is None:
-                continue
-            default = getter()
-            parameters.append(_describe(parameter, default, doc, mapper))
+                parameters.append(dict(extra, name=parameter.name, shape=None, range=None, choices=None))
+            else:
+                parameters.append(_describe(parameter))
         for extra in _REPRESENTATION_EXTRAS.get(name, []):
             parameters.append(dict(extra, shape=None, range=None, choices=None))
-        table.append(dict(name=name, label=_LABELS.get(name, name), parameters=parameters))
+        table.append(dict(name=name, label=method.label, parameters=parameters))
     return table
 
 
-def _describe(name, default, doc, mapper):
-    entry = dict(name=name, doc=doc, shape=None, range=None, choices=None, default=default)
-    if isinstance(default, bool):
+def _describe(parameter):
+    """A panel entry for one :class:`mipcast.core.parameters.Parameter`."""
+    default = parameter.default
+    entry = dict(name=parameter.name, doc=parameter.doc, shape=None, range=None, choices=None, default=default)
+    if parameter.kind == "bool":
         entry.update(type="bool", size=1)
-    elif isinstance(default, int):
-        entry.update(type="int", size=1, range=_range(doc, integer=True))
-    elif isinstance(default, float):
-        entry.update(type="double", size=1, range=_range(doc))
-    elif isinstance(default, str):
-        entry.update(type="string", size=1, choices=_choices(name, default, doc, mapper))
+    elif parameter.kind == "int":
+        entry.update(type="int", size=1, range=(int(parameter.low), int(parameter.high)))
+    elif parameter.kind == "float":
+        entry.update(type="double", size=1, range=(parameter.low, parameter.high))
+    elif parameter.kind == "choice":
+        entry.update(type="string", size=1, choices=list(parameter.valid_choices()))
     elif isinstance(default, tuple):
         flat, shape = _flatten(default)
         entry.update(type="double", size=len(flat), default=tuple(flat), shape=shape,
-                     range=_range(doc))
+                     range=(0.0, 1.0) if parameter.name == "sphere_colors" else None)
     else:
-        raise TypeError(f"{type(mapper).__name__}.{name}: no panel widget for {default!r}")
+        raise TypeError(f"{parameter.name}: no panel widget for {default!r}")
     return entry
 
 
@@ -151,37 +129,6 @@ def _flatten(value):
         return [float(v) for v in value], None
     rows = [list(v) for v in value]
     return [float(x) for row in rows for x in row], (len(rows), len(rows[0]))
-
-
-_NUMBER = r"-?\d+(?:\.\d+)?"
-
-
-def _range(doc, integer=False):
-    """(low, high) from a setter's docstring: "in [0, 1]", "in (0, 1]", ">= 0", "1 ... to 5"."""
-    match = re.search(rf"in [\[(]({_NUMBER}), ({_NUMBER})[\])]", doc)
-    if match:
-        return float(match.group(1)), float(match.group(2))
-    match = re.search(rf"\b({_NUMBER})\b[^.]*?\bto ({_NUMBER})\b", doc) if integer else None
-    if match:
-        return int(match.group(1)), int(match.group(2))
-    match = re.search(rf">= ?({_NUMBER})", doc)
-    if match:
-        return float(match.group(1)), None
-    return None
-
-
-def _choices(name, default, doc, mapper):
-    """The allowed strings: a module table named in the docstring, else the quoted words."""
-    module = sys.modules[type(mapper).__module__]
-    for kind, symbol in re.findall(r":(data|func):`(\w+)`", doc):
-        value = getattr(module, symbol, None) or getattr(type(mapper), symbol, None)
-        if callable(value):
-            value = value()
-        if isinstance(value, (tuple, list, dict)):
-            return [str(v) for v in value]
-    quoted = re.findall(r'``"(\w+)"``', doc)
-    choices = list(dict.fromkeys(quoted + [default]))
-    return choices
 
 
 # -- generated XML and C++ ------------------------------------------------------------------
@@ -427,7 +374,7 @@ def _value(description, value):
 
 def _apply(entry, values):
     """Set changed values on the entry's mapper: method parameters only, never a rebuild of ours."""
-    from mipcast.parameters import set_parameters
+    from mipcast.core.parameters import set_parameters
 
     table = _table()[entry.mapper_method]
     settings = {}
