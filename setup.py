@@ -40,7 +40,9 @@ setup(
         "matplotlib>=3.6",
         "tqdm>=4.60",
     ],
-    extras_require={"test": ["pytest>=7", "scipy>=1.9", "hypothesis>=6", "pydicom-data"],
+    # test: what the tests import besides the core (vispy/PyOpenGL: the peer rows of the benchmark)
+    extras_require={"test": ["pytest>=7", "scipy>=1.9", "hypothesis>=6", "pydicom-data", "vispy>=0.14",
+                             "PyOpenGL>=3.1"],
                     # peers beside VTK in `mipcast bench --peers` and the GPU report (never required)
                     "bench": ["vispy>=0.14", "PyOpenGL>=3.1"]},
     entry_points={"console_scripts": ["mipcast=mipcast.app.cli:main"]},

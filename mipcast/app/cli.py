@@ -176,9 +176,14 @@ def _parameters_help(command: argparse.ArgumentParser) -> str:
              "e.g. --depth-weight 0.3, --gaze-point 0.2 0.8, --foveation off; --mapper-NAME where the",
              "command has a --NAME of its own (--mapper-method analytic). Each method's own:"]
     own_options = {option[2:].replace("-", "_") for option in command._option_string_actions}
+    described = {}
     for method in METHODS.values():
         if not method.parameters:
             continue
+        if method.parameters in described:
+            lines.append(f"  {method.name}: as {described[method.parameters]}")
+            continue
+        described[method.parameters] = method.name
         lines.append(f"  {method.name}:")
         for parameter in method.parameters:
             option = "--" + ("mapper-" if parameter.name in own_options else "") + parameter.name.replace("_", "-")

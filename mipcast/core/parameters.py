@@ -117,7 +117,7 @@ class Parameter:
     @property
     def summary(self) -> str:
         """The doc's first sentence."""
-        return self.doc.split(". ")[0].rstrip(".") + "."
+        return re.split(r"(?<!e\.g)(?<!Eq)(?<!i\.e)\.\s+(?=[A-Z])", self.doc)[0].rstrip(".") + "."
 
     def valid_choices(self) -> Tuple[str, ...]:
         """The choices of a ``"choice"`` parameter (called if given as a function)."""
