@@ -6,6 +6,8 @@ import textwrap
 
 import pytest
 
+from mipcast.data_fixtures.ct_phantom import ct_volume
+
 from mipcast.app.cli import main
 from mipcast.bench import gpu_report
 
@@ -104,7 +106,7 @@ def test_errors_on_a_ray_subset_are_the_full_reference_at_those_pixels():
 def test_ct_volume_is_int16_with_vessels_above_the_clinical_window_floor():
     from vtkmodules.util.numpy_support import vtk_to_numpy
 
-    image = gpu_report.ct_volume((32, 40, 40))
+    image = ct_volume((32, 40, 40))
     values = vtk_to_numpy(image.GetPointData().GetScalars())
     assert values.dtype == "int16" and image.GetDimensions() == (40, 40, 32)
     assert values.min() >= 0 and 0.001 < (values > gpu_report.CLINICAL_WINDOW[0]).mean() < 0.5

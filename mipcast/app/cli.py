@@ -14,6 +14,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from mipcast import METHODS
+from mipcast.bench.report import strict_json
 from mipcast.offscreen import VIEW_NAMES, VIEWS, OffscreenView
 
 DEMO_FIXTURE = "vessels"
@@ -150,26 +151,6 @@ def _check_input_not_a_value(parser, args, argv) -> None:
             return
 
 
-def _strict_json(value) -> str:
-    """JSON that strict parsers accept: NaN and infinities (e.g. a ceiling with no fovea in view) become null.
-
-    Examples
-    --------
-    >>> json.loads(_strict_json({"ceiling": float("inf"), "share": float("nan"), "ratio": [1.5]}))
-    {'ceiling': None, 'share': None, 'ratio': [1.5]}
-    """
-    def finite(item):
-        if isinstance(item, float) and not np.isfinite(item):
-            return None
-        if isinstance(item, dict):
-            return {key: finite(entry) for key, entry in item.items()}
-        if isinstance(item, (list, tuple)):
-            return [finite(entry) for entry in item]
-        return item
-
-    return json.dumps(finite(value), indent=2, allow_nan=False)
-
-
 def _parameters_help(command: argparse.ArgumentParser) -> str:
     """The epilog of ``render`` and ``view``: how to set method parameters, and each method's own (its table)."""
     lines = ["method parameters: --NAME VALUE [VALUE ...] calls the mapper's SetName(VALUE, ...),",
@@ -230,7 +211,7 @@ def _run_demo(args) -> int:
         scenes.append(("head CT", load_head_ct(), "front", (150.0, 1800.0)))
     write_depth_figure(args.out / "depth_figure.png", scenes, size=size)
     report["depth_figure"] = {"png": str(args.out / "depth_figure.png")}
-    (args.out / "demo.json").write_text(_strict_json(report))
+    (args.out / "demo.json").write_text(strict_json(report, indent=2))
     print(f"mipcast demo: {DEMO_FIXTURE} fixture ({DEMO_SIZE}^3), {size[0]}x{size[1]} pixels")
     for method, entry in report.items():
         extra = ""
@@ -360,7 +341,7 @@ def _run_bench(args) -> int:
     columns = ["scene", "view", "size", "setting", "median_ms", "ratio_to_stock", "p99_pct",
                "fg_p99_pct", "max_pct", "within_1_grey", "frames", "texel_fetches", "skipped_cells",
                "ray_ratio", "sample_ratio"]
-    (args.out / "bench.json").write_text(_strict_json(rows))
+    (args.out / "bench.json").write_text(strict_json(rows, indent=2))
     (args.out / "bench.md").write_text(markdown_table(rows, columns) + "\n")
     write_chart(rows, args.out / "bench.png")
     (args.out / "papers.md").write_text("\n\n".join(
@@ -389,7 +370,7 @@ def _run_foveation(args) -> int:
             bar.set_description(f"{scene} {method}")
             rows += measure_foveation(image, scene, method, sizes=sizes, rounds=rounds, window=window,
                                       progress=lambda label: _advance(bar, label))
-    (args.out / "foveation.json").write_text(_strict_json(rows))
+    (args.out / "foveation.json").write_text(strict_json(rows, indent=2))
     table = foveation_table(rows)
     (args.out / "foveation.md").write_text(table + "\n")
     write_ring_chart(rows, args.out / "foveation.png")
@@ -425,7 +406,7 @@ def _run_stability(args) -> int:
               f"p99 {rows[-1]['p99_pct']:.3g}% ({rows[-1]['measured']})", flush=True)
     columns = ["method", "case", "measured", "p99_pct", "max_pct", "within_1_grey", "depth_jump_pct",
                "fovea_within_1_grey", "explanation"]
-    (args.out / "stability.json").write_text(_strict_json(rows))
+    (args.out / "stability.json").write_text(strict_json(rows, indent=2))
     (args.out / "stability.md").write_text(markdown_table(rows, columns) + "\n")
     print(markdown_table(rows, columns))
     print(f"wrote {args.out}/stability.json and stability.md")

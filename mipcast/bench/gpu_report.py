@@ -7,7 +7,7 @@ Sections, in order (:func:`run_report`):
    reference (picture and depth), at small sizes.
 2. ``speed_accuracy``: every method's frame time (ratio to stock, one
    process, interleaved rounds) and error against the exact reference at
-   512² and 1024², on a CT-sized synthetic volume (:func:`ct_volume`,
+   512² and 1024², on a CT-sized synthetic volume (:func:`mipcast.data_fixtures.ct_volume`,
    512x512x400 int16) and the head CT, each with and without a clinical
    window.  Errors are computed on a fixed random subset of the hit rays
    (:func:`exact_on_rays`), the float64 reference being too slow for every
@@ -42,6 +42,9 @@ from pathlib import Path
 from typing import Callable, NamedTuple, Optional, Sequence
 
 import numpy as np
+
+from mipcast.bench.report import renderer_info, strict_json
+from mipcast.data_fixtures.ct_phantom import ct_volume
 
 #: Substrings of a GL_RENDERER string that mean a CPU renderer.
 SOFTWARE_RENDERERS = ("llvmpipe", "softpipe", "swrast", "software")
@@ -80,115 +83,6 @@ def is_software(renderer: str) -> bool:
     """
     text = renderer.lower()
     return any(name in text for name in SOFTWARE_RENDERERS)
-
-
-def renderer_info() -> dict:
-    """OpenGL vendor, renderer and version strings of an offscreen VTK window.
-
-    From ``vtkOpenGLRenderWindow.ReportCapabilities()``; ``window`` is the
-    render window class (e.g. vtkEGLRenderWindow).
-
-    Examples
-    --------
-    >>> sorted(renderer_info())
-    ['renderer', 'vendor', 'version', 'window']
-    """
-    from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow
-    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
-
-    window = vtkRenderWindow()
-    window.SetOffScreenRendering(True)
-    window.AddRenderer(vtkRenderer())
-    window.SetSize(16, 16)
-    window.Render()
-    info = {"window": type(window).__name__, "vendor": "", "renderer": "", "version": ""}
-    for line in window.ReportCapabilities().splitlines():
-        for key in ("vendor", "renderer", "version"):
-            if f"OpenGL {key} string:" in line:
-                info[key] = line.split(":", 1)[1].strip()
-    window.Finalize()
-    return info
-
-
-def strict_json(value) -> str:
-    """JSON strict parsers accept: NaN and infinities become null, numpy scalars plain numbers.
-
-    Examples
-    --------
-    >>> strict_json({"a": float("nan"), "b": [np.float32(1.5), np.int64(2)], "c": (1, float("inf"))})
-    '{"a": null, "b": [1.5, 2], "c": [1, null]}'
-    """
-    def plain(item):
-        if isinstance(item, dict):
-            return {str(key): plain(entry) for key, entry in item.items()}
-        if isinstance(item, (list, tuple)):
-            return [plain(entry) for entry in item]
-        if isinstance(item, np.generic):
-            item = item.item()
-        if isinstance(item, float) and not np.isfinite(item):
-            return None
-        return item
-
-    return json.dumps(plain(value), allow_nan=False)
-
-
-def ct_volume(shape: Sequence[int] = (400, 512, 512), seed: int = 0):
-    """A CT-like int16 volume: soft-tissue noise, contrast-filled vessels and a few calcifications.
-
-    Background: uniform noise in [0, 80) HU (soft tissue); eight straight
-    tubes of radius 1.5-3 voxels at 250-600 HU (contrast), Gaussian cross
-    section; six calcified spots at 1200-1400 HU.  Spacing 0.7 x 0.7 x 1.0 mm
-    (x, y, z) is not used: the spacing is 1, so one sample per voxel is one per millimetre.
-
-    Parameters
-    ----------
-    shape : (nz, ny, nx)
-        Points per axis, array order.
-    seed : int
-        numpy random seed.
-
-    Returns
-    -------
-    vtkImageData
-        int16 point scalars ``"hu"``.
-
-    Examples
-    --------
-    >>> image = ct_volume((20, 24, 24))
-    >>> image.GetDimensions(), image.GetPointData().GetScalars().GetDataTypeAsString()
-    ((24, 24, 20), 'short')
-    """
-    from mipcast.data_fixtures import image_from_array
-
-    rng = np.random.default_rng(seed)
-    shape = tuple(int(v) for v in shape)
-    values = rng.integers(0, 80, size=shape, dtype=np.int16)
-    extent = np.array(shape, float) - 1.0
-    for _ in range(8):
-        start, end = rng.uniform(0.1, 0.9, 3) * extent, rng.uniform(0.1, 0.9, 3) * extent
-        end[rng.integers(3)] = extent[rng.integers(3)] * rng.choice([0.02, 0.98])
-        _stamp_tube(values, start, end, rng.uniform(1.5, 3.0), rng.uniform(250, 600))
-    for _ in range(6):
-        centre = rng.uniform(0.15, 0.85, 3) * extent
-        _stamp_tube(values, centre, centre + 1.0, rng.uniform(1.0, 2.0), rng.uniform(1200, 1400))
-    return image_from_array(values, name="hu")
-
-
-def _stamp_tube(values: np.ndarray, start: np.ndarray, end: np.ndarray, radius: float, peak: float) -> None:
-    """Raise ``values`` to a Gaussian tube from ``start`` to ``end`` (array-order coordinates)."""
-    reach = int(np.ceil(2.5 * radius))
-    offsets = np.stack(np.meshgrid(*[np.arange(-reach, reach + 1)] * 3, indexing="ij"), -1).reshape(-1, 3)
-    steps = max(2, int(np.linalg.norm(end - start) * 2))
-    direction = (end - start) / max(np.linalg.norm(end - start), 1e-9)
-    for point in np.linspace(start, end, steps):
-        cells = np.round(point).astype(int) + offsets
-        keep = np.all((cells >= 0) & (cells < values.shape), axis=1)
-        cells = cells[keep]
-        along = (cells - point) @ direction
-        distance2 = np.sum((cells - point) ** 2, axis=1) - along ** 2
-        tube = (peak * np.exp(-distance2 / (2 * radius ** 2))).astype(np.int16)
-        index = tuple(cells.T)
-        values[index] = np.maximum(values[index], tube)
 
 
 def head_scene(stride: int = 1):

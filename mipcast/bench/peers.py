@@ -493,7 +493,7 @@ def _percent(value) -> str:
 def load_scene(scene: str, volume_size: int = 128):
     """``NAME[@LOW,HIGH]`` -> (vtkImageData, window or None); NAME a fixture, ``head``, ``ct`` or a file.
 
-    ``ct`` is :func:`mipcast.bench.gpu_report.ct_volume` at ``volume_size``
+    ``ct`` is :func:`mipcast.data_fixtures.ct_phantom.ct_volume` at ``volume_size``
     points per axis (``volume_size * 25 // 32`` slices).
 
     Examples
@@ -513,7 +513,7 @@ def load_scene(scene: str, volume_size: int = 128):
     if name == "head":
         return load_head_ct(), window
     if name == "ct":
-        from mipcast.bench.gpu_report import ct_volume
+        from mipcast.data_fixtures.ct_phantom import ct_volume
 
         return ct_volume((max(8, volume_size * 25 // 32), volume_size, volume_size)), window
     from pathlib import Path
@@ -529,7 +529,7 @@ def run_peers(args, log: Callable[[str], None] = print) -> int:
     """
     from pathlib import Path
 
-    from mipcast.bench.gpu_report import renderer_info, strict_json
+    from mipcast.bench.report import renderer_info, strict_json
 
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
