@@ -1,6 +1,9 @@
 """Analytic MIP: the exact maximum of the trilinear interpolant, cell by cell."""
 from __future__ import annotations
 
+import math
+import numbers
+
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkCommand
 
@@ -107,6 +110,9 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
 
     def SetCornerPacker(self, packer: CornerPacker) -> None:
         """Pack through ``packer`` (shared by mappers that draw the same volume) instead of an own one."""
+        if not isinstance(packer, CornerPacker):
+            raise TypeError(f"SetCornerPacker needs a CornerPacker (mipcast.mappers.corner_packing), "
+                            f"got {type(packer).__name__}")
         state = object_state(self)
         previous = state["packer"]
         if previous is not packer:
@@ -176,6 +182,9 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         (:func:`mipcast.mappers.gpu_limits.free_gpu_memory`, asked once per
         window); where the driver cannot say (e.g. Mesa), there is no budget.
         """
+        if isinstance(budget, bool) or not isinstance(budget, numbers.Real) or not math.isfinite(budget):
+            raise TypeError(f"the texture budget is a finite number of bytes >= 0 (0: the driver's), "
+                            f"got {budget!r}")
         budget = int(budget)
         if budget < 0:
             raise ValueError(f"the texture budget is a number of bytes >= 0 (0: the driver's), got {budget}")
