@@ -1,6 +1,9 @@
 """Analytic MIP: the exact maximum of the trilinear interpolant, cell by cell."""
 from __future__ import annotations
 
+import math
+import numbers
+
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkCommand
 
@@ -24,8 +27,11 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     derivative's roots (``shaders/amip_cell.glsl``).  Work that cannot change
     the answer is skipped.  The sample distance setting is ignored; colour and
     opacity come from the volume property exactly as in stock MIP;
-    interpolation is always trilinear.  Volumes larger than one 3D texture and
-    partitioned rendering are refused with a message.
+    interpolation is always trilinear.  Partitioned rendering, and volumes
+    larger than one 3D texture, are refused by one mapper with a message;
+    :class:`mipcast.mappers.bricks.BrickedVolume` draws the latter
+    exactly in bricks.  :meth:`GetTextureBytes` says what the method uploads;
+    :meth:`SetTextureBudget` caps the packed copy (beyond it: unpacked, warned once).
 
     Settings: :meth:`SetPackedCorners` (default True: two fetches per cell from
     a four-component copy of the volume made inside the mapper, four times the
@@ -104,6 +110,9 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
 
     def SetCornerPacker(self, packer: CornerPacker) -> None:
         """Pack through ``packer`` (shared by mappers that draw the same volume) instead of an own one."""
+        if not isinstance(packer, CornerPacker):
+            raise TypeError(f"SetCornerPacker needs a CornerPacker (mipcast.mappers.corner_packing), "
+                            f"got {type(packer).__name__}")
         state = object_state(self)
         previous = state["packer"]
         if previous is not packer:
@@ -134,7 +143,96 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         scalars = image.GetPointData().GetScalars() if image is not None else None
         if scalars is None or scalars.GetNumberOfComponents() != 1:
             return False  # refused (GetRenderProblem); VTK's own checks then see the input as it is
-        return packable(vtk_to_numpy(scalars))  # a view: only its type is read
+        if not packable(vtk_to_numpy(scalars)):  # a view: only its type is read
+            return False
+        return self._packing_fits(image)
+
+    # -- texture memory -------------------------------------------------------
+    def GetTextureBytes(self) -> int:
+        """GPU texture bytes for the current input: the volume (packed: 4x) plus the block maxima.
+
+        With packed corners active the volume texture holds four components
+        (four times the unpacked volume); the block-maximum level (float32,
+        one value per :data:`BLOCK`^3 cells) rides in the mask texture.
+
+        Examples
+        --------
+        >>> from mipcast.data_fixtures import make_fixture
+        >>> mapper = AnalyticMIPVolumeMapper()
+        >>> mapper.SetInputData(make_fixture("spheres", size=17))   # float32, 17^3 points
+        >>> mapper.GetTextureBytes() == 17 ** 3 * 4 * 4 + 2 ** 3 * 4
+        True
+        """
+        from mipcast.mappers.gpu_limits import volume_texture_bytes
+
+        image = self.GetInput()
+        if image is None or image.GetPointData().GetScalars() is None:
+            return 0
+        volume = volume_texture_bytes(image, 4 if self._packing_active() else None)
+        return volume + _block_bytes(image.GetDimensions(), self.BLOCK)
+
+    def SetTextureBudget(self, budget: int) -> None:
+        """Most bytes of texture the packed corners may take; 0 (default): the driver's free memory.
+
+        When the packed copy (four times the volume) plus the block maxima
+        would exceed the budget, the mapper draws the volume's own
+        one-component texture instead (eight fetches per cell instead of two,
+        the same exact picture) and warns once.  With the default, the budget
+        is the free GPU memory the driver reports
+        (:func:`mipcast.mappers.gpu_limits.free_gpu_memory`, asked once per
+        window); where the driver cannot say (e.g. Mesa), there is no budget.
+        """
+        if isinstance(budget, bool) or not isinstance(budget, numbers.Real) or not math.isfinite(budget):
+            raise TypeError(f"the texture budget is a finite number of bytes >= 0 (0: the driver's), "
+                            f"got {budget!r}")
+        budget = int(budget)
+        if budget < 0:
+            raise ValueError(f"the texture budget is a number of bytes >= 0 (0: the driver's), got {budget}")
+        state = object_state(self)
+        if state.get("texture_budget", 0) != budget:
+            state["texture_budget"] = budget
+            state.pop("budget_warned", None)
+            self.Modified()
+            self._route_input()
+
+    def GetTextureBudget(self) -> int:
+        """The budget :meth:`SetTextureBudget` set (0: the driver's free memory, where it reports one)."""
+        return object_state(self).get("texture_budget", 0)
+
+    def _effective_budget(self):
+        """Bytes the packed corners may use, or None (no budget known)."""
+        state = object_state(self)
+        if state.get("texture_budget", 0):
+            return state["texture_budget"]
+        if "driver_budget" not in state:
+            from mipcast.mappers.gpu_limits import free_gpu_memory, window_of
+
+            window = window_of(self.GetAttachedVolume())
+            if window is None or window.GetNeverRendered():
+                return None  # asked again once the window has a context
+            state["driver_budget"] = free_gpu_memory(window)
+        return state["driver_budget"]
+
+    def _packing_fits(self, image) -> bool:
+        budget = self._effective_budget()
+        if budget is None:
+            return True
+        from mipcast.mappers.gpu_limits import volume_texture_bytes
+
+        packed = volume_texture_bytes(image, 4) + _block_bytes(image.GetDimensions(), self.BLOCK)
+        if packed <= budget:
+            return True
+        state = object_state(self)
+        if not state.get("budget_warned"):
+            state["budget_warned"] = True
+            from vtkmodules.vtkCommonCore import vtkOutputWindow
+
+            vtkOutputWindow.GetInstance().DisplayWarningText(
+                f"{type(self).__name__}: packed corners would take {packed} bytes of texture, over the "
+                f"budget of {budget} bytes; drawing the volume unpacked (same picture, eight fetches "
+                "per cell instead of two). Raise it with SetTextureBudget(bytes) or turn "
+                "SetPackedCorners(False) to silence this.\n")
+        return False
 
     def _route_input(self) -> None:
         """Feed VTK the packed copy or the user's input itself (only when that changes)."""
@@ -172,13 +270,15 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         limit = self._texture_limit()
         if limit and max(dims) > limit:
             return (f"the volume's dimensions {dims} exceed this GPU's 3D texture limit of "
-                    f"{limit} points per axis, and analytic MIP needs the volume in one texture: "
-                    "resample it (e.g. vtkImageResample) or use the 'mip' method with SetPartitions")
+                    f"{limit} points per axis, and one analytic mapper needs the volume in one texture: "
+                    "draw it in bricks (mipcast.mappers.bricks.BrickedVolume, exact; "
+                    "OffscreenView does so by itself), resample it (e.g. vtkImageResample) or use "
+                    "the 'mip' method with SetPartitions")
         return None
 
     def _texture_limit(self) -> int:
         """GL_MAX_3D_TEXTURE_SIZE of the window drawing the attached volume (0 if unknown)."""
-        from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
+        from mipcast.mappers import gpu_limits
 
         state = object_state(self)
         if "texture_limit" not in state:
@@ -186,7 +286,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
             for index in range(volume.GetNumberOfConsumers() if volume is not None else 0):
                 window = getattr(volume.GetConsumer(index), "GetRenderWindow", lambda: None)()
                 if window is not None and window.GetNeverRendered() == 0:
-                    state["texture_limit"] = vtkTextureObject.GetMaximumTextureSize3D(window)
+                    state["texture_limit"] = gpu_limits.max_texture_size_3d(window)
                     break
         return state.get("texture_limit", 0)
 
@@ -250,3 +350,11 @@ def _route_before_render(mapper, event) -> None:
     if packer.GetNumberOfInputConnections(0):
         packer.GetInputAlgorithm().Update()  # the user's data, to decide whether it packs exactly
     mapper._route_input()
+
+
+def _block_bytes(dims, block: int) -> int:
+    """Bytes of the float32 block-maximum level of a volume with ``dims`` points."""
+    count = 1
+    for n in dims:
+        count *= max(1, -(-(max(n, 2) - 1) // block))
+    return 4 * count

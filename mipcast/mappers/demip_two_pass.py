@@ -119,6 +119,30 @@ class DEMIPTwoPassVolumeMapper(DEMIPVolumeMapper):
         entry = object_state(self).get("first_pass")
         return None if entry is None else entry["mapper"]
 
+    def GetTextureBytes(self) -> int:
+        """GPU texture bytes: the volume twice (pass 1's mapper uploads its own copy) plus pass 1's images.
+
+        Pass 1 renders to an image of the window's size: an RGBA8 colour
+        buffer and a float32 "depth" image (4 + 4 bytes a pixel), counted once
+        it has rendered (before: the two volume textures only).
+
+        Examples
+        --------
+        >>> from mipcast.data_fixtures import make_fixture
+        >>> mapper = DEMIPTwoPassVolumeMapper()
+        >>> mapper.SetInputData(make_fixture("spheres", size=16))
+        >>> mapper.GetTextureBytes() == 2 * 16 ** 3 * 4
+        True
+        """
+        total = 2 * super().GetTextureBytes()
+        entry = object_state(self).get("first_pass")
+        volume = self.GetAttachedVolume()
+        renderer = rendering_renderer(self, volume) if entry is not None and volume is not None else None
+        if renderer is not None:
+            width, height = renderer.GetSize()
+            total += int(width) * int(height) * 8
+        return total
+
     def GetRenderProblem(self):
         """As :meth:`DEMIPVolumeMapper.GetRenderProblem`, plus: no auto-adjusted sample distance."""
         problem = super().GetRenderProblem()

@@ -236,6 +236,35 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
             frame["cost"] = _frame_cost(frame)
         return dict(frame["cost"])
 
+    def GetTextureBytes(self) -> int:
+        """GPU texture bytes of the pyramid: every level's volume as its layer method uploads it.
+
+        Level 0 is the input itself; each coarser level is a max-reduced copy
+        drawn by a private mapper of the layer method (:meth:`SetMethod`), so
+        each level counts what that method's ``GetTextureBytes`` counts (for
+        analytic MIP: packed corners and block maxima).  The foveated mapper's
+        own draw is skipped and uploads nothing.
+
+        Examples
+        --------
+        >>> from mipcast.data_fixtures import make_fixture
+        >>> mapper = FoveatedVolumeMapper()
+        >>> mapper.SetInputData(make_fixture("spheres", size=16))
+        >>> mapper.GetTextureBytes() > 16 ** 3 * 4
+        True
+        """
+        image = self.GetInput()
+        if image is None or image.GetPointData().GetScalars() is None:
+            return 0
+        state = object_state(self)
+        method = self._parameters()["method"]
+        total = 0
+        for level in _pyramid(state, image) if self.GetFoveation() else [image]:
+            counter = FOVEATION_LAYERS[method].factory()
+            counter.SetInputData(level)
+            total += counter.GetTextureBytes()
+        return total
+
     def GetLevelMapper(self, level: int):
         """The private mapper drawing pyramid level ``level`` (None if never drawn)."""
         entry = object_state(self).get("levels_drawn", {}).get(int(level))

@@ -182,6 +182,27 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     def _push_derived_uniforms(self, uniforms, settings) -> None:
         """Uniforms that no single parameter drives (the window, readout flags, sizes)."""
 
+    def GetTextureBytes(self) -> int:
+        """Bytes of GPU texture this method uploads for its input (the 3D volume texture).
+
+        Points x components x the uploaded component size
+        (:func:`mipcast.mappers.gpu_limits.volume_texture_bytes`); the small
+        transfer-function tables are not counted.  Subclasses add what their
+        method uploads besides (analytic MIP's packed corners and block
+        maxima, the foveated pyramid, two-pass DEMIP's first pass).
+
+        Examples
+        --------
+        >>> from mipcast.data_fixtures import make_fixture
+        >>> mapper = MIPVolumeMapper()
+        >>> mapper.SetInputData(make_fixture("spheres", size=16))
+        >>> mapper.GetTextureBytes()
+        16384
+        """
+        from mipcast.mappers.gpu_limits import volume_texture_bytes
+
+        return volume_texture_bytes(self.GetInput())
+
     def IsAttached(self) -> bool:
         """True when the attached volume uses this mapper and still carries its pieces."""
         volume = self.GetAttachedVolume()

@@ -156,8 +156,10 @@ def load_piece(name: str) -> Piece:
     >>> load_piece("mip_color").tag
     'Shading::Exit'
     """
-    if not re.fullmatch(r"\w+", name):
-        raise ValueError(f"shader piece names are file names without .glsl, not {name!r}")
+    if not isinstance(name, str) or not re.fullmatch(r"\w{1,200}", name):
+        shown = repr(name) if len(repr(name)) <= 80 else repr(name)[:77] + "..."
+        raise ValueError(f"shader piece names are file names without .glsl (word characters, at most 200), "
+                         f"not {shown}")
     return parse_piece(name, _read_piece_text(name))
 
 
