@@ -129,7 +129,7 @@ class Parameter:
             return self.convert(*values) if self.variadic else self.convert(_one(self.name, values))
         value = _one(self.name, values)
         if self.kind == "bool":
-            return bool(value)
+            return _check_bool(self.name, value)
         if self.kind == "choice":
             return check_choice(self.name, value, self.valid_choices())
         if self.kind == "int":
@@ -157,6 +157,14 @@ def _one(name: str, values: tuple) -> Any:
     if len(values) != 1:
         raise TypeError(f"{name} takes one value, got {len(values)}: {values!r}")
     return values[0]
+
+
+def _check_bool(name: str, value: Any) -> bool:
+    """True/False (also 1/0 and numpy booleans); text is refused, not taken for its truth value."""
+    if isinstance(value, (bool, int)) or type(value).__name__ == "bool_":
+        if value in (0, 1):
+            return bool(value)
+    raise TypeError(f"{name} must be True or False, got {value!r}")
 
 
 def _check_int(name: str, value: Any, low, high) -> int:
