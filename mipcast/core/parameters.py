@@ -20,6 +20,8 @@ import re
 from dataclasses import dataclass, field
 from typing import Any, Callable, Dict, Mapping, Optional, Sequence, Tuple, Union
 
+import numpy as np
+
 from mipcast.core.validation import check_choice, check_non_negative, check_unit
 
 #: Kinds of parameter values.
@@ -161,9 +163,8 @@ def _one(name: str, values: tuple) -> Any:
 
 def _check_bool(name: str, value: Any) -> bool:
     """True/False (also 1/0 and numpy booleans); text is refused, not taken for its truth value."""
-    if isinstance(value, (bool, int)) or type(value).__name__ == "bool_":
-        if value in (0, 1):
-            return bool(value)
+    if isinstance(value, (bool, int, np.bool_, np.integer)) and value in (0, 1):
+        return bool(value)
     raise TypeError(f"{name} must be True or False, got {value!r}")
 
 
