@@ -394,7 +394,10 @@ def write_chart(rows: Sequence[dict], path, error_key: str = "p99_pct") -> None:
     colours = pyplot.get_cmap("tab20")
     columns = min(len(panels), 4)
     lines = -(-len(panels) // columns)
-    figure, axes = pyplot.subplots(lines, columns, figsize=(5.2 * columns, 4.4 * lines + 1.8), squeeze=False)
+    ncol = max(1, min(len(settings), 2 * columns + 1, 7))  # as many legend columns as fit the width
+    legend = 0.75 + 0.2 * -(-len(settings) // ncol)  # inches: title and rows
+    height = 4.4 * lines + legend + 0.4
+    figure, axes = pyplot.subplots(lines, columns, figsize=(5.2 * columns, height), squeeze=False)
     floor = 1e-4
     for ax, panel in zip(axes.flat, panels):
         chosen = [r for r in rows if (r["scene"], r["view"], r["size"]) == panel]
@@ -421,10 +424,10 @@ def write_chart(rows: Sequence[dict], path, error_key: str = "p99_pct") -> None:
     handles = [pyplot.Line2D([], [], marker=_MARKERS.get(projection_of[name], "o"), linestyle="",
                              color=colours(i % 20), label=name)
                for i, name in enumerate(settings)]
-    figure.legend(handles=handles, loc="lower center", ncol=min(len(settings), 7), fontsize=8,
-                  title=f"circled: Pareto front (nothing both faster and more accurate); "
+    figure.legend(handles=handles, loc="lower center", ncol=ncol, fontsize=8, title_fontsize=8,
+                  title=f"circled: Pareto front per projection (nothing both faster and more accurate);\n"
                         f"an error of 0 is drawn at {floor:g} %")
     figure.tight_layout()
-    figure.subplots_adjust(bottom=2.2 / (4.4 * lines + 1.8), hspace=0.35)
+    figure.subplots_adjust(bottom=(legend + 0.4) / height, hspace=0.35)
     figure.savefig(path, dpi=110)
     pyplot.close(figure)

@@ -77,7 +77,7 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     Returns
     -------
     numpy.ndarray, shape (height, width)
-        Maximum along each pixel's ray in the data units of the scalars;
+        The projection (maximum, minimum, mean) along each pixel's ray in the data units of the scalars;
         NaN where the ray misses the volume.  Row 0 is the top row.
 
     Raises
@@ -107,8 +107,9 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
      [0. 1. 2.]]
     >>> print(render(image, camera, (3, 1), method="mip", sample_distance=0.5).round(3))
     [[nan  1. nan]]
-    >>> print(render(image, camera, (3, 1), method="analytic_average").round(3))
-    [[0. 1. 2.]]
+    >>> print(render(image, camera, (3, 2), method="analytic_average").round(3))
+    [[0. 1. 2.]
+     [0. 1. 2.]]
     """
     volume = check_image(image)
     width, height = check_size(size)
