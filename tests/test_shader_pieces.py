@@ -11,8 +11,8 @@ from mipcast.data_fixtures import make_fixture
 from mipcast.mappers import shader_pieces
 from mipcast.mappers.demip_two_pass import DEMIPFirstPassMapper
 from mipcast.mappers.mip import MIPVolumeMapper, sampled_projection_mapper
-from mipcast.mappers.shader_pieces import (CELL_HOOKS, HOOK_TAG, SAMPLED_HOOKS, SAMPLED_LOOP, TEMPLATE_TAGS, check_hooks,
-                                           install, installed_tags, load_piece, parse_piece, uninstall)
+from mipcast.mappers.shader_pieces import (CELL_HOOKS, HOOK_TAG, SAMPLED_HOOKS, SAMPLED_LOOP, TEMPLATE_TAGS,
+                                           check_hooks, install, installed_tags, load_piece, parse_piece, uninstall)
 from mipcast.offscreen import OffscreenView
 
 ALL_PIECES = sorted(p.name[:-5] for p in resources.files("mipcast.shaders").iterdir()

@@ -364,8 +364,8 @@ def _run_bench(args) -> int:
             bar.write(f"[{number}/{len(jobs)}] {scene} {view} {edge}²: " + ", ".join(
                 f"{r['setting']} x{r['ratio_to_stock']:.2f} p99 {r['p99_pct']:.3g}%" for r in new))
     columns = ["scene", "view", "size", "setting", "projection", "median_ms", "ratio_to_stock",
-               "ratio_to_stock_blend", "p99_pct", "fg_p99_pct", "max_pct", "within_1_grey", "frames", "texel_fetches", "skipped_cells",
-               "ray_ratio", "sample_ratio"]
+               "ratio_to_stock_blend", "p99_pct", "fg_p99_pct", "max_pct", "within_1_grey", "frames",
+               "texel_fetches", "skipped_cells", "ray_ratio", "sample_ratio"]
     (args.out / "bench.json").write_text(_strict_json(rows))
     (args.out / "bench.md").write_text(markdown_table(rows, columns) + "\n")
     write_chart(rows, args.out / "bench.png")

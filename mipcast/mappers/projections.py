@@ -95,7 +95,11 @@ class _ExactProjection(AnalyticMIPVolumeMapper):
     #: Replacements of the packed-corner pieces (the average's colour needs no component index).
     PACKED = {"amip_corners": "amip_corners_packed", "mip_color": "mip_color_packed"}
 
+    def _update_block_maxima(self, image) -> None:
+        """No coarse level: block maxima bound only a maximum (amip_loop_blocks is MIP's)."""
+
     def GetShaderPieces(self) -> tuple:
+        """:data:`PIECES` (packed-corner variants when packing is active), never block skipping."""
         names = MIPVolumeMapper.GetShaderPieces(self)
         if self._packing_active():
             names = tuple(self.PACKED.get(n, n) for n in names)

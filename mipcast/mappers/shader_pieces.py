@@ -250,20 +250,15 @@ def install(shader_property, pieces: Iterable[Piece]) -> None:
     ['//VTK::Shading::Exit']
     """
     pieces = list(pieces)
-    if any(piece.name == SAMPLED_LOOP for piece in pieces):
-        hooks = [piece for piece in pieces if piece.tag == HOOK_TAG]
-        if not hooks:
-            raise ValueError(
-                f"the {SAMPLED_LOOP} piece needs a hook piece filling {HOOK_TAG} "
-                f"(defining {', '.join(SAMPLED_HOOKS)}); none is among the pieces")
-        check_hooks(hooks[0])
-    if any(piece.name == CELL_HELPERS for piece in pieces):
-        hooks = [piece for piece in pieces if piece.tag == HOOK_TAG]
-        if not hooks:
-            raise ValueError(
-                f"the {CELL_HELPERS} piece needs a cell-hook piece filling {HOOK_TAG} "
-                f"(defining {', '.join(CELL_HOOKS)}, e.g. amip_max_hooks); none is among the pieces")
-        check_hooks(hooks[0], CELL_HOOKS)
+    for loop, hooks, kind in ((SAMPLED_LOOP, SAMPLED_HOOKS, "hook piece"),
+                              (CELL_HELPERS, CELL_HOOKS, "cell-hook piece")):
+        if any(piece.name == loop for piece in pieces):
+            found = [piece for piece in pieces if piece.tag == HOOK_TAG]
+            if not found:
+                raise ValueError(
+                    f"the {loop} piece needs a {kind} filling {HOOK_TAG} "
+                    f"(defining {', '.join(hooks)}); none is among the pieces")
+            check_hooks(found[0], hooks)
     claimed: dict = {}
     for piece in pieces:
         if piece.vtk_tag in claimed:
