@@ -13,7 +13,7 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.core.validation import check_choice
 
-FIXTURES = ("vessels", "spheres", "noise", "frontback")
+FIXTURES = ("vessels", "spheres", "noise", "frontback", "airways")
 MIN_SIZE, MAX_SIZE = 8, 512
 
 
@@ -46,6 +46,14 @@ def make_fixture(name: str, size: int = 64, seed: int = 0) -> vtkImageData:
           visible and their MIPs are identical: only depth tells them apart
           (the low-z ball is the front one for a camera on the -z side).
           ``seed`` is unused.
+        - ``"airways"``: the MinIP phantom, air tubes in tissue: six thin
+          straight tubes as in ``"vessels"`` (seeded oblique directions,
+          radii 0.6-1.5 voxels) whose Gaussian cross-section dips from the
+          tissue towards air, ``tissue * (1 - exp(-d**2 / (2 r**2)))``, in
+          tissue of uniform noise in [0.75, 0.85] plus a smooth variation of
+          +-0.02.  The air value 0 is reached on the centre lines only, so a
+          sampled minimum misses much of each tube's depth where the line
+          passes between points and samples.  Values in [0, 0.87].
     size : int, default: 64
         Number of points along each axis, 8 to 512.
     seed : int, default: 0
@@ -97,11 +105,33 @@ def _ball(n: int, center, radius: float) -> np.ndarray:
 
 
 def _vessels(n: int, rng: np.random.Generator) -> np.ndarray:
+    volume = _background(n, rng, 0.05, 0.15)
+    for tube in _tubes(n, rng):
+        np.maximum(volume, tube, out=volume)
+    return volume
+
+
+def _airways(n: int, rng: np.random.Generator) -> np.ndarray:
+    tissue = _background(n, rng, 0.75, 0.85)
+    keep = np.ones_like(tissue)
+    for tube in _tubes(n, rng):
+        np.minimum(keep, np.float32(1.0) - tube, out=keep)
+    return tissue * keep
+
+
+def _background(n: int, rng: np.random.Generator, low: float, high: float) -> np.ndarray:
+    """Uniform noise in [low, high] plus a smooth variation of +-0.02 (float32)."""
     z, y, x = _grid(n)
     phases = rng.uniform(0.0, 2.0 * np.pi, 3).astype(np.float32)
     smooth = sum(np.cos(2.0 * np.pi * c / n + p) for c, p in zip((x, y, z), phases))
-    volume = rng.uniform(0.05, 0.15, (n, n, n)).astype(np.float32)
+    volume = rng.uniform(low, high, (n, n, n)).astype(np.float32)
     volume += np.float32(0.02 / 3.0) * smooth
+    return volume
+
+
+def _tubes(n: int, rng: np.random.Generator):
+    """Six thin straight tubes in seeded oblique directions: Gaussian cross-sections, peak 1 (float32)."""
+    z, y, x = _grid(n)
     for _ in range(6):
         direction = np.zeros(3)
         while not np.all((np.abs(direction) >= 0.2) & (np.abs(direction) <= 0.9)):
@@ -113,8 +143,7 @@ def _vessels(n: int, rng: np.random.Generator) -> np.ndarray:
         dx, dy, dz = x - cx, y - cy, z - cz
         along = dx * ux + dy * uy + dz * uz
         dist2 = np.maximum(dx * dx + dy * dy + dz * dz - along * along, 0.0)
-        np.maximum(volume, np.exp(dist2 * scale), out=volume)
-    return volume
+        yield np.exp(dist2 * scale)
 
 
 def _spheres(n: int, rng: np.random.Generator) -> np.ndarray:
@@ -150,7 +179,7 @@ def _frontback(n: int, rng: np.random.Generator) -> np.ndarray:
 
 
 _GENERATORS = {"vessels": _vessels, "spheres": _spheres, "noise": _noise,
-               "frontback": _frontback}
+               "frontback": _frontback, "airways": _airways}
 
 
 def image_from_array(array: np.ndarray, name: str = "values", spacing=(1.0, 1.0, 1.0),

@@ -6,8 +6,9 @@ also runs inside ParaView's Python.
 Examples
 --------
 >>> import mipcast
->>> sorted(mipcast.METHODS)
-['analytic', 'cpu', 'demip', 'demip_two_pass', 'foveated', 'mip', 'stock']
+>>> sorted(mipcast.METHODS)  # doctest: +NORMALIZE_WHITESPACE
+['analytic', 'analytic_average', 'analytic_minip', 'average', 'cpu', 'demip', 'demip_two_pass',
+ 'foveated', 'minip', 'mip', 'stock', 'stock_average', 'stock_minip']
 """
 from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
 from mipcast.mappers.demip import DEMIPVolumeMapper
@@ -15,7 +16,10 @@ from mipcast.mappers.demip_two_pass import DEMIPTwoPassVolumeMapper
 from mipcast.mappers.foveated import FoveatedVolumeMapper
 from mipcast.methods import METHODS, create_mapper
 from mipcast.mappers.mip import MIPVolumeMapper
+from mipcast.mappers.projections import (AnalyticAverageVolumeMapper, AnalyticMinIPVolumeMapper,
+                                         AverageVolumeMapper, MinIPVolumeMapper)
 
 __version__ = "0.1.0"
-__all__ = ["METHODS", "AnalyticMIPVolumeMapper", "DEMIPTwoPassVolumeMapper", "DEMIPVolumeMapper",
-           "FoveatedVolumeMapper", "MIPVolumeMapper", "create_mapper", "__version__"]
+__all__ = ["METHODS", "AnalyticAverageVolumeMapper", "AnalyticMIPVolumeMapper", "AnalyticMinIPVolumeMapper",
+           "AverageVolumeMapper", "DEMIPTwoPassVolumeMapper", "DEMIPVolumeMapper", "FoveatedVolumeMapper",
+           "MIPVolumeMapper", "MinIPVolumeMapper", "create_mapper", "__version__"]

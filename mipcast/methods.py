@@ -36,6 +36,8 @@ from mipcast.mappers.demip import DEMIPVolumeMapper
 from mipcast.mappers.demip_two_pass import DEMIPTwoPassVolumeMapper
 from mipcast.mappers.foveated import FoveatedVolumeMapper
 from mipcast.mappers.mip import MIPVolumeMapper
+from mipcast.mappers.projections import (AnalyticAverageVolumeMapper, AnalyticMinIPVolumeMapper,
+                                         AverageVolumeMapper, MinIPVolumeMapper)
 
 
 @dataclass(frozen=True)
@@ -80,6 +82,11 @@ class Method:
         Its rows in ``mipcast bench``: ``settings`` are ``(Name, value)``
         pairs for its setters; default one row, the method's own name at one
         sample per voxel (no sampling rate if it walks cells).
+    projection : str
+        What its value along a ray is: ``"mip"`` (the maximum; DEMIP's value
+        too), ``"minip"`` (the minimum) or ``"average"`` (the mean): its
+        benchmark error is against that projection's exact float64 reference
+        (:attr:`exact_reference`).
     """
 
     name: str
@@ -95,6 +102,18 @@ class Method:
     in_view: bool = True
     readout_by: Optional[str] = None
     bench: Optional[Tuple[Tuple[str, Any, tuple], ...]] = None
+    projection: str = "mip"
+
+    @property
+    def exact_reference(self) -> Callable[..., np.ndarray]:
+        """The exact float64 reference of its projection (:data:`EXACT_REFERENCES`), for errors.
+
+        Examples
+        --------
+        >>> METHODS["stock_minip"].exact_reference is exact_minip_reference
+        True
+        """
+        return EXACT_REFERENCES[self.projection]
 
     def create(self):
         """A new, unconfigured mapper of this method."""
@@ -111,6 +130,18 @@ class Method:
 def _stock_mip() -> vtkOpenGLGPUVolumeRayCastMapper:
     mapper = vtkOpenGLGPUVolumeRayCastMapper()
     mapper.SetBlendModeToMaximumIntensity()
+    return mapper
+
+
+def _stock_minip() -> vtkOpenGLGPUVolumeRayCastMapper:
+    mapper = vtkOpenGLGPUVolumeRayCastMapper()
+    mapper.SetBlendModeToMinimumIntensity()
+    return mapper
+
+
+def _stock_average() -> vtkOpenGLGPUVolumeRayCastMapper:
+    mapper = vtkOpenGLGPUVolumeRayCastMapper()
+    mapper.SetBlendModeToAverageIntensity()
     return mapper
 
 
@@ -135,6 +166,31 @@ def sampled_mip_reference(image, camera, size, *, sample_distance: float, window
 def exact_mip_reference(image, camera, size, *, sample_distance=None, window=None) -> np.ndarray:
     """The exact maximum of the trilinear interpolant along each ray (float64)."""
     return reference.render(image, camera, size, "analytic")
+
+
+def sampled_minip_reference(image, camera, size, *, sample_distance: float, window=None) -> np.ndarray:
+    """The minimum of the samples at ``entry + k * sample_distance`` (float64)."""
+    return reference.render(image, camera, size, "minip", sample_distance=sample_distance)
+
+
+def exact_minip_reference(image, camera, size, *, sample_distance=None, window=None) -> np.ndarray:
+    """The exact minimum of the trilinear interpolant along each ray (float64)."""
+    return reference.render(image, camera, size, "analytic_minip")
+
+
+def sampled_average_reference(image, camera, size, *, sample_distance: float, window=None) -> np.ndarray:
+    """The mean of the samples at ``entry + k * sample_distance`` (float64)."""
+    return reference.render(image, camera, size, "average", sample_distance=sample_distance)
+
+
+def exact_average_reference(image, camera, size, *, sample_distance=None, window=None) -> np.ndarray:
+    """The exact mean of the trilinear interpolant along each ray inside the volume (float64)."""
+    return reference.render(image, camera, size, "analytic_average")
+
+
+#: Projection -> its exact float64 reference (the benchmark's errors are against these).
+EXACT_REFERENCES = {"mip": exact_mip_reference, "minip": exact_minip_reference,
+                    "average": exact_average_reference}
 
 
 def demip_reference(image, camera, size, *, sample_distance: float, window, **params) -> np.ndarray:
@@ -205,6 +261,29 @@ for _method in (
                   ("foveated analytic", None, (("Method", "analytic"),)))),
     Method("cpu", "VTK CPU MIP", "VTK's CPU ray caster (vtkFixedPointVolumeRayCastMapper), a peer",
            _cpu_mip, float_readout=False, in_view=True, bench=(("cpu 1x", 1, ()),)),
+    Method("stock_minip", "Stock VTK MinIP", "VTK's own sampled GPU MinIP (MINIMUM_INTENSITY blend)", _stock_minip,
+           reference=sampled_minip_reference, float_readout=False, readout_by="minip", projection="minip",
+           bench=tuple((f"stock minip {n}x", n, ()) for n in (1, 2, 4, 8))),
+    Method("minip", "MinIP", "sampled minimum intensity projection (stock's samples, mipcast's loop)",
+           MinIPVolumeMapper, reference=sampled_minip_reference, reference_tolerance=1e-4,
+           parameters=parameter_tables.MIP, projection="minip",
+           bench=tuple((f"minip {n}x", n, ()) for n in (1, 2, 4, 8))),
+    Method("analytic_minip", "Analytic MinIP", "the exact minimum of the trilinear interpolant, cell by cell",
+           AnalyticMinIPVolumeMapper, reference=exact_minip_reference, reference_tolerance=1e-4,
+           parameters=parameter_tables.ANALYTIC, walks_cells=True, projection="minip",
+           bench=(("analytic minip", None, ()),)),
+    Method("stock_average", "Stock VTK average", "VTK's own sampled GPU average (AVERAGE_INTENSITY blend)",
+           _stock_average, reference=sampled_average_reference, float_readout=False, readout_by="average",
+           projection="average", bench=tuple((f"stock average {n}x", n, ()) for n in (1, 2, 4, 8))),
+    Method("average", "Average", "sampled average intensity projection (stock's samples and weighting)",
+           AverageVolumeMapper, reference=sampled_average_reference, reference_tolerance=1e-4,
+           parameters=parameter_tables.MIP, projection="average",
+           bench=tuple((f"average {n}x", n, ()) for n in (1, 2, 4, 8))),
+    Method("analytic_average", "Analytic average",
+           "the exact mean of the trilinear interpolant along the ray (each cell's cubic integrated)",
+           AnalyticAverageVolumeMapper, reference=exact_average_reference, reference_tolerance=1e-4,
+           parameters=parameter_tables.ANALYTIC, walks_cells=True, projection="average",
+           bench=(("analytic average", None, ()),)),
 ):
     register(_method)
 

@@ -1,9 +1,10 @@
 // mipcast piece: amip_cell
 // fills: Shading::Dec
 // mode: augment
-// Analytic MIP's building blocks, shared by its two ray loops (amip_loop,
-// amip_loop_blocks): the ray in index space, one DDA step over a cell, and
-// the exact maximum of the trilinear interpolant inside a cell. The cell's
+// The exact projections' building blocks, shared by their ray loops (amip_loop,
+// amip_loop_blocks): the ray in index space, one DDA step over a cell, the
+// cubic of the trilinear interpolant inside a cell and its exact maximum;
+// what a cell adds to the ray's value is the projection's mcCell hook. The cell's
 // corner values come from mcCellCorners (amip_corners or, from a texture
 // holding four corners per texel, amip_corners_packed).
 //
@@ -34,7 +35,7 @@ float mcCubic(vec4 d, float s)
   return d.x + s * (d.y + s * (d.z + s * d.w));
 }
 
-float mcCellMaximum(vec4 lo, vec4 hi, vec3 u0, vec3 du)
+vec4 mcCellCubic(vec4 lo, vec4 hi, vec3 u0, vec3 du)
 {
   vec4 a = lo + (hi - lo) * u0.x;          // x-lerped edges at s = 0
   vec4 b = (hi - lo) * du.x;               // ... and their slope in s
@@ -44,10 +45,15 @@ float mcCellMaximum(vec4 lo, vec4 hi, vec3 u0, vec3 du)
   vec2 g1 = b.xz + p0 * du.y + p1 * u0.y;
   vec2 g2 = p1 * du.y;
   vec3 q = vec3(g0.y - g0.x, g1.y - g1.x, g2.y - g2.x);
-  vec4 d = vec4(g0.x + q.x * u0.z,
-                g1.x + q.x * du.z + q.y * u0.z,
-                g2.x + q.y * du.z + q.z * u0.z,
-                q.z * du.z);
+  return vec4(g0.x + q.x * u0.z,
+              g1.x + q.x * du.z + q.y * u0.z,
+              g2.x + q.y * du.z + q.z * u0.z,
+              q.z * du.z);
+}
+
+float mcCellMaximum(vec4 lo, vec4 hi, vec3 u0, vec3 du)
+{
+  vec4 d = mcCellCubic(lo, hi, u0, du);
   // Roots of d1 + 2 d2 s + 3 d3 s^2 by the cancellation-free formula; a
   // missing or out-of-range root is clamped into [0, 1], which only re-tests
   // a point of the segment (never above the true maximum). a ~ 0 (quadratic
@@ -99,22 +105,30 @@ ivec3 mcCellOf(McRay ray, float t0, float t1)
   return clamp(ivec3(floor(ray.origin + (0.5 * (t0 + t1)) * ray.dir)), ivec3(0), ray.lastCell);
 }
 
-// One DDA step: the segment [t0, t1] in `cell` raises rayMax to the cell's
-// exact maximum, unless no corner is above rayMax (trilinear values never
-// exceed the corners; u_mc_cornerBound 0 turns this skip off, for measuring); then every axis whose plane is reached steps (ties
-// at edges and corners step together) and t0 moves to t1.
+// The projection's hooks (one cell-hook piece per exact projection fills
+// Picking::Dec and defines them: amip_max_hooks, amip_min_hooks,
+// amip_average_hooks; declared here, defined after this piece):
+//   float mcCellsBegin()              the running value before the first cell
+//   bool mcCellsGoOn(float value)     false: no later cell can change the picture
+//   void mcCell(vec4 lo, vec4 hi, vec3 u0, vec3 du, float span, inout float value)
+//       one crossed cell: corners lo/hi, the segment u0 + s du (s in [0, 1],
+//       local cell coordinates) of length span (texture units)
+//   float mcCellsEnd(float value)     the ray's normalised value (for mc_rayMax)
+float mcCellsBegin();
+bool mcCellsGoOn(float value);
+void mcCell(vec4 lo, vec4 hi, vec3 u0, vec3 du, float span, inout float value);
+float mcCellsEnd(float value);
+
+// One DDA step: the segment [t0, t1] in `cell` goes to the projection's
+// mcCell hook with the cell's corners; then every axis whose plane is
+// reached steps (ties at edges and corners step together) and t0 moves to t1.
 void mcWalkCell(McRay ray, ivec3 cell, float t1, inout float t0, inout vec3 tNext, inout float rayMax)
 {
   vec4 lo;
   vec4 hi;
   mcCellCorners(cell, lo, hi);
-  vec4 corners = max(lo, hi);
   mc_cellsWalked += 1.0;
-  if (u_mc_cornerBound < 0.5 || max(max(corners.x, corners.y), max(corners.z, corners.w)) > rayMax)
-  {
-    mc_cellsSolved += 1.0;
-    rayMax = max(rayMax, mcCellMaximum(lo, hi, ray.origin + t0 * ray.dir - vec3(cell), (t1 - t0) * ray.dir));
-  }
+  mcCell(lo, hi, ray.origin + t0 * ray.dir - vec3(cell), (t1 - t0) * ray.dir, t1 - t0, rayMax);
   tNext += ray.tDelta * vec3(lessThanEqual(tNext, vec3(t1 * (1.0 + 1.0e-6) + 1.0e-7)));
   t0 = t1;
 }

@@ -52,6 +52,13 @@ def test_parity_with_stock_vtk_92_in_paraview():
         assert result[view]["within_1"] >= 0.999, result
         assert result[view]["masks_agree"], result
         assert result[view]["float_max_error"] <= 1e-3, result
+    for case, entry in result["projections"].items():  # MinIP and average (tests/test_projections.py)
+        assert entry["lit"] > 0.3 and entry["within_1"] >= 0.999, (case, entry)
+        for key, value in entry.items():
+            if key.endswith("_masks_agree"):
+                assert value, (case, key, entry)
+            if key.endswith("_max_error"):
+                assert value <= 1e-3, (case, key, entry)
 
 
 @pytest.mark.parametrize("name, configure", [

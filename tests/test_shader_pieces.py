@@ -11,8 +11,8 @@ from mipcast.data_fixtures import make_fixture
 from mipcast.mappers import shader_pieces
 from mipcast.mappers.demip_two_pass import DEMIPFirstPassMapper
 from mipcast.mappers.mip import MIPVolumeMapper, sampled_projection_mapper
-from mipcast.mappers.shader_pieces import (HOOK_TAG, SAMPLED_HOOKS, SAMPLED_LOOP, TEMPLATE_TAGS, check_hooks,
-                                           install, installed_tags, load_piece, parse_piece, uninstall)
+from mipcast.mappers.shader_pieces import (CELL_HOOKS, HOOK_TAG, SAMPLED_HOOKS, SAMPLED_LOOP, TEMPLATE_TAGS,
+                                           check_hooks, install, installed_tags, load_piece, parse_piece, uninstall)
 from mipcast.offscreen import OffscreenView
 
 ALL_PIECES = sorted(p.name[:-5] for p in resources.files("mipcast.shaders").iterdir()
@@ -91,7 +91,9 @@ def test_no_python_module_builds_glsl_from_values():
 
 # -- the one sampled ray loop and its hooks ------------------------------------------
 
-HOOK_PIECES = [name for name in ALL_PIECES if load_piece(name).tag == HOOK_TAG]
+#: Hook pieces of the sampled loop, and of the exact projections' cell walk (amip_*_hooks).
+HOOK_PIECES = [name for name in ALL_PIECES if load_piece(name).tag == HOOK_TAG and not name.startswith("amip_")]
+CELL_HOOK_PIECES = [name for name in ALL_PIECES if load_piece(name).tag == HOOK_TAG and name.startswith("amip_")]
 #: The analytic method walks cells with loops of its own (they share amip_cell).
 CELL_WALKS = {"amip_loop", "amip_loop_blocks"}
 TOY_FIRST_SAMPLE = """// mipcast piece: toy_first_sample
@@ -123,7 +125,8 @@ def _code(piece) -> str:
 
 def _sampled_piece_lists() -> dict:
     """Every sampled method's piece list, by a name for the message."""
-    lists = {"mip": MIPVolumeMapper.PIECES}
+    lists = {"mip": MIPVolumeMapper.PIECES, "minip": mipcast.MinIPVolumeMapper.PIECES,
+             "average": mipcast.AverageVolumeMapper.PIECES}
     demip = mipcast.DEMIPVolumeMapper()
     demip.SetDepthWeight(0.5)
     for projection in ("mip", "lmip", "attenuated", "mida"):
@@ -144,9 +147,26 @@ def test_every_sampled_method_runs_the_one_loop_with_one_hook_piece(method, name
     assert not [name for name in names if name in CELL_WALKS or name.endswith("_loop") and name != SAMPLED_LOOP]
 
 
-def test_the_analytic_method_keeps_its_cell_walk():
-    names = mipcast.AnalyticMIPVolumeMapper.PIECES
+@pytest.mark.parametrize("cls, hooks", [("AnalyticMIPVolumeMapper", "amip_max_hooks"),
+                                        ("AnalyticMinIPVolumeMapper", "amip_min_hooks"),
+                                        ("AnalyticAverageVolumeMapper", "amip_average_hooks")])
+def test_the_exact_methods_share_the_cell_walk_with_one_cell_hook_piece(cls, hooks):
+    names = getattr(mipcast, cls)().GetShaderPieces()
     assert SAMPLED_LOOP not in names and "amip_cell" in names and "amip_loop" in names
+    assert [name for name in names if load_piece(name).tag == HOOK_TAG] == [hooks]
+
+
+@pytest.mark.parametrize("name", CELL_HOOK_PIECES)
+def test_every_cell_hook_piece_defines_every_cell_hook(name):
+    assert check_hooks(load_piece(name), CELL_HOOKS) is load_piece(name)
+    with pytest.raises(ValueError, match="sampled loop's hook"):
+        check_hooks(load_piece(name))
+
+
+def test_the_cell_walk_is_refused_without_a_cell_hook_piece():
+    names = [n for n in mipcast.AnalyticMIPVolumeMapper.PIECES if n != "amip_max_hooks"]
+    with pytest.raises(ValueError, match="cell-hook piece"):
+        install(vtkVolume().GetShaderProperty(), [load_piece(n) for n in names])
 
 
 @pytest.mark.parametrize("name", ALL_PIECES)

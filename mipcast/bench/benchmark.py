@@ -4,8 +4,9 @@ llvmpipe (and any shared machine) drifts, so settings are timed in
 interleaved rounds: each round renders every setting a few frames, and each
 setting's time is the median over all its frames after warm-up.  Only ratios
 measured this way mean something.  Errors are against the float64 exact
-reference (:func:`mipcast.reference.render`, ``method="analytic"``) on the same
-rays, from each method's float readout (the CPU peer has none: its 8-bit
+reference of each row's projection (:attr:`mipcast.methods.Method.exact_reference`:
+the exact maximum for MIP rows, the exact minimum for MinIP rows, the exact
+mean for average rows) on the same rays, from each method's float readout (the CPU peer has none: its 8-bit
 picture is mapped back through the grey window, so its error includes the
 8-bit floor of about 0.2 % of the window).
 """
@@ -197,7 +198,10 @@ def interleaved_frame_times(views: dict, rounds: int, frames: int, warmup: int,
 def errors_of_settings(image, settings: Sequence[Setting], size=(256, 256), view: str = "oblique",
                        window=None, progress: Optional[Callable[[str], None]] = None,
                        views: Optional[dict] = None) -> dict:
-    """Error of each setting's float readout against the exact float64 reference.
+    """Error of each setting's float readout against its projection's exact float64 reference.
+
+    The reference is the method's :attr:`~mipcast.methods.Method.exact_reference`
+    (exact maximum, minimum or mean), computed once per projection.
 
     ``progress``, if given, is called with the setting's label after each.
     ``views`` (:func:`setting_views`) are used where the setting reads its
@@ -208,7 +212,7 @@ def errors_of_settings(image, settings: Sequence[Setting], size=(256, 256), view
     -------
     dict
         ``{label: metrics.summary(...)}`` plus ``"_reference_s"``: seconds the
-        reference took.
+        references took.
 
     Examples
     --------
@@ -220,22 +224,23 @@ def errors_of_settings(image, settings: Sequence[Setting], size=(256, 256), view
     """
     import time
 
-    from mipcast import reference
     from mipcast.core.metrics import summary
+    from mipcast.methods import METHODS
 
-    results: dict = {}
-    exact = None
+    results: dict = {"_reference_s": 0.0}
+    exact: dict = {}
     low, high = image.GetPointData().GetScalars().GetRange(0)
     for setting in settings:
         if views is not None and setting.readout_method in (None, setting.method):
             scene = views[setting.label]
         else:
             scene = _view(image, setting, setting.readout_method or setting.method, size, view, window)
-        if exact is None:
+        projection = METHODS[setting.method].projection
+        if projection not in exact:
             started = time.perf_counter()
-            exact = reference.render(image, scene.camera, size, method="analytic")
-            results["_reference_s"] = time.perf_counter() - started
-        results[setting.label] = summary(_values(scene), exact, high - low, window=window)
+            exact[projection] = METHODS[setting.method].exact_reference(image, scene.camera, size)
+            results["_reference_s"] += time.perf_counter() - started
+        results[setting.label] = summary(_values(scene), exact[projection], high - low, window=window)
         if progress is not None:
             progress(f"error of {setting.label}")
     return results
@@ -259,7 +264,10 @@ def measure_scene(image, scene: str, view: str, edge: int, rounds: int = 5, wind
     ``1 + rounds + len(default_settings())`` steps (sampling choice, timing
     rounds, error of each setting).
 
-    Each row has the time ratio to stock MIP 1x, the error figures of
+    Each row has its projection, the time ratio to stock MIP 1x and to stock
+    VTK's blend mode of its projection at one sample per voxel
+    (``ratio_to_stock_blend``: MinIP rows to MINIMUM_INTENSITY, average rows to
+    AVERAGE_INTENSITY), the error figures of
     :func:`errors_of_settings`, and for analytic MIP its work per ray
     (:func:`mipcast.mappers.amip_stats.work_per_ray`).
 
@@ -271,6 +279,7 @@ def measure_scene(image, scene: str, view: str, edge: int, rounds: int = 5, wind
     (['stock 1x', 'stock 2x'], 1.0)
     """
     from mipcast.mappers.amip_stats import work_per_ray
+    from mipcast.methods import METHODS
 
     size = (edge, edge)
     settings = resolve_settings(image, default_settings(), size, view, window)
@@ -281,13 +290,18 @@ def measure_scene(image, scene: str, view: str, edge: int, rounds: int = 5, wind
                           views=views)
     errors = errors_of_settings(image, settings, size=size, view=view, window=window, progress=progress,
                                 views=views)
+    stock_times = _stock_times(settings, times)
     rows = []
     for setting in settings:
         error, timing = errors[setting.label], times[setting.label]
+        projection = METHODS[setting.method].projection
         row = {"scene": scene, "view": view, "size": edge, "setting": setting.label,
-               "median_ms": 1000 * timing["median_s"], "ratio_to_stock": timing["ratio"],
+               "projection": projection, "median_ms": 1000 * timing["median_s"],
+               "ratio_to_stock": timing["ratio"],
                "p99_pct": error["p99_pct"], "max_pct": error["max_pct"], "fg_p99_pct": error["fg_p99_pct"],
                "within_1_grey": error["within_1_grey"], "frames": timing["frames"]}
+        if projection in stock_times:  # against stock VTK's blend mode of the same projection at 1x
+            row["ratio_to_stock_blend"] = timing["median_s"] / stock_times[projection]
         if setting.method == "analytic":
             work = work_per_ray(views[setting.label])
             row.update(texel_fetches=work["texel_fetches"], skipped_cells=work["skipped_cells"])
@@ -299,6 +313,22 @@ def measure_scene(image, scene: str, view: str, edge: int, rounds: int = 5, wind
     for scene_view in views.values():
         scene_view.render_window.Finalize()
     return rows
+
+
+def _stock_times(settings: Sequence[Setting], times: dict) -> dict:
+    """Projection -> median frame time of its first row: stock VTK's blend mode for it at 1x.
+
+    As the first row is the baseline of ``ratio_to_stock`` (stock MIP 1x),
+    the first row of each projection in table order is that projection's:
+    the table lists stock VTK's MIP, MINIMUM_INTENSITY and AVERAGE_INTENSITY
+    blends at one sample per voxel first.
+    """
+    from mipcast.methods import METHODS
+
+    found: dict = {}
+    for setting in settings:
+        found.setdefault(METHODS[setting.method].projection, times[setting.label]["median_s"])
+    return found
 
 
 def markdown_table(rows: Iterable[dict], columns: Sequence[str]) -> str:
@@ -333,10 +363,16 @@ def pareto_front(points: Sequence[tuple]) -> list:
     return front
 
 
+#: Chart marker of each projection.
+_MARKERS = {"mip": "o", "minip": "v", "average": "s"}
+
+
 def write_chart(rows: Sequence[dict], path, error_key: str = "p99_pct") -> None:
     """Error (log) against time ratio to stock MIP 1x, one panel per scene/view/size.
 
-    Pareto-optimal settings are circled; an error of 0 is drawn at the
+    Pareto-optimal settings are circled (each projection's rows against
+    its own exact reference; markers: circle MIP, triangle MinIP, square
+    average); an error of 0 is drawn at the
     panel's floor (marked "exact").
 
     Examples
@@ -358,15 +394,22 @@ def write_chart(rows: Sequence[dict], path, error_key: str = "p99_pct") -> None:
     colours = pyplot.get_cmap("tab20")
     columns = min(len(panels), 4)
     lines = -(-len(panels) // columns)
-    figure, axes = pyplot.subplots(lines, columns, figsize=(5.2 * columns, 4.4 * lines + 1.8), squeeze=False)
+    ncol = max(1, min(len(settings), 2 * columns + 1, 7))  # as many legend columns as fit the width
+    legend = 0.75 + 0.2 * -(-len(settings) // ncol)  # inches: title and rows
+    height = 4.4 * lines + legend + 0.4
+    figure, axes = pyplot.subplots(lines, columns, figsize=(5.2 * columns, height), squeeze=False)
     floor = 1e-4
     for ax, panel in zip(axes.flat, panels):
         chosen = [r for r in rows if (r["scene"], r["view"], r["size"]) == panel]
         points = [(r["ratio_to_stock"], max(r[error_key], floor)) for r in chosen]
-        front = set(pareto_front(points))
+        front = set()
+        for projection in {r.get("projection", "mip") for r in chosen}:  # one front per projection
+            group = [i for i, r in enumerate(chosen) if r.get("projection", "mip") == projection]
+            front.update(group[i] for i in pareto_front([points[i] for i in group]))
         for index, (row, (x, y)) in enumerate(zip(chosen, points)):
             colour = colours(settings.index(row["setting"].split(" (")[0]) % 20)
             ax.scatter(x, y, s=70 if index in front else 30, color=colour,
+                       marker=_MARKERS.get(row.get("projection", "mip"), "o"),
                        edgecolors="k" if index in front else "none", zorder=3)
             if index in front:  # name the Pareto-optimal settings; the legend names all
                 ax.annotate(row["setting"], (x, y), textcoords="offset points", fontsize=7, xytext=(5, 3))
@@ -377,12 +420,14 @@ def write_chart(rows: Sequence[dict], path, error_key: str = "p99_pct") -> None:
         ax.grid(True, which="both", alpha=0.3)
     for ax in list(axes.flat)[len(panels):]:
         ax.axis("off")
-    handles = [pyplot.Line2D([], [], marker="o", linestyle="", color=colours(i % 20), label=name)
+    projection_of = {r["setting"].split(" (")[0]: r.get("projection", "mip") for r in rows}
+    handles = [pyplot.Line2D([], [], marker=_MARKERS.get(projection_of[name], "o"), linestyle="",
+                             color=colours(i % 20), label=name)
                for i, name in enumerate(settings)]
-    figure.legend(handles=handles, loc="lower center", ncol=min(len(settings), 7), fontsize=8,
-                  title=f"circled: Pareto front (nothing both faster and more accurate); "
+    figure.legend(handles=handles, loc="lower center", ncol=ncol, fontsize=8, title_fontsize=8,
+                  title=f"circled: Pareto front per projection (nothing both faster and more accurate);\n"
                         f"an error of 0 is drawn at {floor:g} %")
     figure.tight_layout()
-    figure.subplots_adjust(bottom=2.2 / (4.4 * lines + 1.8), hspace=0.35)
+    figure.subplots_adjust(bottom=(legend + 0.4) / height, hspace=0.35)
     figure.savefig(path, dpi=110)
     pyplot.close(figure)

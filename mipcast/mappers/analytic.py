@@ -54,7 +54,10 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     packing, skipping): ``docs/methods.md#analytic-mip``.
     """
 
-    PIECES = ("mip_globals", "refusal", "amip_corners", "amip_cell", "amip_loop", "no_stock_sample", "mip_color")
+    #: ``amip_max_hooks`` fills the cell walk's hooks (the exact maximum; see
+    #: :mod:`mipcast.mappers.projections` for the exact minimum and mean).
+    PIECES = ("mip_globals", "refusal", "amip_corners", "amip_cell", "amip_max_hooks", "amip_loop",
+              "no_stock_sample", "mip_color")
     PARAMETERS = parameter_tables.ANALYTIC
 
     #: Cells per edge of a skipping block (the coarse level is 1/BLOCK^3 the size).

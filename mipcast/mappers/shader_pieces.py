@@ -28,7 +28,7 @@ import re
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
-from typing import Iterable
+from typing import Iterable, Optional
 
 #: Tags of VTK's ``Rendering/VolumeOpenGL2/shaders/raycasterfs.glsl``, taken
 #: from the template compiled into VTK 9.7.2 and ParaView 5.11's VTK 9.2
@@ -59,6 +59,18 @@ SAMPLED_HOOKS = {
     "mcBeginRay": "void mcBeginRay(inout int first, inout int count)",
     "mcSample": "bool mcSample(float value, int i)",
     "mcEndRay": "void mcEndRay(int count)",
+}
+
+#: The exact projections' cell helpers (``shaders/amip_cell.glsl``), whose cell
+#: hooks one hook piece per exact projection defines at :data:`HOOK_TAG`
+#: (``amip_max_hooks``, ``amip_min_hooks``, ``amip_average_hooks``).
+CELL_HELPERS = "amip_cell"
+#: The functions a cell-hook piece defines for ``amip_cell`` (name: signature).
+CELL_HOOKS = {
+    "mcCellsBegin": "float mcCellsBegin()",
+    "mcCellsGoOn": "bool mcCellsGoOn(float value)",
+    "mcCell": "void mcCell(vec4 lo, vec4 hi, vec3 u0, vec3 du, float span, inout float value)",
+    "mcCellsEnd": "float mcCellsEnd(float value)",
 }
 
 #: Folders searched, in order, after the package's own ``shaders`` folder
@@ -163,28 +175,34 @@ def load_piece(name: str) -> Piece:
     return parse_piece(name, _read_piece_text(name))
 
 
-def check_hooks(piece: Piece) -> Piece:
-    """Check that ``piece`` is a hook piece for ``sampled_loop``; return it.
+def check_hooks(piece: Piece, hooks: Optional[dict] = None) -> Piece:
+    """Check that ``piece`` is a hook piece for ``sampled_loop`` (or defines ``hooks``); return it.
 
-    It must fill :data:`HOOK_TAG` and define every function of
-    :data:`SAMPLED_HOOKS`; ``ValueError`` names what is missing.
+    It must fill :data:`HOOK_TAG` and define every function of ``hooks``
+    (default :data:`SAMPLED_HOOKS`; :data:`CELL_HOOKS` for the cell walk's
+    hook pieces); ``ValueError`` names what is missing.
 
     Examples
     --------
     >>> check_hooks(load_piece("mip_hooks")).name
     'mip_hooks'
+    >>> check_hooks(load_piece("amip_min_hooks"), CELL_HOOKS).name
+    'amip_min_hooks'
     """
+    hooks = SAMPLED_HOOKS if hooks is None else hooks
+    loop = "sampled loop" if hooks is SAMPLED_HOOKS else "cell walk"
     if piece.tag != HOOK_TAG:
         raise ValueError(
-            f"shader piece {piece.name!r} fills {piece.tag}, but the sampled loop's hook "
+            f"shader piece {piece.name!r} fills {piece.tag}, but the {loop}'s hook "
             f"piece must fill {HOOK_TAG}")
     code = re.sub(r"//[^\n]*", "", piece.text)
-    missing = [signature for name, signature in SAMPLED_HOOKS.items()
+    missing = [signature for name, signature in hooks.items()
                if not re.search(rf"\b{signature.split()[0]}\s+{name}\s*\(", code)]
     if missing:
+        where = "shaders/sampled_loop.glsl" if hooks is SAMPLED_HOOKS else "shaders/amip_cell.glsl"
         raise ValueError(
-            f"shader piece {piece.name!r} does not define the sampled loop's hook(s) "
-            f"{'; '.join(missing)} (see shaders/sampled_loop.glsl)")
+            f"shader piece {piece.name!r} does not define the {loop}'s hook(s) "
+            f"{'; '.join(missing)} (see {where})")
     return piece
 
 
@@ -221,8 +239,8 @@ def install(shader_property, pieces: Iterable[Piece]) -> None:
 
     Refuses (``ValueError``) two pieces for one tag, and a tag that already
     carries a replacement that is not mipcast's (someone else's code would be
-    silently lost), and the ``sampled_loop`` piece without a hook piece that
-    defines its hooks (:func:`check_hooks`).
+    silently lost), and the ``sampled_loop`` (``amip_cell``) piece without a
+    hook piece that defines its hooks (:func:`check_hooks`).
 
     Examples
     --------
@@ -234,13 +252,15 @@ def install(shader_property, pieces: Iterable[Piece]) -> None:
     ['//VTK::Shading::Exit']
     """
     pieces = list(pieces)
-    if any(piece.name == SAMPLED_LOOP for piece in pieces):
-        hooks = [piece for piece in pieces if piece.tag == HOOK_TAG]
-        if not hooks:
-            raise ValueError(
-                f"the {SAMPLED_LOOP} piece needs a hook piece filling {HOOK_TAG} "
-                f"(defining {', '.join(SAMPLED_HOOKS)}); none is among the pieces")
-        check_hooks(hooks[0])
+    for loop, hooks, kind in ((SAMPLED_LOOP, SAMPLED_HOOKS, "hook piece"),
+                              (CELL_HELPERS, CELL_HOOKS, "cell-hook piece")):
+        if any(piece.name == loop for piece in pieces):
+            found = [piece for piece in pieces if piece.tag == HOOK_TAG]
+            if not found:
+                raise ValueError(
+                    f"the {loop} piece needs a {kind} filling {HOOK_TAG} "
+                    f"(defining {', '.join(hooks)}); none is among the pieces")
+            check_hooks(found[0], hooks)
     claimed: dict = {}
     for piece in pieces:
         if piece.vtk_tag in claimed:

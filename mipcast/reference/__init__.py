@@ -16,17 +16,23 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.core.validation import check_choice, check_image, check_positive, check_size
 from mipcast.reference.demip import render_demip
-from mipcast.reference.mip import exact_maximum, sampled_maximum
+from mipcast.reference.mip import (exact_maximum, exact_mean, exact_minimum, sampled_maximum, sampled_mean,
+                                   sampled_minimum)
 from mipcast.reference.rays import BUDGET, RAY_CHUNK, hit_rays, scatter
 
 #: Parameters each method accepts; all of them are required ("demip" also
 #: takes optional ones: :data:`mipcast.reference.demip.PARAMETERS`).
-METHODS = {"mip": ("sample_distance",), "analytic": (), "demip": ("sample_distance", "window")}
+METHODS = {"mip": ("sample_distance",), "analytic": (), "demip": ("sample_distance", "window"),
+           "minip": ("sample_distance",), "analytic_minip": (),
+           "average": ("sample_distance",), "analytic_average": ()}
+#: The kernel of each method but "demip": sampled ones take ``step``.
+_KERNELS = {"mip": sampled_maximum, "analytic": exact_maximum, "minip": sampled_minimum,
+            "analytic_minip": exact_minimum, "average": sampled_mean, "analytic_average": exact_mean}
 
 
 def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
            **params: Any) -> np.ndarray:
-    """Render a maximum intensity projection in float64 on the CPU.
+    """Render a maximum (minimum, mean) intensity projection in float64 on the CPU.
 
     Parameters
     ----------
@@ -52,17 +58,26 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
         restriction, zero-length segments at edges and corners, rays along
         faces) need no special branch: every candidate is a point of the
         segment, so the result never exceeds the true maximum.
+        ``"minip"`` / ``"average"``: the minimum / the mean of the ``"mip"``
+        samples (VTK's MINIMUM_INTENSITY and AVERAGE_INTENSITY blends with
+        every sample in the average's scalar range).
+        ``"analytic_minip"``: the exact minimum of the interpolant (the
+        maximum of the negated cubics).  ``"analytic_average"``: the exact
+        mean of the interpolant along the ray, the sum over the crossed
+        cells of each cubic's integral times its segment length, divided by
+        the ray's length inside the volume.
         ``"demip"``: depth-enhanced MIP on the ``"mip"`` samples; returns
         depth, final colour or maximum (its ``output`` parameter), see
         :func:`mipcast.reference.demip.render_demip` for its parameters.
     **params
         ``sample_distance : float`` (method ``"mip"``, required): distance
-        between samples in world units, > 0.  Method ``"analytic"`` takes none.
+        between samples in world units, > 0 (also ``"minip"``, ``"average"``).
+        The exact methods take none.
 
     Returns
     -------
     numpy.ndarray, shape (height, width)
-        Maximum along each pixel's ray in the data units of the scalars;
+        The projection (maximum, minimum, mean) along each pixel's ray in the data units of the scalars;
         NaN where the ray misses the volume.  Row 0 is the top row.
 
     Raises
@@ -92,6 +107,9 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
      [0. 1. 2.]]
     >>> print(render(image, camera, (3, 1), method="mip", sample_distance=0.5).round(3))
     [[nan  1. nan]]
+    >>> print(render(image, camera, (3, 2), method="analytic_average").round(3))
+    [[0. 1. 2.]
+     [0. 1. 2.]]
     """
     volume = check_image(image)
     width, height = check_size(size)
@@ -106,16 +124,17 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     missing = [name for name in allowed if name not in params]
     if missing:
         raise TypeError(f"method {method!r} requires parameter(s): {', '.join(missing)}")
-    if method == "mip":
+    sampled = "sample_distance" in allowed
+    if sampled:
         step = check_positive("sample_distance", params["sample_distance"])
 
     hit, entry, direction, length = hit_rays(image, camera, (width, height))
     values = np.array(volume, dtype=np.float64)
 
-    if method == "mip":
-        chunk, kernel = RAY_CHUNK, partial(sampled_maximum, step=step)
+    if sampled:
+        chunk, kernel = RAY_CHUNK, partial(_KERNELS[method], step=step)
     else:
-        chunk, kernel = max(1, BUDGET // (sum(values.shape) + 2)), exact_maximum
+        chunk, kernel = max(1, BUDGET // (sum(values.shape) + 2)), _KERNELS[method]
     found = np.empty(len(length))
     for start in range(0, len(length), chunk):
         part = slice(start, start + chunk)

@@ -1,4 +1,10 @@
-"""Float64 maxima along rays: sampled as the GPU samples, and exact (cell by cell)."""
+"""Float64 projections along rays: sampled as the GPU samples, and exact (cell by cell).
+
+Maximum, minimum and mean of the samples at ``entry + k * step``, and of the
+trilinear interpolant itself: per crossed cell a cubic in the ray parameter,
+whose maximum (ends and derivative roots), minimum (the maximum of the
+negated cubic) and integral are exact.
+"""
 from __future__ import annotations
 
 import numpy as np
@@ -6,21 +12,45 @@ import numpy as np
 from mipcast.reference.rays import BUDGET, cells, gather, trilinear
 
 
-def sampled_maximum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-         length: np.ndarray, step: float) -> np.ndarray:
-    """VTK-style sampled maximum along rays starting at their box entry."""
-    count = np.maximum(1, np.floor(length / step + 1e-9)).astype(np.int64)
-    best = np.full(len(length), -np.inf)
+def _sample_count(length: np.ndarray, step: float) -> np.ndarray:
+    """VTK's number of samples per ray: ``max(1, floor(length / step + 1e-9))``."""
+    return np.maximum(1, np.floor(length / step + 1e-9)).astype(np.int64)
+
+
+def _sampled_reduce(values: np.ndarray, entry: np.ndarray, direction: np.ndarray, length: np.ndarray,
+                    step: float, reduce: np.ufunc, empty: float) -> np.ndarray:
+    """``reduce`` (np.maximum, np.minimum, np.add) over the samples ``entry + k * step``, k = 1..K."""
+    count = _sample_count(length, step)
+    best = np.full(len(length), empty)
     first = 1
     while first <= count.max():
         rows = np.flatnonzero(count >= first)
         k = np.arange(first, min(count.max(), first + max(1, BUDGET // len(rows)) - 1) + 1)
         position = entry[rows, None, :] + (k[:, None] * step) * direction[rows, None, :]
         sample = trilinear(values, position.reshape(-1, 3)).reshape(len(rows), len(k))
-        sample[k > count[rows, None]] = -np.inf
-        best[rows] = np.maximum(best[rows], sample.max(axis=1))
+        sample[k > count[rows, None]] = empty
+        best[rows] = reduce(best[rows], reduce.reduce(sample, axis=1))
         first = k[-1] + 1
     return best
+
+
+def sampled_maximum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
+         length: np.ndarray, step: float) -> np.ndarray:
+    """VTK-style sampled maximum along rays starting at their box entry."""
+    return _sampled_reduce(values, entry, direction, length, step, np.maximum, -np.inf)
+
+
+def sampled_minimum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
+                    length: np.ndarray, step: float) -> np.ndarray:
+    """VTK-style sampled minimum (MINIMUM_INTENSITY blend) along rays starting at their box entry."""
+    return _sampled_reduce(values, entry, direction, length, step, np.minimum, np.inf)
+
+
+def sampled_mean(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
+                 length: np.ndarray, step: float) -> np.ndarray:
+    """Mean of the same samples (VTK's AVERAGE_INTENSITY blend, every sample in range, opaque)."""
+    total = _sampled_reduce(values, entry, direction, length, step, np.add, 0.0)
+    return total / _sample_count(length, step)
 
 
 def _crossings(entry: np.ndarray, direction: np.ndarray, length: np.ndarray) -> np.ndarray:
@@ -52,9 +82,14 @@ def _lerp_poly(low: list, high: list, w0: np.ndarray, dw: np.ndarray) -> list:
     return out
 
 
-def exact_maximum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-           length: np.ndarray) -> np.ndarray:
-    """Exact maximum of the trilinear interpolant along each ray segment."""
+def _cell_cubics(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
+                 length: np.ndarray) -> tuple:
+    """Per crossed cell segment, the cubic ``((a s + b) s + c) s + d`` (s in [0, 1]) of the interpolant.
+
+    Returns ``(a, b, c, d, span, starts)``: coefficients and length (world
+    units) of each segment, and the index of each ray's first segment (the
+    segments of ray r are ``starts[r]`` up to ``starts[r + 1]``).
+    """
     bounds = _crossings(entry, direction, length)
     valid = np.isfinite(bounds[:, 1:])
     ray, column = np.nonzero(valid)
@@ -70,7 +105,14 @@ def exact_maximum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
         poly = _lerp_poly([p[:, 0::2] for p in poly], [p[:, 1::2] for p in poly],
                           u0[:, axis, None], du[:, axis, None])
     d, c, b, a = (p[:, 0] for p in poly)
+    starts = np.concatenate([[0], np.cumsum(valid.sum(axis=1))[:-1]])
+    return a, b, c, d, t1 - t0, starts
 
+
+def exact_maximum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
+           length: np.ndarray) -> np.ndarray:
+    """Exact maximum of the trilinear interpolant along each ray segment."""
+    a, b, c, d, _, starts = _cell_cubics(values, entry, direction, length)
     best = np.maximum(d, ((a + b) + c) + d)
     qa, qb = 3.0 * a, 2.0 * b
     disc = qb * qb - 4.0 * qa * c
@@ -80,5 +122,27 @@ def exact_maximum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
             inside = (disc >= 0) & (root > 0) & (root < 1)
             s = np.where(inside, root, 0.0)
             best = np.where(inside, np.maximum(best, ((a * s + b) * s + c) * s + d), best)
-    starts = np.concatenate([[0], np.cumsum(valid.sum(axis=1))[:-1]])
     return np.maximum.reduceat(best, starts)
+
+
+def exact_minimum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
+                  length: np.ndarray) -> np.ndarray:
+    """Exact minimum of the trilinear interpolant along each ray: minus the maximum of its negation
+    (negation is exact, and the negated cubics are the cubics of the negated corners)."""
+    return -exact_maximum(-values, entry, direction, length)
+
+
+def exact_mean(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
+               length: np.ndarray) -> np.ndarray:
+    """Exact mean of the trilinear interpolant along each ray inside the volume.
+
+    The integral of each cell's cubic over its segment is
+    ``(d + c / 2 + b / 3 + a / 4) * span``; the mean is the sum over the
+    ray's cells divided by its length.  A ray of zero length (touching an
+    edge) gets the value at its entry.
+    """
+    a, b, c, d, span, starts = _cell_cubics(values, entry, direction, length)
+    integral = np.add.reduceat((d + c / 2.0 + b / 3.0 + a / 4.0) * span, starts)
+    total = np.add.reduceat(span, starts)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(total > 0, integral / np.where(total > 0, total, 1.0), d[starts])

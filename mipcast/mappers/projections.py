@@ -1,0 +1,146 @@
+"""Minimum and average intensity projections, sampled and exact.
+
+The sampled ones are one hook piece each for the one sampled loop
+(``shaders/minip_hooks.glsl``, ``shaders/average_hooks.glsl``, through
+:func:`mipcast.mappers.mip.sampled_projection_mapper`); the exact ones walk
+the cells as analytic MIP does, with other cell hooks
+(``shaders/amip_min_hooks.glsl``: the exact minimum of each cell's cubic;
+``shaders/amip_average_hooks.glsl``: the integral of each cubic over its
+segment).  Colour and opacity are used as VTK's MINIMUM_INTENSITY and
+AVERAGE_INTENSITY blend modes use them: MinIP colours its minimum through
+both transfer functions (as MIP does), the average draws an opaque grey of
+its mean normalised scalar (the sampled one weighting each sample by its
+opacity and counting only samples in ``AverageIPScalarRange``, as stock does).
+
+See docs/methods.md, sections MinIP and Average.
+
+Examples
+--------
+>>> MinIPVolumeMapper().GetShaderPieces()[3]
+'minip_hooks'
+>>> "amip_min_hooks" in AnalyticMinIPVolumeMapper().GetShaderPieces()
+True
+"""
+from __future__ import annotations
+
+from vtkmodules.vtkCommonCore import vtkFloatArray
+
+from mipcast.core.object_state import object_state
+from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
+from mipcast.mappers.float_readout import from_data_units
+from mipcast.mappers.mip import MIPVolumeMapper, sampled_projection_mapper
+
+#: Normalised bounds beyond any value (VTK's default AverageIPScalarRange is all floats).
+_FAR = 1.0e30
+
+
+class MinIPVolumeMapper(sampled_projection_mapper("minip_hooks")):
+    """Sampled minimum intensity projection: the smallest of stock VTK's samples.
+
+    The same samples as stock VTK's MINIMUM_INTENSITY blend (``entry + i *
+    step``), coloured through the volume property's colour and opacity
+    transfer functions like MIP.  Attach it with :meth:`Attach`.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkVolume
+    >>> mapper = MinIPVolumeMapper()
+    >>> volume = vtkVolume()
+    >>> mapper.Attach(volume)
+    >>> mapper.IsAttached()
+    True
+    """
+
+
+class AverageVolumeMapper(sampled_projection_mapper("average_hooks", color="average_color")):
+    """Sampled average intensity projection, as stock VTK's AVERAGE_INTENSITY blend.
+
+    Samples at stock's positions whose value lies in the mapper's
+    ``AverageIPScalarRange`` (VTK's setting, default every value) count; the
+    picture is an opaque grey of the mean of ``opacity(s) * s`` (``s`` the
+    normalised scalar), as in stock; the float readout is the plain mean of
+    the counted values in data units.
+
+    Examples
+    --------
+    >>> mapper = AverageVolumeMapper()
+    >>> mapper.SetAverageIPScalarRange(0.2, 0.8)
+    >>> mapper.GetShaderPieces()[-1]
+    'average_color'
+    """
+
+    def _push_derived_uniforms(self, uniforms, settings) -> None:
+        super()._push_derived_uniforms(uniforms, settings)
+        image = self.GetInput()
+        scalars = image.GetPointData().GetScalars() if image is not None else None
+        low, high = self.GetAverageIPScalarRange()
+        if scalars is None:
+            scalars = vtkFloatArray()
+        ends = [max(-_FAR, min(_FAR, float(v))) for v in from_data_units([low, high], scalars)]
+        uniforms.SetUniformf("u_mc_averageLow", -_FAR if low <= -3.0e38 else ends[0])
+        uniforms.SetUniformf("u_mc_averageHigh", _FAR if high >= 3.0e38 else ends[1])
+
+
+def _exact_pieces(hooks: str, color=None) -> tuple:
+    """Analytic MIP's pieces with the cell hooks ``hooks`` (and colour piece ``color``)."""
+    swap = {"amip_max_hooks": hooks}
+    if color is not None:
+        swap.update(mip_color=color)
+    return tuple(swap.get(n, n) for n in AnalyticMIPVolumeMapper.PIECES)
+
+
+class _ExactProjection(AnalyticMIPVolumeMapper):
+    """Analytic MIP's cell walk with other cell hooks, never block skipping (its coarse level holds maxima)."""
+
+    #: Replacements of the packed-corner pieces (the average's colour needs no component index).
+    PACKED = {"amip_corners": "amip_corners_packed", "mip_color": "mip_color_packed"}
+
+    def _update_block_maxima(self, image) -> None:
+        """No coarse level: block maxima bound only a maximum (amip_loop_blocks is MIP's)."""
+
+    def GetShaderPieces(self) -> tuple:
+        """:data:`PIECES` (packed-corner variants when packing is active), never block skipping."""
+        names = MIPVolumeMapper.GetShaderPieces(self)
+        if self._packing_active():
+            names = tuple(self.PACKED.get(n, n) for n in names)
+        if object_state(self).get("stat") is not None:  # mipcast.mappers.amip_stats reads work counters
+            names = tuple("amip_stats_readout" if n == "float_readout" else n for n in names)
+        return names
+
+
+class AnalyticMinIPVolumeMapper(_ExactProjection):
+    """Exact MinIP: the minimum of the trilinear interpolant along the ray, cell by cell.
+
+    Analytic MIP's walk with the mirrored bounds: the minimum of each cell's
+    cubic (the maximum of the negated cubic), cells none of whose corners is
+    below the running minimum skipped (``SetSkipping``), the walk starting at
+    the transfer functions' ceiling and ending at their floor.  No block
+    skipping.  Sees thin dark structure (airways) between samples that
+    sampled MinIP steps over.
+
+    Examples
+    --------
+    >>> AnalyticMinIPVolumeMapper().GetSkipping()
+    True
+    """
+
+    PIECES = _exact_pieces("amip_min_hooks")
+
+
+class AnalyticAverageVolumeMapper(_ExactProjection):
+    """Exact average: the mean of the trilinear interpolant along the ray inside the volume.
+
+    Per crossed cell the integral of its cubic times the segment length,
+    summed and divided by the ray's length; drawn as stock's average draws an
+    opaque volume (a grey of the normalised mean).  Every cell counts, so
+    ``SetSkipping`` changes nothing; ``AverageIPScalarRange`` and per-sample
+    opacity weighting (stock's) have no exact counterpart and are not applied.
+
+    Examples
+    --------
+    >>> AnalyticAverageVolumeMapper().GetShaderPieces()[-1]
+    'average_color'
+    """
+
+    PIECES = _exact_pieces("amip_average_hooks", color="average_color")
+    PACKED = {"amip_corners": "amip_corners_packed"}

@@ -1,0 +1,21 @@
+// mipcast piece: minip_hooks
+// fills: Picking::Dec
+// mode: augment
+// Sampled MinIP's hooks for sampled_loop: the smallest sample along the ray,
+// as VTK's MINIMUM_INTENSITY blend takes it (the first sample sets it; a ray
+// with no sample keeps stock's start value, normalised 1).
+void mcBeginRay(inout int first, inout int count)
+{
+  mc_rayMax = 1.0e30;
+}
+
+bool mcSample(float value, int i)
+{
+  mc_rayMax = min(mc_rayMax, value);
+  return true;
+}
+
+void mcEndRay(int count)
+{
+  mc_rayMax = count > 0 ? mcNormalised(mc_rayMax) : 1.0;
+}

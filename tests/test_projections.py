@@ -1,0 +1,113 @@
+"""MinIP and average projections, sampled and exact (docs/methods.md, sections MinIP and Average).
+
+Parity of the sampled ones with stock VTK's MINIMUM_INTENSITY and
+AVERAGE_INTENSITY blends at the same sample distance; the exact ones against
+their float64 references; known answers: an airway phantom (the exact MinIP
+sees tube minima between samples) and a linear ramp (the exact mean along a
+ray is the value at its midpoint).
+"""
+import numpy as np
+import pytest
+
+from mipcast.bench.benchmark import default_settings, errors_of_settings
+from mipcast.core.metrics import grey_diff
+from mipcast.data_fixtures import image_from_array, make_fixture
+from mipcast.methods import METHODS
+from mipcast.offscreen import OffscreenView
+from mipcast.reference.rays import hit_rays, scatter
+
+SIZE = (96, 80)
+
+
+def _hot_opacity(view):
+    opacity = view.volume.GetProperty().GetScalarOpacity()
+    opacity.RemoveAllPoints()
+    opacity.AddPoint(0.0, 0.2)
+    opacity.AddPoint(1.0, 1.0)
+
+
+@pytest.fixture(scope="module")
+def airways48():
+    return make_fixture("airways", size=48)
+
+
+@pytest.mark.parametrize("stock, ours", [("stock_minip", "minip"), ("stock_average", "average")])
+@pytest.mark.parametrize("view, sample_distance, configure", [
+    ("oblique", None, None),
+    ("perspective", 0.5, None),
+    ("oblique", 0.7, _hot_opacity),
+    ("oblique", None, lambda v: v.mapper.SetAverageIPScalarRange(0.12, 0.6)),
+])
+def test_sampled_projections_equal_stock_vtk(vessels48, airways48, stock, ours, view, sample_distance, configure):
+    image, window = (airways48, (0.0, 0.9)) if ours == "minip" else (vessels48, (0.05, 0.6))
+    shots = []
+    for method in (stock, ours):
+        scene = OffscreenView(image, method, size=SIZE, view=view, sample_distance=sample_distance,
+                              window=window)
+        if configure is not None:
+            configure(scene)
+        shots.append(scene.screenshot())
+    assert shots[1].max() > 60 and (shots[1].max(axis=-1) > 0).mean() > 0.3, "the picture is (nearly) black"
+    assert grey_diff(*shots)["within_1"] >= 0.999, grey_diff(*shots)
+
+
+@pytest.mark.parametrize("name, fixture", [("analytic_minip", "airways"), ("analytic_average", "vessels"),
+                                           ("analytic_minip", "vessels"), ("analytic_average", "airways")])
+def test_exact_projections_match_their_references(name, fixture):
+    image = make_fixture(fixture, size=40)
+    low, high = image.GetPointData().GetScalars().GetRange(0)
+    for view in ("oblique", "perspective"):
+        scene = OffscreenView(image, name, size=(64, 56), view=view, window="full")
+        got = scene.float_image()
+        expected = METHODS[name].reference(image, scene.camera, scene.size)
+        assert np.array_equal(np.isnan(got), np.isnan(expected))
+        error = np.abs(got - expected)[np.isfinite(expected)] / (high - low)
+        assert error.size > 0.3 * got.size
+        assert (error <= 1e-3).mean() >= 0.999 and (error <= 1 / 255).mean() >= 0.995, error.max()
+
+
+def test_exact_minip_sees_the_airways_that_samples_miss(airways48):
+    image = airways48
+    exact = OffscreenView(image, "analytic_minip", size=SIZE, window="full")
+    sampled = OffscreenView(image, "minip", size=SIZE, window="full")
+    ours, theirs = exact.float_image(), sampled.float_image()
+    hit = np.isfinite(ours)
+    # rays shorter than a step (grazing an edge) sample beyond their segment (clamped), as stock does
+    _, _, _, length = hit_rays(image, exact.camera, SIZE)
+    inside = scatter(length, hit.ravel(), *ours.shape) >= sampled.sample_distance
+    assert np.all(ours[inside] <= theirs[inside] + 1e-4), "the exact minimum is above a sample"
+    missed = theirs[hit] - ours[hit]
+    # the sampled MinIP misses the tubes' depth along many rays by more than 5 % of the range
+    assert (missed > 0.05).mean() > 0.02, np.percentile(missed, [50, 99])
+    assert ours[hit].min() < 0.05, "the exact MinIP does not reach the air in the tubes"
+    picture = exact.screenshot()
+    assert picture.max() > 100 and picture.min() < 30, "no contrast between tissue and airways"
+
+
+def test_exact_average_of_a_linear_ramp_is_its_midpoint_value():
+    n = 24
+    i = np.arange(n, dtype=np.float64)
+    ramp = 0.5 + 0.25 * i - 0.125 * i[:, None] + 0.5 * i[:, None, None]  # exact in float32
+    image = image_from_array(ramp.astype(np.float32), "ramp")
+    scene = OffscreenView(image, "analytic_average", size=(48, 40), view="perspective", window="full")
+    got = scene.float_image()
+    hit, entry, direction, length = hit_rays(image, scene.camera, scene.size)
+    middle = entry + 0.5 * length[:, None] * direction  # (x, y, z) index space
+    expected = scatter(0.5 + 0.25 * middle[:, 0] - 0.125 * middle[:, 1] + 0.5 * middle[:, 2], hit, *got.shape)
+    low, high = float(ramp.min()), float(ramp.max())
+    assert np.array_equal(np.isnan(got), np.isnan(expected)) and np.isfinite(got).mean() > 0.3
+    assert np.nanmax(np.abs(got - expected)) <= 1e-5 * (high - low)
+    reference = METHODS["analytic_average"].reference(image, scene.camera, scene.size)
+    assert np.nanmax(np.abs(reference - expected)) <= 1e-9 * (high - low)
+
+
+def test_bench_rows_compare_each_projection_with_its_exact_reference():
+    labels = ("analytic", "analytic minip", "analytic average", "minip 1x", "average 1x", "average 8x")
+    settings = [s for s in default_settings() if s.label in labels]
+    assert {s.label for s in settings} == set(labels)
+    errors = errors_of_settings(make_fixture("airways", size=24), settings, size=(32, 32))
+    for label in ("analytic", "analytic minip", "analytic average"):
+        assert errors[label]["max_pct"] < 0.01, (label, errors[label])
+    assert errors["minip 1x"]["max_pct"] > 1.0  # the sampled minimum misses the airways
+    # the sampled mean converges to the exact mean (against the exact maximum it would not)
+    assert errors["average 8x"]["p99_pct"] < 0.25 * errors["average 1x"]["p99_pct"], errors
