@@ -31,7 +31,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-#: The server-side script (fixed text; the settings arrive as the filter's Parameters).
+#: The server-side script (fixed text; the settings arrive as the JSON string ``mipcast_settings``).
 SCRIPT = """
 import json
 from mipcast.distributed import DistributedView, abort_on_error, world_communicator
@@ -89,8 +89,9 @@ def distributed_mip(source, method: str = "mip", size: Sequence[int] = (256, 256
                 "array": array, "parameters": parameters}
     flt = simple.ProgrammableFilter(Input=source)
     flt.OutputDataSetType = "vtkTable"
-    flt.Script = SCRIPT
-    flt.Parameters = ["mipcast_settings", json.dumps(settings)]
+    # ParaView 5.11's ProgrammableFilter has no Parameters property: the settings go in
+    # as one string literal (repr of the JSON text), read back with json.loads.
+    flt.Script = "mipcast_settings = " + repr(json.dumps(settings)) + "\n" + SCRIPT
     return flt
 
 

@@ -86,3 +86,67 @@ def test_a_failing_rank_ends_the_job(how):
         assert "mipcast.distributed: rank 1 of 2 failed" in text, text[-3000:]
     else:
         assert "rank 1" in text and "signal 9" in text, text[-3000:]
+
+
+PARAVIEW_CHECK = ROOT / "tests" / "distributed_paraview_check.py"
+
+
+def _paraview_env():
+    env = pvpython_env()
+    env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    return env
+
+
+def check_paraview_results(out, ranks, session):
+    results = json.loads(out.read_text())
+    assert results["ranks"] == ranks and results["session"] == session
+    assert [case["method"] for case in results["cases"]] == ["mip", "analytic"]
+    for case in results["cases"]:
+        assert case["lit"] > 0.3, case
+        assert case["within_1_grey"] >= 0.999, case
+        assert case["misses_agree"] >= 0.999, case
+        assert case["float_max_error"] <= methods.METHODS[case["method"]].reference_tolerance, case
+
+
+def test_paraview_reader_split_in_pvbatch(tmp_path):
+    """ParaView's XMLImageDataReader splits the volume over 2 pvbatch ranks; mipcast composites exactly."""
+    out = tmp_path / "pvbatch.json"
+    command = ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "mpiexec", "--oversubscribe", "-n", "2",
+               "pvbatch", str(PARAVIEW_CHECK), "--out", str(out)]
+    done = subprocess.run(command, env=_paraview_env(), capture_output=True, text=True, timeout=240, cwd="/tmp")
+    assert done.returncode == 0 and out.exists(), done.stdout[-3000:] + done.stderr[-3000:]
+    check_paraview_results(out, 2, "pvbatch")
+
+
+def test_pvserver_two_ranks_behind_a_pvpython_client(tmp_path):
+    import socket
+
+    with socket.socket() as probe:
+        probe.bind(("localhost", 0))
+        port = probe.getsockname()[1]
+    server = subprocess.Popen(
+        ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "mpiexec", "--oversubscribe", "-n", "2", "pvserver",
+         f"--server-port={port}", "--timeout=5"],
+        env=_paraview_env(), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd="/tmp",
+        start_new_session=True)
+    try:
+        for line in server.stdout:  # "Accepting connection(s): host:port" once it listens
+            if "Accepting connection" in line:
+                break
+        else:
+            pytest.fail("pvserver did not start")
+        out = tmp_path / "client.json"
+        client = subprocess.run(
+            ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", "pvpython", str(PARAVIEW_CHECK),
+             "--connect", f"localhost:{port}", "--out", str(out)],
+            env=_paraview_env(), capture_output=True, text=True, timeout=240, cwd="/tmp")
+        assert client.returncode == 0 and out.exists(), client.stdout[-3000:] + client.stderr[-3000:]
+        check_paraview_results(out, 2, "client-server")
+    finally:
+        import signal
+
+        try:
+            os.killpg(server.pid, signal.SIGTERM)  # the session this test started: xvfb-run, mpiexec, pvserver
+        except ProcessLookupError:
+            pass
+        server.wait(timeout=30)
