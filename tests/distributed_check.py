@@ -68,6 +68,7 @@ def main(argv=None):
     span = float(np.subtract(*image.GetPointData().GetScalars().GetRange()[::-1]))
     window = image.GetPointData().GetScalars().GetRange()
     results = {"ranks": comm.size, "cases": []}
+    keep = []  # every window stays open to the end: closing one X display and opening the next aborts now and then
     with abort_on_error(comm):
         frame = 0
         for axis in args.axes.split(","):
@@ -82,6 +83,7 @@ def main(argv=None):
                         settings[name] = json.loads(value)
                 view = DistributedView(brick, method, size=tuple(args.image), window=window, comm=comm,
                                        max_voxels=args.max_voxels, **settings)
+                keep.append(view)
                 values = view.float_image()
                 # which rank's brick holds each pixel's maximum: every brick must contribute
                 won = np.array([np.sum(view.last_local == values)], dtype=np.int64)
@@ -99,6 +101,7 @@ def main(argv=None):
                     raise RuntimeError("rank asked to fail (--raise-rank)")
                 if comm.rank == 0:
                     single = OffscreenView(image, method, size=tuple(args.image), window=window)
+                    keep.append(single)
                     if settings:
                         set_parameters(single.mapper, **settings)
                     single.camera.DeepCopy(view.camera)

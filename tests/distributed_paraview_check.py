@@ -59,10 +59,12 @@ def main():
     reader.UpdatePipeline()
     ranks = simple.servermanager.ActiveConnection.GetNumberOfDataPartitions()
     results = {"ranks": ranks, "session": "client-server" if args.connect else "pvbatch", "cases": []}
+    keep = []  # every window stays open to the end: closing one X display and opening the next aborts now and then
     for method in args.methods.split(","):
         flt = distributed_mip(reader, method=method, size=tuple(args.image), view="oblique", window=window)
         values = fetch_image(flt)
         single = OffscreenView(image, method, size=tuple(args.image), window=window)
+        keep.append(single)
         reference = single.float_image()
         rgb = colour(values, single.volume.GetProperty())
         single_rgb = single.screenshot()
