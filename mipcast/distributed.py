@@ -25,9 +25,9 @@ mpi4py a job of one process runs (:class:`OneRank`).
 Examples
 --------
 >>> split_extents((0, 63, 0, 63, 0, 63), 2, axis=0)
-[(0, 32, 0, 63, 0, 63), (32, 63, 0, 63, 0, 63)]
+[(0, 31, 0, 63, 0, 63), (31, 63, 0, 63, 0, 63)]
 >>> split_extents((0, 63, 0, 31, 0, 31), 4)
-[(0, 32, 0, 16, 0, 31), (0, 32, 16, 31, 0, 31), (32, 63, 0, 16, 0, 31), (32, 63, 16, 31, 0, 31)]
+[(0, 31, 0, 31, 0, 15), (0, 31, 0, 31, 15, 31), (31, 47, 0, 31, 0, 31), (47, 63, 0, 31, 0, 31)]
 """
 from __future__ import annotations
 
@@ -82,7 +82,7 @@ def split_extents(whole: Sequence[int], count: int, axis: Optional[int] = None,
     >>> split_extents((0, 9, 0, 9, 0, 9), 3, axis=2)
     [(0, 9, 0, 9, 0, 3), (0, 9, 0, 9, 3, 6), (0, 9, 0, 9, 6, 9)]
     >>> split_extents((0, 9, 0, 9, 0, 9), 2, axis=1, ghost=1)
-    [(0, 9, 0, 6, 0, 9), (0, 9, 4, 9, 0, 9)]
+    [(0, 9, 0, 5, 0, 9), (0, 9, 3, 9, 0, 9)]
     """
     whole = tuple(int(v) for v in whole)
     if len(whole) != 6 or any(whole[2 * a + 1] < whole[2 * a] for a in range(3)):
@@ -228,7 +228,7 @@ def global_texture_box(piece_extent: Sequence[int], whole: Sequence[int]):
     Examples
     --------
     >>> global_texture_box((0, 3, 0, 3, 2, 3), (0, 3, 0, 3, 0, 3))
-    ([0.125, 0.125, -0.75], [0.875, 0.875, 1.25])
+    ([0.125, 0.125, -0.75], [0.875, 0.875, 0.75])
     """
     low, high = [], []
     for a in range(3):
