@@ -24,16 +24,17 @@ import os
 import tempfile
 
 import numpy as np
-from paraview import simple
-from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
-
-from mipcast.data_fixtures import make_fixture
-from mipcast.distributed import colour
-from mipcast.offscreen import OffscreenView
-from mipcast.plugin.distributed_paraview import distributed_mip, fetch_image
 
 
 def main():
+    from paraview import simple  # here, not at import: pytest's doctest collection imports this file
+    from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
+
+    from mipcast.data_fixtures import make_fixture
+    from mipcast.distributed import colour
+    from mipcast.offscreen import OffscreenView
+    from mipcast.plugin.distributed_paraview import distributed_mip, fetch_image
+
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--out", required=True)
     parser.add_argument("--connect", default=None, help="host:port of a pvserver")
