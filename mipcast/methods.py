@@ -78,6 +78,10 @@ class Method:
         A method without a float readout whose samples another method's
         readout reproduces exactly (stock VTK MIP: mipcast's ``"mip"``); the
         benchmark reads its error there.
+    distributed : str, optional
+        How bricks of a volume split across processes composite exactly
+        (:mod:`mipcast.distributed`): ``"max"``, the maximum of the bricks'
+        float readouts is the whole volume's; None: not distributed yet.
     bench : tuple of (label, samples_per_voxel, settings), optional
         Its rows in ``mipcast bench``: ``settings`` are ``(Name, value)``
         pairs for its setters; default one row, the method's own name at one
@@ -101,6 +105,7 @@ class Method:
     walks_cells: bool = False
     in_view: bool = True
     readout_by: Optional[str] = None
+    distributed: Optional[str] = None
     bench: Optional[Tuple[Tuple[str, Any, tuple], ...]] = None
     projection: str = "mip"
 
@@ -243,11 +248,11 @@ for _method in (
            bench=(("stock 1x", 1, ()), ("stock 2x", 2, ()), ("stock 4x", 4, ()), ("stock 8x", 8, ()))),
     Method("mip", "MIP", "sampled MIP through mipcast's own loop (samples at entry + k * step)",
            MIPVolumeMapper, reference=sampled_mip_reference, reference_tolerance=1e-4,
-           parameters=parameter_tables.MIP, foveation_layer=True,
+           parameters=parameter_tables.MIP, foveation_layer=True, distributed="max",
            bench=(("mip 1x", 1, ()), ("auto", "auto", ()))),
     Method("analytic", "Analytic MIP", "the exact maximum of the trilinear interpolant, cell by cell",
            AnalyticMIPVolumeMapper, reference=exact_mip_reference, reference_tolerance=1e-4,
-           parameters=parameter_tables.ANALYTIC, foveation_layer=True, walks_cells=True,
+           parameters=parameter_tables.ANALYTIC, foveation_layer=True, walks_cells=True, distributed="max",
            bench=(("analytic", None, ()), ("analytic, no skipping", None, (("Skipping", False),)))),
     Method("demip", "DEMIP", "MIP brightened where its material is near (depth-enhanced MIP, colour sphere)",
            DEMIPVolumeMapper, reference=demip_reference, reference_tolerance=1e-4,

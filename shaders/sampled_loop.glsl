@@ -33,17 +33,27 @@
 //   void mcEndSecondMarch(int found)          the index found, -1 if none.
 // Per-sample work is the hooks' only: every lane of a SIMD group runs the
 // same loop (llvmpipe runs lanes in lockstep).
+// Bricks of a distributed volume (mipcast.distributed): with the
+// global_phase piece installed (it defines MC_GLOBAL_PHASE and
+// mcGlobalPhase), sample i sits at mc_base + i * g_dirStep where mc_base is
+// the WHOLE volume's first sample along this ray, and first .. count - 1
+// are the whole volume's samples that lie in this brick: every brick takes
+// the single-process sample positions and indices.
   vec3 mc_limit = mix(in_texMin[0], in_texMax[0], vec3(greaterThan(g_dirStep, vec3(0.0))));
   vec3 mc_toExit = (mc_limit - g_dataPos) / g_dirStep;
   mc_toExit = mix(mc_toExit, vec3(1.0e30), vec3(equal(g_dirStep, vec3(0.0))));
   float mc_stepsInBox = min(min(mc_toExit.x, mc_toExit.y), mc_toExit.z);
+  vec3 mc_base = g_dataPos;
   int mc_first = 0;
   int mc_count = 1 + int(max(0.0, floor(mc_stepsInBox)));
   mc_count = min(mc_count, int(ceil(max(g_terminatePointMax, 0.0))) + 1);
+#ifdef MC_GLOBAL_PHASE
+  mcGlobalPhase(mc_stepsInBox, mc_base, mc_first, mc_count);
+#endif
   mcBeginRay(mc_first, mc_count);
   for (int mc_i = mc_first; mc_i < mc_count; ++mc_i)
   {
-    if (!mcSample(texture3D(in_volume[0], g_dataPos + float(mc_i) * g_dirStep).r, mc_i))
+    if (!mcSample(texture3D(in_volume[0], mc_base + float(mc_i) * g_dirStep).r, mc_i))
     {
       mc_count = mc_i;
       break;
@@ -57,7 +67,7 @@
     int mc_found = -1;
     for (int mc_j = mc_from; mc_j < mc_to; ++mc_j)
     {
-      if (mcSecondSample(texture3D(in_volume[0], g_dataPos + float(mc_j) * g_dirStep).r, mc_j))
+      if (mcSecondSample(texture3D(in_volume[0], mc_base + float(mc_j) * g_dirStep).r, mc_j))
       {
         mc_found = mc_j;
         break;

@@ -27,12 +27,15 @@ MAY_IMPORT = {
     "mappers": {"core", "shaders"},
     "methods": {"core", "reference", "mappers"},
     "offscreen": {"core", "mappers", "methods"},
+    "distributed": {"core", "mappers", "methods", "offscreen"},
     "mipcast": {"core", "mappers", "methods"},
-    "bench": {"core", "reference", "mappers", "methods", "offscreen", "io", "data_fixtures", "mipcast"},
+    "bench": {"core", "reference", "mappers", "methods", "offscreen", "distributed", "io", "data_fixtures",
+              "mipcast"},
     "filters": {"core", "mappers", "methods", "offscreen", "io", "data_fixtures", "mipcast"},
     "app": {"core", "reference", "mappers", "methods", "offscreen", "io", "data_fixtures", "bench",
             "filters", "mipcast"},
-    "plugin": {"core", "reference", "mappers", "methods", "offscreen", "io", "data_fixtures", "mipcast"},
+    "plugin": {"core", "reference", "mappers", "methods", "offscreen", "distributed", "io", "data_fixtures",
+               "mipcast"},
 }
 
 

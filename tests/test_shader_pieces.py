@@ -182,7 +182,8 @@ def test_no_piece_but_the_loops_marches(name):
 
 def test_the_loop_samples_at_entry_plus_i_steps_and_calls_every_hook():
     code = _code(load_piece(SAMPLED_LOOP))
-    assert code.count("g_dataPos + float(mc_") == 2
+    assert code.count("mc_base + float(mc_") == 2
+    assert "vec3 mc_base = g_dataPos;" in code  # moved only by the global_phase piece (distributed bricks)
     for hook in list(SAMPLED_HOOKS) + ["mcBeginSecondMarch", "mcSecondSample", "mcEndSecondMarch"]:
         assert f"{hook}(" in code
 

@@ -93,8 +93,16 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         return self._with_readout(self.PIECES)
 
     def _with_readout(self, names) -> tuple:
-        """``names``, adapted for a float readout while one renders (else unchanged)."""
-        if not object_state(self).get("exact_readout"):
+        """``names``, adapted for a float readout while one renders (else unchanged).
+
+        A brick of a distributed volume (``global_box`` in the mapper's state,
+        set by :mod:`mipcast.distributed`) also gets ``global_phase``: the
+        sampled loop then takes the whole volume's sample positions.
+        """
+        state = object_state(self)
+        if state.get("global_box") is not None and "sampled_loop" in names:
+            names = tuple(names) + ("global_phase",)
+        if not state.get("exact_readout"):
             return tuple(names)
         # rendering to image: VTK's ray set-up with the viewport-offset fix (it also refuses)
         return tuple("image_terminate" if n == "refusal" else n for n in names) + ("float_readout",)

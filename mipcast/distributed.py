@@ -1,0 +1,400 @@
+"""Exact MIP of a volume split across MPI ranks: each rank renders its brick, a MAX reduction composites.
+
+ParaView composites volumes by ordered alpha blending, which is wrong for
+MIP. MIP needs no order: the maximum of the bricks' maxima is the maximum.
+Here each rank renders its brick (a vtkImageData whose extent is a part of
+the whole extent, sharing at least one layer of points with its neighbours)
+with the WHOLE volume's camera into a float readout (data units), and one
+``MPI_Allreduce(MAX)`` over float32 images makes the whole volume's float
+image on every rank; the colour is applied after the reduction, through the
+volume property's transfer functions.
+
+- Analytic MIP (cell walking): a cell lies entirely in one brick (or in two,
+  on a shared layer), so the maximum over the bricks is the maximum over the
+  whole volume's cells.
+- Sampled MIP: each brick takes the whole volume's sample positions
+  (whole-box entry + (1 + k) * step along the ray, the ``global_phase``
+  shader piece), so the bricks together take exactly the single-process
+  samples.
+
+Only methods whose :class:`mipcast.methods.Method` entry has
+``distributed="max"`` are accepted. mpi4py provides the communicator
+(``from mpi4py import MPI``; inside ``pvbatch --symmetric`` too); without
+mpi4py a job of one process runs (:class:`OneRank`).
+
+Examples
+--------
+>>> split_extents((0, 63, 0, 63, 0, 63), 2, axis=0)
+[(0, 31, 0, 63, 0, 63), (31, 63, 0, 63, 0, 63)]
+>>> split_extents((0, 63, 0, 31, 0, 31), 4)
+[(0, 31, 0, 31, 0, 15), (0, 31, 0, 31, 15, 31), (31, 47, 0, 31, 0, 31), (47, 63, 0, 31, 0, 31)]
+"""
+from __future__ import annotations
+
+import contextlib
+import sys
+import time
+import traceback
+from typing import List, Optional, Sequence, Tuple
+
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkImagingCore import vtkImageClip
+
+from mipcast import methods
+from mipcast.core.object_state import object_state
+from mipcast.core.parameters import set_parameters
+from mipcast.core.validation import check_choice, check_image
+from mipcast.offscreen import OffscreenView, set_view
+
+Extent = Tuple[int, int, int, int, int, int]
+
+#: Reduced values below this are "no sample" (a brick's empty ray), not data.
+_NO_SAMPLE = -1.0e20
+
+
+def split_extents(whole: Sequence[int], count: int, axis: Optional[int] = None,
+                  ghost: int = 0) -> List[Extent]:
+    """Split ``whole`` into ``count`` bricks that share a layer of points (plus ``ghost`` layers).
+
+    Parameters
+    ----------
+    whole : sequence of 6 int
+        The whole extent (x0, x1, y0, y1, z0, z1).
+    count : int
+        Number of bricks (>= 1).
+    axis : int, optional
+        0, 1 or 2: slabs along that axis.  Default: a D3-style recursive
+        bisection (the longest axis of each part is halved, the ranks split
+        in proportion).
+    ghost : int, default: 0
+        Extra layers of points each brick takes beyond the shared layer.
+
+    Returns
+    -------
+    list of tuple
+        One extent per brick, in rank order.  Adjacent bricks share the
+        point layer at their common face, so every cell lies in a brick.
+
+    Examples
+    --------
+    >>> split_extents((0, 9, 0, 9, 0, 9), 3, axis=2)
+    [(0, 9, 0, 9, 0, 3), (0, 9, 0, 9, 3, 6), (0, 9, 0, 9, 6, 9)]
+    >>> split_extents((0, 9, 0, 9, 0, 9), 2, axis=1, ghost=1)
+    [(0, 9, 0, 5, 0, 9), (0, 9, 3, 9, 0, 9)]
+    """
+    whole = tuple(int(v) for v in whole)
+    if len(whole) != 6 or any(whole[2 * a + 1] < whole[2 * a] for a in range(3)):
+        raise ValueError(f"whole extent must be (x0, x1, y0, y1, z0, z1) with x0 <= x1 ..., got {whole}")
+    if int(count) < 1:
+        raise ValueError(f"count must be at least 1, got {count}")
+    if axis is not None and axis not in (0, 1, 2):
+        raise ValueError(f"axis must be 0, 1, 2 or None (D3-style bisection), got {axis!r}")
+    if int(ghost) < 0:
+        raise ValueError(f"ghost must be >= 0, got {ghost}")
+    bricks = _slabs(whole, int(count), axis) if axis is not None else _bisect(whole, int(count))
+    out = []
+    for brick in bricks:
+        grown = []
+        for a in range(3):
+            grown += [max(whole[2 * a], brick[2 * a] - ghost), min(whole[2 * a + 1], brick[2 * a + 1] + ghost)]
+        out.append(tuple(grown))
+    return out
+
+
+def _slabs(whole, count, axis):
+    low, high = whole[2 * axis], whole[2 * axis + 1]
+    cells = high - low
+    if cells < count:
+        raise ValueError(f"cannot split {cells} cells along axis {axis} into {count} bricks")
+    cuts = [low + (cells * j) // count for j in range(count + 1)]
+    bricks = []
+    for j in range(count):
+        brick = list(whole)
+        brick[2 * axis], brick[2 * axis + 1] = cuts[j], cuts[j + 1]
+        bricks.append(tuple(brick))
+    return bricks
+
+
+def _bisect(whole, count):
+    if count == 1:
+        return [tuple(whole)]
+    axis = max(range(3), key=lambda a: (whole[2 * a + 1] - whole[2 * a], a))
+    left = count // 2
+    low, high = whole[2 * axis], whole[2 * axis + 1]
+    if high - low < 2:
+        raise ValueError(f"cannot split the extent {whole} into {count} bricks")
+    cut = low + ((high - low) * left) // count
+    first, second = list(whole), list(whole)
+    first[2 * axis + 1] = cut
+    second[2 * axis] = cut
+    return _bisect(tuple(first), left) + _bisect(tuple(second), count - left)
+
+
+def extract_piece(image, extent: Sequence[int]):
+    """The brick ``extent`` of ``image``: a new vtkImageData keeping the whole volume's indices.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> extract_piece(make_fixture("vessels", size=16), (0, 15, 0, 15, 4, 9)).GetExtent()
+    (0, 15, 0, 15, 4, 9)
+    """
+    clip = vtkImageClip()
+    clip.SetInputData(image)
+    clip.SetOutputWholeExtent(*[int(v) for v in extent])
+    clip.ClipDataOn()
+    clip.Update()
+    piece = vtkImageData()
+    piece.DeepCopy(clip.GetOutput())
+    return piece
+
+
+class OneRank:
+    """The communicator of a job of one process, where mpi4py is missing: reductions are the identity.
+
+    Examples
+    --------
+    >>> OneRank().rank, OneRank().size
+    (0, 1)
+    """
+
+    rank = 0
+    size = 1
+
+    def Abort(self, code: int = 1) -> None:  # noqa: N802  (mpi4py's name)
+        """End this process (there is no other)."""
+        import os
+
+        os._exit(code)
+
+
+def world_communicator():
+    """``mpi4py.MPI.COMM_WORLD``; a :class:`OneRank` where mpi4py is not installed.
+
+    Examples
+    --------
+    >>> world_communicator().rank
+    0
+    """
+    try:
+        from mpi4py import MPI
+    except ImportError:
+        return OneRank()
+    return MPI.COMM_WORLD
+
+
+def _reduce_inplace(comm, array: np.ndarray, op: str) -> np.ndarray:
+    """``Allreduce(IN_PLACE, array, op)`` (``"max"`` or ``"min"``); identity for :class:`OneRank`."""
+    if not isinstance(comm, OneRank):
+        from mpi4py import MPI
+
+        comm.Allreduce(MPI.IN_PLACE, array, op=MPI.MAX if op == "max" else MPI.MIN)
+    return array
+
+
+def whole_extent(piece, comm) -> Extent:
+    """The extent the ranks' bricks span together (an MPI reduction of the bricks' extents)."""
+    extent = piece.GetExtent()
+    lows = _reduce_inplace(comm, np.array(extent[0::2], dtype=np.int64), "min")
+    highs = _reduce_inplace(comm, np.array(extent[1::2], dtype=np.int64), "max")
+    return tuple(int(v) for pair in zip(lows, highs) for v in pair)
+
+
+def whole_range(piece, comm) -> Tuple[float, float]:
+    """The scalar range over every rank's brick."""
+    low, high = piece.GetPointData().GetScalars().GetRange(0)
+    return (float(_reduce_inplace(comm, np.array([low]), "min")[0]),
+            float(_reduce_inplace(comm, np.array([high]), "max")[0]))
+
+
+def _whole_stub(piece, extent):
+    """A scalar-less image with the whole volume's geometry (for the camera and the bounds)."""
+    stub = vtkImageData()
+    stub.SetExtent(*extent)
+    stub.SetOrigin(piece.GetOrigin())
+    stub.SetSpacing(piece.GetSpacing())
+    stub.SetDirectionMatrix(piece.GetDirectionMatrix())
+    return stub
+
+
+def global_texture_box(piece_extent: Sequence[int], whole: Sequence[int]):
+    """The whole volume's point bounds in the brick's texture coordinates (min, max).
+
+    VTK's 3D texture of a brick with ``d`` points along an axis puts point
+    ``i`` (of the brick's extent starting at ``e0``) at ``(i - e0 + 0.5) / d``.
+
+    Examples
+    --------
+    >>> global_texture_box((0, 3, 0, 3, 2, 3), (0, 3, 0, 3, 0, 3))
+    ([0.125, 0.125, -0.75], [0.875, 0.875, 0.75])
+    """
+    low, high = [], []
+    for a in range(3):
+        e0, e1 = piece_extent[2 * a], piece_extent[2 * a + 1]
+        d = e1 - e0 + 1
+        low.append((whole[2 * a] - e0 + 0.5) / d)
+        high.append((whole[2 * a + 1] - e0 + 0.5) / d)
+    return low, high
+
+
+class DistributedView:
+    """One rank's part of an exact distributed MIP: its brick, the whole volume's camera.
+
+    Every rank of ``comm`` constructs one with its own brick and the same
+    other arguments, then calls :meth:`float_image` or :meth:`screenshot`
+    together (they are collective).
+
+    Parameters
+    ----------
+    piece : vtkImageData
+        This rank's brick (extent within the whole extent; bricks share at
+        least one layer of points, e.g. :func:`split_extents`, ParaView's
+        readers, RedistributeDataSet with ghost cells).
+    method : str, default: "mip"
+        A method whose table entry has ``distributed="max"`` (``mip``, ``analytic``).
+    size, view, sample_distance
+        As :class:`mipcast.offscreen.OffscreenView`, for the whole volume
+        (the camera frames the whole volume; default sample distance: the
+        smallest spacing).
+    window : tuple of float or "full", default: "full"
+        Grey window in data units; ``"full"`` the whole volume's range.
+    comm : mpi4py communicator, optional
+        Default ``MPI.COMM_WORLD``.
+    max_voxels : int, optional
+        A rank's texture budget: a brick with more points is refused with a
+        message (the whole volume then needs more ranks).
+    time_wait : bool, default: False
+        Wait for every rank before the reduction (a barrier), so that
+        ``last_times["composite"]`` is the reduction alone and
+        ``last_times["wait"]`` the load imbalance (benchmarks).
+    **settings
+        The method's parameters, as :func:`mipcast.core.parameters.set_parameters`.
+
+    Examples
+    --------
+    Under ``mpiexec -n 2 pvbatch --symmetric script.py`` (each rank):
+
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> image = make_fixture("vessels", size=32)
+    >>> comm = world_communicator()          # one rank here: the whole volume
+    >>> brick = extract_piece(image, split_extents(image.GetExtent(), comm.size, 2)[comm.rank])
+    >>> view = DistributedView(brick, "analytic", size=(32, 32), comm=comm)
+    >>> view.float_image().shape
+    (32, 32)
+    """
+
+    def __init__(self, piece, method: str = "mip", size=(256, 256), view: str = "oblique",
+                 sample_distance: Optional[float] = None, window="full", comm=None,
+                 max_voxels: Optional[int] = None, time_wait: bool = False, **settings) -> None:
+        check_image(piece)
+        entry = methods.METHODS[check_choice("method", method, tuple(methods.METHODS))]
+        if entry.distributed != "max":
+            able = [m.name for m in methods.METHODS.values() if m.distributed == "max"]
+            raise ValueError(f"method {method!r} has no exact distributed composite yet; "
+                             f"use one of {able}, or render the whole volume on one rank")
+        self.comm = world_communicator() if comm is None else comm
+        self.whole_extent = whole_extent(piece, self.comm)
+        points = int(np.prod([piece.GetExtent()[2 * a + 1] - piece.GetExtent()[2 * a] + 1 for a in range(3)]))
+        if max_voxels is not None and points > int(max_voxels):
+            raise ValueError(f"rank {self.comm.rank}: brick {piece.GetExtent()} has {points} points, over this "
+                             f"rank's texture budget of {int(max_voxels)}: run more ranks (mpiexec -n) "
+                             "or split the volume finer")
+        if isinstance(window, str):
+            if window != "full":
+                raise ValueError(f"window must be (low, high) or 'full', got {window!r}")
+            window = whole_range(piece, self.comm)
+        stub = _whole_stub(piece, self.whole_extent)
+        if sample_distance is None:
+            sample_distance = min(abs(s) for s in piece.GetSpacing())
+        self.local = OffscreenView(piece, method, size, "front", sample_distance, tuple(window))
+        set_view(self.local.renderer, stub, view)
+        if settings:
+            set_parameters(self.local.mapper, **settings)
+        self.window = self.local.window
+        texture_min, texture_max = global_texture_box(piece.GetExtent(), self.whole_extent)
+        object_state(self.local.mapper)["global_box"] = (texture_min, texture_max)
+        uniforms = self.local.volume.GetShaderProperty().GetFragmentCustomUniforms()
+        uniforms.SetUniform3f("u_mc_globalTexMin", texture_min)
+        uniforms.SetUniform3f("u_mc_globalTexMax", texture_max)
+        self.local.mapper.Modified()
+        self.time_wait = bool(time_wait)
+        #: Seconds of the last frame: ``render`` (this rank's brick), ``wait`` (for the
+        #: other ranks, with ``time_wait``), ``composite`` (the reduction).
+        self.last_times = {"render": 0.0, "wait": 0.0, "composite": 0.0}
+
+    @property
+    def camera(self):
+        """This rank's vtkCamera (the same on every rank)."""
+        return self.local.camera
+
+    def float_image(self) -> np.ndarray:
+        """Collective: the whole volume's float image (data units, NaN = miss), on every rank."""
+        start = time.perf_counter()
+        local = self.local.float_image()
+        #: This rank's own float image of its brick (the last frame), before the reduction.
+        self.last_local = local
+        middle = time.perf_counter()
+        if self.time_wait and not isinstance(self.comm, OneRank):
+            self.comm.Barrier()
+        ready = time.perf_counter()
+        values = np.where(np.isnan(local), -np.inf, local).astype(np.float32)
+        _reduce_inplace(self.comm, values, "max")
+        self.last_times = {"render": middle - start, "wait": ready - middle,
+                           "composite": time.perf_counter() - ready}
+        return np.where(values < _NO_SAMPLE, np.nan, values).astype(np.float32)
+
+    def screenshot(self) -> np.ndarray:
+        """Collective: the picture (uint8 RGB, top row first): the reduced float image coloured."""
+        return colour(self.float_image(), self.local.volume.GetProperty())
+
+
+def colour(values: np.ndarray, volume_property) -> np.ndarray:
+    """Colour a float image (data units, NaN = miss) as mipcast's MIP does, over a black background.
+
+    The colour and scalar-opacity transfer functions of ``volume_property``
+    at each value, premultiplied by the opacity.
+
+    Examples
+    --------
+    >>> from mipcast.offscreen import grey_property
+    >>> colour(np.array([[0.0, 0.5, np.nan]]), grey_property((0.0, 1.0)))[0, :, 0].tolist()
+    [0, 128, 0]
+    """
+    values = np.asarray(values, dtype=np.float64)
+    hit = ~np.isnan(values)
+    flat = np.where(hit, values, 0.0).ravel()
+    scalars = numpy_to_vtk(flat, deep=True)
+    rgb = vtk_to_numpy(volume_property.GetRGBTransferFunction().MapScalars(scalars, 0, -1))[:, :3]
+    opacity_function = volume_property.GetScalarOpacity()
+    opacity = np.array([opacity_function.GetValue(v) for v in flat])
+    out = rgb.astype(np.float64) * opacity[:, None]
+    out = np.where(hit.ravel()[:, None], out, 0.0)
+    return np.clip(np.rint(out), 0, 255).astype(np.uint8).reshape(values.shape + (3,))
+
+
+@contextlib.contextmanager
+def abort_on_error(comm=None):
+    """Collective work inside this block: an exception on one rank ends every rank, with its message.
+
+    Without it a rank that fails leaves the others waiting in the next
+    reduction for ever; here the failing rank prints the traceback, names
+    itself and calls ``MPI_Abort``, which ends the whole job.
+
+    Examples
+    --------
+    >>> with abort_on_error(world_communicator()):
+    ...     pass
+    """
+    comm = world_communicator() if comm is None else comm
+    try:
+        yield
+    except BaseException as error:  # noqa: BLE001  (SystemExit too: the others would hang)
+        if isinstance(error, SystemExit) and not error.code:
+            raise
+        traceback.print_exc()
+        sys.stderr.write(f"mipcast.distributed: rank {comm.rank} of {comm.size} failed ({error!r}); "
+                         "aborting the job\n")
+        sys.stderr.flush()
+        comm.Abort(1)
