@@ -127,20 +127,28 @@ def _demip_two_pass() -> DEMIPTwoPassVolumeMapper:
 
 
 # -- references, one signature ---------------------------------------------------
-def sampled_mip_reference(image, camera, size, *, sample_distance: float, window=None) -> np.ndarray:
-    """The maximum of the samples at ``entry + k * sample_distance`` (float64)."""
-    return reference.render(image, camera, size, "mip", sample_distance=sample_distance)
+def sampled_mip_reference(image, camera, size, *, sample_distance: float, window=None,
+                          clip_planes=None) -> np.ndarray:
+    """The maximum of the samples at ``entry + k * sample_distance`` (float64).
+
+    ``clip_planes`` (every reference takes it): ``(origins, normals)`` in world
+    coordinates, see :func:`mipcast.reference.render`.
+    """
+    return reference.render(image, camera, size, "mip", sample_distance=sample_distance,
+                            clip_planes=clip_planes)
 
 
-def exact_mip_reference(image, camera, size, *, sample_distance=None, window=None) -> np.ndarray:
+def exact_mip_reference(image, camera, size, *, sample_distance=None, window=None,
+                        clip_planes=None) -> np.ndarray:
     """The exact maximum of the trilinear interpolant along each ray (float64)."""
-    return reference.render(image, camera, size, "analytic")
+    return reference.render(image, camera, size, "analytic", clip_planes=clip_planes)
 
 
-def demip_reference(image, camera, size, *, sample_distance: float, window, **params) -> np.ndarray:
+def demip_reference(image, camera, size, *, sample_distance: float, window, clip_planes=None,
+                    **params) -> np.ndarray:
     """DEMIP's float readout (the ray's value) in float64."""
     return reference.render(image, camera, size, "demip", sample_distance=sample_distance,
-                            window=window, output="value", **params)
+                            window=window, output="value", clip_planes=clip_planes, **params)
 
 
 _DEMIP_BENCH = (

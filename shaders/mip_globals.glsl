@@ -31,6 +31,33 @@ void mcRefuseIfAsked()
   }
 }
 
+// Clipping planes, cropping box and slab (mipcast/mappers/clip_uniforms.py):
+// u_mc_clipCount planes, plane k = (a, b, c, d) = u_mc_clipPlanes[4k .. 4k+3]
+// in texture coordinates, keeping the points p with a p.x + b p.y + c p.z + d
+// >= 0. Narrows [lo, hi] of the ray p(s) = start + s * dir to the kept part
+// (lo > hi: nothing is kept). Once per ray, never per sample.
+void mcClipRange(vec3 start, vec3 dir, inout float lo, inout float hi)
+{
+  for (int k = 0; k < u_mc_clipCount; ++k)
+  {
+    vec3 normal = vec3(u_mc_clipPlanes[4 * k], u_mc_clipPlanes[4 * k + 1], u_mc_clipPlanes[4 * k + 2]);
+    float at0 = dot(normal, start) + u_mc_clipPlanes[4 * k + 3];
+    float rate = dot(normal, dir);
+    if (rate > 0.0)
+    {
+      lo = max(lo, -at0 / rate);
+    }
+    else if (rate < 0.0)
+    {
+      hi = min(hi, -at0 / rate);
+    }
+    else if (at0 < 0.0)
+    {
+      hi = -1.0e30;
+    }
+  }
+}
+
 // VTK's ray bookkeeping (as at Terminate::Init) for a ray that ends at the
 // window point `at` (0..1 in the image) and NDC depth ndcDepth.
 void mcSetRayEnd(vec2 at, float ndcDepth)

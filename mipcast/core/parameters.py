@@ -274,6 +274,10 @@ def check_values(table: Sequence[Parameter], params: Mapping, what: str) -> Dict
     return values
 
 
+#: Short names front ends accept for parameters (``slab=20`` is ``slab_thickness=20``).
+ALIASES = {"slab": "slab_thickness"}
+
+
 def set_parameters(mapper, **params) -> None:
     """Set method parameters on a mapper through its VTK-style setters.
 
@@ -312,6 +316,7 @@ def set_parameters(mapper, **params) -> None:
     TypeError: MIPVolumeMapper has no parameter 'no_such_weight' (no SetNoSuchWeight): ...
     """
     setters = {}
+    params = {ALIASES.get(name, name): value for name, value in params.items()}
     for name, value in params.items():
         setter = getattr(mapper, setter_name(name), None)
         if not callable(setter):

@@ -8,7 +8,8 @@ from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 from mipcast.core import parameter_tables
 from mipcast.core.object_state import object_state
 from mipcast.core.parameters import defaults, parameter_accessors, uniform_values
-from mipcast.mappers import shader_pieces
+from mipcast.mappers import clip_uniforms, shader_pieces
+from mipcast.mappers.private_draw import rendering_renderer
 from mipcast.core.validation import check_image
 
 
@@ -72,6 +73,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
             self.Detach()
         self._install_pieces(volume)
         volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniformf("u_mc_refused", 0.0)
+        clip_uniforms.push(volume.GetShaderProperty().GetFragmentCustomUniforms(), ())
         link = vtkWeakReference()  # a C++ weak pointer: Python wrappers come and go
         link.Set(volume)
         object_state(self)["volume"] = link
@@ -101,7 +103,9 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
 
     def _install_pieces(self, volume) -> None:
         names = self.GetShaderPieces()
-        shader_pieces.install(volume.GetShaderProperty(), [shader_pieces.load_piece(n) for n in names])
+        # every method: VTK's clipping set-up off, mipcast's loops clip (clip_uniforms)
+        shader_pieces.install(volume.GetShaderProperty(),
+                              [shader_pieces.load_piece(n) for n in names + ("clipping_off",)])
         object_state(self)["installed"] = names
 
     def Detach(self) -> None:
@@ -134,6 +138,9 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         image = self.GetInput()
         if image is None:
             return "no input: call SetInputData(image) or SetInputConnection(port)"
+        clipping = clip_uniforms.clipping_problem(self)
+        if clipping is not None:
+            return clipping
         state = object_state(self)
         stamp = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime())
         if state.get("checked_input") != stamp:
@@ -175,6 +182,18 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
                 uniforms.SetUniformf(name, float(value))
         self._push_derived_uniforms(uniforms, settings)
 
+    def _slab_settings(self) -> tuple:
+        """``(thickness, centre, normal)`` of the slab (the ``SLAB`` parameters; 0: none)."""
+        params = self._parameters()
+        return (params.get("slab_thickness", 0.0), params.get("slab_centre"), params.get("slab_normal"))
+
+    def _push_clipping(self, volume) -> None:
+        """Upload the planes this render clips with (clipping planes, cropping box, slab)."""
+        renderer = rendering_renderer(self, volume)
+        camera = renderer.GetActiveCamera() if renderer is not None else None
+        rows = clip_uniforms.texture_rows(self, self.GetInput(), volume, camera)
+        clip_uniforms.push(volume.GetShaderProperty().GetFragmentCustomUniforms(), rows)
+
     def _derived_settings(self) -> dict:
         """Values besides the parameters that the table's uniforms depend on (e.g. the window)."""
         return {}
@@ -207,6 +226,7 @@ def _check_before_render(mapper, event) -> None:
         if object_state(mapper).get("installed") != mapper.GetShaderPieces():
             mapper._install_pieces(volume)
         mapper._push_uniforms(volume.GetShaderProperty().GetFragmentCustomUniforms())
+        mapper._push_clipping(volume)
         return
     vtkOutputWindow.GetInstance().DisplayErrorText(f"{type(mapper).__name__}: {problem}\n")
     mapper.InvokeEvent(vtkCommand.ErrorEvent)

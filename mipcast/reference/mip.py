@@ -7,8 +7,13 @@ from mipcast.reference.rays import BUDGET, cells, gather, trilinear
 
 
 def sampled_maximum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-         length: np.ndarray, step: float) -> np.ndarray:
-    """VTK-style sampled maximum along rays starting at their box entry."""
+         length: np.ndarray, step: float, keep=None) -> np.ndarray:
+    """VTK-style sampled maximum along rays starting at their box entry.
+
+    ``keep = (lo, hi)`` (N,): only samples with ``lo <= k * step <= hi`` count
+    (a clipped ray keeps the unclipped ray's sample positions); ``-inf`` where
+    none is left.
+    """
     count = np.maximum(1, np.floor(length / step + 1e-9)).astype(np.int64)
     best = np.full(len(length), -np.inf)
     first = 1
@@ -18,6 +23,9 @@ def sampled_maximum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray
         position = entry[rows, None, :] + (k[:, None] * step) * direction[rows, None, :]
         sample = trilinear(values, position.reshape(-1, 3)).reshape(len(rows), len(k))
         sample[k > count[rows, None]] = -np.inf
+        if keep is not None:
+            at = k * step
+            sample[(at < keep[0][rows, None]) | (at > keep[1][rows, None])] = -np.inf
         best[rows] = np.maximum(best[rows], sample.max(axis=1))
         first = k[-1] + 1
     return best
