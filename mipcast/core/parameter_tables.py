@@ -184,4 +184,4 @@ FOVEATED = (
               "How peripheral levels sample along their rays: no farther apart than the level's rays "
               "(footprint, default), the paper's one level per image level (level), or full-quality "
               "sampling (rays).", choices=foveation.SAMPLING_POLICIES),
-)
+) + SLAB

@@ -136,3 +136,38 @@ def push(uniforms, rows: np.ndarray) -> None:
     values[:len(rows)] = rows
     uniforms.SetUniformi("u_mc_clipCount", len(rows))
     uniforms.SetUniform1fv("u_mc_clipPlanes", 4 * MAX_PLANES, [float(v) for v in values.ravel()])
+
+
+SLAB_NAMES = ("slab_thickness", "slab_centre", "slab_normal")
+
+
+def copy_clipping(source, target) -> None:
+    """Give a private mapper (a foveation level, a first pass) ``source``'s planes, cropping and slab.
+
+    Setters are called only where values differ (nothing is rebuilt).  The
+    private mapper draws outside the renderer's props, so it also gets the
+    camera its slab follows (``object_state(target)["clip_camera"]``).
+    """
+    from mipcast.core.object_state import object_state
+    from mipcast.mappers.private_draw import rendering_renderer
+
+    volume = source.GetAttachedVolume() if hasattr(source, "GetAttachedVolume") else None
+    renderer = rendering_renderer(source, volume) if volume is not None else None
+    object_state(target)["clip_camera"] = renderer.GetActiveCamera() if renderer is not None else None
+    planes = source.GetClippingPlanes()
+    if target.GetClippingPlanes() is not planes:
+        target.SetClippingPlanes(planes)
+    if target.GetCropping() != source.GetCropping():
+        target.SetCropping(source.GetCropping())
+    if target.GetCroppingRegionPlanes() != source.GetCroppingRegionPlanes():
+        target.SetCroppingRegionPlanes(*source.GetCroppingRegionPlanes())
+    if target.GetCroppingRegionFlags() != source.GetCroppingRegionFlags():
+        target.SetCroppingRegionFlags(source.GetCroppingRegionFlags())
+    source_slab = getattr(source, "_slab_settings", None)
+    target_params = getattr(target, "_parameters", None)
+    if source_slab is None or target_params is None:
+        return
+    params = target_params()
+    for name, value in zip(SLAB_NAMES, source_slab()):
+        if name in params and params[name] != value:
+            target._set_parameter(name, value)

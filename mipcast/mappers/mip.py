@@ -190,7 +190,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     def _push_clipping(self, volume) -> None:
         """Upload the planes this render clips with (clipping planes, cropping box, slab)."""
         renderer = rendering_renderer(self, volume)
-        camera = renderer.GetActiveCamera() if renderer is not None else None
+        camera = renderer.GetActiveCamera() if renderer is not None else object_state(self).get("clip_camera")
         rows = clip_uniforms.texture_rows(self, self.GetInput(), volume, camera)
         clip_uniforms.push(volume.GetShaderProperty().GetFragmentCustomUniforms(), rows)
 
