@@ -166,3 +166,41 @@ def test_slab_parameters_are_checked_and_shared_by_every_method_table():
     for name, method in METHODS.items():
         if method.float_readout:
             assert {"slab_thickness", "slab_centre", "slab_normal"} <= {p.name for p in method.parameters}, name
+
+
+def test_command_line_slab_and_slab_sweep(tmp_path, capsys):
+    from PIL import Image
+    from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
+
+    from mipcast.app.cli import main
+
+    source = tmp_path / "fb.vti"
+    writer = vtkXMLImageDataWriter()
+    writer.SetInputData(make_fixture("frontback", size=16))
+    writer.SetFileName(str(source))
+    writer.Write()
+    assert main(["render", str(source), "--method", "analytic", "--view", "front", "--size", "32", "32",
+                 "--out", str(tmp_path / "whole.png")]) == 0
+    assert main(["render", str(source), "--method", "analytic", "--view", "front", "--size", "32", "32",
+                 "--out", str(tmp_path / "slab.png"), "--slab", "4", "--slab-centre", "7.5", "7.5", "4"]) == 0
+    whole = np.asarray(Image.open(tmp_path / "whole.png"))
+    slab = np.asarray(Image.open(tmp_path / "slab.png"))
+    assert whole.max() > 200 and slab.max() > 200 and not np.array_equal(whole, slab)
+    out = tmp_path / "sweep.gif"
+    assert main(["render", str(source), "--method", "mip", "--view", "front", "--size", "24", "24",
+                 "--out", str(out), "--slab", "4", "--slab-sweep", "3"]) == 0
+    assert Image.open(out).n_frames == 3
+    assert main(["render", str(source), "--method", "stock", "--out", str(tmp_path / "s.png"),
+                 "--slab", "4"]) == 2
+    assert "no parameter 'slab_thickness'" in capsys.readouterr().err
+
+
+def test_pyvista_slab_keyword():
+    import pyvista as pv
+    import mipcast.filters  # noqa: F401
+
+    grid = pv.wrap(make_fixture("frontback", size=16))
+    whole = grid.mip.render("analytic", size=(24, 24), as_float=True)
+    slab = grid.mip.render("analytic", size=(24, 24), as_float=True, slab=3.0)
+    # the slab through the centre (the focal point) lies between the two balls
+    assert np.nanmax(whole) > 0.9 and 0.05 <= np.nanmax(slab) < 0.5
