@@ -204,3 +204,19 @@ def test_pyvista_slab_keyword():
     slab = grid.mip.render("analytic", size=(24, 24), as_float=True, slab=3.0)
     # the slab through the centre (the focal point) lies between the two balls
     assert np.nanmax(whole) > 0.9 and 0.05 <= np.nanmax(slab) < 0.5
+
+
+def test_viewer_moves_the_slab_with_its_keys():
+    from mipcast.app.viewer import _Viewer
+
+    viewer = _Viewer(make_fixture("frontback", size=16), "analytic", window_size=(48, 48), off_screen=True,
+                     params={"slab_thickness": 4.0}, view="front")
+    first = viewer.plotter.screenshot()
+    viewer.move_slab(-3)   # towards the camera (on the +z side): the high-z ball
+    centre = viewer.mapper.GetSlabCentre()
+    assert centre is not None and centre[2] > 7.5
+    moved = viewer.plotter.screenshot()
+    assert not np.array_equal(first, moved) and moved.max() > 100
+    viewer.move_slab(100)  # clamped to the volume
+    assert viewer.mapper.GetSlabCentre()[2] >= -1e-9
+    viewer.plotter.close()
