@@ -220,3 +220,29 @@ def test_viewer_moves_the_slab_with_its_keys():
     viewer.move_slab(100)  # clamped to the volume
     assert viewer.mapper.GetSlabCentre()[2] >= -1e-9
     viewer.plotter.close()
+
+
+@pytest.mark.parametrize("mode", ["eye_distance", "entry_plus_length", "window"])
+def test_demip_depth_is_normalised_over_the_slab(mode):
+    from mipcast import reference
+    from mipcast.mappers.demip import render_depth
+
+    n = 24
+    image = make_fixture("frontback", size=n)
+    scene = OffscreenView(image, "demip", size=(40, 40), view="front")
+    scene.mapper.SetDepthMode(mode)
+    scene.mapper.SetSlabThickness(8.0)
+    scene.mapper.SetSlabCentre(11.5, 11.5, 0.75 * n)  # around the high-z (near) ball
+    camera = scene.camera
+    middle = float(np.subtract((11.5, 11.5, 0.75 * n), camera.GetPosition()) @ camera.GetDirectionOfProjection())
+    depth = render_depth(scene.render_window, scene.mapper)
+    expected = reference.render(image, camera, scene.size, method="demip", sample_distance=scene.sample_distance,
+                                window=scene.window, output="depth", depth_mode=mode,
+                                clip_planes=slab_planes(8.0, (11.5, 11.5, 0.75 * n),
+                                                        camera.GetDirectionOfProjection()),
+                                depth_range=(middle - 4.0, middle + 4.0))
+    both = np.isfinite(depth) & np.isfinite(expected)
+    assert both.mean() > 0.02 and np.mean(np.isnan(depth) != np.isnan(expected)) < 0.01
+    assert np.max(np.abs(depth[both] - expected[both])) <= 1e-3
+    # the ball's front (z ~ 0.75 n + 2.4) sits near the slab's near face: small depths over the slab
+    assert 0.0 <= np.median(depth[both]) < 0.5

@@ -96,6 +96,24 @@ def slab_of(mapper, camera) -> Optional[tuple]:
     return float(thickness), tuple(centre), tuple(normal)
 
 
+def slab_depth_range(mapper, camera) -> tuple:
+    """Eye depths ``(near, far)`` of a slab normal to the view direction (DEMIP normalises depth over it).
+
+    ``(-1e30, 1e30)`` without a slab, or for a slab at an angle to the view
+    direction (its depth range is then the box's).
+    """
+    slab = slab_of(mapper, camera)
+    if slab is None or camera is None:
+        return (-1.0e30, 1.0e30)
+    thickness, centre, normal = slab
+    view = np.array(camera.GetDirectionOfProjection(), float)
+    normal = np.array(normal, float) / np.linalg.norm(normal)
+    if abs(normal @ view) < 1.0 - 1.0e-6:
+        return (-1.0e30, 1.0e30)
+    middle = float((np.array(centre, float) - np.array(camera.GetPosition(), float)) @ view)
+    return (middle - 0.5 * thickness, middle + 0.5 * thickness)
+
+
 def world_to_texture(image, volume) -> np.ndarray:
     """4x4: world -> the volume texture's coordinates (point ``i`` at ``(i + 0.5) / N``)."""
     to_index, upper = index_space(image)
@@ -151,9 +169,11 @@ def copy_clipping(source, target) -> None:
     from mipcast.core.object_state import object_state
     from mipcast.mappers.private_draw import rendering_renderer
 
-    volume = source.GetAttachedVolume() if hasattr(source, "GetAttachedVolume") else None
-    renderer = rendering_renderer(source, volume) if volume is not None else None
-    object_state(target)["clip_camera"] = renderer.GetActiveCamera() if renderer is not None else None
+    settings = source._slab_settings() if hasattr(source, "_slab_settings") else (0.0, None, None)
+    if settings[0] and (settings[1] is None or settings[2] is None):  # the slab follows the camera
+        volume = source.GetAttachedVolume()
+        renderer = rendering_renderer(source, volume) if volume is not None else None
+        object_state(target)["clip_camera"] = renderer.GetActiveCamera() if renderer is not None else None
     planes = source.GetClippingPlanes()
     if target.GetClippingPlanes() is not planes:
         target.SetClippingPlanes(planes)

@@ -74,6 +74,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         self._install_pieces(volume)
         volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniformf("u_mc_refused", 0.0)
         clip_uniforms.push(volume.GetShaderProperty().GetFragmentCustomUniforms(), ())
+        volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniform2f("u_mc_slabDepth", [-1.0e30, 1.0e30])
         link = vtkWeakReference()  # a C++ weak pointer: Python wrappers come and go
         link.Set(volume)
         object_state(self)["volume"] = link
@@ -189,10 +190,15 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
 
     def _push_clipping(self, volume) -> None:
         """Upload the planes this render clips with (clipping planes, cropping box, slab)."""
-        renderer = rendering_renderer(self, volume)
-        camera = renderer.GetActiveCamera() if renderer is not None else object_state(self).get("clip_camera")
+        thickness, centre, normal = self._slab_settings()
+        camera = None
+        if thickness and (centre is None or normal is None):  # the slab follows the camera
+            renderer = rendering_renderer(self, volume)
+            camera = renderer.GetActiveCamera() if renderer is not None else object_state(self).get("clip_camera")
         rows = clip_uniforms.texture_rows(self, self.GetInput(), volume, camera)
-        clip_uniforms.push(volume.GetShaderProperty().GetFragmentCustomUniforms(), rows)
+        uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+        clip_uniforms.push(uniforms, rows)
+        uniforms.SetUniform2f("u_mc_slabDepth", list(clip_uniforms.slab_depth_range(self, camera)))
 
     def _derived_settings(self) -> dict:
         """Values besides the parameters that the table's uniforms depend on (e.g. the window)."""

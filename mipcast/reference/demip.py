@@ -30,7 +30,8 @@ OUTPUTS = ("depth", "rgb", "value")
 SCENE_PARAMETERS = {"sample_distance": None, "window": None, "output": "depth"}
 
 
-def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, **params: Any) -> np.ndarray:
+def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, depth_range=None,
+                 **params: Any) -> np.ndarray:
     """Depth-enhanced MIP in float64: depth, final colour or maximum per pixel.
 
     Parameters
@@ -44,6 +45,9 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, **param
     clip_planes : (origins, normals), optional
         Clipping planes in world coordinates, as in :func:`mipcast.reference.render`:
         only samples on every plane's kept side count.
+    depth_range : (near, far), optional
+        Eye depths of a slab normal to the view direction: depth is
+        normalised over it (where it lies inside the box) instead of the box.
     **params
         ``sample_distance : float`` (required): world units between samples,
         placed as in ``method="mip"`` (``t_enter + k * sample_distance``,
@@ -150,6 +154,8 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, **param
     term = first >= 0
     where = entry + ((np.maximum(first, 0) + 1) * step)[:, None] * direction
     geometry = _Geometry(image, camera, width / height)
+    if depth_range is not None:
+        geometry.near, geometry.far = max(geometry.near, depth_range[0]), min(geometry.far, depth_range[1])
     depth = np.where(term, geometry.depth(mode, where, entry), np.nan)
     if output == "depth":
         return scatter(depth, hit, height, width)
