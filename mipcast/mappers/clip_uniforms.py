@@ -10,9 +10,9 @@ One list of planes per render, in world coordinates (:mod:`mipcast.core.clipping
   centre defaults to the camera's focal point, the normal to the view
   direction, both read at every render).
 
-They go to the shader as ``u_mc_clipCount`` and ``u_mc_clipPlanes`` (one
-fixed-size array: moving the slab uploads numbers, it never rebuilds the
-shader) in texture coordinates; the loops (``sampled_loop``, ``amip_cell``)
+They go to the shader as ``u_mc_clipCount`` and ``u_mc_clip0`` ..
+``u_mc_clip13`` (a fixed set of vec4 uniforms: moving the slab uploads
+numbers, it never rebuilds the shader) in texture coordinates; the loops (``sampled_loop``, ``amip_cell``)
 narrow each ray to the kept interval once per ray (``mcClipRange`` in
 ``mip_globals``).  VTK's own clipping code is switched off (``clipping_off``:
 it moves the ray's start, which would shift mipcast's samples).
@@ -146,14 +146,15 @@ def texture_rows(mapper, image, volume, camera) -> np.ndarray:
 
 
 def push(uniforms, rows: np.ndarray) -> None:
-    """Upload ``rows`` (P <= :data:`MAX_PLANES`, 4) as ``u_mc_clipCount`` / ``u_mc_clipPlanes``."""
+    """Upload ``rows`` (P <= :data:`MAX_PLANES`, 4) as ``u_mc_clipCount`` / ``u_mc_clip0`` ..."""
     rows = np.asarray(rows, dtype=np.float64).reshape(-1, 4)
     if len(rows) > MAX_PLANES:
         raise ValueError(f"at most {MAX_PLANES} clipping planes, got {len(rows)}")
     values = np.zeros((MAX_PLANES, 4))
     values[:len(rows)] = rows
     uniforms.SetUniformi("u_mc_clipCount", len(rows))
-    uniforms.SetUniform1fv("u_mc_clipPlanes", 4 * MAX_PLANES, [float(v) for v in values.ravel()])
+    for index, row in enumerate(values):  # one vec4 each: VTK 9.2's uniform arrays are not safe
+        uniforms.SetUniform4f(f"u_mc_clip{index}", [float(v) for v in row])
 
 
 SLAB_NAMES = ("slab_thickness", "slab_centre", "slab_normal")

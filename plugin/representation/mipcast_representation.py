@@ -49,15 +49,11 @@ _EXTRA = {
         type="double", size=6, default=(1.0, 0.0, 1.0, 0.0, 1.0, 0.0),
         doc="World-space bounds (x0 x1 y0 y1 z0 z1) kept sharp; x0 > x1 (the default) means none."),
 }
-#: Optional points of every method's slab (None: follow the camera), as four
-#: numbers x y z use: use 0 (the default) means None.
-_OPTIONAL_POINTS = {
-    name: dict(type="double", size=4, default=(0.0, 0.0, 0.0, 0.0),
-               doc=f"{what} as x y z and a fourth value 1 to use it; 0 (the default): {instead}.")
-    for name, what, instead in (
-        ("slab_centre", "A point on the slab's mid-plane (world coordinates)", "the camera's focal point"),
-        ("slab_normal", "The slab's normal (world coordinates)", "the view direction"))
-}
+#: Parameters not in the panel: the slab's centre and normal (None: they follow
+#: the camera's focal point and view direction, as a ParaView slab should).
+#: As optional four-value properties (x y z use) they crashed pvpython when a
+#: session with several views was reset; set them from Python on the mapper.
+NOT_IN_PANEL = frozenset({"slab_centre", "slab_normal"})
 #: Parameters every method gets (VTK's sampling), prefixed "common".
 _COMMON = [
     dict(name="sample_distance", type="double", size=1, default=0.0, range=(0.0, None),
@@ -101,7 +97,9 @@ def plugin_methods():
         parameters = [dict(p, name="common_" + p["name"], shape=None,
                            choices=None, range=p.get("range")) for p in _COMMON]
         for parameter in method.parameters:
-            extra = _EXTRA.get((name, parameter.name), _OPTIONAL_POINTS.get(parameter.name))
+            if parameter.name in NOT_IN_PANEL:
+                continue
+            extra = _EXTRA.get((name, parameter.name))
             if extra is not None:
                 parameters.append(dict(extra, name=parameter.name, shape=None, range=None, choices=None))
             else:
@@ -375,8 +373,6 @@ def _value(description, value):
     values = [float(v) for v in value]
     if description["name"] == "region_of_interest":
         return None if values[0] > values[1] else tuple(values)
-    if description["name"] in _OPTIONAL_POINTS:
-        return tuple(values[:3]) if values[3] > 0.5 else None
     if description["shape"] is not None:
         rows, columns = description["shape"]
         return tuple(tuple(values[r * columns:(r + 1) * columns]) for r in range(rows))
