@@ -246,3 +246,18 @@ def test_demip_depth_is_normalised_over_the_slab(mode):
     assert np.max(np.abs(depth[both] - expected[both])) <= 1e-3
     # the ball's front (z ~ 0.75 n + 2.4) sits near the slab's near face: small depths over the slab
     assert 0.0 <= np.median(depth[both]) < 0.5
+
+
+def test_more_clipping_planes_than_vtk_takes_are_refused(vessels):
+    mapper = mipcast.create_mapper("analytic")
+    mapper.SetInputData(vessels)
+    from vtkmodules.vtkRenderingCore import vtkVolume
+    volume = vtkVolume()  # the mapper keeps a weak reference only
+    mapper.Attach(volume)
+    for k in range(7):
+        plane = vtkPlane()
+        plane.SetNormal(1.0, 0.1 * k, 0.0)
+        mapper.AddClippingPlane(plane)
+    assert "at most 6" in mapper.GetRenderProblem() and "RemoveClippingPlane" in mapper.GetRenderProblem()
+    mapper.RemoveClippingPlane(plane)
+    assert mapper.GetRenderProblem() is None

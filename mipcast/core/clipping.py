@@ -59,7 +59,7 @@ def slab_planes(thickness: float, centre: Sequence[float], normal: Sequence[floa
         raise ValueError("slab normal must not be the zero vector")
     normal = normal / size
     half = 0.5 * thickness * normal
-    return np.array([centre - half, centre + half]), np.array([normal, -normal])
+    return np.array([centre - half, centre + half]), np.array([normal, 0.0 - normal])
 
 
 def box_planes(bounds: Sequence[float]) -> Tuple[np.ndarray, np.ndarray]:
@@ -79,7 +79,7 @@ def box_planes(bounds: Sequence[float]) -> Tuple[np.ndarray, np.ndarray]:
     for axis in range(3):
         unit = np.eye(3)[axis]
         origins += [low, high]
-        normals += [unit, -unit]
+        normals += [unit, 0.0 - unit]
     return np.array(origins), np.array(normals)
 
 

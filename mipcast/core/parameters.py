@@ -221,7 +221,7 @@ def parameter_table(mapper) -> Tuple[Parameter, ...]:
     --------
     >>> import mipcast
     >>> [p.name for p in parameter_table(mipcast.create_mapper("analytic"))]
-    ['packed_corners', 'skipping']
+    ['packed_corners', 'skipping', 'slab_thickness', 'slab_centre', 'slab_normal']
     """
     return tuple(getattr(type(mapper), "PARAMETERS", ()))
 
@@ -371,7 +371,7 @@ def method_parameters(mapper) -> Tuple[str, ...]:
     >>> method_parameters(mipcast.create_mapper("stock"))
     ()
     >>> method_parameters(mipcast.create_mapper("analytic"))
-    ('packed_corners', 'skipping')
+    ('packed_corners', 'skipping', 'slab_centre', 'slab_normal', 'slab_thickness')
     """
     return tuple(sorted(p.name for p in parameter_table(mapper)))
 

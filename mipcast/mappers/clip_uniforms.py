@@ -171,7 +171,7 @@ def copy_clipping(source, target) -> None:
     from mipcast.mappers.private_draw import rendering_renderer
 
     settings = source._slab_settings() if hasattr(source, "_slab_settings") else (0.0, None, None)
-    if settings[0] and (settings[1] is None or settings[2] is None):  # the slab follows the camera
+    if settings[0]:  # the slab may follow the camera; DEMIP's depth range needs it
         volume = source.GetAttachedVolume()
         renderer = rendering_renderer(source, volume) if volume is not None else None
         object_state(target)["clip_camera"] = renderer.GetActiveCamera() if renderer is not None else None

@@ -192,7 +192,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         """Upload the planes this render clips with (clipping planes, cropping box, slab)."""
         thickness, centre, normal = self._slab_settings()
         camera = None
-        if thickness and (centre is None or normal is None):  # the slab follows the camera
+        if thickness:  # the camera: the slab may follow it, DEMIP's depth range needs it
             renderer = rendering_renderer(self, volume)
             camera = renderer.GetActiveCamera() if renderer is not None else object_state(self).get("clip_camera")
         rows = clip_uniforms.texture_rows(self, self.GetInput(), volume, camera)
