@@ -163,45 +163,47 @@ def _demip_two_pass() -> DEMIPTwoPassVolumeMapper:
 
 
 # -- references, one signature ---------------------------------------------------
-def sampled_mip_reference(image, camera, size, *, sample_distance: float, window=None) -> np.ndarray:
-    """The maximum of the samples at ``entry + k * sample_distance`` (float64)."""
-    return reference.render(image, camera, size, "mip", sample_distance=sample_distance)
+def projection_reference(name: str) -> Callable[..., np.ndarray]:
+    """The float64 reference :func:`mipcast.reference.render` of ``name``, in the table's signature.
+
+    ``reference(image, camera, size, *, sample_distance=None, window=None,
+    clip_planes=None)``: sampled projections use ``sample_distance`` (samples
+    at ``entry + k * sample_distance``), exact ones ignore it; ``clip_planes``
+    is ``(origins, normals)`` in world coordinates.
+
+    Examples
+    --------
+    >>> projection_reference("analytic_minip").__name__
+    'analytic_minip_reference'
+    """
+    sampled = "sample_distance" in reference.METHODS[name]
+
+    def projection(image, camera, size, *, sample_distance=None, window=None, clip_planes=None) -> np.ndarray:
+        extra = {"sample_distance": sample_distance} if sampled else {}
+        return reference.render(image, camera, size, name, clip_planes=clip_planes, **extra)
+
+    projection.__name__ = f"{name}_reference"
+    projection.__doc__ = f"The float64 reference of {name!r} (mipcast.reference.render)."
+    return projection
 
 
-def exact_mip_reference(image, camera, size, *, sample_distance=None, window=None) -> np.ndarray:
-    """The exact maximum of the trilinear interpolant along each ray (float64)."""
-    return reference.render(image, camera, size, "analytic")
-
-
-def sampled_minip_reference(image, camera, size, *, sample_distance: float, window=None) -> np.ndarray:
-    """The minimum of the samples at ``entry + k * sample_distance`` (float64)."""
-    return reference.render(image, camera, size, "minip", sample_distance=sample_distance)
-
-
-def exact_minip_reference(image, camera, size, *, sample_distance=None, window=None) -> np.ndarray:
-    """The exact minimum of the trilinear interpolant along each ray (float64)."""
-    return reference.render(image, camera, size, "analytic_minip")
-
-
-def sampled_average_reference(image, camera, size, *, sample_distance: float, window=None) -> np.ndarray:
-    """The mean of the samples at ``entry + k * sample_distance`` (float64)."""
-    return reference.render(image, camera, size, "average", sample_distance=sample_distance)
-
-
-def exact_average_reference(image, camera, size, *, sample_distance=None, window=None) -> np.ndarray:
-    """The exact mean of the trilinear interpolant along each ray inside the volume (float64)."""
-    return reference.render(image, camera, size, "analytic_average")
-
+sampled_mip_reference = projection_reference("mip")
+exact_mip_reference = projection_reference("analytic")
+sampled_minip_reference = projection_reference("minip")
+exact_minip_reference = projection_reference("analytic_minip")
+sampled_average_reference = projection_reference("average")
+exact_average_reference = projection_reference("analytic_average")
 
 #: Projection -> its exact float64 reference (the benchmark's errors are against these).
 EXACT_REFERENCES = {"mip": exact_mip_reference, "minip": exact_minip_reference,
                     "average": exact_average_reference}
 
 
-def demip_reference(image, camera, size, *, sample_distance: float, window, **params) -> np.ndarray:
+def demip_reference(image, camera, size, *, sample_distance: float, window, clip_planes=None,
+                    **params) -> np.ndarray:
     """DEMIP's float readout (the ray's value) in float64."""
     return reference.render(image, camera, size, "demip", sample_distance=sample_distance,
-                            window=window, output="value", **params)
+                            window=window, output="value", clip_planes=clip_planes, **params)
 
 
 _DEMIP_BENCH = (

@@ -21,7 +21,8 @@ struct McRay
   vec3 dir;
   bvec3 still;     // axes the ray runs parallel to
   vec3 tDelta;     // t between voxel planes, per axis
-  float length;    // t where the ray leaves the point bounds or is terminated
+  float start;     // t where the walk starts: 0, or the clipped entry
+  float length;    // t where the ray leaves the point bounds, is terminated or clipped
   ivec3 lastCell;
 };
 
@@ -79,7 +80,10 @@ vec3 mcPlanesAfter(McRay ray, float t)
 }
 
 // The ray from its true entry (g_dataPos is one jitter step further in) to
-// where it leaves the point bounds or reaches the depth-buffer/clip end.
+// where it leaves the point bounds or reaches the depth-buffer end; with
+// clipping planes, a cropping box or a slab (mcClipRange) the walk runs
+// exactly from the clipped entry (start) to the clipped exit (length), and a
+// ray with nothing left draws nothing.
 McRay mcBeginRay()
 {
   McRay ray;
@@ -91,6 +95,15 @@ McRay mcBeginRay()
   vec3 toPlanes = mix((exitPlanes - entryTex) / mix(dirTex, vec3(1.0), parallel), vec3(1.0e30), parallel);
   ray.length = max(0.0, min(min(toPlanes.x, toPlanes.y), toPlanes.z));
   ray.length = min(ray.length, g_terminatePointMax * length(g_dirStep) + length(g_rayJitter));
+  ray.start = 0.0;
+  if (u_mc_clipCount > 0)
+  {
+    mcClipRange(entryTex, dirTex, ray.start, ray.length);
+    if (ray.start > ray.length)
+    {
+      discard;  // clipped away: nothing of the ray is left
+    }
+  }
   ray.origin = entryTex * dims - 0.5;
   ray.dir = dirTex * dims;
   ray.still = lessThan(abs(ray.dir), vec3(1.0e-20));

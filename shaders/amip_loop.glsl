@@ -11,9 +11,9 @@
 // it reaches the ceiling (mcCellsBegin / mcCellsGoOn), which leaves the colour
 // unchanged. The float readout sets them to -/+1e30, so it stays exact in data units.
   McRay mc_ray = mcBeginRay();
-  vec3 mc_tNext = mcPlanesAfter(mc_ray, 0.0);
+  vec3 mc_tNext = mcPlanesAfter(mc_ray, mc_ray.start);
   int mc_steps = int(u_mc_dims.x + u_mc_dims.y + u_mc_dims.z) + 3;
-  float mc_t0 = 0.0;
+  float mc_t0 = mc_ray.start;
   mc_rayMax = mcCellsBegin();
   for (int mc_i = 0; mc_i < mc_steps && (mc_i == 0 || mc_t0 < mc_ray.length) && mcCellsGoOn(mc_rayMax); ++mc_i)
   {

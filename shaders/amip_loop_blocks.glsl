@@ -8,10 +8,10 @@
 // is not above the running maximum cannot change the answer and is jumped
 // over. Otherwise as amip_loop (floor, ceiling, exact float readout).
   McRay mc_ray = mcBeginRay();
-  vec3 mc_tNext = mcPlanesAfter(mc_ray, 0.0);
+  vec3 mc_tNext = mcPlanesAfter(mc_ray, mc_ray.start);
   int mc_steps = 2 * int(u_mc_dims.x + u_mc_dims.y + u_mc_dims.z) + 8;  // cells and jumps
   int mc_blockSize = int(u_mc_blockSize);
-  float mc_t0 = 0.0;
+  float mc_t0 = mc_ray.start;
   float mc_ceiling = mcRaw(u_mc_ceiling);
   mc_rayMax = mcRaw(u_mc_floor);
   for (int mc_i = 0; mc_i < mc_steps && (mc_i == 0 || mc_t0 < mc_ray.length) && mc_rayMax < mc_ceiling; ++mc_i)

@@ -58,13 +58,17 @@ float mcWindowDepth(float d)
 
 // Normalised depth of the sample at hitTex on the ray entering the box at
 // entryTex, by u_mc_depthMode (0 window, 1 steps, 2 entry_plus_length,
-// 3 eye_distance); 0 = the box's near side, 1 = its far side, clamped.
+// 3 eye_distance); 0 = the box's near side, 1 = its far side, clamped. With
+// a slab normal to the view direction, near and far are those of the slab
+// (where it lies inside the box): the depth is normalised over the slab.
 float mcDemipDepth(vec3 hitTex, vec3 entryTex)
 {
   mat4 texToEye = in_modelViewMatrix * mcTextureToWorld();
   vec3 hitEye = (texToEye * vec4(hitTex, 1.0)).xyz;
   vec3 entryEye = (texToEye * vec4(entryTex, 1.0)).xyz;
   vec2 range = mcBoxViewRange(texToEye);
+  // a slab facing the camera: depth runs over the slab (u_mc_slabDepth, else +-1e30)
+  range = vec2(max(range.x, u_mc_slabDepth.x), min(range.y, u_mc_slabDepth.y));
   float extent = max(range.y - range.x, 1.0e-30);
   float depth;
   if (u_mc_depthMode == 0)

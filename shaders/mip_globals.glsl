@@ -31,6 +31,49 @@ void mcRefuseIfAsked()
   }
 }
 
+// Clipping planes, cropping box and slab (mipcast/mappers/clip_uniforms.py):
+// u_mc_clipCount planes u_mc_clip0 .. u_mc_clip13, each (a, b, c, d) in
+// texture coordinates, keeping the points p with a p.x + b p.y + c p.z + d
+// >= 0 (separate vec4 uniforms, not an array: VTK 9.2's custom uniform
+// arrays are not safe). mcClipRange narrows [lo, hi] of the ray
+// p(s) = start + s * dir to the kept part (lo > hi: nothing is kept). Once
+// per ray, never per sample.
+void mcClipPlane(vec4 plane, vec3 start, vec3 dir, inout float lo, inout float hi)
+{
+  float at0 = dot(plane.xyz, start) + plane.w;
+  float rate = dot(plane.xyz, dir);
+  if (rate > 0.0)
+  {
+    lo = max(lo, -at0 / rate);
+  }
+  else if (rate < 0.0)
+  {
+    hi = min(hi, -at0 / rate);
+  }
+  else if (at0 < 0.0)
+  {
+    hi = -1.0e30;
+  }
+}
+
+void mcClipRange(vec3 start, vec3 dir, inout float lo, inout float hi)
+{
+  if (u_mc_clipCount > 0) mcClipPlane(u_mc_clip0, start, dir, lo, hi);
+  if (u_mc_clipCount > 1) mcClipPlane(u_mc_clip1, start, dir, lo, hi);
+  if (u_mc_clipCount > 2) mcClipPlane(u_mc_clip2, start, dir, lo, hi);
+  if (u_mc_clipCount > 3) mcClipPlane(u_mc_clip3, start, dir, lo, hi);
+  if (u_mc_clipCount > 4) mcClipPlane(u_mc_clip4, start, dir, lo, hi);
+  if (u_mc_clipCount > 5) mcClipPlane(u_mc_clip5, start, dir, lo, hi);
+  if (u_mc_clipCount > 6) mcClipPlane(u_mc_clip6, start, dir, lo, hi);
+  if (u_mc_clipCount > 7) mcClipPlane(u_mc_clip7, start, dir, lo, hi);
+  if (u_mc_clipCount > 8) mcClipPlane(u_mc_clip8, start, dir, lo, hi);
+  if (u_mc_clipCount > 9) mcClipPlane(u_mc_clip9, start, dir, lo, hi);
+  if (u_mc_clipCount > 10) mcClipPlane(u_mc_clip10, start, dir, lo, hi);
+  if (u_mc_clipCount > 11) mcClipPlane(u_mc_clip11, start, dir, lo, hi);
+  if (u_mc_clipCount > 12) mcClipPlane(u_mc_clip12, start, dir, lo, hi);
+  if (u_mc_clipCount > 13) mcClipPlane(u_mc_clip13, start, dir, lo, hi);
+}
+
 // VTK's ray bookkeeping (as at Terminate::Init) for a ray that ends at the
 // window point `at` (0..1 in the image) and NDC depth ndcDepth.
 void mcSetRayEnd(vec2 at, float ndcDepth)

@@ -31,6 +31,9 @@
 //       after the first march (on entry 0 and its count); false: no march.
 //   bool mcSecondSample(float value, int i)   true: sample i is the one, stop.
 //   void mcEndSecondMarch(int found)          the index found, -1 if none.
+// Clipping (planes, cropping box, slab; mcClipRange): the ray keeps the
+// unclipped ray's sample positions and marches only the samples inside the
+// kept interval (first > 0 then); a ray with none left draws nothing.
 // Per-sample work is the hooks' only: every lane of a SIMD group runs the
 // same loop (llvmpipe runs lanes in lockstep).
 // Bricks of a distributed volume (mipcast.distributed): with the
@@ -50,6 +53,18 @@
 #ifdef MC_GLOBAL_PHASE
   mcGlobalPhase(mc_stepsInBox, mc_base, mc_first, mc_count);
 #endif
+  if (u_mc_clipCount > 0)
+  {
+    float mc_lo = 0.0;
+    float mc_hi = float(mc_count);
+    mcClipRange(mc_base, g_dirStep, mc_lo, mc_hi);
+    mc_first = max(mc_first, int(ceil(clamp(mc_lo, 0.0, float(mc_count)))));
+    mc_count = min(mc_count, int(floor(clamp(mc_hi, -1.0, float(mc_count)))) + 1);
+    if (mc_count <= mc_first)
+    {
+      discard;  // clipped away: nothing of the ray is left
+    }
+  }
   mcBeginRay(mc_first, mc_count);
   for (int mc_i = mc_first; mc_i < mc_count; ++mc_i)
   {
@@ -60,7 +75,7 @@
     }
   }
 #ifdef MC_SECOND_MARCH
-  int mc_from = 0;
+  int mc_from = mc_first;
   int mc_to = mc_count;
   if (mcBeginSecondMarch(mc_from, mc_to))
   {

@@ -311,5 +311,5 @@ def test_turntable_errors(tmp_path, capsys):
     assert "--out must end in .gif or .mp4" in capsys.readouterr().err
     assert main(["render", str(source), "--out", str(tmp_path / "x.gif"), "--turntable", "1"]) == 2
     assert "at least 2 frames" in capsys.readouterr().err
-    assert main(["render", str(source), "--out", str(tmp_path / "x.gif"), "--slab-sweep"]) == 2
+    assert main(["render", str(source), "--out", str(tmp_path / "x.gif"), "--slab-sweep", "4"]) == 2
     assert "--slab-sweep needs --slab" in capsys.readouterr().err

@@ -75,9 +75,20 @@ VIEWER_SCRIPT = textwrap.dedent('''
         return volume.GetMapper()
 
     assert type(mapper()).__name__ == "MIPVolumeMapper"
-    assert len(plotter.widgets.slider_widgets) == 1  # sample distance only
+    assert len(plotter.widgets.slider_widgets) == 2  # sample distance, slab thickness
     first = plotter.screenshot()
     assert first.max() > 100, "viewer picture is black"
+    press("bracketright")  # no slab yet: a note, nothing moves
+    assert mapper().GetSlabCentre() is None
+    slab_slider = plotter.widgets.slider_widgets[1]
+    slab_slider.GetRepresentation().SetValue(8.0)
+    slab_slider.InvokeEvent("EndInteractionEvent")
+    assert mapper().GetSlabThickness() == 8.0
+    press("bracketright")
+    assert mapper().GetSlabCentre() is not None
+    assert plotter.screenshot().max() > 100
+    mapper().SetSlabThickness(0.0)
+    mapper().SetSlabCentre(None)
 
     press("m")
     following = names[(names.index("mip") + 1) % len(names)]

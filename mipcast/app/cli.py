@@ -86,8 +86,9 @@ def _parser() -> argparse.ArgumentParser:
     render.add_argument("--turntable", type=int, default=None, metavar="N",
                         help="write N frames turning 360 degrees about the view-up axis (--out spin.gif, "
                              "or .mp4 with imageio[ffmpeg])")
-    render.add_argument("--slab-sweep", action="store_true",
-                        help="sweep a slab through the volume (needs --slab, not available yet)")
+    render.add_argument("--slab-sweep", type=int, default=None, metavar="N",
+                        help="write N frames of the slab (--slab MM) moving through the volume, front to back "
+                             "(--out sweep.gif or .mp4)")
     render.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
     render.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
     render.set_defaults(run=_run_render)
@@ -242,8 +243,8 @@ def _run_render(args) -> int:
     from mipcast.core.parameters import set_parameters
 
     image = with_scalars(read_volume(args.input, series_uid=args.series), args.scalars)
-    if args.slab_sweep:
-        raise ValueError("--slab-sweep needs --slab (slab projections), which this version does not have yet")
+    if args.slab_sweep is not None and args.turntable is not None:
+        raise ValueError("--slab-sweep and --turntable are two animations: give one of them")
     window = _window(image, args.window)
     distance = args.sample_distance
     if distance == "auto":
@@ -264,6 +265,12 @@ def _run_render(args) -> int:
 
         write_turntable(view, args.turntable, args.out)
         print(f"wrote {args.out} ({args.turntable} frames)")
+        return 0
+    if args.slab_sweep is not None:
+        from mipcast.app.turntable import write_slab_sweep
+
+        write_slab_sweep(view, args.slab_sweep, args.out)
+        print(f"wrote {args.out} ({args.slab_sweep} frames)")
         return 0
     args.out.parent.mkdir(parents=True, exist_ok=True)
     _write_png(args.out, view.screenshot())

@@ -5,11 +5,15 @@ Everything the viewer offers comes from the method table
 
 Keys
     ``m`` next method of the table (those that render in a view), ``d``
-    next depth mode (methods with a ``depth_mode`` parameter), pyvista's own
-    keys (``q`` quits, ``r`` resets the camera, ...).
+    next depth mode (methods with a ``depth_mode`` parameter), ``[`` / ``]``
+    move the slab towards / away from the camera by a quarter of its
+    thickness (at least a voxel; methods with a slab, once the slab
+    thickness slider is above 0), pyvista's own keys (``q`` quits, ``r``
+    resets the camera, ...).
 Sliders
     sample distance in voxels (methods that sample; those that walk cells
-    do not), and one per float parameter with a range (:func:`slider_range`);
+    do not), and one per float parameter with a range (:func:`slider_range`;
+    the slab thickness runs from 0, no slab, to the volume's diagonal);
     values carry over when the method changes.
 Mouse
     the pointer position, in normalised viewport coordinates (0..1 from the
@@ -207,6 +211,8 @@ class _Viewer:
         if self.interactive:
             self.plotter.add_key_event("m", self.next_method)
             self.plotter.add_key_event("d", self.next_depth_mode)
+            self.plotter.add_key_event("bracketleft", lambda: self.move_slab(-1))
+            self.plotter.add_key_event("bracketright", lambda: self.move_slab(1))
             self.plotter.iren.add_observer("MouseMoveEvent", self._on_mouse_move)
         self.set_method(method)
         if view is not None:
@@ -259,6 +265,24 @@ class _Viewer:
         self._show_status()
         self.plotter.render()
 
+    def move_slab(self, steps: int) -> None:
+        """Move the slab ``steps`` quarter-thicknesses along its normal (away from the camera: > 0)."""
+        if not self._has("slab_thickness") or not self.mapper.GetSlabThickness():
+            self._show_status(note="no slab: set the slab thickness slider above 0 first")
+            self.plotter.render()
+            return
+        mapper, camera = self.mapper, self.plotter.renderer.GetActiveCamera()
+        normal = np.array(mapper.GetSlabNormal() or camera.GetDirectionOfProjection(), float)
+        normal /= np.linalg.norm(normal)
+        centre = np.array(mapper.GetSlabCentre() or camera.GetFocalPoint(), float)
+        bounds = self.grid.bounds
+        along = np.array([[x, y, z] for x in bounds[0:2] for y in bounds[2:4] for z in bounds[4:6]]) @ normal
+        step = max(self.voxel, 0.25 * mapper.GetSlabThickness())
+        where = float(np.clip(centre @ normal + steps * step, along.min(), along.max()))
+        self._set_param("slab_centre", tuple(float(v) for v in centre + (where - centre @ normal) * normal))
+        self._show_status()
+        self.plotter.render()
+
     def close(self, *_) -> None:
         if self.legend is not None:
             self.legend.SetEnabled(0)
@@ -292,6 +316,8 @@ class _Viewer:
                             self._set_sample_voxels))
         for parameter in METHODS[self.method].parameters:
             rng = slider_range(parameter)
+            if rng is not None and parameter.unit == "world units" and parameter.high is None:
+                rng = (rng[0], float(np.linalg.norm(np.subtract(self.grid.bounds[1::2], self.grid.bounds[0::2]))))
             if rng is not None:
                 value = self.params.get(parameter.name, getattr(self.mapper, parameter.getter)())
                 sliders.append((parameter.name.replace("_", " "), rng, value,
@@ -322,6 +348,8 @@ class _Viewer:
         lines = [f"method: {self.method}   (m: next)"]
         if _depth_modes(self.mapper):
             lines.append(f"depth mode: {self.mapper.GetDepthMode()}   (d: next)")
+        if self._has("slab_thickness") and self.mapper.GetSlabThickness():
+            lines.append(f"slab: {self.mapper.GetSlabThickness():.3g} thick   ([ / ]: move)")
         if note:
             lines.append(note)
         self.plotter.add_text("\n".join(lines), position="upper_right", font_size=10, color="white",

@@ -19,9 +19,43 @@ from mipcast.core import foveation, shading
 from mipcast.core.parameters import Parameter, Uniform
 from mipcast.core.validation import check_finite
 
+def _slab_point(*values):
+    """None, or three finite numbers (a point or a direction) as a tuple."""
+    if len(values) == 1 and (values[0] is None or isinstance(values[0], (tuple, list))):
+        values = values[0]
+    if values is None or len(values) == 0:
+        return None
+    if len(values) != 3:
+        raise TypeError(f"give three numbers (x, y, z) or None, got {values!r}")
+    return tuple(check_finite("slab point", v) for v in values)
+
+
+def _slab_normal(*values):
+    normal = _slab_point(*values)
+    if normal is not None and not any(normal):
+        raise ValueError("slab_normal must not be (0, 0, 0); None follows the view direction")
+    return normal
+
+
+#: The slab, shared by every method that renders a view (appended to each of
+#: their tables): only the part of each ray between two parallel planes
+#: counts.  Mapper-level planes, uploaded per render as uniforms
+#: (mipcast/mappers/clip_uniforms.py): moving the slab never rebuilds a shader.
+SLAB = (
+    Parameter("slab_thickness", "float", 0.0,
+              "Thickness of the slab, in world units (mm for DICOM): only the part of each ray between two "
+              "planes this far apart counts (0: the whole volume).", low=0.0, unit="world units"),
+    Parameter("slab_centre", "value", None,
+              "A point (x, y, z) on the slab's mid-plane, in world coordinates; None: the camera's focal "
+              "point (the slab follows the camera).", convert=_slab_point, variadic=True, unit="world units"),
+    Parameter("slab_normal", "value", None,
+              "The slab's normal (x, y, z), world coordinates; None: the view direction (the slab faces "
+              "the camera).", convert=_slab_normal, variadic=True),
+)
+
 #: The sampled MIP loop has no parameters of its own (VTK's sample distance,
-#: image sample distance and jittering apply).
-MIP = ()
+#: image sample distance and jittering apply) besides the slab.
+MIP = SLAB
 
 ANALYTIC = (
     Parameter("packed_corners", "bool", True,
@@ -34,7 +68,7 @@ ANALYTIC = (
               "block-maximum jumps and the transfer-function floor and ceiling; False: every "
               "crossed cell is fetched and solved. Both are exact.",
               uniforms=(Uniform("u_mc_cornerBound", "float", lambda v, s: 1.0 if v else 0.0),), pieces=True),
-)
+) + SLAB
 
 
 def _local_threshold(value, settings) -> float:
@@ -95,7 +129,7 @@ DEMIP = (
     Parameter("attenuation", "float", 0.05,
               "Attenuated MIP's attenuation per voxel of full material (0 gives the MIP picture).",
               low=0.0, unit="per voxel", uniforms=(Uniform("u_mc_attenuation"),)),
-)
+) + SLAB
 
 
 def _gaze_point(*xy) -> tuple:
@@ -150,4 +184,4 @@ FOVEATED = (
               "How peripheral levels sample along their rays: no farther apart than the level's rays "
               "(footprint, default), the paper's one level per image level (level), or full-quality "
               "sampling (rays).", choices=foveation.SAMPLING_POLICIES),
-)
+) + SLAB

@@ -230,7 +230,7 @@ def parameter_table(mapper) -> Tuple[Parameter, ...]:
     --------
     >>> import mipcast
     >>> [p.name for p in parameter_table(mipcast.create_mapper("analytic"))]
-    ['packed_corners', 'skipping']
+    ['packed_corners', 'skipping', 'slab_thickness', 'slab_centre', 'slab_normal']
     """
     return tuple(getattr(type(mapper), "PARAMETERS", ()))
 
@@ -283,6 +283,10 @@ def check_values(table: Sequence[Parameter], params: Mapping, what: str) -> Dict
     return values
 
 
+#: Short names front ends accept for parameters (``slab=20`` is ``slab_thickness=20``).
+ALIASES = {"slab": "slab_thickness"}
+
+
 def set_parameters(mapper, **params) -> None:
     """Set method parameters on a mapper through its VTK-style setters.
 
@@ -321,6 +325,7 @@ def set_parameters(mapper, **params) -> None:
     TypeError: MIPVolumeMapper has no parameter 'no_such_weight' (no SetNoSuchWeight): ...
     """
     setters = {}
+    params = {ALIASES.get(name, name): value for name, value in params.items()}
     for name, value in params.items():
         setter = getattr(mapper, setter_name(name), None)
         if not callable(setter):
@@ -375,7 +380,7 @@ def method_parameters(mapper) -> Tuple[str, ...]:
     >>> method_parameters(mipcast.create_mapper("stock"))
     ()
     >>> method_parameters(mipcast.create_mapper("analytic"))
-    ('packed_corners', 'skipping')
+    ('packed_corners', 'skipping', 'slab_centre', 'slab_normal', 'slab_thickness')
     """
     return tuple(sorted(p.name for p in parameter_table(mapper)))
 

@@ -18,6 +18,7 @@ from vtkmodules.vtkRenderingCore import vtkVolume
 from mipcast.mappers.demip import DEMIPVolumeMapper
 from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.core.object_state import object_state
+from mipcast.mappers import clip_uniforms
 from mipcast.mappers.private_draw import follow_volume, rendering_renderer
 
 #: Sample indices are packed as ``start * INDEX_BASE + max`` into one float32
@@ -237,3 +238,4 @@ def _copy_settings(mapper, volume, entry) -> None:
     first.SetImageSampleDistance(mapper.GetImageSampleDistance())
     first.SetLockSampleDistanceToInputSpacing(mapper.GetLockSampleDistanceToInputSpacing())
     follow_volume(mapper, volume, first, first_volume, matrix)
+    clip_uniforms.copy_clipping(mapper, first)

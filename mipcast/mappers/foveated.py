@@ -21,6 +21,7 @@ from mipcast.core.camera_rays import matrix_array
 from mipcast.mappers.corner_packing import CornerPacker
 from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.core.object_state import object_state
+from mipcast.mappers import clip_uniforms
 from mipcast.mappers.private_draw import follow_volume, rendering_renderer
 from mipcast.core.ray_cost import grid_cost
 from mipcast.core.validation import check_choice
@@ -450,6 +451,7 @@ def _copy_settings(mapper, volume, level_mapper, level_volume, matrix, distance,
     if level_mapper.GetImageSampleDistance() != image_distance:
         level_mapper.SetImageSampleDistance(image_distance)
     follow_volume(mapper, volume, level_mapper, level_volume, matrix)
+    clip_uniforms.copy_clipping(mapper, level_mapper)
 
 
 def _set_uniforms(level_volume, plan, layer) -> None:

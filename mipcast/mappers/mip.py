@@ -8,7 +8,8 @@ from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 from mipcast.core import parameter_tables
 from mipcast.core.object_state import object_state
 from mipcast.core.parameters import defaults, parameter_accessors, uniform_values
-from mipcast.mappers import shader_pieces
+from mipcast.mappers import clip_uniforms, shader_pieces
+from mipcast.mappers.private_draw import rendering_renderer
 from mipcast.core.validation import check_image
 
 
@@ -72,6 +73,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
             self.Detach()
         self._install_pieces(volume)
         volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniformf("u_mc_refused", 0.0)
+        clip_uniforms.push(volume.GetShaderProperty().GetFragmentCustomUniforms(), ())
+        volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniform2f("u_mc_slabDepth", [-1.0e30, 1.0e30])
         link = vtkWeakReference()  # a C++ weak pointer: Python wrappers come and go
         link.Set(volume)
         object_state(self)["volume"] = link
@@ -109,7 +112,9 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
 
     def _install_pieces(self, volume) -> None:
         names = self.GetShaderPieces()
-        shader_pieces.install(volume.GetShaderProperty(), [shader_pieces.load_piece(n) for n in names])
+        # every method: VTK's clipping set-up off, mipcast's loops clip (clip_uniforms)
+        shader_pieces.install(volume.GetShaderProperty(),
+                              [shader_pieces.load_piece(n) for n in names + ("clipping_off",)])
         object_state(self)["installed"] = names
 
     def Detach(self) -> None:
@@ -142,6 +147,9 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         image = self.GetInput()
         if image is None:
             return "no input: call SetInputData(image) or SetInputConnection(port)"
+        clipping = clip_uniforms.clipping_problem(self)
+        if clipping is not None:
+            return clipping
         state = object_state(self)
         stamp = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime())
         if state.get("checked_input") != stamp:
@@ -182,6 +190,23 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
             else:
                 uniforms.SetUniformf(name, float(value))
         self._push_derived_uniforms(uniforms, settings)
+
+    def _slab_settings(self) -> tuple:
+        """``(thickness, centre, normal)`` of the slab (the ``SLAB`` parameters; 0: none)."""
+        params = self._parameters()
+        return (params.get("slab_thickness", 0.0), params.get("slab_centre"), params.get("slab_normal"))
+
+    def _push_clipping(self, volume) -> None:
+        """Upload the planes this render clips with (clipping planes, cropping box, slab)."""
+        thickness, centre, normal = self._slab_settings()
+        camera = None
+        if thickness:  # the camera: the slab may follow it, DEMIP's depth range needs it
+            renderer = rendering_renderer(self, volume)
+            camera = renderer.GetActiveCamera() if renderer is not None else object_state(self).get("clip_camera")
+        rows = clip_uniforms.texture_rows(self, self.GetInput(), volume, camera)
+        uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+        clip_uniforms.push(uniforms, rows)
+        uniforms.SetUniform2f("u_mc_slabDepth", list(clip_uniforms.slab_depth_range(self, camera)))
 
     def _derived_settings(self) -> dict:
         """Values besides the parameters that the table's uniforms depend on (e.g. the window)."""
@@ -236,6 +261,7 @@ def _check_before_render(mapper, event) -> None:
         if object_state(mapper).get("installed") != mapper.GetShaderPieces():
             mapper._install_pieces(volume)
         mapper._push_uniforms(volume.GetShaderProperty().GetFragmentCustomUniforms())
+        mapper._push_clipping(volume)
         return
     vtkOutputWindow.GetInstance().DisplayErrorText(f"{type(mapper).__name__}: {problem}\n")
     mapper.InvokeEvent(vtkCommand.ErrorEvent)

@@ -18,7 +18,7 @@ from mipcast.core.validation import check_choice, check_image, check_positive, c
 from mipcast.reference.demip import render_demip
 from mipcast.reference.mip import (exact_maximum, exact_mean, exact_minimum, sampled_maximum, sampled_mean,
                                    sampled_minimum)
-from mipcast.reference.rays import BUDGET, RAY_CHUNK, hit_rays, scatter
+from mipcast.reference.rays import BUDGET, RAY_CHUNK, clip_interval, hit_rays, scatter
 
 #: Parameters each method accepts; all of them are required ("demip" also
 #: takes optional ones: :data:`mipcast.reference.demip.PARAMETERS`).
@@ -31,7 +31,7 @@ _KERNELS = {"mip": sampled_maximum, "analytic": exact_maximum, "minip": sampled_
 
 
 def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
-           **params: Any) -> np.ndarray:
+           clip_planes=None, **params: Any) -> np.ndarray:
     """Render a maximum (minimum, mean) intensity projection in float64 on the CPU.
 
     Parameters
@@ -69,6 +69,12 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
         ``"demip"``: depth-enhanced MIP on the ``"mip"`` samples; returns
         depth, final colour or maximum (its ``output`` parameter), see
         :func:`mipcast.reference.demip.render_demip` for its parameters.
+    clip_planes : (origins, normals), optional
+        Planes (world coordinates, arrays (P, 3) each) that clip every ray:
+        only the part of the ray inside the box on every plane's kept side
+        (where ``normal . (x - origin) >= 0``) counts; ``"mip"`` keeps the
+        unclipped ray's sample positions.  Slabs and cropping boxes are planes
+        too (:mod:`mipcast.core.clipping`).  NaN where nothing of the ray is left.
     **params
         ``sample_distance : float`` (method ``"mip"``, required): distance
         between samples in world units, > 0 (also ``"minip"``, ``"average"``).
@@ -115,7 +121,7 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     width, height = check_size(size)
     method = check_choice("method", method, tuple(METHODS))
     if method == "demip":  # depth, colour or maximum: see mipcast.reference.demip
-        return render_demip(image, camera, (width, height), **params)
+        return render_demip(image, camera, (width, height), clip_planes=clip_planes, **params)
     allowed = METHODS[method]
     unknown = sorted(set(params) - set(allowed))
     if unknown:
@@ -130,13 +136,24 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
 
     hit, entry, direction, length = hit_rays(image, camera, (width, height))
     values = np.array(volume, dtype=np.float64)
+    lo, hi = clip_interval(image, entry, direction, length, clip_planes, within_box=not sampled)
 
+    kernel = _KERNELS[method]
     if sampled:
-        chunk, kernel = RAY_CHUNK, partial(_KERNELS[method], step=step)
+        chunk = RAY_CHUNK
     else:
-        chunk, kernel = max(1, BUDGET // (sum(values.shape) + 2)), _KERNELS[method]
+        chunk = max(1, BUDGET // (sum(values.shape) + 2))
+        keep = lo <= hi
+        entry = entry + np.where(keep, lo, 0.0)[:, None] * direction
+        length = np.where(keep, hi - lo, 0.0)
     found = np.empty(len(length))
     for start in range(0, len(length), chunk):
         part = slice(start, start + chunk)
-        found[part] = kernel(values, entry[part], direction[part], length[part])
+        if sampled:
+            found[part] = kernel(values, entry[part], direction[part], length[part], step,
+                                 keep=(lo[part], hi[part]))
+        else:
+            found[part] = kernel(values, entry[part], direction[part], length[part])
+    found[(lo > hi) | ~np.isfinite(found)] = np.nan
     return scatter(found, hit, height, width)
+

@@ -20,7 +20,7 @@ from mipcast.core.parameter_tables import DEMIP
 from mipcast.core.parameters import check_values
 from mipcast.core.shading import FLOOR_TOLERANCE, chroma_color, sphere_color
 from mipcast.core.validation import check_choice, check_image, check_positive, check_size
-from mipcast.reference.rays import BUDGET, hit_rays, scatter, trilinear
+from mipcast.reference.rays import BUDGET, clip_interval, hit_rays, scatter, trilinear
 
 #: What :func:`render_demip` can return.
 OUTPUTS = ("depth", "rgb", "value")
@@ -30,7 +30,8 @@ OUTPUTS = ("depth", "rgb", "value")
 SCENE_PARAMETERS = {"sample_distance": None, "window": None, "output": "depth"}
 
 
-def render_demip(image: Any, camera: Any, size: tuple, **params: Any) -> np.ndarray:
+def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, depth_range=None,
+                 **params: Any) -> np.ndarray:
     """Depth-enhanced MIP in float64: depth, final colour or maximum per pixel.
 
     Parameters
@@ -41,6 +42,12 @@ def render_demip(image: Any, camera: Any, size: tuple, **params: Any) -> np.ndar
         The view (not modified); orthographic or perspective.
     size : tuple of int
         Window ``(width, height)``.
+    clip_planes : (origins, normals), optional
+        Clipping planes in world coordinates, as in :func:`mipcast.reference.render`:
+        only samples on every plane's kept side count.
+    depth_range : (near, far), optional
+        Eye depths of a slab normal to the view direction: depth is
+        normalised over it (where it lies inside the box) instead of the box.
     **params
         ``sample_distance : float`` (required): world units between samples,
         placed as in ``method="mip"`` (``t_enter + k * sample_distance``,
@@ -117,6 +124,7 @@ def render_demip(image: Any, camera: Any, size: tuple, **params: Any) -> np.ndar
 
     hit, entry, direction, length = hit_rays(image, camera, (width, height))
     values = np.array(volume, dtype=np.float64)
+    lo, hi = clip_interval(image, entry, direction, length, clip_planes, within_box=False)
 
     count = np.maximum(1, np.floor(length / step + 1e-9)).astype(np.int64)
     maximum = np.empty(len(count))
@@ -126,6 +134,9 @@ def render_demip(image: Any, camera: Any, size: tuple, **params: Any) -> np.ndar
     for start in range(0, len(count), chunk):
         part = slice(start, start + chunk)
         sample, valid = _samples(values, entry[part], direction[part], count[part], step)
+        if clip_planes is not None:
+            at = np.arange(1, sample.shape[1] + 1)[None, :] * step
+            valid = valid & (at >= lo[part, None]) & (at <= hi[part, None])
         if projection == "attenuated":
             maximum[part] = _attenuated(sample, valid, low, high, attenuation * voxels_per_step)
             first[part] = -1
@@ -136,12 +147,15 @@ def render_demip(image: Any, camera: Any, size: tuple, **params: Any) -> np.ndar
         if projection == "mida":
             mida[part] = _mida(sample, valid, low, high)
             first[part] = -1
+    maximum[~np.isfinite(maximum)] = np.nan  # clipped away: nothing left of the ray
     if output == "value":
         return scatter(maximum, hit, height, width)
 
     term = first >= 0
     where = entry + ((np.maximum(first, 0) + 1) * step)[:, None] * direction
     geometry = _Geometry(image, camera, width / height)
+    if depth_range is not None:
+        geometry.near, geometry.far = max(geometry.near, depth_range[0]), min(geometry.far, depth_range[1])
     depth = np.where(term, geometry.depth(mode, where, entry), np.nan)
     if output == "depth":
         return scatter(depth, hit, height, width)

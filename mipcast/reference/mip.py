@@ -18,39 +18,51 @@ def _sample_count(length: np.ndarray, step: float) -> np.ndarray:
 
 
 def _sampled_reduce(values: np.ndarray, entry: np.ndarray, direction: np.ndarray, length: np.ndarray,
-                    step: float, reduce: np.ufunc, empty: float) -> np.ndarray:
-    """``reduce`` (np.maximum, np.minimum, np.add) over the samples ``entry + k * step``, k = 1..K."""
+                    step: float, reduce: np.ufunc, empty: float, keep=None) -> tuple:
+    """``reduce`` (np.maximum, np.minimum, np.add) over the samples ``entry + k * step``, k = 1..K.
+
+    ``keep = (lo, hi)`` (N,): only samples with ``lo <= k * step <= hi`` count.
+    Returns the reduction (``empty`` where no sample counted) and the number of
+    samples that counted.
+    """
     count = _sample_count(length, step)
     best = np.full(len(length), empty)
+    used = np.zeros(len(length), np.int64)
     first = 1
     while first <= count.max():
         rows = np.flatnonzero(count >= first)
         k = np.arange(first, min(count.max(), first + max(1, BUDGET // len(rows)) - 1) + 1)
         position = entry[rows, None, :] + (k[:, None] * step) * direction[rows, None, :]
         sample = trilinear(values, position.reshape(-1, 3)).reshape(len(rows), len(k))
-        sample[k > count[rows, None]] = empty
+        valid = k[None, :] <= count[rows, None]
+        if keep is not None:  # a clipped ray keeps the unclipped ray's sample positions
+            at = k * step
+            valid &= (at >= keep[0][rows, None]) & (at <= keep[1][rows, None])
+        sample[~valid] = empty
         best[rows] = reduce(best[rows], reduce.reduce(sample, axis=1))
+        used[rows] += valid.sum(axis=1)
         first = k[-1] + 1
-    return best
+    return best, used
 
 
 def sampled_maximum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-         length: np.ndarray, step: float) -> np.ndarray:
-    """VTK-style sampled maximum along rays starting at their box entry."""
-    return _sampled_reduce(values, entry, direction, length, step, np.maximum, -np.inf)
+                    length: np.ndarray, step: float, keep=None) -> np.ndarray:
+    """VTK-style sampled maximum along rays starting at their box entry (``-inf``: no sample kept)."""
+    return _sampled_reduce(values, entry, direction, length, step, np.maximum, -np.inf, keep)[0]
 
 
 def sampled_minimum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-                    length: np.ndarray, step: float) -> np.ndarray:
+                    length: np.ndarray, step: float, keep=None) -> np.ndarray:
     """VTK-style sampled minimum (MINIMUM_INTENSITY blend) along rays starting at their box entry."""
-    return _sampled_reduce(values, entry, direction, length, step, np.minimum, np.inf)
+    return _sampled_reduce(values, entry, direction, length, step, np.minimum, np.inf, keep)[0]
 
 
 def sampled_mean(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-                 length: np.ndarray, step: float) -> np.ndarray:
+                 length: np.ndarray, step: float, keep=None) -> np.ndarray:
     """Mean of the same samples (VTK's AVERAGE_INTENSITY blend, every sample in range, opaque)."""
-    total = _sampled_reduce(values, entry, direction, length, step, np.add, 0.0)
-    return total / _sample_count(length, step)
+    total, used = _sampled_reduce(values, entry, direction, length, step, np.add, 0.0, keep)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(used > 0, total / np.maximum(used, 1), np.nan)
 
 
 def _crossings(entry: np.ndarray, direction: np.ndarray, length: np.ndarray) -> np.ndarray:

@@ -12,7 +12,8 @@ import numpy as np
 from numpy.lib.stride_tricks import as_strided
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
-from mipcast.core.camera_rays import camera_rays
+from mipcast.core.camera_rays import camera_rays, index_space
+from mipcast.core.clipping import plane_rows, ray_interval
 
 #: Rays per chunk of the sampled reference.
 RAY_CHUNK = 65536
@@ -70,3 +71,33 @@ def trilinear(values: np.ndarray, position: np.ndarray) -> np.ndarray:
         w = weight[:, axis, None]
         corner = corner[:, 0::2] + w * (corner[:, 1::2] - corner[:, 0::2])
     return corner[:, 0]
+
+
+def clip_interval(image, entry: np.ndarray, direction: np.ndarray, length: np.ndarray,
+                  clip_planes=None, within_box: bool = True) -> tuple:
+    """Per hit ray, the part ``[lo, hi]`` (world distance from its box entry) that ``clip_planes`` keep.
+
+    ``clip_planes`` is ``(origins, normals)`` in world coordinates (see
+    :func:`mipcast.reference.render`); without planes the whole ray,
+    ``[0, length]``.  ``within_box=False``: the planes' interval alone (the
+    sampled references filter the box ray's own samples with it: a ray
+    shorter than one step keeps its one sample unless a plane drops it).
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkCommonDataModel import vtkImageData
+    >>> image = vtkImageData()
+    >>> image.SetDimensions(5, 5, 5)
+    >>> lo, hi = clip_interval(image, np.array([[2.0, 2.0, 0.0]]), np.array([[0.0, 0.0, 1.0]]),
+    ...                        np.array([4.0]), ([[0, 0, 1.5]], [[0, 0, 1]]))
+    >>> float(lo[0]), float(hi[0])
+    (1.5, 4.0)
+    """
+    low, high = (0.0, length) if within_box else (-np.inf, np.inf)
+    if clip_planes is None:
+        return (np.broadcast_to(np.asarray(low, dtype=np.float64), np.shape(length)).copy(),
+                np.broadcast_to(np.asarray(high, dtype=np.float64), np.shape(length)).copy())
+    origins, normals = clip_planes
+    to_index, _ = index_space(image)
+    rows = plane_rows(origins, normals, to_index)
+    return ray_interval(entry, direction, low, high, rows)

@@ -49,6 +49,11 @@ _EXTRA = {
         type="double", size=6, default=(1.0, 0.0, 1.0, 0.0, 1.0, 0.0),
         doc="World-space bounds (x0 x1 y0 y1 z0 z1) kept sharp; x0 > x1 (the default) means none."),
 }
+#: Parameters not in the panel: the slab's centre and normal (None: they follow
+#: the camera's focal point and view direction, as a ParaView slab should).
+#: As optional four-value properties (x y z use) they crashed pvpython when a
+#: session with several views was reset; set them from Python on the mapper.
+NOT_IN_PANEL = frozenset({"slab_centre", "slab_normal"})
 #: Parameters every method gets (VTK's sampling), prefixed "common".
 _COMMON = [
     dict(name="sample_distance", type="double", size=1, default=0.0, range=(0.0, None),
@@ -92,6 +97,8 @@ def plugin_methods():
         parameters = [dict(p, name="common_" + p["name"], shape=None,
                            choices=None, range=p.get("range")) for p in _COMMON]
         for parameter in method.parameters:
+            if parameter.name in NOT_IN_PANEL:
+                continue
             extra = _EXTRA.get((name, parameter.name))
             if extra is not None:
                 parameters.append(dict(extra, name=parameter.name, shape=None, range=None, choices=None))

@@ -1,0 +1,139 @@
+"""Slabs, clipping planes and cropping boxes as planes, and the ray interval they leave.
+
+Every mipcast method clips the same way: each ray's interval inside the
+volume's box is intersected with the half-spaces of a list of planes (the
+mapper's clipping planes, the six faces of its cropping box and the two
+faces of its slab).  A plane is ``origin`` and ``normal``; the kept side is
+the one the normal points to (``normal . (x - origin) >= 0``), as in VTK's
+``AddClippingPlane``.  The GPU mappers hand these planes to the shader as
+uniforms (:mod:`mipcast.mappers.clip_uniforms`), the float64 references
+take them as arrays (:func:`mipcast.reference.render`'s ``clip_planes``).
+
+Only numpy: no VTK rendering, usable by the references and the mappers.
+
+Examples
+--------
+>>> origins, normals = slab_planes(10.0, (0, 0, 0), (0, 0, 1))
+>>> origins.tolist(), normals.tolist()
+([[0.0, 0.0, -5.0], [0.0, 0.0, 5.0]], [[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]])
+>>> lo, hi = ray_interval(np.zeros((1, 3)), np.array([[0.0, 0.0, 1.0]]), 0.0, 20.0,
+...                       plane_rows(*slab_planes(4.0, (0, 0, 10), (0, 0, 1))))
+>>> float(lo[0]), float(hi[0])
+(8.0, 12.0)
+"""
+from __future__ import annotations
+
+from typing import Optional, Sequence, Tuple
+
+import numpy as np
+
+#: Most planes one mapper clips with: VTK's six clipping planes, the six faces
+#: of the cropping box and the slab's two faces.
+MAX_PLANES = 14
+
+
+def _vector(name: str, value, size: int = 3) -> np.ndarray:
+    array = np.asarray(value, dtype=np.float64).reshape(-1)
+    if array.shape != (size,) or not np.all(np.isfinite(array)):
+        raise ValueError(f"{name} must be {size} finite numbers, got {value!r}")
+    return array
+
+
+def slab_planes(thickness: float, centre: Sequence[float], normal: Sequence[float]) -> Tuple[np.ndarray, np.ndarray]:
+    """The two planes bounding a slab ``thickness`` thick around ``centre``, normal to ``normal``.
+
+    Returns ``(origins, normals)``, each (2, 3), normals pointing into the slab.
+
+    Examples
+    --------
+    >>> slab_planes(2.0, (1, 2, 3), (2, 0, 0))[0].tolist()
+    [[0.0, 2.0, 3.0], [2.0, 2.0, 3.0]]
+    """
+    thickness = float(thickness)
+    if not np.isfinite(thickness) or thickness <= 0:
+        raise ValueError(f"slab thickness must be > 0 (0 means no slab), got {thickness!r}")
+    centre = _vector("slab centre", centre)
+    normal = _vector("slab normal", normal)
+    size = np.linalg.norm(normal)
+    if size == 0:
+        raise ValueError("slab normal must not be the zero vector")
+    normal = normal / size
+    half = 0.5 * thickness * normal
+    return np.array([centre - half, centre + half]), np.array([normal, 0.0 - normal])
+
+
+def box_planes(bounds: Sequence[float]) -> Tuple[np.ndarray, np.ndarray]:
+    """The six planes of the box ``(x0, x1, y0, y1, z0, z1)``, normals pointing inside.
+
+    An empty box (``x0 > x1`` on some axis) keeps nothing.
+
+    Examples
+    --------
+    >>> origins, normals = box_planes((0, 1, 0, 2, 0, 3))
+    >>> normals[:2].tolist(), origins[1].tolist()
+    ([[1.0, 0.0, 0.0], [-1.0, 0.0, 0.0]], [1.0, 2.0, 3.0])
+    """
+    b = _vector("box bounds", bounds, 6)
+    low, high = b[0::2], b[1::2]
+    origins, normals = [], []
+    for axis in range(3):
+        unit = np.eye(3)[axis]
+        origins += [low, high]
+        normals += [unit, 0.0 - unit]
+    return np.array(origins), np.array(normals)
+
+
+def plane_rows(origins, normals, transform: Optional[np.ndarray] = None) -> np.ndarray:
+    """Planes as rows ``(a, b, c, d)``: a point ``p`` is kept where ``a p_x + b p_y + c p_z + d >= 0``.
+
+    With ``transform`` (4x4, from the planes' space to another: world ->
+    index, say), the rows are those of the same planes in the other space.
+
+    Examples
+    --------
+    >>> plane_rows([[0, 0, 2]], [[0, 0, 1]]).tolist()
+    [[0.0, 0.0, 1.0, -2.0]]
+    >>> scale = np.diag([1.0, 1.0, 0.5, 1.0])   # z -> z / 2
+    >>> plane_rows([[0, 0, 2]], [[0, 0, 1]], scale).tolist()
+    [[0.0, 0.0, 2.0, -2.0]]
+    """
+    origins = np.asarray(origins, dtype=np.float64).reshape(-1, 3)
+    normals = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
+    if origins.shape != normals.shape:
+        raise ValueError(f"need as many plane origins as normals, got {len(origins)} and {len(normals)}")
+    if not (np.all(np.isfinite(origins)) and np.all(np.isfinite(normals))):
+        raise ValueError("plane origins and normals must be finite")
+    rows = np.concatenate([normals, -np.sum(normals * origins, axis=1, keepdims=True)], axis=1)
+    if transform is not None:
+        # p_other = T p  =>  row . p = (row T^-1) . p_other
+        rows = rows @ np.linalg.inv(np.asarray(transform, dtype=np.float64))
+    return rows
+
+
+def ray_interval(origin: np.ndarray, direction: np.ndarray, t_low, t_high, rows: np.ndarray) -> tuple:
+    """Narrow the ray intervals ``[t_low, t_high]`` of ``origin + t direction`` to the planes' kept side.
+
+    ``origin``/``direction`` are (N, 3) in the planes' space, ``rows`` from
+    :func:`plane_rows`.  Returns ``(lo, hi)`` (N,); ``lo > hi`` where nothing
+    is kept.  A ray parallel to a plane is kept whole on the kept side and
+    dropped on the other.
+
+    Examples
+    --------
+    >>> rows = plane_rows([[0, 0, 3]], [[0, 0, -1]])     # keep z <= 3
+    >>> [float(v[0]) for v in ray_interval(np.zeros((1, 3)), np.array([[0, 0, 1.0]]), 0.0, 10.0, rows)]
+    [0.0, 3.0]
+    """
+    origin = np.asarray(origin, dtype=np.float64)
+    direction = np.asarray(direction, dtype=np.float64)
+    lo = np.broadcast_to(np.asarray(t_low, dtype=np.float64), origin.shape[:1]).copy()
+    hi = np.broadcast_to(np.asarray(t_high, dtype=np.float64), origin.shape[:1]).copy()
+    for row in np.asarray(rows, dtype=np.float64).reshape(-1, 4):
+        at0 = origin @ row[:3] + row[3]
+        rate = direction @ row[:3]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            cross = -at0 / rate
+        lo = np.where(rate > 0, np.maximum(lo, cross), lo)
+        hi = np.where(rate < 0, np.minimum(hi, cross), hi)
+        hi = np.where((rate == 0) & (at0 < 0), -np.inf, hi)
+    return lo, hi

@@ -1,0 +1,194 @@
+"""The planes every mipcast mapper clips its rays with, as shader uniforms.
+
+One list of planes per render, in world coordinates (:mod:`mipcast.core.clipping`):
+
+* the mapper's clipping planes (``AddClippingPlane``; at most six, as in VTK);
+* its cropping box (``SetCropping(True)``, ``SetCroppingRegionPlanes`` in
+  the image's data coordinates); only the sub-volume region flags
+  (``SetCroppingRegionFlagsToSubVolume()``, VTK's default) are supported;
+* its slab (``SetSlabThickness``, ``SetSlabCentre``, ``SetSlabNormal``; the
+  centre defaults to the camera's focal point, the normal to the view
+  direction, both read at every render).
+
+They go to the shader as ``u_mc_clipCount`` and ``u_mc_clip0`` ..
+``u_mc_clip13`` (a fixed set of vec4 uniforms: moving the slab uploads
+numbers, it never rebuilds the shader) in texture coordinates; the loops (``sampled_loop``, ``amip_cell``)
+narrow each ray to the kept interval once per ray (``mcClipRange`` in
+``mip_globals``).  VTK's own clipping code is switched off (``clipping_off``:
+it moves the ray's start, which would shift mipcast's samples).
+"""
+from __future__ import annotations
+
+from typing import Optional
+
+import numpy as np
+
+from mipcast.core.camera_rays import index_space, matrix_array
+from mipcast.core.clipping import MAX_PLANES, box_planes, plane_rows, slab_planes
+
+#: VTK's value of ``GetCroppingRegionFlags()`` for the sub-volume (the only one supported).
+SUBVOLUME_FLAGS = 0x2000
+#: Most user clipping planes (VTK's limit).
+MAX_USER_PLANES = 6
+
+
+def clipping_problem(mapper) -> Optional[str]:
+    """Why the mapper's clipping planes or cropping cannot be honoured, or ``None``.
+
+    Examples
+    --------
+    >>> from mipcast.mappers.mip import MIPVolumeMapper
+    >>> mapper = MIPVolumeMapper()
+    >>> clipping_problem(mapper) is None
+    True
+    >>> mapper.SetCropping(True); mapper.SetCroppingRegionFlagsToFence()
+    >>> print(clipping_problem(mapper))  # doctest: +ELLIPSIS
+    cropping region flags 0x...: mipcast methods crop to the sub-volume only ...
+    """
+    planes = mapper.GetClippingPlanes()
+    if planes is not None and planes.GetNumberOfItems() > MAX_USER_PLANES:
+        return (f"{planes.GetNumberOfItems()} clipping planes: mipcast methods (as VTK's GPU mapper) "
+                f"take at most {MAX_USER_PLANES}; remove some with RemoveClippingPlane")
+    if mapper.GetCropping() and mapper.GetCroppingRegionFlags() != SUBVOLUME_FLAGS:
+        return (f"cropping region flags {mapper.GetCroppingRegionFlags():#x}: mipcast methods crop to the "
+                "sub-volume only (one box, every ray's part inside it exactly); call "
+                "SetCroppingRegionFlagsToSubVolume(), or use clipping planes")
+    return None
+
+
+def world_planes(mapper, camera) -> tuple:
+    """The mapper's clipping planes and slab in world coordinates: ``(origins, normals)`` (P, 3) each.
+
+    The cropping box is not among them (it lies in data coordinates: see
+    :func:`texture_rows`).  ``camera`` gives the slab's default centre and
+    normal (``None``: no slab unless centre and normal are both set).
+    """
+    origins, normals = [], []
+    planes = mapper.GetClippingPlanes()
+    if planes is not None:
+        for index in range(planes.GetNumberOfItems()):
+            plane = planes.GetItem(index)
+            origins.append(plane.GetOrigin())
+            normals.append(plane.GetNormal())
+    slab = slab_of(mapper, camera)
+    if slab is not None:
+        o, n = slab_planes(*slab)
+        origins += list(o)
+        normals += list(n)
+    return np.array(origins, float).reshape(-1, 3), np.array(normals, float).reshape(-1, 3)
+
+
+def slab_of(mapper, camera) -> Optional[tuple]:
+    """``(thickness, centre, normal)`` of the mapper's slab now, or ``None`` without one."""
+    get = getattr(mapper, "_slab_settings", None)
+    if get is None:
+        return None
+    thickness, centre, normal = get()
+    if not thickness:
+        return None
+    if centre is None or normal is None:
+        if camera is None:
+            return None
+        if centre is None:
+            centre = camera.GetFocalPoint()
+        if normal is None:
+            normal = camera.GetDirectionOfProjection()
+    return float(thickness), tuple(centre), tuple(normal)
+
+
+def slab_depth_range(mapper, camera) -> tuple:
+    """Eye depths ``(near, far)`` of a slab normal to the view direction (DEMIP normalises depth over it).
+
+    ``(-1e30, 1e30)`` without a slab, or for a slab at an angle to the view
+    direction (its depth range is then the box's).
+    """
+    slab = slab_of(mapper, camera)
+    if slab is None or camera is None:
+        return (-1.0e30, 1.0e30)
+    thickness, centre, normal = slab
+    view = np.array(camera.GetDirectionOfProjection(), float)
+    normal = np.array(normal, float) / np.linalg.norm(normal)
+    if abs(normal @ view) < 1.0 - 1.0e-6:
+        return (-1.0e30, 1.0e30)
+    middle = float((np.array(centre, float) - np.array(camera.GetPosition(), float)) @ view)
+    return (middle - 0.5 * thickness, middle + 0.5 * thickness)
+
+
+def world_to_texture(image, volume) -> np.ndarray:
+    """4x4: world -> the volume texture's coordinates (point ``i`` at ``(i + 0.5) / N``)."""
+    to_index, upper = index_space(image)
+    dims = upper + 1.0
+    to_texture = np.diag(list(1.0 / dims) + [1.0])
+    to_texture[:3, 3] = 0.5 / dims
+    from_world = np.linalg.inv(matrix_array(volume.GetMatrix())) if volume is not None else np.eye(4)
+    return to_texture @ to_index @ from_world
+
+
+def data_to_texture(image) -> np.ndarray:
+    """4x4: the image's data (physical) coordinates -> texture coordinates."""
+    to_index, upper = index_space(image)
+    dims = upper + 1.0
+    to_texture = np.diag(list(1.0 / dims) + [1.0])
+    to_texture[:3, 3] = 0.5 / dims
+    return to_texture @ to_index
+
+
+def texture_rows(mapper, image, volume, camera) -> np.ndarray:
+    """Every plane the mapper clips with now, as texture-space rows (P, 4) (see the module doc)."""
+    origins, normals = world_planes(mapper, camera)
+    rows = [plane_rows(origins, normals, world_to_texture(image, volume))]
+    if mapper.GetCropping():
+        rows.append(plane_rows(*box_planes(mapper.GetCroppingRegionPlanes()), data_to_texture(image)))
+    rows = np.concatenate(rows, axis=0)
+    # scale each row to unit normal length: keeps float32 comparisons well conditioned
+    size = np.linalg.norm(rows[:, :3], axis=1, keepdims=True)
+    return rows / np.where(size > 0, size, 1.0)
+
+
+def push(uniforms, rows: np.ndarray) -> None:
+    """Upload ``rows`` (P <= :data:`MAX_PLANES`, 4) as ``u_mc_clipCount`` / ``u_mc_clip0`` ..."""
+    rows = np.asarray(rows, dtype=np.float64).reshape(-1, 4)
+    if len(rows) > MAX_PLANES:
+        raise ValueError(f"at most {MAX_PLANES} clipping planes, got {len(rows)}")
+    values = np.zeros((MAX_PLANES, 4))
+    values[:len(rows)] = rows
+    uniforms.SetUniformi("u_mc_clipCount", len(rows))
+    for index, row in enumerate(values):  # one vec4 each: VTK 9.2's uniform arrays are not safe
+        uniforms.SetUniform4f(f"u_mc_clip{index}", [float(v) for v in row])
+
+
+SLAB_NAMES = ("slab_thickness", "slab_centre", "slab_normal")
+
+
+def copy_clipping(source, target) -> None:
+    """Give a private mapper (a foveation level, a first pass) ``source``'s planes, cropping and slab.
+
+    Setters are called only where values differ (nothing is rebuilt).  The
+    private mapper draws outside the renderer's props, so it also gets the
+    camera its slab follows (``object_state(target)["clip_camera"]``).
+    """
+    from mipcast.core.object_state import object_state
+    from mipcast.mappers.private_draw import rendering_renderer
+
+    settings = source._slab_settings() if hasattr(source, "_slab_settings") else (0.0, None, None)
+    if settings[0]:  # the slab may follow the camera; DEMIP's depth range needs it
+        volume = source.GetAttachedVolume()
+        renderer = rendering_renderer(source, volume) if volume is not None else None
+        object_state(target)["clip_camera"] = renderer.GetActiveCamera() if renderer is not None else None
+    planes = source.GetClippingPlanes()
+    if target.GetClippingPlanes() is not planes:
+        target.SetClippingPlanes(planes)
+    if target.GetCropping() != source.GetCropping():
+        target.SetCropping(source.GetCropping())
+    if target.GetCroppingRegionPlanes() != source.GetCroppingRegionPlanes():
+        target.SetCroppingRegionPlanes(*source.GetCroppingRegionPlanes())
+    if target.GetCroppingRegionFlags() != source.GetCroppingRegionFlags():
+        target.SetCroppingRegionFlags(source.GetCroppingRegionFlags())
+    source_slab = getattr(source, "_slab_settings", None)
+    target_params = getattr(target, "_parameters", None)
+    if source_slab is None or target_params is None:
+        return
+    params = target_params()
+    for name, value in zip(SLAB_NAMES, source_slab()):
+        if name in params and params[name] != value:
+            target._set_parameter(name, value)
