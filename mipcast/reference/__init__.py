@@ -14,7 +14,8 @@ from typing import Any
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
-from mipcast.core.validation import check_choice, check_image, check_positive, check_size
+from mipcast.core.prepare import prepare_scalars
+from mipcast.core.validation import check_choice, check_positive, check_size
 from mipcast.reference.demip import render_demip
 from mipcast.reference.mip import exact_maximum, sampled_maximum
 from mipcast.reference.rays import BUDGET, RAY_CHUNK, hit_rays, scatter
@@ -31,7 +32,11 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     Parameters
     ----------
     image : vtkImageData or pyvista.ImageData
-        Volume with one-component point scalars (not modified).
+        Volume (not modified).  Drawn as the GPU draws it
+        (:func:`mipcast.core.prepare.prepare_scalars`): several components as
+        their magnitude or ``component=k``; NaN/Inf voxels are missing (filled
+        below the finite minimum; rays whose result lies below the finite
+        minimum are NaN, like misses).
     camera : vtkCamera
         The view (not modified); orthographic or perspective.
     size : tuple of int
@@ -58,6 +63,7 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     **params
         ``sample_distance : float`` (method ``"mip"``, required): distance
         between samples in world units, > 0.  Method ``"analytic"`` takes none.
+        ``component : int or "magnitude"`` (optional, every method): see ``image``.
 
     Returns
     -------
@@ -93,11 +99,12 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     >>> print(render(image, camera, (3, 1), method="mip", sample_distance=0.5).round(3))
     [[nan  1. nan]]
     """
-    volume = check_image(image)
+    component = params.pop("component", None)
+    prepared = prepare_scalars(image, component)
     width, height = check_size(size)
     method = check_choice("method", method, tuple(METHODS))
     if method == "demip":  # depth, colour or maximum: see mipcast.reference.demip
-        return render_demip(image, camera, (width, height), **params)
+        return render_demip(image, camera, (width, height), component=component, **params)
     allowed = METHODS[method]
     unknown = sorted(set(params) - set(allowed))
     if unknown:
@@ -110,7 +117,7 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
         step = check_positive("sample_distance", params["sample_distance"])
 
     hit, entry, direction, length = hit_rays(image, camera, (width, height))
-    values = np.array(volume, dtype=np.float64)
+    values = np.array(prepared.values, dtype=np.float64)
 
     if method == "mip":
         chunk, kernel = RAY_CHUNK, partial(sampled_maximum, step=step)
@@ -120,4 +127,5 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     for start in range(0, len(length), chunk):
         part = slice(start, start + chunk)
         found[part] = kernel(values, entry[part], direction[part], length[part])
+    found[found < prepared.missing_below] = np.nan  # rays that saw no finite data: background
     return scatter(found, hit, height, width)
