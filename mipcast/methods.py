@@ -55,7 +55,8 @@ class Method:
     reference : callable, optional
         The float64 picture its float readout must match:
         ``reference(image, camera, size, *, sample_distance, window, **params)``
-        with the method's parameters; None for methods without a float
+        with the method's parameters (and ``component``, as the mappers'
+        ``SetComponent``); None for methods without a float
         readout or whose picture depends on the gaze (foveation).
     reference_tolerance : float
         The largest error (fraction of the data range) of its float readout
@@ -127,14 +128,15 @@ def _demip_two_pass() -> DEMIPTwoPassVolumeMapper:
 
 
 # -- references, one signature ---------------------------------------------------
-def sampled_mip_reference(image, camera, size, *, sample_distance: float, window=None) -> np.ndarray:
+def sampled_mip_reference(image, camera, size, *, sample_distance: float, window=None,
+                          component=None) -> np.ndarray:
     """The maximum of the samples at ``entry + k * sample_distance`` (float64)."""
-    return reference.render(image, camera, size, "mip", sample_distance=sample_distance)
+    return reference.render(image, camera, size, "mip", sample_distance=sample_distance, component=component)
 
 
-def exact_mip_reference(image, camera, size, *, sample_distance=None, window=None) -> np.ndarray:
+def exact_mip_reference(image, camera, size, *, sample_distance=None, window=None, component=None) -> np.ndarray:
     """The exact maximum of the trilinear interpolant along each ray (float64)."""
-    return reference.render(image, camera, size, "analytic")
+    return reference.render(image, camera, size, "analytic", component=component)
 
 
 def demip_reference(image, camera, size, *, sample_distance: float, window, **params) -> np.ndarray:

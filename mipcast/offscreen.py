@@ -25,7 +25,6 @@ import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL back 
 from mipcast import methods
 from mipcast.mappers.float_readout import render_float
 from mipcast.mappers.input_preparer import prepared_image
-from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.core.patient_views import PATIENT_VIEWS, set_patient_view
 from mipcast.core.windowing import resolve_window
 from mipcast.core.validation import check_choice, check_image, check_positive, check_size
@@ -105,7 +104,8 @@ class OffscreenView:
     Parameters
     ----------
     image : vtkImageData
-        The volume (one-component point scalars).
+        The volume (point scalars; several components: see ``component``;
+        NaN/Inf voxels are missing data: docs/reliability.md).
     method : str, default: "mip"
         A name from :data:`mipcast.methods.METHODS`.
     size : tuple of int, default: (256, 256)
@@ -172,7 +172,7 @@ class OffscreenView:
         missing values filled: :mod:`mipcast.core.prepare`); VTK's own
         mappers get :func:`~mipcast.mappers.input_preparer.prepared_image`.
         """
-        if isinstance(self.mapper, MIPVolumeMapper):
+        if self.method.float_readout:  # a mipcast mapper (the method table says so)
             self.mapper.SetComponent(component)
             self.mapper.SetInputData(image)
         else:

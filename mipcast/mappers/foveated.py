@@ -530,7 +530,7 @@ def _walks_cells(method: str) -> bool:
 
 def _pyramid(state, image) -> list:
     params = state["parameters"]
-    component = state["preparer"].GetComponent()
+    component = state["preparer"].GetComponent() if "preparer" in state else -1
     stamp = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime(), params["number_of_levels"], component)
     cached = state.get("pyramid")
     if cached is None or cached[0] != stamp:

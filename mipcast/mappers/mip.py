@@ -53,7 +53,6 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     def __init__(self) -> None:
         super().__init__()
         self.SetBlendModeToMaximumIntensity()
-        object_state(self)["preparer"] = InputPreparer()
         self.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, _check_before_render)
         self.AddObserver(vtkCommand.VolumeMapperRenderEndEvent, _restore_after_refused_render)
 
@@ -95,7 +94,10 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
 
     def GetInputPreparer(self) -> InputPreparer:
         """The filter between your input and VTK (:class:`~mipcast.mappers.input_preparer.InputPreparer`)."""
-        return object_state(self)["preparer"]
+        state = object_state(self)  # made on first use: a mapper never given input keeps no state
+        if "preparer" not in state:
+            state["preparer"] = InputPreparer()
+        return state["preparer"]
 
     def GetRenderedInput(self):
         """The one-component image the GPU draws (brought up to date), or None without input."""
