@@ -19,7 +19,9 @@ the float64 references, so both compare like with like:
 * **types**: int8 ... uint32, float32 and float64 go to VTK as they are
   (VTK's textures hold 32/64-bit values as float32: exact up to 2**24);
   int64/uint64, which VTK's GPU ray caster does not upload, are copied to
-  float64 (then float32 on the GPU) and keep their data units.
+  float64 (then float32 on the GPU) and keep their data units.  A constant
+  integer volume is drawn from a float32 copy (VTK's normalisation of a
+  constant integer texture divides by zero).
 
 See docs/reliability.md.
 
@@ -219,8 +221,11 @@ def prepare_scalars(image: vtkImageData, component: Any = None) -> PreparedScala
             span = high - low if high > low else max(abs(low), 1.0)
             fill = float(np.asarray(low - span, dtype=values.dtype))
             values = np.where(finite, values, values.dtype.type(fill))
-            missing_below, changed = low - MISSING_TOLERANCE * (high - low), True
+            missing_below, changed = low - MISSING_TOLERANCE * span, True
     low, high = (float(values.min()), float(values.max())) if not missing else (low, high)
+    if values.dtype.kind in "iu" and low == high:
+        # VTK's normalisation of a constant integer texture divides by zero: draw it as float32
+        values, changed = values.astype(np.float32), True
     if values.dtype.itemsize >= 4 and values.dtype != np.float32:
         # the GPU holds 32/64-bit data as float32: an offset this large hides the range
         if max(abs(low), abs(high)) * 2.0 ** -24 > (high - low) / 512.0 and high > low:

@@ -10,7 +10,7 @@ from mipcast.core.parameters import parameter_accessors
 from mipcast.mappers.corner_packing import CornerPacker, packable
 from mipcast.mappers.input_preparer import InputPreparer
 from mipcast.mappers.max_blocks import block_maxima_image
-from mipcast.mappers.mip import MIPVolumeMapper
+from mipcast.mappers.mip import MIPVolumeMapper, _same_port
 from mipcast.core.transfer_bounds import normalised_ends
 from mipcast.core.validation import check_image
 
@@ -65,11 +65,13 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     # -- input: the prepared image goes through the corner packer ----------
     def _vtk_port(self):
         """The packed copy of the prepared input, or the prepared input itself."""
-        packer, preparer = object_state(self)["packer"], self.GetInputPreparer()
-        if packer.GetNumberOfInputConnections(0) == 0 or \
-                packer.GetInputConnection(0, 0).GetProducer() is not preparer:
-            packer.SetInputConnection(0, preparer.GetOutputPort())
-        return packer.GetOutputPort() if self._packing_active() else preparer.GetOutputPort()
+        packer, source = object_state(self)["packer"], self._prepared_port()
+        if packer.GetNumberOfInputConnections(0) == 0 or not _same_port(packer.GetInputConnection(0, 0), source):
+            packer.SetInputConnection(0, source)
+        return packer.GetOutputPort() if self._packing_active() else source
+
+    def _own_ports(self) -> list:
+        return super()._own_ports() + [object_state(self)["packer"].GetOutputPort()]
 
     def SetPackedCorners(self, *packed) -> None:
         """Read four corners per texel from a packed copy of the volume (default True).
@@ -88,9 +90,11 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         previous = state["packer"]
         if previous is not packer:
             state["packer"] = packer
-            if packer.GetNumberOfInputConnections(0):  # mappers sharing a packer share its preparer
-                shared = packer.GetInputConnection(0, 0).GetProducer()
-                if isinstance(shared, InputPreparer) and shared is not self.GetInputPreparer():
+            shared = object_state(packer).get("preparer")  # mappers sharing a packer share its preparer
+            if shared is None:
+                object_state(packer)["preparer"] = self.GetInputPreparer()
+            else:
+                if shared is not self.GetInputPreparer():
                     mine = self.GetInputPreparer()
                     if shared.GetNumberOfInputConnections(0) == 0 and mine.GetNumberOfInputConnections(0):
                         shared.SetInputConnection(0, mine.GetInputConnection(0, 0))

@@ -119,9 +119,32 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         """The drawn component, -1 for the magnitude (the default)."""
         return self.GetInputPreparer().GetComponent()
 
+    def _prepared_port(self):
+        """Your input's own port when the GPU can draw it as it is, else the preparer's output.
+
+        Valid finite one-component input therefore reaches VTK exactly as
+        before (same pipeline, same requests, e.g. ParaView's time steps);
+        input that needs a copy, or is refused, goes through the preparer
+        (a refused input reaches VTK as the preparer's 2x2x2 stand-in).
+        """
+        preparer = self.GetInputPreparer()
+        preparer.Update()
+        prepared = preparer.GetPrepared()
+        if prepared is not None and not prepared.changed:
+            return preparer.GetInputConnection(0, 0)
+        return preparer.GetOutputPort()
+
     def _vtk_port(self):
         """The port VTK's own input connection should read (subclasses add filters)."""
-        return self.GetInputPreparer().GetOutputPort()
+        return self._prepared_port()
+
+    def _own_ports(self) -> list:
+        """Ports this mapper itself may connect VTK to."""
+        preparer = self.GetInputPreparer()
+        ports = [preparer.GetOutputPort()]
+        if preparer.GetNumberOfInputConnections(0):
+            ports.append(preparer.GetInputConnection(0, 0))
+        return ports
 
     def _route_input(self) -> None:
         """Connect VTK to :meth:`_vtk_port` (only when that changes)."""
@@ -130,7 +153,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         port = self._vtk_port()
         if vtkOpenGLGPUVolumeRayCastMapper.GetNumberOfInputConnections(self, 0):
             current = vtkOpenGLGPUVolumeRayCastMapper.GetInputConnection(self, 0, 0)
-            if current.GetProducer() is port.GetProducer() and current.GetIndex() == port.GetIndex():
+            if _same_port(current, port):
                 return
         vtkOpenGLGPUVolumeRayCastMapper.SetInputConnection(self, port)
 
@@ -139,8 +162,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         if not vtkOpenGLGPUVolumeRayCastMapper.GetNumberOfInputConnections(self, 0):
             return
         current = vtkOpenGLGPUVolumeRayCastMapper.GetInputConnection(self, 0, 0)
-        producer = current.GetProducer()
-        if producer is None or isinstance(producer, InputPreparer) or _is_own_filter(self, producer):
+        if current.GetProducer() is None or any(_same_port(current, port) for port in self._own_ports()):
             return
         self.GetInputPreparer().SetInputConnection(0, current)
         self._route_input()
@@ -301,11 +323,9 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         return wanted <= set(shader_pieces.installed_tags(volume.GetShaderProperty()))
 
 
-def _is_own_filter(mapper, producer) -> bool:
-    """Whether ``producer`` is a filter the mapper put behind its preparer itself (e.g. corner packing)."""
-    upstream = producer.GetInputConnection(0, 0) if producer.GetNumberOfInputPorts() and \
-        producer.GetNumberOfInputConnections(0) else None
-    return upstream is not None and isinstance(upstream.GetProducer(), InputPreparer)
+def _same_port(a, b) -> bool:
+    """Whether two vtkAlgorithmOutput objects name the same output port."""
+    return a.GetProducer() is b.GetProducer() and a.GetIndex() == b.GetIndex()
 
 
 def _check_before_render(mapper, event) -> None:
