@@ -308,3 +308,50 @@ def test_dicom_error_is_an_input_error():
     from mipcast.io.dicom import DicomError
 
     assert issubclass(DicomError, mipcast.InputError) and issubclass(mipcast.InputError, ValueError)
+
+
+def test_bit_arrays_are_refused_with_the_cast():
+    from vtkmodules.vtkCommonCore import vtkBitArray
+
+    image = vtkImageData()
+    image.SetDimensions(2, 2, 2)
+    bits = vtkBitArray()
+    bits.SetNumberOfTuples(8)
+    image.GetPointData().SetScalars(bits)
+    with pytest.raises(TypeError, match="vtkImageCast"):
+        mipcast.core.validation.check_image(image)
+
+
+def test_component_in_pyvista_and_cli(tmp_path):
+    """``component=`` (pyvista) and ``--component`` (CLI) draw the chosen component; bad ones fail first."""
+    import pyvista
+
+    from mipcast.app.cli import main
+    from mipcast.filters import render
+
+    image = image_of(vectors(np.float32, 3), 3)
+    grid = pyvista.wrap(image)
+    second = render(grid, "mip", size=(24, 24), window=(0.0, 2.0), component=1, as_float=True)
+    alone = render(pyvista.wrap(image_of(np.ascontiguousarray(vectors(np.float32, 3)[..., 1]))), "mip",
+                   size=(24, 24), window=(0.0, 2.0), as_float=True)
+    assert np.nanmax(second) > 1.0 and np.allclose(second, alone, equal_nan=True)
+    with pytest.raises(mipcast.InputError, match="component 3"):
+        render(grid, "analytic", size=(24, 24), component=3)
+    path = tmp_path / "vectors.vti"
+    grid.save(str(path))
+    out = tmp_path / "component.png"
+    assert main(["render", str(path), "--method", "analytic", "--component", "2", "--size", "24", "24",
+                 "--out", str(out)]) == 0 and out.stat().st_size > 0
+    assert main(["render", str(path), "--component", "7", "--size", "24", "24", "--out", str(out)]) == 2
+
+
+def test_inf_warns_once_even_for_foveated_levels():
+    import warnings
+
+    image = image_of(holes(BASE.astype(np.float32), 8, -np.inf))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        view = OffscreenView(image, "foveated", size=(32, 32), window=(0.0, 1.0))
+        view.screenshot()
+        view.screenshot()
+    assert sum(issubclass(w.category, mipcast.InputWarning) for w in caught) == 1

@@ -29,7 +29,8 @@ Examples
 --------
 >>> import numpy as np
 >>> from vtkmodules.util.numpy_support import numpy_to_vtk
->>> from vtkmodules.vtkCommonDataModel import vtkImageData
+>>> from vtkmodules.vtkCommonCore import VTK_BIT
+from vtkmodules.vtkCommonDataModel import vtkImageData
 >>> image = vtkImageData()
 >>> image.SetDimensions(2, 2, 2)
 >>> _ = image.GetPointData().SetScalars(numpy_to_vtk(np.array([0, 1, 2, 3, 4, 5, 6, np.nan]), deep=True))
@@ -44,6 +45,7 @@ from typing import Any, Optional
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonCore import VTK_BIT
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.core.errors import InputError
@@ -183,6 +185,10 @@ def prepare_scalars(image: vtkImageData, component: Any = None) -> PreparedScala
             "image.GetPointData().SetActiveScalars(name) (pyvista: image.set_active_scalars)")
     check_geometry(image)
     chosen = check_component(component)
+    if array.GetDataType() == VTK_BIT:
+        raise TypeError(
+            f"the scalars '{array.GetName()}' are a bit array, which the GPU ray caster cannot "
+            "upload; convert them to uint8 first (e.g. vtkImageCast)")
     raw = vtk_to_numpy(array)
     if raw.dtype.type not in NATIVE_DTYPES + CONVERTED_DTYPES:
         raise TypeError(

@@ -20,6 +20,10 @@ from mipcast.core.errors import InputError, InputWarning
 from mipcast.core.prepare import PreparedScalars, check_component, prepare_scalars
 
 
+#: Arrays (address, modification time) already warned about.
+_WARNED: set = set()
+
+
 class InputPreparer(VTKPythonAlgorithmBase):
     """vtkImageData in, the drawn one-component values out (geometry copied).
 
@@ -79,7 +83,10 @@ class InputPreparer(VTKPythonAlgorithmBase):
         if not prepared.changed:
             target.ShallowCopy(source)
             return 1
-        if prepared.infinite:
+        stamp = (source.GetPointData().GetScalars().GetAddressAsString("vtkObjectBase"),
+                 source.GetPointData().GetScalars().GetMTime())
+        if prepared.infinite and stamp not in _WARNED:  # once per volume, even with several mappers
+            _WARNED.add(stamp)
             warnings.warn(
                 f"{prepared.infinite} +-Inf value(s) in '{source.GetPointData().GetScalars().GetName()}' "
                 "are drawn as missing data (like NaN); replace them first to draw them "
