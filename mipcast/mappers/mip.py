@@ -25,8 +25,11 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     VTK keeps shader code on the ``vtkVolume``, so the mapper must be attached
     to its volume with :meth:`Attach` (which also calls ``volume.SetMapper``).
     Rendering an unattached mipcast mapper, or one whose input is unusable (see
-    :func:`mipcast.core.validation.check_image`), reports a VTK error naming the
-    problem and draws nothing.
+    :func:`mipcast.core.validation.check_image`), reports a VTK error event naming the
+    problem (also :meth:`GetLastProblem`) and draws nothing.  NaN/Inf voxels
+    are drawn as missing data and several components as their magnitude (or
+    :meth:`SetComponent`), by an input preparer inside the mapper
+    (:mod:`mipcast.mappers.input_preparer`; docs/reliability.md).
 
     Examples
     --------
@@ -252,8 +255,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
 
         Checked at the start of every render: the mapper must be attached
         (:meth:`Attach`) and its input must pass
-        :func:`mipcast.core.validation.check_image` (checked once per input
-        modification).
+        :func:`mipcast.core.validation.check_image` (prepared once per input
+        modification by the mapper's :class:`~mipcast.mappers.input_preparer.InputPreparer`).
         """
         if not self.IsAttached():
             return ("rendered without Attach(volume): its shader pieces are not on the "
