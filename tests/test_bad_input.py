@@ -335,6 +335,9 @@ def test_component_in_pyvista_and_cli(tmp_path):
     alone = render(pyvista.wrap(image_of(np.ascontiguousarray(vectors(np.float32, 3)[..., 1]))), "mip",
                    size=(24, 24), window=(0.0, 2.0), as_float=True)
     assert np.nanmax(second) > 1.0 and np.allclose(second, alone, equal_nan=True)
+    import mipcast.filters  # noqa: F401  (registers grid.mip)
+    accessor = grid.mip.render("mip", size=(24, 24), window=(0.0, 2.0), component=1, as_float=True)
+    assert np.allclose(accessor, alone, equal_nan=True)
     with pytest.raises(mipcast.InputError, match="component 3"):
         render(grid, "analytic", size=(24, 24), component=3)
     path = tmp_path / "vectors.vti"
@@ -343,6 +346,13 @@ def test_component_in_pyvista_and_cli(tmp_path):
     assert main(["render", str(path), "--method", "analytic", "--component", "2", "--size", "24", "24",
                  "--out", str(out)]) == 0 and out.stat().st_size > 0
     assert main(["render", str(path), "--component", "7", "--size", "24", "24", "--out", str(out)]) == 2
+    from mipcast.app.viewer import build_viewer
+
+    plotter = build_viewer(image, "analytic", off_screen=True, window_size=(48, 48), component=0)
+    try:
+        assert plotter.screenshot().max() > 0
+    finally:
+        plotter.close()
 
 
 def test_inf_warns_once_even_for_foveated_levels():

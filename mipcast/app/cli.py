@@ -97,6 +97,8 @@ def _parser() -> argparse.ArgumentParser:
     view.add_argument("--view", default=None, choices=VIEW_NAMES, help="first camera (default: pyvista's)")
     view.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
     view.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
+    view.add_argument("--component", type=_component, default=None, metavar="K|magnitude",
+                      help="component of a multi-component array to draw (default: the magnitude)")
     view.set_defaults(run=run_view)
     view.epilog = _parameters_help(view)
 
@@ -340,9 +342,13 @@ def run_view(args) -> int:
         return 2
     from mipcast.io import read_volume, with_scalars
 
+    from mipcast.core.validation import check_image
+    from mipcast.mappers.input_preparer import prepared_image
+
     image = with_scalars(read_volume(args.input, series_uid=args.series), args.scalars)
-    run_viewer(image, args.method, clim=_window(image, args.window), params=args.params,  # checks params
-               view=args.view)  # before the window
+    check_image(image, args.component)  # mipcast.InputError before the window opens
+    run_viewer(image, args.method, clim=_window(prepared_image(image, args.component), args.window),
+               params=args.params, view=args.view, component=args.component)  # checks params before the window
     return 0
 
 
