@@ -365,3 +365,21 @@ def test_inf_warns_once_even_for_foveated_levels():
         view.screenshot()
         view.screenshot()
     assert sum(issubclass(w.category, mipcast.InputWarning) for w in caught) == 1
+
+
+@pytest.mark.parametrize("method", [name for name, m in mipcast.METHODS.items() if m.float_readout])
+def test_rays_without_finite_data_show_the_background(method):
+    """A land mask: where rays cross only NaN the picture shows the background, in the display path too."""
+    image = image_of(nan_half())
+    prepared = prepare_scalars(image)
+    view = OffscreenView(image, method, size=(32, 32), view="front", window=(prepared.low, prepared.high))
+    view.renderer.SetBackground(0.0, 0.0, 1.0)
+    shot = view.screenshot().astype(int)
+    found = view.float_image()
+    missing = np.isnan(found)
+    background = (shot[..., 2] == 255) & (shot[..., 0] == 0)
+    exact = view.method.reference
+    if exact is not None:
+        assert np.mean(missing != np.isnan(_reference(view, image, None))) < 0.03
+    left = missing[:, 2:14]  # the volume's NaN half, seen from the front
+    assert left.mean() > 0.9 and background[:, 2:14][left].mean() > 0.9

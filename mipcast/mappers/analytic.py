@@ -206,6 +206,9 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         exact = (object_state(self).get("exact_readout", False) and object_state(self).get("stat") is None) \
             or not skipping
         uniforms.SetUniformf("u_mc_stat", float(object_state(self).get("stat") or 0))
+        # with missing values the ray starts below them (not at the floor), so that a ray that saw
+        # no finite data stays below the missing threshold (shaders/missing_exit.glsl)
+        exact = exact or self._missing_below() is not None
         uniforms.SetUniformf("u_mc_floor", -1.0e30 if exact else floor)
         uniforms.SetUniformf("u_mc_ceiling", 1.0e30 if exact else ceiling)
         if image is not None and image.GetNumberOfPoints() > 0:
