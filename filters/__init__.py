@@ -22,7 +22,8 @@ from typing import Optional, Sequence, Union
 import numpy as np
 
 from mipcast.io import with_scalars
-from mipcast.methods import attach, create_mapper
+from mipcast.mappers.input_preparer import prepared_image
+from mipcast.methods import METHODS, attach, create_mapper
 from mipcast.offscreen import OffscreenView, set_view
 from mipcast.core.windowing import resolve_window
 from mipcast.core.parameters import method_parameters, set_parameters
@@ -31,13 +32,14 @@ from mipcast.core.validation import check_image, check_positive
 
 def render(image, method: str = "mip", *, scalars: Optional[str] = None, size: Sequence[int] = (256, 256),
            view: str = "oblique", sample_distance: Optional[float] = None,
-           window: Optional[Sequence[float]] = None, as_float: bool = False, **params) -> np.ndarray:
+           window: Optional[Sequence[float]] = None, as_float: bool = False,
+           component: Union[int, str, None] = None, **params) -> np.ndarray:
     """Render ``image`` offscreen with a mipcast method.
 
     Parameters
     ----------
     image : pyvista.ImageData
-        Volume with one-component point scalars.
+        Volume with point scalars (several components: see ``component``).
     method : str, default: "mip"
         A name from ``mipcast.METHODS``.
     scalars : str, optional
@@ -59,6 +61,9 @@ def render(image, method: str = "mip", *, scalars: Optional[str] = None, size: S
     as_float : bool, default: False
         Return each pixel's maximum in data units (float32, NaN where a ray
         misses) instead of the 8-bit RGB picture.
+    component : int or "magnitude", optional
+        Which component of multi-component scalars to draw; default their
+        magnitude, as ParaView does (one-component scalars are drawn as they are).
     **params
         Method parameters, passed to the mapper's setters (see
         :func:`mipcast.core.parameters.set_parameters`); an unknown name raises ``TypeError``.
@@ -67,6 +72,13 @@ def render(image, method: str = "mip", *, scalars: Optional[str] = None, size: S
     -------
     numpy.ndarray
         (height, width, 3) uint8, or (height, width) float32, top row first.
+
+    Raises
+    ------
+    mipcast.InputError
+        Before anything renders, for input that cannot be drawn (the message
+        names the problem and the fix); ``TypeError`` for non-image data.
+        NaN/Inf voxels are drawn as missing data (docs/reliability.md).
 
     Examples
     --------
@@ -80,7 +92,7 @@ def render(image, method: str = "mip", *, scalars: Optional[str] = None, size: S
     dtype('float32')
     """
     scene = OffscreenView(with_scalars(image, scalars), method, size=size, view=view,
-                          sample_distance=sample_distance, window=window)
+                          sample_distance=sample_distance, window=window, component=component)
     set_parameters(scene.mapper, **params)
     return scene.float_image() if as_float else scene.screenshot()
 
@@ -89,7 +101,7 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
                cmap: Union[str, object] = "gray", clim: Optional[Sequence[float]] = None,
                opacity: Union[float, str] = 1.0, sample_distance: Optional[float] = None,
                name: Optional[str] = None, reset_camera: Optional[bool] = None, render: bool = True,
-               **params):
+               component: Union[int, str, None] = None, **params):
     """Add ``image`` to a pyvista ``Plotter``, rendered by a mipcast method.
 
     Parameters
@@ -97,7 +109,7 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
     plotter : pyvista.Plotter
         Any plotter, including ``Plotter(off_screen=True)``.
     image : pyvista.ImageData
-        Volume with one-component point scalars.
+        Volume with point scalars (several components: see ``component``).
     method : str, default: "mip"
         A name from ``mipcast.METHODS``.
     scalars : str, optional
@@ -123,6 +135,9 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
         been set yet (a ``camera_position`` set before is kept).
     render : bool, default: True
         As in pyvista: render a shown window after adding.
+    component : int or "magnitude", optional
+        Which component of multi-component scalars to draw; default their
+        magnitude, as ParaView does.
     **params
         Method parameters, passed to the mapper's setters (see
         :func:`mipcast.core.parameters.set_parameters`); an unknown name raises ``TypeError``
@@ -146,12 +161,16 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
     import pyvista
 
     image = with_scalars(image, scalars)
-    check_image(image)
-    low, high = resolve_window(image, clim)
+    check_image(image, component)  # raises mipcast.InputError before anything is added
+    low, high = resolve_window(prepared_image(image, component), clim)
     if sample_distance is None:
         sample_distance = min(abs(s) for s in image.GetSpacing())
     mapper = create_mapper(method)
-    mapper.SetInputData(image)
+    if METHODS[method].float_readout:  # a mipcast mapper: its preparer draws the component
+        mapper.SetComponent(component)
+        mapper.SetInputData(image)
+    else:  # VTK's own mappers draw the prepared copy
+        mapper.SetInputData(prepared_image(image, component))
     mapper.SetAutoAdjustSampleDistances(False)
     mapper.SetSampleDistance(check_positive("sample_distance", sample_distance))
     set_parameters(mapper, **params)
@@ -169,7 +188,7 @@ def plot(image, method: str = "mip", *, off_screen: Optional[bool] = None,
     Parameters
     ----------
     image : pyvista.ImageData
-        Volume with one-component point scalars.
+        Volume with point scalars (several components: see ``component``).
     method : str, default: "mip"
         A name from ``mipcast.METHODS``.
     off_screen, window_size, screenshot

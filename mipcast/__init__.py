@@ -10,6 +10,7 @@ Examples
 ['analytic', 'analytic_average', 'analytic_minip', 'average', 'cpu', 'demip', 'demip_two_pass',
  'foveated', 'minip', 'mip', 'stock', 'stock_average', 'stock_minip']
 """
+from mipcast.core.errors import InputError, InputWarning
 from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
 from mipcast.mappers.demip import DEMIPVolumeMapper
 from mipcast.mappers.demip_two_pass import DEMIPTwoPassVolumeMapper
@@ -20,6 +21,6 @@ from mipcast.mappers.projections import (AnalyticAverageVolumeMapper, AnalyticMi
                                          AverageVolumeMapper, MinIPVolumeMapper)
 
 __version__ = "0.1.0"
-__all__ = ["METHODS", "AnalyticAverageVolumeMapper", "AnalyticMIPVolumeMapper", "AnalyticMinIPVolumeMapper",
-           "AverageVolumeMapper", "DEMIPTwoPassVolumeMapper", "DEMIPVolumeMapper", "FoveatedVolumeMapper",
-           "MIPVolumeMapper", "MinIPVolumeMapper", "create_mapper", "__version__"]
+__all__ = ["METHODS", "InputError", "InputWarning", "AnalyticAverageVolumeMapper", "AnalyticMIPVolumeMapper",
+           "AnalyticMinIPVolumeMapper", "AverageVolumeMapper", "DEMIPTwoPassVolumeMapper", "DEMIPVolumeMapper",
+           "FoveatedVolumeMapper", "MIPVolumeMapper", "MinIPVolumeMapper", "create_mapper", "__version__"]

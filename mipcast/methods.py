@@ -57,7 +57,8 @@ class Method:
     reference : callable, optional
         The float64 picture its float readout must match:
         ``reference(image, camera, size, *, sample_distance, window, **params)``
-        with the method's parameters; None for methods without a float
+        with the method's parameters (and ``component``, as the mappers'
+        ``SetComponent``); None for methods without a float
         readout or whose picture depends on the gaze (foveation).
     reference_tolerance : float
         The largest error (fraction of the data range) of its float readout
@@ -167,9 +168,10 @@ def projection_reference(name: str) -> Callable[..., np.ndarray]:
     """The float64 reference :func:`mipcast.reference.render` of ``name``, in the table's signature.
 
     ``reference(image, camera, size, *, sample_distance=None, window=None,
-    clip_planes=None)``: sampled projections use ``sample_distance`` (samples
-    at ``entry + k * sample_distance``), exact ones ignore it; ``clip_planes``
-    is ``(origins, normals)`` in world coordinates.
+    clip_planes=None, component=None)``: sampled projections use
+    ``sample_distance`` (samples at ``entry + k * sample_distance``), exact
+    ones ignore it; ``clip_planes`` is ``(origins, normals)`` in world
+    coordinates; ``component`` as :meth:`~mipcast.MIPVolumeMapper.SetComponent`.
 
     Examples
     --------
@@ -178,9 +180,10 @@ def projection_reference(name: str) -> Callable[..., np.ndarray]:
     """
     sampled = "sample_distance" in reference.METHODS[name]
 
-    def projection(image, camera, size, *, sample_distance=None, window=None, clip_planes=None) -> np.ndarray:
+    def projection(image, camera, size, *, sample_distance=None, window=None, clip_planes=None,
+                   component=None) -> np.ndarray:
         extra = {"sample_distance": sample_distance} if sampled else {}
-        return reference.render(image, camera, size, name, clip_planes=clip_planes, **extra)
+        return reference.render(image, camera, size, name, clip_planes=clip_planes, component=component, **extra)
 
     projection.__name__ = f"{name}_reference"
     projection.__doc__ = f"The float64 reference of {name!r} (mipcast.reference.render)."

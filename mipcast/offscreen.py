@@ -24,6 +24,7 @@ import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL back 
 
 from mipcast import methods
 from mipcast.mappers.float_readout import render_float
+from mipcast.mappers.input_preparer import prepared_image
 from mipcast.core.patient_views import PATIENT_VIEWS, set_patient_view
 from mipcast.core.windowing import resolve_window
 from mipcast.core.validation import check_choice, check_image, check_positive, check_size
@@ -103,7 +104,8 @@ class OffscreenView:
     Parameters
     ----------
     image : vtkImageData
-        The volume (one-component point scalars).
+        The volume (point scalars; several components: see ``component``;
+        NaN/Inf voxels are missing data: docs/reliability.md).
     method : str, default: "mip"
         A name from :data:`mipcast.methods.METHODS`.
     size : tuple of int, default: (256, 256)
@@ -114,6 +116,9 @@ class OffscreenView:
     sample_distance : float, optional
         World units between samples; default one sample per voxel (the
         smallest spacing).  Auto-adjust and jittering are off.
+    component : int or "magnitude", optional
+        Which component of multi-component scalars to draw (default: the
+        magnitude; see :mod:`mipcast.core.prepare`).
     window : tuple of float or str, optional
         Grey window (low, high) in data units, used as given; default (or
         ``"auto"``) the window a viewer would pick
@@ -131,18 +136,19 @@ class OffscreenView:
     """
 
     def __init__(self, image, method: str = "mip", size=(256, 256), view: str = "oblique",
-                 sample_distance: Optional[float] = None, window=None) -> None:
-        check_image(image)
+                 sample_distance: Optional[float] = None, window=None, component=None) -> None:
+        check_image(image, component)  # raises InputError naming the problem before anything renders
         self.image = image
+        self.component = component
         self.size = check_size(size)
         if sample_distance is None:
             sample_distance = min(abs(s) for s in image.GetSpacing())
         self.sample_distance = check_positive("sample_distance", sample_distance)
-        self.window = resolve_window(image, window)
+        self.window = resolve_window(prepared_image(image, component), window)
         #: The :class:`mipcast.methods.Method` entry.
         self.method = methods.METHODS[check_choice("method", method, tuple(methods.METHODS))]
         self.mapper = self.method.create()
-        self.mapper.SetInputData(image)
+        self.set_input(image, component)
         self.mapper.SetAutoAdjustSampleDistances(False)
         self.mapper.SetSampleDistance(self.sample_distance)
         if hasattr(self.mapper, "SetUseJittering"):  # the CPU peer has no jittering
@@ -158,6 +164,20 @@ class OffscreenView:
         self.render_window.AddRenderer(self.renderer)
         self.render_window.SetSize(*self.size)
         set_view(self.renderer, image, view)
+
+    def set_input(self, image, component=None) -> None:
+        """Draw ``image`` from now on (same mapper, window and camera).
+
+        mipcast mappers take it as it is (their preparer draws one component,
+        missing values filled: :mod:`mipcast.core.prepare`); VTK's own
+        mappers get :func:`~mipcast.mappers.input_preparer.prepared_image`.
+        """
+        if self.method.float_readout:  # a mipcast mapper (the method table says so)
+            self.mapper.SetComponent(component)
+            self.mapper.SetInputData(image)
+        else:
+            self.mapper.SetInputData(prepared_image(image, component))
+        self.image, self.component = image, component
 
     @property
     def camera(self):

@@ -193,6 +193,11 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
     assign.Assign(name, "SCALARS", "POINT_DATA")  # for check_image; _link sets it again
     assign.Update()
     image = assign.GetOutputDataObject(0)
+    problem = _problem(image, name)
+    if problem is not None and "components" in problem:  # the view links one-component arrays only
+        from mipcast.core.errors import InputError
+        raise InputError(f"{problem}: extract a component first (Calculator, Extract Component), "
+                         "or render it with mipcast's mappers, which draw the magnitude (SetComponent)")
     check_image(image)  # raises naming the problem and the fix
     low, high = image.GetPointData().GetScalars().GetRange(0)
 

@@ -225,8 +225,7 @@ def test_bad_input_is_refused_at_render_not_drawn():
     image = make_fixture("vessels", size=32)
     scene = OffscreenView(image, "demip_two_pass", size=(48, 48))
     assert scene.screenshot().max() > 100
-    values = np.ones((8, 8, 8), np.float32)
-    values[2, 3, 4] = np.nan
+    values = np.full((8, 8, 8), np.nan, np.float32)  # every value missing: nothing to draw
     scene.mapper.SetInputData(image_from_array(values))
     messages = []
     scene.mapper.AddObserver(vtkCommand.ErrorEvent, lambda *args: messages.append(args))

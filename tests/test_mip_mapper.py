@@ -169,14 +169,13 @@ def test_attach_moves_pieces_and_refuses_foreign_code(vessels48):
 def test_bad_input_is_refused_at_render_not_drawn(vessels48, method):
     view = OffscreenView(vessels48, method, size=(48, 48))
     assert view.screenshot().max() > 100
-    values = np.ones((8, 8, 8), np.float32)
-    values[2, 3, 4] = np.nan
+    values = np.full((8, 8, 8), np.nan, np.float32)  # every value missing: nothing to draw
     view.mapper.SetInputData(_image(values))  # after the view checked its input
     messages = []
     view.mapper.AddObserver(vtkCommand.ErrorEvent, lambda *args: messages.append(args))
     problem = view.mapper.GetRenderProblem()
-    assert "NaN" in problem and "nan_to_num" in problem
-    assert view.screenshot().max() == 0 and messages
+    assert "NaN" in problem and "nothing to draw" in problem
+    assert view.screenshot().max() == 0 and messages and view.mapper.GetLastProblem() == problem
     view.mapper.SetInputData(vessels48)
     assert view.screenshot().max() > 100
 

@@ -208,8 +208,8 @@ def test_macros(report):
 
 @pytest.mark.parametrize("case, words", [
     ("polydata", ["TypeError", "vtkImageData", "vtkPolyData", "Resample To Image"]),
-    ("three_components", ["ValueError", "'vectors'", "3 components", "extract a component"]),
-    ("nan", ["ValueError", "NaN"]),
+    ("three_components", ["InputError", "'vectors'", "3 components", "extract a component"]),
+    ("nan", ["InputError", "NaN", "nothing to draw"]),
     ("missing_array", ["'nope'", "RTData"]),
     ("unknown_method", ["'best'", "'analytic'"]),
     ("unknown_setting", ["TypeError", "no_such_weight"]),

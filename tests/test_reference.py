@@ -484,10 +484,9 @@ def test_bad_input_raises():
         render("not an image", camera, (4, 4), method="analytic")
     two = make_image(RNG_VOLUME)
     two.GetPointData().SetScalars(numpy_to_vtk(np.zeros((RNG_VOLUME.size, 2)), deep=True))
-    with pytest.raises(ValueError, match="components"):
-        render(two, camera, (4, 4), method="analytic")
-    nan = RNG_VOLUME.copy()
-    nan[1, 2, 3] = np.nan
+    with pytest.raises(ValueError, match="component 2"):
+        render(two, camera, (4, 4), method="analytic", component=2)
+    nan = np.full_like(RNG_VOLUME, np.nan)
     with pytest.raises(ValueError, match="NaN"):
         render(make_image(nan), camera, (4, 4), method="analytic")
     with pytest.raises(ValueError, match="at least 2 points"):

@@ -27,9 +27,7 @@ def _image(values, components=1):
     (lambda: vtkImageData(), ValueError, "empty"),
     (lambda: _image(np.ones((1, 1, 1), np.float32)), ValueError, "at least 2 points"),
     (lambda: _image(np.ones((4, 4, 1), np.float32)), ValueError, "at least 2 points"),
-    (lambda: _image(np.ones((4, 4, 4, 3), np.float32), 3), ValueError, "3 components"),
     (lambda: _image(np.full((4, 4, 4), np.inf, np.float32)), ValueError, "NaN/Inf"),
-    (lambda: _image(np.ones((4, 4, 4), np.int64)), TypeError, "not supported"),
     (lambda: _image(1.0e9 + np.random.default_rng(0).random((4, 4, 4))), ValueError, "subtract the offset"),
 ])
 def test_bad_volumes(make, error, words):
@@ -176,4 +174,5 @@ def test_scalars_that_vanish_after_a_render_are_refused_not_a_crash(method):
     assert completed.returncode == 0, completed.stderr[-2000:]  # was SIGSEGV (139) for analytic
     before, gone, several, again = map(int, completed.stdout.split()[-4:])
     assert before > 100 and gone == 0 and several == 0 and again == 0
-    assert "no active point scalars" in completed.stderr and "components" in completed.stderr
+    # three components draw their magnitude (zero here: black), as in ParaView
+    assert "no active point scalars" in completed.stderr

@@ -91,6 +91,8 @@ def _parser() -> argparse.ArgumentParser:
                              "(--out sweep.gif or .mp4)")
     render.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
     render.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
+    render.add_argument("--component", type=_component, default=None, metavar="K|magnitude",
+                        help="component of a multi-component array to draw (default: the magnitude)")
     render.set_defaults(run=_run_render)
     render.epilog = _parameters_help(render)
 
@@ -103,6 +105,8 @@ def _parser() -> argparse.ArgumentParser:
     view.add_argument("--view", default=None, choices=VIEW_NAMES, help="first camera (default: pyvista's)")
     view.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
     view.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
+    view.add_argument("--component", type=_component, default=None, metavar="K|magnitude",
+                      help="component of a multi-component array to draw (default: the magnitude)")
     view.set_defaults(run=run_view)
     view.epilog = _parameters_help(view)
 
@@ -242,15 +246,21 @@ def _run_render(args) -> int:
     from mipcast.io import read_volume, with_scalars
     from mipcast.core.parameters import set_parameters
 
+    from mipcast.core.validation import check_image
+    from mipcast.mappers.input_preparer import prepared_image
+
     image = with_scalars(read_volume(args.input, series_uid=args.series), args.scalars)
     if args.slab_sweep is not None and args.turntable is not None:
         raise ValueError("--slab-sweep and --turntable are two animations: give one of them")
-    window = _window(image, args.window)
+    component = getattr(args, "component", None)
+    check_image(image, component)  # mipcast.InputError before anything renders
+    window = _window(prepared_image(image, component), args.window)
     distance = args.sample_distance
     if distance == "auto":
         from mipcast.bench.auto_sampling import choose_samples_per_voxel
 
-        camera = OffscreenView(image, "mip", size=tuple(args.size), view=args.view, window=window).camera
+        camera = OffscreenView(image, "mip", size=tuple(args.size), view=args.view, window=window,
+                               component=component).camera
         choice = choose_samples_per_voxel(image, camera, tuple(args.size), window=window)
         distance = choice.sample_distance
         verdict = "meets" if choice.met else "misses (densest candidate used)"
@@ -258,7 +268,7 @@ def _run_render(args) -> int:
               f"{100 * choice.within_target:.1f}% of {choice.calibration_rays} calibration rays within one "
               f"grey level: {verdict} the target")
     view = OffscreenView(image, args.method, size=tuple(args.size), view=args.view,
-                         sample_distance=distance, window=window)
+                         sample_distance=distance, window=window, component=component)
     set_parameters(view.mapper, **args.params)
     if args.turntable is not None:
         from mipcast.app.turntable import write_turntable
@@ -288,6 +298,19 @@ def _window(image, tokens):
         print(f"window {window[0]:.6g} to {window[1]:.6g} ({reason}; --window full for the data range)")
         return window
     return resolve_window(image, spec)
+
+
+def _component(text: str):
+    """``--component``: an integer >= 0 or ``magnitude``."""
+    if text.lower() == "magnitude":
+        return None
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0 or 'magnitude', got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
+    return value
 
 
 def _distance(text: str):
@@ -323,9 +346,13 @@ def run_view(args) -> int:
         return 2
     from mipcast.io import read_volume, with_scalars
 
+    from mipcast.core.validation import check_image
+    from mipcast.mappers.input_preparer import prepared_image
+
     image = with_scalars(read_volume(args.input, series_uid=args.series), args.scalars)
-    run_viewer(image, args.method, clim=_window(image, args.window), params=args.params,  # checks params
-               view=args.view)  # before the window
+    check_image(image, args.component)  # mipcast.InputError before the window opens
+    run_viewer(image, args.method, clim=_window(prepared_image(image, args.component), args.window),
+               params=args.params, view=args.view, component=args.component)  # checks params before the window
     return 0
 
 

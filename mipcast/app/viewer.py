@@ -103,7 +103,7 @@ def has_display(environ=None, platform: Optional[str] = None) -> bool:
 
 def build_viewer(image, method: str = "mip", *, cmap="gray", clim: Optional[Sequence[float]] = None,
                  window_size: Sequence[int] = (900, 800), off_screen: bool = False,
-                 params: Optional[dict] = None, view: Optional[str] = None):
+                 params: Optional[dict] = None, view: Optional[str] = None, component=None):
     """Build the interactive viewer's plotter without showing it.
 
     The volume is added through ``plotter.mip.add_volume`` on a black
@@ -134,6 +134,8 @@ def build_viewer(image, method: str = "mip", *, cmap="gray", clim: Optional[Sequ
     view : str, optional
         The first camera: a preset of ``mipcast.offscreen.VIEWS`` or a patient
         view (``"anterior"``, ...); default pyvista's.
+    component : int or "magnitude", optional
+        Which component of multi-component scalars to draw (default: the magnitude).
 
     Returns
     -------
@@ -152,7 +154,7 @@ def build_viewer(image, method: str = "mip", *, cmap="gray", clim: Optional[Sequ
     >>> plotter.close()
     """
     return _Viewer(image, method, cmap=cmap, clim=clim, window_size=window_size,
-                   off_screen=off_screen, params=params, view=view).plotter
+                   off_screen=off_screen, params=params, view=view, component=component).plotter
 
 
 def run_viewer(image, method: str = "mip", **options) -> None:
@@ -192,15 +194,18 @@ class _Viewer:
     """The viewer's state: plotter, current method and volume, widgets, parameter values."""
 
     def __init__(self, image, method, *, cmap="gray", clim=None, window_size=(900, 800),
-                 off_screen=False, params=None, view=None) -> None:
+                 off_screen=False, params=None, view=None, component=None) -> None:
         import pyvista
+
+        from mipcast.mappers.input_preparer import prepared_image
 
         importlib.import_module("mipcast.filters")  # registers plotter.mip
 
         self.params = _checked_params(method, dict(params or {}))  # name -> value, carried across methods
         self.grid = pyvista.wrap(image)
         self.cmap = cmap
-        self.clim = resolve_window(self.grid, clim)
+        self.component = component  # of multi-component scalars (default: the magnitude)
+        self.clim = resolve_window(prepared_image(self.grid, component), clim)
         self.voxel = min(abs(s) for s in self.grid.GetSpacing())
         self.sample_voxels = 1.0
         self.volume = None
@@ -232,7 +237,8 @@ class _Viewer:
             self.plotter.mip.remove_volume(self.volume)
         sample_distance = self.sample_voxels * self.voxel if _uses_sample_distance(method) else None
         self.volume = self.plotter.mip.add_volume(self.grid, method, cmap=self.cmap, clim=self.clim,
-                                                  sample_distance=sample_distance, render=False)
+                                                  sample_distance=sample_distance, render=False,
+                                                  component=self.component)
         self.method = method
         for name, value in self.params.items():  # carry over what the new method accepts
             if self._has(name):

@@ -3,14 +3,22 @@
 VTK may drop the Python wrapper of an object that only C++ still holds (a
 mapper referenced by its volume) and make a new one later; attributes set on
 the old wrapper do not always survive that.  mipcast therefore keeps each
-object's Python state in a table keyed by the C++ address, and removes the
-entry when VTK deletes the object.
+object's Python state in a table keyed by the C++ address, with a VTK weak
+reference that tells whether the object still lives: an entry whose object
+is gone is dropped when the address is reused and in a sweep every
+:data:`SWEEP_EVERY` new entries.  (No Python DeleteEvent observer: one
+running while the garbage collector frees a wrapper can crash Python, and
+the state it would drop may hold VTK filters of the object being deleted.)
 """
 from __future__ import annotations
 
-from vtkmodules.vtkCommonCore import vtkCommand
+from vtkmodules.vtkCommonCore import vtkWeakReference
 
+#: address -> (weak reference to the object, its state)
 _STATES: dict = {}
+#: New entries between two sweeps of entries whose object is gone.
+SWEEP_EVERY = 64
+_NEW = [0]
 
 
 def object_state(vtk_object) -> dict:
@@ -25,8 +33,20 @@ def object_state(vtk_object) -> dict:
     42
     """
     key = vtk_object.GetAddressAsString("vtkObjectBase")
-    state = _STATES.get(key)
-    if state is None:
-        state = _STATES[key] = {}
-        vtk_object.AddObserver(vtkCommand.DeleteEvent, lambda *_: _STATES.pop(key, None))
-    return state
+    entry = _STATES.get(key)
+    if entry is not None and entry[0].Get() is None:  # that object is gone; a new one has its address
+        entry = None
+    if entry is None:
+        link = vtkWeakReference()
+        link.Set(vtk_object)
+        entry = _STATES[key] = (link, {})
+        _NEW[0] += 1
+        if _NEW[0] % SWEEP_EVERY == 0:
+            _sweep()
+    return entry[1]
+
+
+def _sweep() -> None:
+    """Drop the states of deleted objects."""
+    for key in [key for key, (link, _) in _STATES.items() if link.Get() is None]:
+        _STATES.pop(key, None)

@@ -10,37 +10,47 @@ from numbers import Real
 from typing import Any
 
 import numpy as np
-from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonDataModel import vtkImageData
 
-SUPPORTED_DTYPES = (
-    np.int8, np.uint8, np.int16, np.uint16, np.int32, np.uint32,
-    np.float32, np.float64,
-)
+from mipcast.core.errors import InputError
+from mipcast.core.prepare import CONVERTED_DTYPES, NATIVE_DTYPES, prepare_scalars
+
+#: Scalar types mipcast draws (int64/uint64 through a float64 copy: see :mod:`mipcast.core.prepare`).
+SUPPORTED_DTYPES = NATIVE_DTYPES + CONVERTED_DTYPES
+
+__all__ = ["InputError", "check_image", "check_positive", "check_finite", "check_non_negative",
+           "check_unit", "check_choice", "check_size", "SUPPORTED_DTYPES"]
 
 
-def check_image(image: Any) -> np.ndarray:
-    """Validate a volume and return its scalars as a read-only (nz, ny, nx) view.
+def check_image(image: Any, component: Any = None) -> np.ndarray:
+    """Validate a volume and return the values the GPU draws, read-only, shaped (nz, ny, nx).
+
+    The values of :func:`mipcast.core.prepare.prepare_scalars`: the point
+    scalars themselves (a view) for one-component data without NaN/Inf;
+    otherwise a copy (the magnitude or ``component`` of multi-component
+    scalars, NaN/Inf filled below the finite minimum, int64 as float64).
 
     Parameters
     ----------
     image : vtkImageData or pyvista.ImageData
-        A volume with one-component point scalars.
+        A volume with point scalars.
+    component : int, "magnitude" or None
+        Which component of multi-component scalars (default: the magnitude).
 
     Returns
     -------
     numpy.ndarray, shape (nz, ny, nx)
-        The active point scalars, indexed ``[k, j, i]`` (read-only view).
+        Indexed ``[k, j, i]`` (read-only).
 
     Raises
     ------
     TypeError
         If ``image`` is not image data or the scalar type is unsupported.
-    ValueError
-        If the volume is empty or thinner than 2 points along an axis, has
-        no point scalars, several components, NaN/Inf values, or 32/64-bit
-        values whose offset is too large for float32 textures to resolve
-        their range.
+    InputError
+        (a ``ValueError``) If the volume is empty or thinner than 2 points
+        along an axis, has no point scalars, no finite value, a zero, negative
+        or non-finite spacing, a direction matrix that is not orthonormal, or
+        32/64-bit values whose offset is too large for float32 textures to
+        resolve their range.
 
     Examples
     --------
@@ -48,54 +58,7 @@ def check_image(image: Any) -> np.ndarray:
     >>> check_image(make_fixture("spheres", size=16)).shape
     (16, 16, 16)
     """
-    if not isinstance(image, vtkImageData):
-        raise TypeError(
-            f"expected vtkImageData or pyvista.ImageData, got {type(image).__name__}; "
-            "convert the data set to image data first (e.g. vtkImageReslice or "
-            "pyvista's sample/voxelize)")
-    dims = image.GetDimensions()
-    if image.GetNumberOfPoints() == 0:
-        raise ValueError("the volume is empty (0 points); load or generate data first")
-    if min(dims) < 2:
-        raise ValueError(
-            f"the volume has dimensions {dims}: at least 2 points are needed along "
-            "every axis for a ray to cross a cell; pad the volume (e.g. repeat the "
-            "slice) or use a 2D viewer")
-    array = image.GetPointData().GetScalars()
-    if array is None:
-        if image.GetCellData().GetScalars() is not None:
-            raise ValueError(
-                "the volume has cell scalars but no point scalars; convert them with "
-                "vtkCellDataToPointData (pyvista: image.cell_data_to_point_data())")
-        raise ValueError(
-            "the volume has no active point scalars; set one with "
-            "image.GetPointData().SetActiveScalars(name) (pyvista: image.set_active_scalars)")
-    if array.GetNumberOfComponents() != 1:
-        raise ValueError(
-            f"the scalars '{array.GetName()}' have {array.GetNumberOfComponents()} "
-            "components; MIP needs one: extract a component or compute the magnitude "
-            "first (e.g. vtkImageExtractComponents)")
-    values = vtk_to_numpy(array)
-    if values.dtype.type not in SUPPORTED_DTYPES:
-        raise TypeError(
-            f"scalar type {values.dtype} is not supported by the GPU ray caster; "
-            "cast to float32, int16 or uint16 first (e.g. numpy .astype(np.float32))")
-    if values.dtype.kind == "f" and not np.isfinite(values).all():
-        bad = int(np.count_nonzero(~np.isfinite(values)))
-        raise ValueError(
-            f"the scalars contain {bad} NaN/Inf value(s); replace them first "
-            "(e.g. numpy.nan_to_num with the data's minimum)")
-    if values.dtype.itemsize >= 4 and values.dtype != np.float32:
-        low, high = float(values.min()), float(values.max())
-        # the GPU holds 32/64-bit data as float32: an offset this large hides the range
-        if max(abs(low), abs(high)) * 2.0 ** -24 > (high - low) / 512.0:
-            raise ValueError(
-                f"the values span {low:g} to {high:g}: an offset this large relative to their "
-                "range cannot be resolved by the GPU's float32 textures (the picture would be "
-                "flat); subtract the offset first (e.g. values - values.min())")
-    view = values.reshape(dims[2], dims[1], dims[0])
-    view.flags.writeable = False
-    return view
+    return prepare_scalars(image, component).values
 
 
 def check_positive(name: str, value: Any) -> float:

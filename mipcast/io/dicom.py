@@ -39,6 +39,8 @@ from vtkmodules.util.numpy_support import get_vtk_array_type, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkDataArray, vtkStringArray
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
+from mipcast.core.errors import InputError
+
 PathLike = Union[str, "os.PathLike[str]"]
 
 #: Name of the point-data array holding the rescaled values.
@@ -62,15 +64,16 @@ MAX_BYTES = 4 * 2 ** 30
 MAX_COMPRESSION = 1000
 
 
-class DicomError(ValueError):
+class DicomError(InputError):
     """A DICOM input that cannot be read as a volume; the message says why and what to do.
 
-    A subclass of ValueError, so ``except ValueError`` keeps working.
+    A subclass of :class:`mipcast.InputError` (itself a ValueError), so
+    ``except ValueError`` keeps working.
 
     Examples
     --------
-    >>> issubclass(DicomError, ValueError)
-    True
+    >>> issubclass(DicomError, InputError), issubclass(DicomError, ValueError)
+    (True, True)
     """
 
 

@@ -11,8 +11,9 @@ from mipcast.core import parameter_tables
 from mipcast.core.object_state import object_state
 from mipcast.core.parameters import parameter_accessors
 from mipcast.mappers.corner_packing import CornerPacker, packable
+from mipcast.mappers.input_preparer import InputPreparer
 from mipcast.mappers.max_blocks import block_maxima_image
-from mipcast.mappers.mip import MIPVolumeMapper
+from mipcast.mappers.mip import MIPVolumeMapper, _same_port
 from mipcast.core.transfer_bounds import normalised_ends
 from mipcast.core.validation import check_image
 
@@ -70,35 +71,16 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         # before MIPVolumeMapper's check (priority 0) updates the input
         self.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, _route_before_render, 1.0)
 
-    # -- input: the user's image goes through the corner packer ------------
-    def SetInputData(self, *args) -> None:
-        """Render this vtkImageData (``SetInputData(image)`` or ``SetInputData(0, image)``)."""
-        image = args[-1]
-        packer = object_state(self)["packer"]
-        if image is None:
-            packer.RemoveAllInputConnections(0)
-            super().RemoveAllInputConnections(0)
-            return
-        packer.SetInputDataObject(0, image)
-        self._route_input()
+    # -- input: the prepared image goes through the corner packer ----------
+    def _vtk_port(self):
+        """The packed copy of the prepared input, or the prepared input itself."""
+        packer, source = object_state(self)["packer"], self._prepared_port()
+        if packer.GetNumberOfInputConnections(0) == 0 or not _same_port(packer.GetInputConnection(0, 0), source):
+            packer.SetInputConnection(0, source)
+        return packer.GetOutputPort() if self._packing_active() else source
 
-    def SetInputConnection(self, *args) -> None:
-        """Render the output of an algorithm port (``SetInputConnection(port)`` or ``(0, port)``)."""
-        port = args[-1]
-        packer = object_state(self)["packer"]
-        if port is None:
-            packer.RemoveAllInputConnections(0)
-            super().RemoveAllInputConnections(0)
-            return
-        packer.SetInputConnection(0, port)
-        self._route_input()
-
-    def GetInput(self):
-        """Your input image (not the packed copy the GPU draws), or None."""
-        packer = object_state(self)["packer"]
-        if packer.GetNumberOfInputConnections(0) == 0:
-            return None
-        return packer.GetInputDataObject(0, 0)
+    def _own_ports(self) -> list:
+        return super()._own_ports() + [object_state(self)["packer"].GetOutputPort()]
 
     def SetPackedCorners(self, *packed) -> None:
         """Read four corners per texel from a packed copy of the volume (default True).
@@ -120,8 +102,16 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         previous = state["packer"]
         if previous is not packer:
             state["packer"] = packer
-            if previous.GetNumberOfInputConnections(0):  # keep the input, now packed by ``packer``
-                packer.SetInputConnection(0, previous.GetInputConnection(0, 0))
+            shared = object_state(packer).get("preparer")  # mappers sharing a packer share its preparer
+            if shared is None:
+                object_state(packer)["preparer"] = self.GetInputPreparer()
+            else:
+                if shared is not self.GetInputPreparer():
+                    mine = self.GetInputPreparer()
+                    if shared.GetNumberOfInputConnections(0) == 0 and mine.GetNumberOfInputConnections(0):
+                        shared.SetInputConnection(0, mine.GetInputConnection(0, 0))
+                    shared.SetComponent(mine.GetComponent())
+                    state["preparer"] = shared
             self._route_input()
 
     def PackedCornersOn(self) -> None:
@@ -142,7 +132,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         volume = self.GetAttachedVolume()
         if not self.GetPackedCorners() or (volume is not None and not volume.GetProperty().GetIndependentComponents()):
             return False
-        image = self.GetInput()
+        image = self.GetRenderedInput()
         scalars = image.GetPointData().GetScalars() if image is not None else None
         if scalars is None or scalars.GetNumberOfComponents() != 1:
             return False  # refused (GetRenderProblem); VTK's own checks then see the input as it is
@@ -237,18 +227,6 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
                 "SetPackedCorners(False) to silence this.\n")
         return False
 
-    def _route_input(self) -> None:
-        """Feed VTK the packed copy or the user's input itself (only when that changes)."""
-        packer = object_state(self)["packer"]
-        if packer.GetNumberOfInputConnections(0) == 0:
-            return
-        port = packer.GetOutputPort() if self._packing_active() else packer.GetInputConnection(0, 0)
-        if self.GetNumberOfInputConnections(0):
-            current = super().GetInputConnection(0, 0)
-            if current.GetProducer() is port.GetProducer() and current.GetIndex() == port.GetIndex():
-                return
-        super().SetInputConnection(port)
-
     def SetPartitions(self, x: int, y: int, z: int) -> None:
         """Recorded so that rendering can refuse it: see :meth:`GetRenderProblem`."""
         object_state(self)["partitions"] = (int(x), int(y), int(z))
@@ -269,7 +247,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
             return ("analytic MIP walks the whole volume in one 3D texture, so partitioned "
                     "rendering (SetPartitions) would not be exact: call SetPartitions(1, 1, 1), "
                     "or use the 'mip' method for volumes beyond one texture")
-        dims = self.GetInput().GetDimensions()
+        dims = self.GetRenderedInput().GetDimensions()
         limit = self._texture_limit()
         if limit and max(dims) > limit:
             return (f"the volume's dimensions {dims} exceed this GPU's 3D texture limit of "
@@ -314,13 +292,13 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
 
     def _transfer_floor_ceiling(self) -> tuple:
         """Normalised (floor, ceiling) of the attached volume's transfer functions."""
-        image, volume = self.GetInput(), self.GetAttachedVolume()
+        image, volume = self.GetRenderedInput(), self.GetAttachedVolume()
         if image is None or volume is None or image.GetPointData().GetScalars() is None:
             return 0.0, 1.0
         return normalised_ends(volume.GetProperty(), image.GetPointData().GetScalars()) or (0.0, 1.0)
 
     def _push_derived_uniforms(self, uniforms, settings) -> None:
-        image = self.GetInput()
+        image = self.GetRenderedInput()
         dims = image.GetDimensions() if image is not None else (2, 2, 2)
         uniforms.SetUniform3f("u_mc_dims", [float(n) for n in dims])
         uniforms.SetUniformf("u_mc_blockSize", float(self.BLOCK))
@@ -331,6 +309,9 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         exact = (object_state(self).get("exact_readout", False) and object_state(self).get("stat") is None) \
             or not skipping
         uniforms.SetUniformf("u_mc_stat", float(object_state(self).get("stat") or 0))
+        # with missing values the ray starts below them (not at the floor), so that a ray that saw
+        # no finite data stays below the missing threshold (shaders/missing_exit.glsl)
+        exact = exact or self._missing_below() is not None
         uniforms.SetUniformf("u_mc_floor", -1.0e30 if exact else floor)
         uniforms.SetUniformf("u_mc_ceiling", 1.0e30 if exact else ceiling)
         if image is not None and image.GetNumberOfPoints() > 0:
@@ -349,9 +330,8 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
 
 
 def _route_before_render(mapper, event) -> None:
-    packer = object_state(mapper)["packer"]
-    if packer.GetNumberOfInputConnections(0):
-        packer.GetInputAlgorithm().Update()  # the user's data, to decide whether it packs exactly
+    mapper._adopt_direct_input()
+    mapper.GetRenderedInput()  # the prepared data, to decide whether it packs exactly
     mapper._route_input()
 
 

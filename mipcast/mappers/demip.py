@@ -114,7 +114,7 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
         """
         projection = self.GetProjection()
         if projection == "mip" and not self._needs_depth():
-            return self._with_readout(MIPVolumeMapper.PIECES)
+            return self._with_missing(self._with_readout(MIPVolumeMapper.PIECES))
         swap = {"float_readout": "demip_readout"}
         if projection == "lmip":
             swap["demip_hooks"] = "demip_lmip_hooks"
@@ -122,7 +122,7 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
             swap["demip_hooks"] = "demip_attenuated_hooks"
         elif projection == "mida":
             swap.update(demip_hooks="demip_mida_hooks", demip_color="demip_mida_color")
-        return tuple(swap.get(n, n) for n in self._with_readout(self.PIECES))
+        return self._with_missing(swap.get(n, n) for n in self._with_readout(self.PIECES))
 
     def _needs_depth(self) -> bool:
         """Whether anything uses the depth: a weight above 0, or a depth readout rendering."""
@@ -137,7 +137,7 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
         Without a window (constant transfer functions) the floor is put above
         every value: no ray gets a DEMIP term.
         """
-        image, volume = self.GetInput(), self.GetAttachedVolume()
+        image, volume = self.GetRenderedInput(), self.GetAttachedVolume()
         if image is None or volume is None or image.GetPointData().GetScalars() is None:
             return 0.0, 1.0
         ends = normalised_ends(volume.GetProperty(), image.GetPointData().GetScalars())

@@ -156,7 +156,7 @@ class DEMIPTwoPassVolumeMapper(DEMIPVolumeMapper):
     def GetShaderPieces(self) -> tuple:
         """:data:`PIECES`, plus DEMIP's readout piece while a float readout renders."""
         readout = ("demip_readout",) if object_state(self).get("exact_readout") else ()
-        return tuple(self.PIECES) + readout
+        return self._with_missing(tuple(self.PIECES) + readout)
 
     def _push_uniforms(self, uniforms) -> None:
         super()._push_uniforms(uniforms)
@@ -234,6 +234,8 @@ def _copy_settings(mapper, volume, entry) -> None:
     image = mapper.GetInput()
     if first.GetInput() is not image:
         first.SetInputData(image)
+    if first.GetComponent() != mapper.GetComponent():
+        first.SetComponent(mapper.GetComponent())
     first.SetSampleDistance(mapper.GetSampleDistance())  # VTK's setters ignore equal values
     first.SetImageSampleDistance(mapper.GetImageSampleDistance())
     first.SetLockSampleDistanceToInputSpacing(mapper.GetLockSampleDistanceToInputSpacing())

@@ -127,7 +127,7 @@ def from_data_units(values: np.ndarray, scalars) -> np.ndarray:
     array([0.5])
     """
     low, high = scalars.GetRange(0)
-    span = high - low if high > low else 1.0
+    span = high - low if high > low else 1.0  # VTK's normalisation of a constant volume
     return (np.asarray(values, dtype=np.float64) * texture_scale(scalars) - low) / span
 
 
@@ -161,5 +161,5 @@ def render_float(render_window, mapper) -> np.ndarray:
     >>> render_float(view.render_window, view.mapper).shape
     (32, 32)
     """
-    scalars = mapper.GetInput().GetPointData().GetScalars()
+    scalars = mapper.GetRenderedInput().GetPointData().GetScalars()  # what the GPU drew
     return to_data_units(read_normalised(render_window, mapper), scalars).astype(np.float32)

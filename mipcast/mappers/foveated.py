@@ -288,7 +288,7 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         plan, values = readout
         _, _, width, height = plan.viewport
         blended = foveation.composite_values(plan, values)
-        raw = float_readout.encode(float_readout.from_data_units(blended, self.GetInput().GetPointData().GetScalars()))
+        raw = float_readout.encode(float_readout.from_data_units(blended, self.GetRenderedInput().GetPointData().GetScalars()))
         image.SetDimensions(width, height, 1)
         array = numpy_to_vtk(np.ascontiguousarray(raw[::-1], dtype=np.float32).ravel(), deep=True)
         image.GetPointData().SetScalars(array)
@@ -355,6 +355,9 @@ def _draw(mapper, state, volume, renderer) -> None:
             level_mapper.SetCornerPacker(state.setdefault("packers", {}).setdefault(volume_level, CornerPacker()))
         if level_mapper.GetInput() is not level_input:
             level_mapper.SetInputData(level_input)
+        component = mapper.GetComponent() if not volume_level else -1  # coarse levels hold one component
+        if level_mapper.GetComponent() != component:
+            level_mapper.SetComponent(component)
         _copy_settings(mapper, volume, level_mapper, level_volume, entry["matrix"], distance,
                        layer.image_sample_distance)
         _set_uniforms(level_volume, plan, layer)
@@ -476,7 +479,7 @@ def _level_values(level_mapper, grid) -> np.ndarray:
         return np.full((rows, columns), np.nan)
     columns, rows, _ = image.GetDimensions()
     normalised = float_readout.decode(vtk_to_numpy(scalars).reshape(rows, columns)[::-1])
-    return float_readout.to_data_units(normalised, level_mapper.GetInput().GetPointData().GetScalars())
+    return float_readout.to_data_units(normalised, level_mapper.GetRenderedInput().GetPointData().GetScalars())
 
 
 def _current_gaze(state, renderer, camera, viewport):
@@ -558,10 +561,11 @@ def _walks_cells(method: str) -> bool:
 
 def _pyramid(state, image) -> list:
     params = state["parameters"]
-    stamp = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime(), params["number_of_levels"])
+    component = state["preparer"].GetComponent() if "preparer" in state else -1
+    stamp = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime(), params["number_of_levels"], component)
     cached = state.get("pyramid")
     if cached is None or cached[0] != stamp:
-        cached = (stamp, volume_pyramid.build_max_pyramid(image, params["number_of_levels"]))
+        cached = (stamp, volume_pyramid.build_max_pyramid(image, params["number_of_levels"], component))
         state["pyramid"] = cached
     return cached[1]
 

@@ -9,8 +9,9 @@ from mipcast.core import parameter_tables
 from mipcast.core.object_state import object_state
 from mipcast.core.parameters import defaults, parameter_accessors, uniform_values
 from mipcast.mappers import clip_uniforms, shader_pieces
+from mipcast.mappers.float_readout import from_data_units
+from mipcast.mappers.input_preparer import InputPreparer
 from mipcast.mappers.private_draw import rendering_renderer
-from mipcast.core.validation import check_image
 
 
 @parameter_accessors
@@ -25,8 +26,11 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     VTK keeps shader code on the ``vtkVolume``, so the mapper must be attached
     to its volume with :meth:`Attach` (which also calls ``volume.SetMapper``).
     Rendering an unattached mipcast mapper, or one whose input is unusable (see
-    :func:`mipcast.core.validation.check_image`), reports a VTK error naming the
-    problem and draws nothing.
+    :func:`mipcast.core.validation.check_image`), reports a VTK error event naming the
+    problem (also :meth:`GetLastProblem`) and draws nothing.  NaN/Inf voxels
+    are drawn as missing data and several components as their magnitude (or
+    :meth:`SetComponent`), by an input preparer inside the mapper
+    (:mod:`mipcast.mappers.input_preparer`; docs/reliability.md).
 
     Examples
     --------
@@ -55,6 +59,130 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         self.SetBlendModeToMaximumIntensity()
         self.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, _check_before_render)
         self.AddObserver(vtkCommand.VolumeMapperRenderEndEvent, _restore_after_refused_render)
+
+    # -- input: the user's image goes through the preparer -----------------
+    def SetInputData(self, *args) -> None:
+        """Render this vtkImageData (``SetInputData(image)`` or ``SetInputData(0, image)``).
+
+        The image is never modified: the GPU draws a prepared copy where the
+        values need it (several components, NaN/Inf, int64; see
+        :mod:`mipcast.core.prepare`), the image itself otherwise.
+        """
+        image = args[-1]
+        preparer = self.GetInputPreparer()
+        if image is None:
+            preparer.RemoveAllInputConnections(0)
+            vtkOpenGLGPUVolumeRayCastMapper.RemoveAllInputConnections(self, 0)
+            return
+        preparer.SetInputDataObject(0, image)
+        self._route_input()
+
+    def SetInputConnection(self, *args) -> None:
+        """Render the output of an algorithm port (``SetInputConnection(port)`` or ``(0, port)``)."""
+        port = args[-1]
+        preparer = self.GetInputPreparer()
+        if port is None:
+            preparer.RemoveAllInputConnections(0)
+            vtkOpenGLGPUVolumeRayCastMapper.RemoveAllInputConnections(self, 0)
+            return
+        preparer.SetInputConnection(0, port)
+        self._route_input()
+
+    def GetInput(self):
+        """Your input image (not the prepared copy the GPU may draw), or None."""
+        self._adopt_direct_input()
+        preparer = self.GetInputPreparer()
+        if preparer.GetNumberOfInputConnections(0) == 0:
+            return None
+        return preparer.GetInputDataObject(0, 0)
+
+    def GetInputPreparer(self) -> InputPreparer:
+        """The filter between your input and VTK (:class:`~mipcast.mappers.input_preparer.InputPreparer`)."""
+        state = object_state(self)  # made on first use: a mapper never given input keeps no state
+        if "preparer" not in state:
+            state["preparer"] = InputPreparer()
+        return state["preparer"]
+
+    def GetRenderedInput(self):
+        """The one-component image the GPU draws (brought up to date), or None without input."""
+        preparer = self.GetInputPreparer()
+        if preparer.GetNumberOfInputConnections(0) == 0:
+            return None
+        preparer.Update()
+        return preparer.GetOutputDataObject(0)
+
+    def SetComponent(self, component) -> None:
+        """Which component of multi-component scalars to draw: an int >= 0, or -1 / "magnitude" (default).
+
+        The same in every method; one-component scalars are drawn as they are.
+        """
+        self.GetInputPreparer().SetComponent(component)
+        self.Modified()
+
+    def GetComponent(self) -> int:
+        """The drawn component, -1 for the magnitude (the default)."""
+        return self.GetInputPreparer().GetComponent()
+
+    def _prepared_port(self):
+        """Your input's own port when the GPU can draw it as it is, else the preparer's output.
+
+        Valid finite one-component input therefore reaches VTK exactly as
+        before (same pipeline, same requests, e.g. ParaView's time steps);
+        input that needs a copy, or is refused, goes through the preparer
+        (a refused input reaches VTK as the preparer's 2x2x2 stand-in).
+        """
+        preparer = self.GetInputPreparer()
+        preparer.Update()
+        prepared = preparer.GetPrepared()
+        if prepared is not None and not prepared.changed:
+            return preparer.GetInputConnection(0, 0)
+        return preparer.GetOutputPort()
+
+    def _vtk_port(self):
+        """The port VTK's own input connection should read (subclasses add filters)."""
+        return self._prepared_port()
+
+    def _own_ports(self) -> list:
+        """Ports this mapper itself may connect VTK to."""
+        preparer = self.GetInputPreparer()
+        ports = [preparer.GetOutputPort()]
+        if preparer.GetNumberOfInputConnections(0):
+            ports.append(preparer.GetInputConnection(0, 0))
+        return ports
+
+    def _route_input(self) -> None:
+        """Connect VTK to :meth:`_vtk_port` (only when that changes)."""
+        if self.GetInputPreparer().GetNumberOfInputConnections(0) == 0:
+            return
+        port = self._vtk_port()
+        if vtkOpenGLGPUVolumeRayCastMapper.GetNumberOfInputConnections(self, 0):
+            current = vtkOpenGLGPUVolumeRayCastMapper.GetInputConnection(self, 0, 0)
+            if _same_port(current, port):
+                return
+        vtkOpenGLGPUVolumeRayCastMapper.SetInputConnection(self, port)
+
+    def _adopt_direct_input(self) -> None:
+        """Input set on VTK directly (from C++): move it in front of the preparer."""
+        if not vtkOpenGLGPUVolumeRayCastMapper.GetNumberOfInputConnections(self, 0):
+            return
+        current = vtkOpenGLGPUVolumeRayCastMapper.GetInputConnection(self, 0, 0)
+        if current.GetProducer() is None or any(_same_port(current, port) for port in self._own_ports()):
+            return
+        self.GetInputPreparer().SetInputConnection(0, current)
+        self._route_input()
+
+    def _missing_below(self):
+        """Normalised threshold below which a ray saw only missing data, or None (nothing missing)."""
+        preparer = self.GetInputPreparer()
+        prepared = preparer.GetPrepared()
+        if prepared is None or not prepared.missing:
+            return None
+        scalars = preparer.GetOutputDataObject(0).GetPointData().GetScalars()
+        return float(from_data_units(prepared.missing_below, scalars))
+
+    def GetLastProblem(self):
+        """Why the last render drew nothing (the message of its VTK error event), or None."""
+        return object_state(self).get("render_problem")
 
     # -- attachment ---------------------------------------------------------
     def Attach(self, volume: vtkVolume) -> None:
@@ -93,7 +221,13 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         pieces depend on their settings override this; the pieces are
         re-installed at the next render when the answer changes.
         """
-        return self._with_readout(self.PIECES)
+        return self._with_missing(self._with_readout(self.PIECES))
+
+    def _with_missing(self, names) -> tuple:
+        """``names`` plus ``missing_exit`` while the input holds missing values."""
+        if self._missing_below() is None:
+            return tuple(names)
+        return tuple(names) + ("missing_exit",)
 
     def _with_readout(self, names) -> tuple:
         """``names``, adapted for a float readout while one renders (else unchanged).
@@ -134,15 +268,17 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
 
         Checked at the start of every render: the mapper must be attached
         (:meth:`Attach`) and its input must pass
-        :func:`mipcast.core.validation.check_image` (checked once per input
-        modification).
+        :func:`mipcast.core.validation.check_image` (prepared once per input
+        modification by the mapper's :class:`~mipcast.mappers.input_preparer.InputPreparer`).
         """
         if not self.IsAttached():
             return ("rendered without Attach(volume): its shader pieces are not on the "
                     "volume, so nothing is drawn. Call mapper.Attach(volume) instead of "
                     "volume.SetMapper(mapper).")
+        self._adopt_direct_input()
         if self.GetNumberOfInputConnections(0) == 0:
             return "no input: call SetInputData(image) or SetInputConnection(port)"
+        self._route_input()
         self.GetInputAlgorithm().Update()
         image = self.GetInput()
         if image is None:
@@ -150,14 +286,9 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         clipping = clip_uniforms.clipping_problem(self)
         if clipping is not None:
             return clipping
-        state = object_state(self)
-        stamp = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime())
-        if state.get("checked_input") != stamp:
-            try:
-                check_image(image)
-            except (TypeError, ValueError) as error:
-                return f"input refused, nothing is drawn: {error}"
-            state["checked_input"] = stamp
+        problem = self.GetInputPreparer().GetProblem()
+        if problem is not None:
+            return f"input refused, nothing is drawn: {problem}"
         return None
 
     # -- parameters (the table's values) ------------------------------------
@@ -190,6 +321,9 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
             else:
                 uniforms.SetUniformf(name, float(value))
         self._push_derived_uniforms(uniforms, settings)
+        missing = self._missing_below()
+        if missing is not None:  # shaders/missing_exit.glsl
+            uniforms.SetUniformf("u_mc_missingBelow", missing)
 
     def _slab_settings(self) -> tuple:
         """``(thickness, centre, normal)`` of the slab (the ``SLAB`` parameters; 0: none)."""
@@ -244,6 +378,11 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         names = object_state(self).get("installed", ())
         wanted = {shader_pieces.load_piece(n).vtk_tag for n in names}
         return wanted <= set(shader_pieces.installed_tags(volume.GetShaderProperty()))
+
+
+def _same_port(a, b) -> bool:
+    """Whether two vtkAlgorithmOutput objects name the same output port."""
+    return a.GetProducer() is b.GetProducer() and a.GetIndex() == b.GetIndex()
 
 
 def _check_before_render(mapper, event) -> None:

@@ -31,7 +31,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.core.foveation import SAMPLING_POLICIES
-from mipcast.core.validation import check_image
+from mipcast.core.prepare import prepare_scalars
 
 
 def coarse_axis(n: int) -> int:
@@ -73,7 +73,7 @@ def max_reduce_axis(values: np.ndarray, axis: int) -> np.ndarray:
     return result.astype(values.dtype, copy=False)
 
 
-def build_max_pyramid(image: vtkImageData, levels: int) -> List[vtkImageData]:
+def build_max_pyramid(image: vtkImageData, levels: int, component=None) -> List[vtkImageData]:
     """Level 0 (``image`` itself) and up to ``levels - 1`` max-reduced levels.
 
     Stops early when no axis can shrink (every axis has 2 points).  Coarse
@@ -89,9 +89,9 @@ def build_max_pyramid(image: vtkImageData, levels: int) -> List[vtkImageData]:
     >>> pyramid[2].GetBounds() == pyramid[0].GetBounds()
     True
     """
-    values = check_image(image)
+    prepared = prepare_scalars(image, component)  # one component, missing values filled
     pyramid = [image]
-    array = np.asarray(values)
+    array = np.asarray(prepared.values)
     name = image.GetPointData().GetScalars().GetName() or "scalars"
     for _ in range(1, max(int(levels), 1)):
         coarse = array
@@ -99,7 +99,9 @@ def build_max_pyramid(image: vtkImageData, levels: int) -> List[vtkImageData]:
             coarse = max_reduce_axis(coarse, axis)
         if coarse.shape == array.shape:
             break
-        pyramid.append(_wrap(coarse, image, array.shape, pyramid[-1], name))
+        # a coarse point of missing voxels only is missing again (NaN): its level's mapper fills it
+        level = np.where(coarse < prepared.missing_below, np.nan, coarse) if prepared.missing else coarse
+        pyramid.append(_wrap(level, image, array.shape, pyramid[-1], name))
         array = coarse
     return pyramid
 

@@ -8,13 +8,13 @@ See docs/methods.md, section Reference (``docs/methods.md#reference``).
 """
 from __future__ import annotations
 
-from functools import partial
 from typing import Any
 
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
-from mipcast.core.validation import check_choice, check_image, check_positive, check_size
+from mipcast.core.prepare import prepare_scalars
+from mipcast.core.validation import check_choice, check_positive, check_size
 from mipcast.reference.demip import render_demip
 from mipcast.reference.mip import (exact_maximum, exact_mean, exact_minimum, sampled_maximum, sampled_mean,
                                    sampled_minimum)
@@ -37,7 +37,11 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     Parameters
     ----------
     image : vtkImageData or pyvista.ImageData
-        Volume with one-component point scalars (not modified).
+        Volume (not modified).  Drawn as the GPU draws it
+        (:func:`mipcast.core.prepare.prepare_scalars`): several components as
+        their magnitude or ``component=k``; NaN/Inf voxels are missing (filled
+        below the finite minimum; rays whose result lies below the finite
+        minimum are NaN, like misses).
     camera : vtkCamera
         The view (not modified); orthographic or perspective.
     size : tuple of int
@@ -79,6 +83,7 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
         ``sample_distance : float`` (method ``"mip"``, required): distance
         between samples in world units, > 0 (also ``"minip"``, ``"average"``).
         The exact methods take none.
+        ``component : int or "magnitude"`` (optional, every method): see ``image``.
 
     Returns
     -------
@@ -117,11 +122,12 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     [[0. 1. 2.]
      [0. 1. 2.]]
     """
-    volume = check_image(image)
+    component = params.pop("component", None)
+    prepared = prepare_scalars(image, component)
     width, height = check_size(size)
     method = check_choice("method", method, tuple(METHODS))
     if method == "demip":  # depth, colour or maximum: see mipcast.reference.demip
-        return render_demip(image, camera, (width, height), clip_planes=clip_planes, **params)
+        return render_demip(image, camera, (width, height), clip_planes=clip_planes, component=component, **params)
     allowed = METHODS[method]
     unknown = sorted(set(params) - set(allowed))
     if unknown:
@@ -135,7 +141,7 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
         step = check_positive("sample_distance", params["sample_distance"])
 
     hit, entry, direction, length = hit_rays(image, camera, (width, height))
-    values = np.array(volume, dtype=np.float64)
+    values = np.array(prepared.values, dtype=np.float64)
     lo, hi = clip_interval(image, entry, direction, length, clip_planes, within_box=not sampled)
 
     kernel = _KERNELS[method]
@@ -154,6 +160,7 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
                                  keep=(lo[part], hi[part]))
         else:
             found[part] = kernel(values, entry[part], direction[part], length[part])
-    found[(lo > hi) | ~np.isfinite(found)] = np.nan
+    # clipped away, or rays that saw no finite data (below the finite minimum): background
+    found[(lo > hi) | ~np.isfinite(found) | (found < prepared.missing_below)] = np.nan
     return scatter(found, hit, height, width)
 

@@ -19,7 +19,8 @@ from mipcast.core.camera_rays import index_space, matrix_array
 from mipcast.core.parameter_tables import DEMIP
 from mipcast.core.parameters import check_values
 from mipcast.core.shading import FLOOR_TOLERANCE, chroma_color, sphere_color
-from mipcast.core.validation import check_choice, check_image, check_positive, check_size
+from mipcast.core.prepare import prepare_scalars
+from mipcast.core.validation import check_choice, check_positive, check_size
 from mipcast.reference.rays import BUDGET, clip_interval, hit_rays, scatter, trilinear
 
 #: What :func:`render_demip` can return.
@@ -103,7 +104,7 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, depth_r
     >>> bool(near < far)
     True
     """
-    volume = check_image(image)
+    prepared = prepare_scalars(image, params.pop("component", None))
     width, height = check_size(size)
     scene = {name: params[name] for name in SCENE_PARAMETERS if name in params}
     missing = [name for name, default in SCENE_PARAMETERS.items() if default is None and name not in scene]
@@ -123,7 +124,7 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, depth_r
     voxels_per_step = step / min(abs(v) for v in image.GetSpacing())
 
     hit, entry, direction, length = hit_rays(image, camera, (width, height))
-    values = np.array(volume, dtype=np.float64)
+    values = np.array(prepared.values, dtype=np.float64)
     lo, hi = clip_interval(image, entry, direction, length, clip_planes, within_box=False)
 
     count = np.maximum(1, np.floor(length / step + 1e-9)).astype(np.int64)
@@ -147,7 +148,18 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, depth_r
         if projection == "mida":
             mida[part] = _mida(sample, valid, low, high)
             first[part] = -1
-    maximum[~np.isfinite(maximum)] = np.nan  # clipped away: nothing left of the ray
+    # rays left with no sample (clipped away) or that saw no finite data (their
+    # maximum lies below the finite minimum: the test of shaders/missing_exit.glsl) are background
+    hit = hit.copy()
+    seen = np.flatnonzero(hit)
+    gone = ~np.isfinite(maximum)
+    if prepared.missing:
+        gone |= maximum < prepared.missing_below
+    if gone.any():
+        hit[seen[gone]] = False
+        keep = ~gone
+        maximum, first, mida = maximum[keep], first[keep], mida[keep]
+        entry, direction = entry[keep], direction[keep]
     if output == "value":
         return scatter(maximum, hit, height, width)
 

@@ -1,0 +1,244 @@
+"""What the GPU draws from a user's volume: one component, missing values filled, a texture type.
+
+:func:`prepare_scalars` is the single definition shared by the mappers (through
+:class:`mipcast.mappers.input_preparer.InputPreparer`, inside the pipeline) and
+the float64 references, so both compare like with like:
+
+* **component**: one-component scalars are drawn as they are; several
+  components are drawn as their magnitude (ParaView's default), or one chosen
+  component (``component=k``).
+* **missing values**: NaN and +-Inf voxels are *missing*.  They are filled
+  with ``fill = low - span`` (``low``, ``high``: the finite range, ``span =
+  high - low``, or ``max(|low|, 1)`` for a constant volume), below every
+  finite value; the interpolant is the trilinear interpolant of the filled
+  volume, and a ray whose result is below ``low`` (by more than
+  :data:`MISSING_TOLERANCE` of the range: :attr:`PreparedScalars.missing_below`)
+  saw no finite data: background, NaN in the float readout.  A finite
+  maximum is therefore never a missing voxel, and a sample or cell touching
+  a missing voxel is pulled down towards ``fill`` (never up).
+* **types**: int8 ... uint32, float32 and float64 go to VTK as they are
+  (VTK's textures hold 32/64-bit values as float32: exact up to 2**24);
+  int64/uint64, which VTK's GPU ray caster does not upload, are copied to
+  float64 (then float32 on the GPU) and keep their data units.  A constant
+  integer volume is drawn from a float32 copy (VTK's normalisation of a
+  constant integer texture divides by zero).
+
+See docs/reliability.md.
+
+Examples
+--------
+>>> import numpy as np
+>>> from vtkmodules.util.numpy_support import numpy_to_vtk
+>>> from vtkmodules.vtkCommonCore import VTK_BIT
+from vtkmodules.vtkCommonDataModel import vtkImageData
+>>> image = vtkImageData()
+>>> image.SetDimensions(2, 2, 2)
+>>> _ = image.GetPointData().SetScalars(numpy_to_vtk(np.array([0, 1, 2, 3, 4, 5, 6, np.nan]), deep=True))
+>>> prepared = prepare_scalars(image)
+>>> prepared.missing, prepared.low, prepared.high, float(prepared.values[1, 1, 1])
+(1, 0.0, 6.0, -6.0)
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Optional
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonCore import VTK_BIT
+from vtkmodules.vtkCommonDataModel import vtkImageData
+
+from mipcast.core.errors import InputError
+
+#: Scalar types VTK's GPU ray caster uploads as they are.
+NATIVE_DTYPES = (np.int8, np.uint8, np.int16, np.uint16, np.int32, np.uint32, np.float32, np.float64)
+#: Further types drawn through a float64 copy (VTK holds them, its GPU mapper does not upload them).
+CONVERTED_DTYPES = (np.int64, np.uint64)
+#: Ray results more than this fraction of the finite range below the finite
+#: minimum saw no finite data (float32 rounding on the GPU stays inside it).
+MISSING_TOLERANCE = 2.0 ** -20
+#: Largest integer magnitude a float32 texture holds exactly.
+FLOAT32_EXACT = 2 ** 24
+
+
+@dataclass(frozen=True)
+class PreparedScalars:
+    """The one-component values the GPU draws (see the module docstring).
+
+    Attributes
+    ----------
+    values : numpy.ndarray, shape (nz, ny, nx)
+        Read-only; the user's own array (a view) when nothing had to change.
+    changed : bool
+        ``values`` is a copy (component, magnitude, fill or type changed).
+    missing : int
+        Number of NaN/+-Inf voxels (filled with ``fill``).
+    infinite : int
+        How many of them were +-Inf.
+    low, high : float
+        The finite range of the drawn values.
+    fill : float
+        The value missing voxels hold (``nan`` when none are missing).
+    missing_below : float
+        Ray results below this saw no finite data (``-inf`` when nothing is missing).
+    component : str
+        What is drawn: ``"scalars"``, ``"magnitude"`` or ``"component k"``.
+    """
+
+    values: np.ndarray
+    changed: bool
+    missing: int
+    infinite: int
+    low: float
+    high: float
+    fill: float
+    missing_below: float
+    component: str
+
+
+def check_component(component: Any) -> Optional[int]:
+    """``None``/``"magnitude"``/-1 -> None (the default), or an int >= 0; else raise.
+
+    Examples
+    --------
+    >>> check_component("magnitude") is None, check_component(2)
+    (True, 2)
+    """
+    if component is None or (isinstance(component, str) and component.lower() == "magnitude"):
+        return None
+    if isinstance(component, bool) or not isinstance(component, (int, np.integer)):
+        raise TypeError(f"component must be an int >= 0 or 'magnitude', got {component!r}")
+    if component == -1:
+        return None
+    if component < 0:
+        raise InputError(f"component must be >= 0 (or -1 / 'magnitude'), got {component!r}")
+    return int(component)
+
+
+def check_geometry(image: vtkImageData) -> None:
+    """Refuse spacings and direction matrices the ray caster cannot draw (raise :class:`InputError`)."""
+    spacing = image.GetSpacing()
+    if not all(np.isfinite(s) and s != 0.0 for s in spacing):
+        raise InputError(
+            f"the volume's spacing {tuple(spacing)} has a zero or non-finite entry: rays cannot "
+            "cross a cell of zero size; set a positive spacing (image.SetSpacing)")
+    if min(spacing) < 0.0:
+        raise InputError(
+            f"the volume's spacing {tuple(spacing)} is negative: VTK's ray casters need positive "
+            "spacing; use the absolute spacing and flip the axis with the direction matrix "
+            "(image.SetDirectionMatrix) or the origin instead")
+    direction = np.array([[image.GetDirectionMatrix().GetElement(r, c) for c in range(3)] for r in range(3)])
+    if not np.all(np.isfinite(direction)) or np.abs(direction.T @ direction - np.eye(3)).max() > 1e-6:
+        raise InputError(
+            "the volume's direction matrix is not orthonormal (sheared or scaled axes): the GPU "
+            "ray caster would draw it distorted; resample it onto an orthonormal grid "
+            "(vtkImageReslice) or put the scale into the spacing")
+
+
+def prepare_scalars(image: vtkImageData, component: Any = None) -> PreparedScalars:
+    """The values the GPU draws from ``image`` (validated; ``image`` is not modified).
+
+    Parameters
+    ----------
+    image : vtkImageData or pyvista.ImageData
+    component : int, "magnitude" or None
+        Which component of multi-component scalars; None: the magnitude
+        (one-component scalars are drawn as they are either way, unless
+        ``component`` is >= 1).
+
+    Raises
+    ------
+    TypeError
+        Not image data, or an unsupported scalar type.
+    InputError
+        Empty, thinner than 2 points, no point scalars, no finite value,
+        a component out of range, bad spacing or direction, or 32/64-bit values
+        whose offset float32 textures cannot resolve.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> prepare_scalars(make_fixture("spheres", size=8)).changed
+    False
+    """
+    if not isinstance(image, vtkImageData):
+        raise TypeError(
+            f"expected vtkImageData or pyvista.ImageData, got {type(image).__name__}; "
+            "convert the data set to image data first (e.g. vtkImageReslice or "
+            "pyvista's sample/voxelize)")
+    dims = image.GetDimensions()
+    if image.GetNumberOfPoints() == 0:
+        raise InputError("the volume is empty (0 points); load or generate data first")
+    if min(dims) < 2:
+        raise InputError(
+            f"the volume has dimensions {dims}: at least 2 points are needed along "
+            "every axis for a ray to cross a cell; pad the volume (e.g. repeat the "
+            "slice) or use a 2D viewer")
+    array = image.GetPointData().GetScalars()
+    if array is None:
+        if image.GetCellData().GetScalars() is not None:
+            raise InputError(
+                "the volume has cell scalars but no point scalars; convert them with "
+                "vtkCellDataToPointData (pyvista: image.cell_data_to_point_data())")
+        raise InputError(
+            "the volume has no active point scalars; set one with "
+            "image.GetPointData().SetActiveScalars(name) (pyvista: image.set_active_scalars)")
+    check_geometry(image)
+    chosen = check_component(component)
+    if array.GetDataType() == VTK_BIT:
+        raise TypeError(
+            f"the scalars '{array.GetName()}' are a bit array, which the GPU ray caster cannot "
+            "upload; convert them to uint8 first (e.g. vtkImageCast)")
+    raw = vtk_to_numpy(array)
+    if raw.dtype.type not in NATIVE_DTYPES + CONVERTED_DTYPES:
+        raise TypeError(
+            f"scalar type {raw.dtype} is not supported by the GPU ray caster; "
+            "cast to float32, int16 or uint16 first (e.g. numpy .astype(np.float32))")
+    components = array.GetNumberOfComponents()
+    raw = raw.reshape(-1, components)
+    changed = False
+    if chosen is not None and chosen >= components:
+        raise InputError(
+            f"component {chosen} was asked for, but the scalars '{array.GetName()}' have "
+            f"{components} component(s): choose 0 .. {components - 1} or 'magnitude'")
+    if components == 1:
+        values, what = raw[:, 0], "scalars"
+    elif chosen is None:
+        with np.errstate(over="ignore", invalid="ignore"):
+            values = np.sqrt(np.sum(np.square(raw.astype(np.float64)), axis=1))
+        values = values.astype(np.float32) if raw.dtype == np.float32 else values
+        what, changed = "magnitude", True
+    else:
+        values, what, changed = np.ascontiguousarray(raw[:, chosen]), f"component {chosen}", True
+    if values.dtype.type in CONVERTED_DTYPES:
+        values, changed = values.astype(np.float64), True
+    missing = infinite = 0
+    fill, missing_below = float("nan"), float("-inf")
+    if values.dtype.kind == "f":
+        finite = np.isfinite(values)
+        missing = int(values.size - np.count_nonzero(finite))
+        if missing:
+            infinite = int(np.count_nonzero(np.isinf(values)))
+            if missing == values.size:
+                raise InputError(
+                    f"all {missing} values of '{array.GetName()}' are NaN/Inf (missing): there is "
+                    "nothing to draw; check the data or choose another array")
+            low, high = float(values[finite].min()), float(values[finite].max())
+            span = high - low if high > low else max(abs(low), 1.0)
+            fill = float(np.asarray(low - span, dtype=values.dtype))
+            values = np.where(finite, values, values.dtype.type(fill))
+            missing_below, changed = low - MISSING_TOLERANCE * span, True
+    low, high = (float(values.min()), float(values.max())) if not missing else (low, high)
+    if values.dtype.kind in "iu" and low == high:
+        # VTK's normalisation of a constant integer texture divides by zero: draw it as float32
+        values, changed = values.astype(np.float32), True
+    if values.dtype.itemsize >= 4 and values.dtype != np.float32:
+        # the GPU holds 32/64-bit data as float32: an offset this large hides the range
+        if max(abs(low), abs(high)) * 2.0 ** -24 > (high - low) / 512.0 and high > low:
+            raise InputError(
+                f"the values span {low:g} to {high:g}: an offset this large relative to their "
+                "range cannot be resolved by the GPU's float32 textures (the picture would be "
+                "flat); subtract the offset first (e.g. values - values.min())")
+    view = values.reshape(dims[2], dims[1], dims[0])
+    view.flags.writeable = False
+    return PreparedScalars(view, changed, missing, infinite, low, high, fill, missing_below, what)
