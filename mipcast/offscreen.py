@@ -176,7 +176,7 @@ class OffscreenView:
             self.mapper.SetComponent(component)
             self.mapper.SetInputData(image)
         else:
-            self.mapper.SetInputData(prepared_image(image, component))
+            self.mapper.SetInputData(prepared_image(image, component, self.method.projection == "mip"))
         self.image, self.component = image, component
 
     @property

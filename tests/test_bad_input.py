@@ -196,6 +196,11 @@ def _reference(view, image, component):
 def test_bad_input_catalogue(views, method, case):
     make, component, expected = CASES[case]
     view = views[method]
+    if expected == "picture" and view.method.projection != "mip" and prepare_scalars(make(), component).missing:
+        return _refuses_missing_values(view, make, component)
+    if view.method.projection == "average" and case.startswith("constant"):
+        pytest.xfail("known limit: the average projection draws the mean normalised over the data range "
+                     "(as VTK's AVERAGE_INTENSITY blend does), which is empty for a constant volume: black")
     if expected != "picture":
         with pytest.raises(mipcast.InputError) as raised:  # the pyvista / CLI paths: before rendering
             mipcast.core.validation.check_image(make(), component)
@@ -367,7 +372,8 @@ def test_inf_warns_once_even_for_foveated_levels():
     assert sum(issubclass(w.category, mipcast.InputWarning) for w in caught) == 1
 
 
-@pytest.mark.parametrize("method", [name for name, m in mipcast.METHODS.items() if m.float_readout])
+@pytest.mark.parametrize("method", [name for name, m in mipcast.METHODS.items()
+                                    if m.float_readout and m.projection == "mip"])
 def test_rays_without_finite_data_show_the_background(method):
     """A land mask: where rays cross only NaN the picture shows the background, in the display path too."""
     image = image_of(nan_half())
@@ -383,3 +389,22 @@ def test_rays_without_finite_data_show_the_background(method):
         assert np.mean(missing != np.isnan(_reference(view, image, None))) < 0.03
     left = missing[:, 2:14]  # the volume's NaN half, seen from the front
     assert left.mean() > 0.9 and background[:, 2:14][left].mean() > 0.9
+
+
+def _refuses_missing_values(view, make, component):
+    """Missing values are defined for maximum projections only: MinIP and average refuse them, saying so."""
+    if not view.method.float_readout:  # VTK's own mappers get the prepared copy: refused before
+        with pytest.raises(mipcast.InputError, match="missing"):
+            view.set_input(make(), component)
+        return
+    view.mapper.SetComponent(component if component is not None and component >= 0 else -1)
+    view.mapper.SetInputData(make())
+    events = []
+    tag = view.mapper.AddObserver(vtkCommand.ErrorEvent, lambda *args: events.append(args))
+    try:
+        shot = view.screenshot()
+    finally:
+        view.mapper.RemoveObserver(tag)
+    assert events, "no VTK error event"
+    assert "missing" in (view.mapper.GetLastProblem() or ""), view.mapper.GetLastProblem()
+    assert shot.max() == 0, "a refused input must draw nothing (nothing stale)"

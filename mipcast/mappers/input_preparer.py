@@ -98,15 +98,17 @@ class InputPreparer(VTKPythonAlgorithmBase):
         return 1
 
 
-def prepared_image(image: vtkImageData, component=None) -> vtkImageData:
+def prepared_image(image: vtkImageData, component=None, missing_allowed: bool = True) -> vtkImageData:
     """A new image holding what the GPU draws from ``image`` (``image`` itself if nothing changes).
 
     For VTK's own mappers (stock, CPU), which have no preparer inside.
+    ``missing_allowed=False``: refuse missing values (the fill below every
+    finite value is right for maximum projections only).
 
     Raises
     ------
     InputError
-        As :func:`mipcast.core.prepare.prepare_scalars`.
+        As :func:`mipcast.core.prepare.prepare_scalars`, or missing values where they are not allowed.
 
     Examples
     --------
@@ -116,6 +118,9 @@ def prepared_image(image: vtkImageData, component=None) -> vtkImageData:
     True
     """
     prepared = prepare_scalars(image, component)
+    if prepared.missing and not missing_allowed:
+        raise InputError(f"{prepared.missing} NaN/Inf voxels: missing data is defined for maximum projections "
+                         "only; replace them first (e.g. numpy.nan_to_num) or use a MIP method")
     if not prepared.changed:
         return image
     out = vtkImageData()

@@ -53,6 +53,10 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     #: The method's parameter table (:mod:`mipcast.core.parameter_tables`):
     #: subclasses get a ``SetX``/``GetX`` per entry (:func:`parameter_accessors`).
     PARAMETERS = parameter_tables.MIP
+    #: Missing voxels (NaN/Inf) are filled below every finite value, which is
+    #: right for maximum projections; projections for which it is not (MinIP,
+    #: average) set this False and refuse such input.
+    DRAWS_MISSING = True
 
     def __init__(self) -> None:
         super().__init__()
@@ -289,6 +293,11 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         problem = self.GetInputPreparer().GetProblem()
         if problem is not None:
             return f"input refused, nothing is drawn: {problem}"
+        prepared = self.GetInputPreparer().GetPrepared()
+        if not self.DRAWS_MISSING and prepared is not None and prepared.missing:
+            return (f"input refused, nothing is drawn: {type(self).__name__} cannot draw missing values "
+                    f"yet ({prepared.missing} NaN/Inf voxels; missing data is defined for maximum "
+                    "projections only): replace them first, e.g. numpy.nan_to_num, or use a MIP method")
         return None
 
     # -- parameters (the table's values) ------------------------------------

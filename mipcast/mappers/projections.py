@@ -51,6 +51,8 @@ class MinIPVolumeMapper(sampled_projection_mapper("minip_hooks")):
     True
     """
 
+    DRAWS_MISSING = False
+
 
 class AverageVolumeMapper(sampled_projection_mapper("average_hooks", color="average_color")):
     """Sampled average intensity projection, as stock VTK's AVERAGE_INTENSITY blend.
@@ -68,6 +70,8 @@ class AverageVolumeMapper(sampled_projection_mapper("average_hooks", color="aver
     >>> mapper.GetShaderPieces()[-1]
     'average_color'
     """
+
+    DRAWS_MISSING = False
 
     def _push_derived_uniforms(self, uniforms, settings) -> None:
         super()._push_derived_uniforms(uniforms, settings)
@@ -124,6 +128,8 @@ class AnalyticMinIPVolumeMapper(_ExactProjection):
     True
     """
 
+    DRAWS_MISSING = False
+
     PIECES = _exact_pieces("amip_min_hooks")
 
 
@@ -141,6 +147,8 @@ class AnalyticAverageVolumeMapper(_ExactProjection):
     >>> AnalyticAverageVolumeMapper().GetShaderPieces()[-1]
     'average_color'
     """
+
+    DRAWS_MISSING = False
 
     PIECES = _exact_pieces("amip_average_hooks", color="average_color")
     PACKED = {"amip_corners": "amip_corners_packed"}

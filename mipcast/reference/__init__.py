@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
+from mipcast.core.errors import InputError
 from mipcast.core.prepare import prepare_scalars
 from mipcast.core.validation import check_choice, check_positive, check_size
 from mipcast.reference.demip import render_demip
@@ -140,6 +141,9 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     if sampled:
         step = check_positive("sample_distance", params["sample_distance"])
 
+    if prepared.missing and method not in ("mip", "analytic"):
+        raise InputError(f"method {method!r} cannot take missing values yet ({prepared.missing} NaN/Inf "
+                         "voxels; missing data is defined for maximum projections only): replace them first")
     hit, entry, direction, length = hit_rays(image, camera, (width, height))
     values = np.array(prepared.values, dtype=np.float64)
     lo, hi = clip_interval(image, entry, direction, length, clip_planes, within_box=not sampled)
