@@ -115,6 +115,10 @@ def _parser() -> argparse.ArgumentParser:
                             "whole, gaze at the centre and a corner (foveation.md/json/png)")
     bench.add_argument("--foveation-methods", nargs="+", default=["mip"],
                        help="methods the foveated variants render with (--foveation)")
+    bench.add_argument("--foveation-variants", nargs="+", default=None,
+                       help="names of foveation_bench.VARIANTS to measure (--foveation; default: all)")
+    bench.add_argument("--framings", nargs="+", default=None, choices=["fill", "whole"],
+                       help="framings measured by --foveation (default: fill and whole)")
     bench.add_argument("--gpu-report", action="store_true",
                        help="instead: the fixed GPU suite (parity, speed x accuracy at 512/1024, foveation, "
                             "first frame, memory, peers): gpu-report.md/json/png; refuses software OpenGL")
@@ -376,13 +380,20 @@ def _run_foveation(args) -> int:
     rounds = min(args.rounds, 3)
     started = time.perf_counter()
     jobs = [(scene, method) for scene in args.scenes for method in args.foveation_methods]
-    views = 3 + len(VARIANTS) * len(GAZES)  # full, off, variants, periphery alone
+    unknown = sorted(set(args.foveation_variants or ()) - set(VARIANTS))
+    if unknown:
+        raise SystemExit(f"unknown --foveation-variants {', '.join(map(repr, unknown))}; "
+                         f"valid: {', '.join(map(repr, VARIANTS))}")
+    variants = {name: VARIANTS[name] for name in (args.foveation_variants or VARIANTS)}
+    framings = args.framings or list(FRAMINGS)
+    views = 3 + len(variants) * len(GAZES)  # full, off, variants, periphery alone
     rows = []
-    with _progress_bar(len(jobs) * len(sizes) * len(FRAMINGS) * (rounds + views)) as bar:
+    with _progress_bar(len(jobs) * len(sizes) * len(framings) * (rounds + views)) as bar:
         for scene, method in jobs:
             image, window = _load_scene(scene, args.volume_size)
             bar.set_description(f"{scene} {method}")
             rows += measure_foveation(image, scene, method, sizes=sizes, rounds=rounds, window=window,
+                                      framings=framings, variants=variants,
                                       progress=lambda label: _advance(bar, label))
     (args.out / "foveation.json").write_text(_strict_json(rows))
     table = foveation_table(rows)

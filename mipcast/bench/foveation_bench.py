@@ -42,6 +42,8 @@ VARIANTS = {
     "radius 0.05, falloff 0.04": {"FovealRadius": 0.05, "Falloff": 0.04},
     "default, 'level' sampling": {"PeripheralSampling": "level"},
     "default, 4 levels": {"NumberOfLevels": 4},
+    "content-adaptive 2 grey": {"ContentTolerance": 2.0},
+    "content-adaptive 8 grey": {"ContentTolerance": 8.0},
 }
 #: A gaze far outside the viewport: every pixel at the coarsest level.  Its
 #: row times the periphery alone, a floor under any gaze's frame time where
@@ -120,7 +122,10 @@ def ring_errors(full: np.ndarray, foveated: np.ndarray, gaze: Sequence[float], r
     -------
     dict
         ``fovea_within_1`` (share of pixels inside the radius within one
-        grey level), ``mean`` (all pixels) and ``rings``: one dict per ring
+        grey level), ``fovea_structure_within_1`` (the same over the
+        fovea's pixels where full quality shows structure: not the
+        darkest value of ``full``), ``mean`` (all pixels),
+        ``mean_outside`` (pixels outside the radius) and ``rings``: one dict per ring
         with ``e_from``, ``e_to``, ``pixels``, ``mean``, ``p99``, ``max``
         (largest channel difference per pixel).
 
@@ -129,8 +134,8 @@ def ring_errors(full: np.ndarray, foveated: np.ndarray, gaze: Sequence[float], r
     >>> full = np.zeros((20, 20, 3), np.uint8)
     >>> blurred = full.copy(); blurred[:, :2] = 9          # errors on the left edge only
     >>> result = ring_errors(full, blurred, (0.5, 0.5), 0.2, ring=0.25)
-    >>> result["fovea_within_1"], [r["max"] for r in result["rings"]]
-    (1.0, [0, 9, 9])
+    >>> result["fovea_within_1"], [r["max"] for r in result["rings"]], result["mean_outside"] > 0
+    (1.0, [0, 9, 9], True)
     """
     height, width = full.shape[:2]
     e = eccentricity((width, height), gaze, width / height)
@@ -144,8 +149,13 @@ def ring_errors(full: np.ndarray, foveated: np.ndarray, gaze: Sequence[float], r
             rings.append({"e_from": float(low), "e_to": float(high), "pixels": int(values.size),
                           "mean": float(values.mean()), "p99": float(np.percentile(values, 99)),
                           "max": int(values.max())})
+    grey = full[..., :3].max(axis=-1)
+    structure = inside & (grey > grey.min())
     return {"fovea_within_1": float(np.mean(error[inside] <= 1)) if inside.any() else float("nan"),
-            "mean": float(error.mean()), "rings": rings}
+            "fovea_structure_within_1": float(np.mean(error[structure] <= 1)) if structure.any() else float("nan"),
+            "mean": float(error.mean()),
+            "mean_outside": float(error[~inside].mean()) if (~inside).any() else float("nan"),
+            "rings": rings}
 
 
 def measure_foveation(image, scene: str, method: str = "mip", sizes: Sequence[int] = (512, 1024),
@@ -242,6 +252,9 @@ def _foveated_figures(full_view: OffscreenView, full_picture: np.ndarray, full_s
             "ray_ratio": cost["ray_ratio"], "sample_ratio": cost["sample_ratio"],
             "ceiling": 1.0 / share if share > 0 else float("inf"),
             "fovea_within_1": errors["fovea_within_1"], "mean_grey_error": errors["mean"],
+            "fovea_structure_within_1": errors["fovea_structure_within_1"],
+            "mean_grey_error_outside": errors["mean_outside"],
+            "content_tolerance": mapper.GetContentTolerance(),
             "rings": errors["rings"]}
 
 
@@ -254,14 +267,15 @@ def foveation_table(rows: Sequence[dict]) -> str:
     ...        "speedup": 2.0, "ray_ratio": 3.0, "sample_ratio": 2.5, "ceiling": 6.9,
     ...        "fovea_within_1": 1.0, "mean_grey_error": 0.5}
     >>> print(foveation_table([row]).splitlines()[-1])
-    | s mip 8² fill | default \\| centre | 3.00 | 2.50 | 2.00 | 6.9 | 100.0 % | 0.50 |
+    | s mip 8² fill | default \\| centre | 3.00 | 2.50 | 2.00 | 6.9 | 100.0 % | 0.50 | - | - |
     """
     from mipcast.bench.paper_tables import LEVOY_TABLE_I
 
     lines = ["| scene | setting | rays full / foveated | samples full / foveated | time full / foveated "
-             "| ceiling | fovea within 1 grey | mean grey error |",
-             "| --- | --- | --- | --- | --- | --- | --- | --- |",
-             "| paper (Levoy & Whitaker 1990, Table I) | | {rays:.2f} | {samples:.2f} | {time:.2f} | | | |".format(
+             "| ceiling | fovea within 1 grey | mean grey error | fovea structure within 1 grey "
+             "| mean grey error outside the fovea |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+             "| paper (Levoy & Whitaker 1990, Table I) | | {rays:.2f} | {samples:.2f} | {time:.2f} | | | | | |".format(
                  **LEVOY_TABLE_I)]
     for row in rows:
         if "ray_ratio" not in row:
@@ -269,8 +283,14 @@ def foveation_table(rows: Sequence[dict]) -> str:
         setting = row["setting"].replace("|", "\\|")
         lines.append(f"| {row['scene']} {row['method']} {row['size']}² {row['framing']} | {setting} | "
                      f"{row['ray_ratio']:.2f} | {row['sample_ratio']:.2f} | {row['speedup']:.2f} | "
-                     f"{row['ceiling']:.1f} | {_share(row['fovea_within_1'])} | {row['mean_grey_error']:.2f} |")
+                     f"{row['ceiling']:.1f} | {_share(row['fovea_within_1'])} | {row['mean_grey_error']:.2f} | "
+                     f"{_share(row.get('fovea_structure_within_1', float('nan')))} | "
+                     f"{_number(row.get('mean_grey_error_outside', float('nan')))} |")
     return "\n".join(lines)
+
+
+def _number(value: float) -> str:
+    return f"{value:.2f}" if np.isfinite(value) else "-"
 
 
 def _share(fraction: float) -> str:

@@ -150,4 +150,10 @@ FOVEATED = (
               "How peripheral levels sample along their rays: no farther apart than the level's rays "
               "(footprint, default), the paper's one level per image level (level), or full-quality "
               "sampling (rays).", choices=foveation.SAMPLING_POLICIES),
+    Parameter("content_tolerance", "float", 0.0,
+              "Content-adaptive ray density, in grey levels (0 = off). The coarsest level is cast over "
+              "the whole view first; a finer ray is cast only where neighbouring coarse values differ by "
+              "more than this, or, inside the fovea, where the coarse picture shows structure (above the "
+              "transfer function's floor); elsewhere the coarser picture is interpolated.",
+              low=0.0, unit="grey levels"),
 )

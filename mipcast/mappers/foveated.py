@@ -6,13 +6,14 @@ from typing import Optional, Sequence
 
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkCommand, vtkWeakReference
+from vtkmodules.util.misc import calldata_type
+from vtkmodules.vtkCommonCore import VTK_OBJECT, VTK_UNSIGNED_CHAR, vtkCommand, vtkUnsignedCharArray, vtkWeakReference
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkCommonMath import vtkMatrix4x4
 from vtkmodules.vtkRenderingCore import vtkCamera, vtkVolume
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
-from mipcast.core import foveation, parameter_tables
+from mipcast.core import content_adaptive, foveation, parameter_tables
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
 from mipcast.core.parameters import parameter_accessors
 from mipcast.mappers import float_readout, volume_pyramid
@@ -105,6 +106,8 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     PIECES = ("mip_globals", "refusal")
     #: Pieces every level adds to its method's own.
     LEVEL_PIECES = ("foveated_skip", "foveated_weight")
+    #: Pieces of the finer levels with content-adaptive ray density (ContentTolerance > 0).
+    MASKED_LEVEL_PIECES = ("foveated_skip_masked", "foveated_mask_dec", "foveated_weight")
     PARAMETERS = parameter_tables.FOVEATED
 
     def __init__(self) -> None:
@@ -121,6 +124,17 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         if self.GetMethod() != method:
             object_state(self).pop("levels_drawn", None)  # new private mappers at the next render
             self._set_parameter("method", method)
+
+    def SetContentTolerance(self, *tolerance) -> None:
+        """Content-adaptive ray density: grey levels a coarse neighbourhood may vary by unrefined (0 = off).
+
+        See :mod:`mipcast.core.content_adaptive`.  Turning it on or off builds
+        new private level mappers (other shader pieces) at the next render.
+        """
+        tolerance = _parameter("content_tolerance").check(*tolerance)
+        if (tolerance > 0) != (self.GetContentTolerance() > 0):
+            object_state(self).pop("levels_drawn", None)
+        self._set_parameter("content_tolerance", tolerance)
 
     def SetGazePoint(self, *xy) -> None:
         """Look at ``(x, y)`` in normalised viewport coordinates ((0, 0) bottom-left).
@@ -237,8 +251,12 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         return dict(frame["cost"])
 
     def GetLevelMapper(self, level: int):
-        """The private mapper drawing pyramid level ``level`` (None if never drawn)."""
-        entry = object_state(self).get("levels_drawn", {}).get(int(level))
+        """The private mapper drawing pyramid level ``level`` (None if never drawn).
+
+        With content-adaptive density on, the finer levels' masked mappers.
+        """
+        drawn = object_state(self).get("levels_drawn", {})
+        entry = drawn.get((int(level), "masked")) or drawn.get(int(level))
         return None if entry is None else entry["mapper"]
 
     # -- rendering ------------------------------------------------------------
@@ -302,6 +320,10 @@ def _draw(mapper, state, volume, renderer) -> None:
     plan = foveation.plan_frame(viewport, gaze, radius, params["falloff"], params["number_of_levels"],
                                 params["foveation"], _level_cap(image, volume, camera, viewport),
                                 base_isd)
+    tolerance = float(params["content_tolerance"])
+    adaptive = tolerance > 0 and len(plan.layers) > 1
+    if adaptive:
+        plan = content_adaptive.adaptive_plan(plan)
     cells = _walks_cells(params["method"])
     spacings = volume_pyramid.pyramid_voxel_sizes(image, params["number_of_levels"])
     world_per_pixel = _world_per_pixel(camera, volume, viewport)
@@ -310,13 +332,24 @@ def _draw(mapper, state, volume, renderer) -> None:
     layers, values = [], {}
     gl_state = renderer.GetRenderWindow().GetState()
     depth = _capture_depth(state, renderer)
-    for layer in plan.layers:
+    masks = {}
+    before = _read_texels(renderer, viewport, plan.layers[0].grid) if adaptive and not readout else None
+    for index, layer in enumerate(plan.layers):
         level = layer.level
+        if adaptive and index == 1:
+            if readout:
+                after = _grey_texels(volume, values[plan.layers[0].level])
+                masks = content_adaptive.refinement_masks(after, np.zeros_like(after), plan, tolerance)
+            else:
+                after = _read_texels(renderer, viewport, plan.layers[0].grid)
+                masks = content_adaptive.refinement_masks(after, before, plan, tolerance)
         footprint = world_per_pixel * viewport[3] / max(layer.grid[1], 1)
         volume_level, distance = volume_pyramid.level_sampling(
             level, footprint, base_distance, spacings, cells, params["peripheral_sampling"])
-        entry = drawn.get(level) or _new_level(params["method"])
-        drawn[level] = entry
+        masked = adaptive and index > 0
+        key = level if not masked else (level, "masked")
+        entry = drawn.get(key) or _new_level(params["method"], masked)
+        drawn[key] = entry
         level_mapper, level_volume = entry["mapper"], entry["volume"]
         if depth is not None and level_mapper.GetDepthTexture() is not depth:
             level_mapper.SetSharedDepthTexture(depth)
@@ -335,13 +368,22 @@ def _draw(mapper, state, volume, renderer) -> None:
         scissor = layer.scissor if not readout else None
         if scissor is not None:
             gl_state.vtkglScissor(*scissor)
+        mask_texture = None
+        if level in masks and not readout:
+            mask_texture = _mask_texture(state, renderer, level, masks[level])
+            mask_texture.Activate()
+            object_state(level_mapper)["mask_unit"] = mask_texture.GetTextureUnit()
         try:
             level_volume.RenderVolumetricGeometry(renderer)
         finally:
+            if mask_texture is not None:
+                mask_texture.Deactivate()
             if scissor is not None:
                 gl_state.vtkglScissor(*viewport)
             if readout:
                 values[level] = _level_values(level_mapper, layer.grid)
+                if level in masks:
+                    values[level][~masks[level]] = np.nan
                 object_state(level_mapper).pop("exact_readout", None)
                 level_mapper.RenderToImageOff()
         layers.append((level, volume_level, distance, level_input))
@@ -354,7 +396,7 @@ def _draw(mapper, state, volume, renderer) -> None:
     snapshot = vtkCamera()
     snapshot.DeepCopy(camera)
     state["frame"] = {"plan": plan, "camera": snapshot, "matrix": matrix, "image": image,
-                      "layers": layers, "cells": cells, "method": params["method"],
+                      "layers": layers, "cells": cells, "method": params["method"], "masks": masks,
                       "base_distance": base_distance, "base_isd": base_isd}
 
 
@@ -390,27 +432,82 @@ def _capture_depth(state, renderer):
     return depth
 
 
-def _new_level(method: str) -> dict:
-    level_mapper = _level_class(FOVEATION_LAYERS[method].factory)()
+def _new_level(method: str, masked: bool = False) -> dict:
+    level_mapper = _level_class(FOVEATION_LAYERS[method].factory, masked)()
     level_volume = vtkVolume()
     level_mapper.Attach(level_volume)
+    if masked:
+        level_mapper.AddObserver(vtkCommand.UpdateShaderEvent, _bind_mask_sampler)
     return {"mapper": level_mapper, "volume": level_volume, "matrix": vtkMatrix4x4()}
+
+
+@calldata_type(VTK_OBJECT)
+def _bind_mask_sampler(level_mapper, event, program) -> None:
+    """Point the masked level's ``u_mc_fovMask`` at the texture unit its mask is bound to."""
+    unit = object_state(level_mapper).get("mask_unit")
+    if program is not None and unit is not None and unit >= 0:
+        program.SetUniformi("u_mc_fovMask", int(unit))
+
+
+def _read_texels(renderer, viewport, grid) -> np.ndarray:
+    """The window's picture (RGB, uint8) at the texel centres of ``grid``, top row first."""
+    x0, y0, width, height = viewport
+    pixels = vtkUnsignedCharArray()
+    renderer.GetRenderWindow().GetRGBACharPixelData(x0, y0, x0 + width - 1, y0 + height - 1, 0, pixels)
+    picture = vtk_to_numpy(pixels).reshape(height, width, 4)[::-1, :, :3]
+    return content_adaptive.coarse_texels(picture, grid)
+
+
+def _grey_texels(volume, values) -> np.ndarray:
+    """Grey levels (over black) the volume's transfer functions give a level's float readout."""
+    prop = volume.GetProperty()
+    colour, opacity = prop.GetRGBTransferFunction(0), prop.GetScalarOpacity(0)
+    finite = np.nan_to_num(values, nan=-np.inf)
+    low, high = colour.GetRange()
+    points = np.linspace(low, high, 1024)
+    table = np.array([colour.GetColor(v)[0] * opacity.GetValue(v) for v in points])
+    grey = np.interp(np.clip(finite, low, high), points, table) * 255.0
+    return np.where(np.isfinite(finite), np.round(grey), 0.0)[..., None]
+
+
+def _mask_texture(state, renderer, level, mask):
+    """A level's refinement mask as a nearest-filtered 2D texture (bottom row first)."""
+    from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
+
+    textures = state.setdefault("mask_textures", {})
+    window = renderer.GetRenderWindow()
+    texture = textures.get(level)
+    if texture is None or texture.GetContext() is not window:
+        texture = vtkTextureObject()
+        texture.SetContext(window)
+        texture.SetMinificationFilter(vtkTextureObject.Nearest)
+        texture.SetMagnificationFilter(vtkTextureObject.Nearest)
+        texture.SetWrapS(vtkTextureObject.ClampToEdge)
+        texture.SetWrapT(vtkTextureObject.ClampToEdge)
+        textures[level] = texture
+    data = np.ascontiguousarray(mask[::-1], dtype=np.uint8) * np.uint8(255)
+    rows, columns = data.shape
+    texture.Create2DFromRaw(columns, rows, 1, VTK_UNSIGNED_CHAR, data)
+    return texture
 
 
 _LEVEL_CLASSES: dict = {}
 
 
-def _level_class(base):
-    """``base`` (a mipcast mapper class) plus the foveation pieces."""
-    cls = _LEVEL_CLASSES.get(base)
+def _level_class(base, masked: bool = False):
+    """``base`` (a mipcast mapper class) plus the foveation pieces (with a refinement mask if ``masked``)."""
+    cls = _LEVEL_CLASSES.get((base, masked))
     if cls is None:
-        def GetShaderPieces(self):
-            return tuple(base.GetShaderPieces(self)) + FoveatedVolumeMapper.LEVEL_PIECES
+        extra = FoveatedVolumeMapper.MASKED_LEVEL_PIECES if masked else FoveatedVolumeMapper.LEVEL_PIECES
 
-        cls = type(f"Foveated{base.__name__}Level", (base,), {
+        def GetShaderPieces(self):
+            return tuple(base.GetShaderPieces(self)) + extra
+
+        name = f"Foveated{base.__name__}{'Masked' if masked else ''}Level"
+        cls = type(name, (base,), {
             "__doc__": f"One pyramid level of a FoveatedVolumeMapper rendering with {base.__name__}.",
             "GetShaderPieces": GetShaderPieces})
-        _LEVEL_CLASSES[base] = cls
+        _LEVEL_CLASSES[(base, masked)] = cls
     return cls
 
 
@@ -542,6 +639,8 @@ def _frame_cost(frame) -> dict:
     for (level, volume_level, distance, level_input), layer in zip(frame["layers"], plan.layers):
         e = foveation.eccentricity(layer.grid, plan.gaze, plan.aspect)
         cast = (e >= layer.cast_from) & (e < layer.cast_to)
+        if level in frame.get("masks", {}):
+            cast &= frame["masks"][level]
         kind = {"cells_of": level_input} if frame["cells"] else {"sample_distance": distance}
         rays, samples = grid_cost(image, camera, size, layer.grid, volume_matrix=matrix, cast=cast, **kind)
         rows.append({"level": level, "volume_level": volume_level, "grid": tuple(layer.grid),
