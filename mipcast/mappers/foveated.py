@@ -361,6 +361,7 @@ def _draw(mapper, state, volume, renderer) -> None:
         _copy_settings(mapper, volume, level_mapper, level_volume, entry["matrix"], distance,
                        layer.image_sample_distance)
         _set_uniforms(level_volume, plan, layer)
+        object_state(level_mapper)["draw_camera"] = camera
         if readout:
             object_state(level_mapper)["exact_readout"] = True
             level_mapper.RenderToImageOn()

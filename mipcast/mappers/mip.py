@@ -9,7 +9,12 @@ from mipcast.core import parameter_tables
 from mipcast.core.object_state import object_state
 from mipcast.core.parameters import defaults, parameter_accessors, uniform_values
 from mipcast.mappers import shader_pieces
+from mipcast.mappers.stereo import eye_uniforms
 from mipcast.core.validation import check_image
+
+
+#: The piece every mipcast mapper adds to its own: stereo-correct ray directions.
+STEREO_PIECE = "stereo_ray_direction"
 
 
 @parameter_accessors
@@ -101,7 +106,9 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
 
     def _install_pieces(self, volume) -> None:
         names = self.GetShaderPieces()
-        shader_pieces.install(volume.GetShaderProperty(), [shader_pieces.load_piece(n) for n in names])
+        # every method: rays aimed from the rendering eye of a stereo pair (mipcast/mappers/stereo.py)
+        shader_pieces.install(volume.GetShaderProperty(),
+                              [shader_pieces.load_piece(n) for n in names + (STEREO_PIECE,)])
         object_state(self)["installed"] = names
 
     def Detach(self) -> None:
@@ -206,7 +213,11 @@ def _check_before_render(mapper, event) -> None:
     if problem is None:
         if object_state(mapper).get("installed") != mapper.GetShaderPieces():
             mapper._install_pieces(volume)
-        mapper._push_uniforms(volume.GetShaderProperty().GetFragmentCustomUniforms())
+        uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+        mapper._push_uniforms(uniforms)
+        shift, parallel = eye_uniforms(mapper, volume)
+        uniforms.SetUniform3f("u_mc_eyeShift", list(shift))
+        uniforms.SetUniformf("u_mc_eyeParallel", parallel)
         return
     vtkOutputWindow.GetInstance().DisplayErrorText(f"{type(mapper).__name__}: {problem}\n")
     mapper.InvokeEvent(vtkCommand.ErrorEvent)
