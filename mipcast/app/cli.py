@@ -83,6 +83,11 @@ def _parser() -> argparse.ArgumentParser:
                         help="sweep a slab through the volume (needs --slab, not available yet)")
     render.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
     render.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
+    render.add_argument("--stereo", default=None, choices=["anaglyph", "side-by-side", "left", "right"],
+                        help="a stereo pair of any method: red-cyan anaglyph or side by side (each eye half "
+                             "width); use a perspective view (--view perspective) for depth")
+    render.add_argument("--eye-angle", type=float, default=None,
+                        help="degrees between the eyes with --stereo (default VTK's 2)")
     render.set_defaults(run=_run_render)
     render.epilog = _parameters_help(render)
 
@@ -95,6 +100,8 @@ def _parser() -> argparse.ArgumentParser:
     view.add_argument("--view", default=None, choices=VIEW_NAMES, help="first camera (default: pyvista's)")
     view.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
     view.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
+    view.add_argument("--stereo", nargs="?", const="anaglyph", default=None, choices=["anaglyph", "side-by-side"],
+                      help="show a stereo pair (default anaglyph, red-cyan; or side-by-side)")
     view.set_defaults(run=run_view)
     view.epilog = _parameters_help(view)
 
@@ -266,6 +273,12 @@ def _run_render(args) -> int:
     view = OffscreenView(image, args.method, size=tuple(args.size), view=args.view,
                          sample_distance=distance, window=window)
     set_parameters(view.mapper, **args.params)
+    if args.stereo is not None:
+        from mipcast.mappers.stereo import set_stereo
+
+        set_stereo(view.render_window, args.stereo, args.eye_angle, view.camera)
+    elif args.eye_angle is not None:
+        raise ValueError("--eye-angle needs --stereo anaglyph|side-by-side")
     if args.turntable is not None:
         from mipcast.app.turntable import write_turntable
 
@@ -325,7 +338,7 @@ def run_view(args) -> int:
 
     image = with_scalars(read_volume(args.input, series_uid=args.series), args.scalars)
     run_viewer(image, args.method, clim=_window(image, args.window), params=args.params,  # checks params
-               view=args.view)  # before the window
+               view=args.view, stereo=args.stereo)  # before the window
     return 0
 
 

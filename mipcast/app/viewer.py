@@ -99,7 +99,7 @@ def has_display(environ=None, platform: Optional[str] = None) -> bool:
 
 def build_viewer(image, method: str = "mip", *, cmap="gray", clim: Optional[Sequence[float]] = None,
                  window_size: Sequence[int] = (900, 800), off_screen: bool = False,
-                 params: Optional[dict] = None, view: Optional[str] = None):
+                 params: Optional[dict] = None, view: Optional[str] = None, stereo: Optional[str] = None):
     """Build the interactive viewer's plotter without showing it.
 
     The volume is added through ``plotter.mip.add_volume`` on a black
@@ -130,6 +130,9 @@ def build_viewer(image, method: str = "mip", *, cmap="gray", clim: Optional[Sequ
     view : str, optional
         The first camera: a preset of ``mipcast.offscreen.VIEWS`` or a patient
         view (``"anterior"``, ...); default pyvista's.
+    stereo : str, optional
+        A stereo pair: ``"anaglyph"`` (red-cyan) or ``"side-by-side"``
+        (:data:`mipcast.mappers.stereo.STEREO_MODES`); default mono.
 
     Returns
     -------
@@ -148,7 +151,7 @@ def build_viewer(image, method: str = "mip", *, cmap="gray", clim: Optional[Sequ
     >>> plotter.close()
     """
     return _Viewer(image, method, cmap=cmap, clim=clim, window_size=window_size,
-                   off_screen=off_screen, params=params, view=view).plotter
+                   off_screen=off_screen, params=params, view=view, stereo=stereo).plotter
 
 
 def run_viewer(image, method: str = "mip", **options) -> None:
@@ -162,7 +165,7 @@ def run_viewer(image, method: str = "mip", **options) -> None:
         The first method, a name from ``mipcast.METHODS``.
     **options
         Keyword arguments of :func:`build_viewer` (``cmap``, ``clim``,
-        ``window_size``, ``params``, ``view``).
+        ``window_size``, ``params``, ``view``, ``stereo``).
 
     Raises
     ------
@@ -188,8 +191,10 @@ class _Viewer:
     """The viewer's state: plotter, current method and volume, widgets, parameter values."""
 
     def __init__(self, image, method, *, cmap="gray", clim=None, window_size=(900, 800),
-                 off_screen=False, params=None, view=None) -> None:
+                 off_screen=False, params=None, view=None, stereo=None) -> None:
         import pyvista
+
+        from mipcast.mappers.stereo import set_stereo
 
         importlib.import_module("mipcast.filters")  # registers plotter.mip
 
@@ -203,6 +208,8 @@ class _Viewer:
         self.legend = None
         self.plotter = pyvista.Plotter(off_screen=off_screen, window_size=list(window_size))
         self.plotter.set_background("black")
+        if stereo is not None:
+            set_stereo(self.plotter.render_window, stereo)
         self.interactive = self.plotter.iren is not None
         if self.interactive:
             self.plotter.add_key_event("m", self.next_method)
