@@ -156,4 +156,15 @@ FOVEATED = (
               "more than this, or, inside the fovea, where the coarse picture shows structure (above the "
               "transfer function's floor); elsewhere the coarser picture is interpolated.",
               low=0.0, unit="grey levels"),
+    Parameter("gaze_fixation_radius", "float", 0.02,
+              "Gaze streams (PushGaze): how far the eye may wander from the rendered gaze, in viewport "
+              "heights, before a frame re-renders (tracker jitter and microsaccades below it cause none).",
+              low=0.0, unit="viewport heights"),
+    Parameter("gaze_saccade_velocity", "float", 2.0,
+              "Gaze streams: eye speed, in viewport heights per second, above which samples belong to a "
+              "saccade; during one the last fixation is kept, and the landing moves the gaze at once.",
+              low=0.0, unit="viewport heights per second"),
+    Parameter("gaze_prediction", "float", 0.0,
+              "Gaze streams: seconds to extrapolate a moving gaze (pursuit, drift) ahead to hide the "
+              "render latency; 0 = off.", low=0.0, unit="seconds"),
 )

@@ -14,6 +14,7 @@ from vtkmodules.vtkRenderingCore import vtkCamera, vtkVolume
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
 from mipcast.core import content_adaptive, foveation, parameter_tables
+from mipcast.core.gaze import GazeStream
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
 from mipcast.core.parameters import parameter_accessors
 from mipcast.mappers import float_readout, volume_pyramid
@@ -148,12 +149,82 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         state["gaze_source"] = "point"
         self._set_parameter("gaze_point", gaze)
 
+    def SetGazeSaccadeVelocity(self, *velocity) -> None:
+        """Eye speed (viewport heights per second, > 0) above which gaze samples belong to a saccade."""
+        velocity = _parameter("gaze_saccade_velocity").check(*velocity)
+        if velocity <= 0:
+            raise ValueError(f"gaze_saccade_velocity must be > 0, got {velocity!r}")
+        self._set_parameter("gaze_saccade_velocity", velocity)
+
+    # -- gaze streams (an eye tracker) ------------------------------------------
+    def PushGaze(self, t: float, x: float, y: float) -> bool:
+        """Feed one eye-tracker sample: time ``t`` (s), gaze ``(x, y)`` (normalised viewport coordinates).
+
+        The sample goes through the mapper's :class:`mipcast.core.gaze.GazeStream`
+        (fixations below :meth:`GetGazeFixationRadius` and saccades change
+        nothing; see :mod:`mipcast.core.gaze`), and the gaze follows the
+        stream from now on.  Returns True when the gaze to render with
+        changed: render then (the sample is used by the next frame; its
+        latency is :meth:`GetLastGazeLatency`).
+
+        Examples
+        --------
+        >>> mapper = FoveatedVolumeMapper()
+        >>> mapper.PushGaze(0.0, 0.3, 0.3), mapper.PushGaze(0.03, 0.301, 0.3), mapper.GetGazeSource()
+        (True, False, 'stream')
+        """
+        import time
+
+        state = object_state(self)
+        stream = self.GetGazeStream()
+        changed = stream.push(t, x, y)
+        if state["gaze_source"] != "stream":
+            state["gaze_source"] = "stream"
+            changed = True
+        if changed:
+            state["gaze_pushed"] = time.perf_counter()
+            self.Modified()
+        return changed
+
+    def SetGazeCallable(self, source) -> None:
+        """Poll ``source()`` at every render for the latest tracker sample ``(t, x, y)`` (None: no news).
+
+        ``source=None`` stops polling (the stream keeps its last gaze).  A
+        tracker whose API is a callback can call :meth:`PushGaze` instead.
+        """
+        if source is not None and not callable(source):
+            raise TypeError(f"gaze source must be callable returning (t, x, y) or None, got {source!r}")
+        state = object_state(self)
+        state["gaze_callable"] = source
+        if source is not None:
+            self.GetGazeStream()
+            state["gaze_source"] = "stream"
+
+    def GetGazeStream(self) -> GazeStream:
+        """The :class:`mipcast.core.gaze.GazeStream` behind :meth:`PushGaze` (made on first use)."""
+        state = object_state(self)
+        params = self._parameters()
+        stream = state.get("gaze_stream")
+        if stream is None:
+            stream = state["gaze_stream"] = GazeStream()
+        stream.fixation_radius = params["gaze_fixation_radius"]
+        stream.saccade_velocity = params["gaze_saccade_velocity"]
+        stream.prediction = params["gaze_prediction"]
+        return stream
+
+    def GetLastGazeLatency(self) -> Optional[float]:
+        """Seconds from the :meth:`PushGaze` that last moved the gaze to the end of the frame that used it.
+
+        None before such a frame.
+        """
+        return object_state(self).get("gaze_latency")
+
     def GetGazePoint(self) -> tuple:
         """The gaze point used by the last render (or set since), normalised viewport coordinates."""
         return tuple(object_state(self)["gaze"])
 
     def GetGazeSource(self) -> str:
-        """Where the gaze comes from: ``"point"``, ``"mouse"`` or ``"region"``."""
+        """Where the gaze comes from: ``"point"``, ``"mouse"``, ``"region"`` or ``"stream"`` (:meth:`PushGaze`)."""
         return object_state(self)["gaze_source"]
 
     def FoveationOn(self) -> None:
@@ -299,6 +370,12 @@ def _draw_levels(mapper, event) -> None:
 
 
 def _restore_own_draw(mapper, event) -> None:
+    state = object_state(mapper)
+    pushed = state.pop("gaze_in_frame", None)
+    if pushed is not None:
+        import time
+
+        state["gaze_latency"] = time.perf_counter() - pushed
     saved = object_state(mapper).pop("own_draw", None)
     if saved is not None:
         mapper.SetCropping(saved[0])
@@ -552,6 +629,24 @@ def _current_gaze(state, renderer, camera, viewport):
     params = state["parameters"]
     radius = params["foveal_radius"]
     source = state["gaze_source"]
+    if source == "stream":
+        poll = state.get("gaze_callable")
+        if poll is not None:
+            sample = poll()
+            if sample is not None:
+                stream = state["gaze_stream"]
+                stream.aspect = width / height
+                if stream.last_time is None or float(sample[0]) > stream.last_time:
+                    import time
+
+                    if stream.push(*sample):
+                        state["gaze_pushed"] = time.perf_counter()
+        stream = state.get("gaze_stream")
+        if stream is not None and stream.gaze is not None:
+            stream.aspect = width / height
+            if "gaze_pushed" in state:
+                state["gaze_in_frame"] = state.pop("gaze_pushed")
+            return tuple(stream.gaze), radius
     if source == "mouse" and state.get("mouse_seen"):
         interactor = state["mouse"][0].Get()
         if interactor is not None:
