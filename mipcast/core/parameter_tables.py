@@ -167,4 +167,12 @@ FOVEATED = (
     Parameter("gaze_prediction", "float", 0.0,
               "Gaze streams: seconds to extrapolate a moving gaze (pursuit, drift) ahead to hide the "
               "render latency; 0 = off.", low=0.0, unit="seconds"),
+    Parameter("progressive", "bool", False,
+              "Progressive refinement: while camera, data, settings and gaze are still, each new frame "
+              "widens the full-quality disc around the gaze until, after refinement_frames frames, the "
+              "picture is the method at full quality; any change drops back to the foveated frame. An "
+              "application renders the refining frames from a timer (NeedsRefinement)."),
+    Parameter("refinement_frames", "int", 4,
+              "Progressive refinement: still frames after the foveated one until full quality.",
+              low=1, high=64),
 )

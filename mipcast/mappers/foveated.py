@@ -212,6 +212,28 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         stream.prediction = params["gaze_prediction"]
         return stream
 
+    # -- progressive refinement ---------------------------------------------------
+    def NeedsRefinement(self) -> bool:
+        """True when progressive refinement is on and the last frame was not yet full quality.
+
+        An application's timer renders again while this holds (nothing
+        changes between its frames, so each refines more); see
+        :meth:`GetRefinementStep`.
+
+        Examples
+        --------
+        >>> FoveatedVolumeMapper().NeedsRefinement()
+        False
+        """
+        state = object_state(self)
+        if not self._parameters()["progressive"] or "frame" not in state:
+            return False
+        return state.get("refine_step", 0) < self._parameters()["refinement_frames"]
+
+    def GetRefinementStep(self) -> int:
+        """Still frames refined so far (0: the foveated frame; ``RefinementFrames``: full quality)."""
+        return int(object_state(self).get("refine_step", 0))
+
     def GetLastGazeLatency(self) -> Optional[float]:
         """Seconds from the :meth:`PushGaze` that last moved the gaze to the end of the frame that used it.
 
@@ -391,11 +413,16 @@ def _draw(mapper, state, volume, renderer) -> None:
     camera = renderer.GetActiveCamera()
     gaze, radius = _current_gaze(state, renderer, camera, viewport)
     state["gaze"] = gaze
+    foveate = params["foveation"]
+    if params["progressive"]:
+        radius, foveate = _refine(state, params, image, volume, camera, viewport, gaze, radius)
+    else:
+        state.pop("refine_step", None)
     auto = bool(mapper.GetAutoAdjustSampleDistances())
     base_isd = 1.0 if auto else float(mapper.GetImageSampleDistance())
     base_distance = _auto_sample_distance(image, volume) if auto else float(mapper.GetSampleDistance())
     plan = foveation.plan_frame(viewport, gaze, radius, params["falloff"], params["number_of_levels"],
-                                params["foveation"], _level_cap(image, volume, camera, viewport),
+                                foveate, _level_cap(image, volume, camera, viewport),
                                 base_isd)
     tolerance = float(params["content_tolerance"])
     adaptive = tolerance > 0 and len(plan.layers) > 1
@@ -476,6 +503,45 @@ def _draw(mapper, state, volume, renderer) -> None:
     state["frame"] = {"plan": plan, "camera": snapshot, "matrix": matrix, "image": image,
                       "layers": layers, "cells": cells, "method": params["method"], "masks": masks,
                       "base_distance": base_distance, "base_isd": base_isd}
+
+
+def _refine(state, params, image, volume, camera, viewport, gaze, radius):
+    """(radius, foveation) of this frame under progressive refinement; counts the still frames.
+
+    A frame is still when the camera, the volume's matrix and property, the
+    input, the settings, the viewport and the gaze are those of the frame
+    before.  Still frame ``k`` of ``N`` widens the disc linearly from the
+    foveal radius to the farthest viewport corner; frame ``N`` is full
+    quality (one level, as with foveation off).
+    """
+    # to 7 digits: vtkWindowToImageFilter renders with the view angle off by 1e-9 relative
+    signature = (_rounded(camera.GetPosition() + camera.GetFocalPoint() + camera.GetViewUp()
+                          + (camera.GetViewAngle(), camera.GetParallelScale(), camera.GetEyeAngle())),
+                 camera.GetParallelProjection(),  # not the eye: both eyes of a stereo pair refine
+                 tuple(matrix_array(volume.GetMatrix()).ravel()), _property_stamp(volume.GetProperty()),
+                 image.GetAddressAsString("vtkObjectBase"), image.GetMTime(), tuple(viewport), tuple(gaze),
+                 tuple(sorted((k, repr(v)) for k, v in params.items())))
+    frames = int(params["refinement_frames"])
+    still = state.get("refine_signature") == signature
+    step = min(state.get("refine_step", 0) + 1, frames) if still else 0
+    state["refine_signature"], state["refine_step"] = signature, step
+    if step >= frames:
+        return radius, False
+    x0, y0, width, height = viewport
+    aspect = width / height
+    farthest = max(math.hypot((cx - gaze[0]) * aspect, cy - gaze[1]) for cx in (0.0, 1.0) for cy in (0.0, 1.0))
+    return radius + max(farthest - radius, 0.0) * step / frames, params["foveation"]
+
+
+def _property_stamp(prop) -> tuple:
+    """What of a volume property changes the picture (its own MTime moves at the first render)."""
+    return (prop.GetRGBTransferFunction(0).GetMTime(), prop.GetScalarOpacity(0).GetMTime(),
+            prop.GetGradientOpacity(0).GetMTime(), prop.GetInterpolationType(), prop.GetShade(0),
+            prop.GetScalarOpacityUnitDistance(0))
+
+
+def _rounded(values) -> tuple:
+    return tuple(float(f"{float(v):.7g}") for v in values)
 
 
 def _capture_depth(state, renderer):
