@@ -275,6 +275,29 @@ class MipPlotterComponent:
 
         set_stereo(self._plotter.render_window, mode, eye_angle, self._plotter.camera if eye_angle else None)
 
+    def enable_progressive(self, interval_ms: int = 40) -> None:
+        """Let a timer render the refining frames of progressive foveated volumes (``SetProgressive``).
+
+        Each tick renders once if a volume this component added needs
+        refinement (:mod:`mipcast.mappers.refinement`); nothing busy-waits.
+
+        Examples
+        --------
+        >>> import pyvista as pv
+        >>> import mipcast.filters
+        >>> from mipcast.data_fixtures import make_fixture
+        >>> plotter = pv.Plotter(off_screen=True, window_size=(32, 32))
+        >>> volume = plotter.mip.add_volume(pv.wrap(make_fixture("vessels", size=16)), "foveated", progressive=True)
+        >>> plotter.mip.enable_progressive()
+        >>> plotter.close()
+        """
+        from mipcast.mappers.refinement import drive_refinement
+
+        if self._plotter.iren is None:
+            return  # no interactor (off-screen without one): render the frames yourself
+        self._refinement = drive_refinement(self._plotter.iren.interactor,
+                                            lambda: [volume.GetMapper() for volume in self.volumes], interval_ms)
+
     def __plotter_close__(self) -> None:
         """Remove every volume this component added (pyvista calls it on ``close``)."""
         while self._added:

@@ -215,6 +215,9 @@ class _Viewer:
             self.plotter.add_key_event("m", self.next_method)
             self.plotter.add_key_event("d", self.next_depth_mode)
             self.plotter.iren.add_observer("MouseMoveEvent", self._on_mouse_move)
+            from mipcast.mappers.refinement import drive_refinement  # progressive refinement: a timer
+
+            self.refinement = drive_refinement(self.plotter.iren.interactor, lambda: [self.mapper])
         self.set_method(method)
         if view is not None:
             set_view(self.plotter.renderer, self.grid, view)

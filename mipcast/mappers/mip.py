@@ -118,6 +118,14 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
             shader_pieces.uninstall(volume.GetShaderProperty())
         object_state(self).pop("volume", None)
 
+    def NeedsRefinement(self) -> bool:
+        """Whether a timer should render again to refine the picture (False: this method draws it at once).
+
+        The foveated mapper with progressive refinement answers True while
+        refining (:mod:`mipcast.mappers.refinement` drives it).
+        """
+        return False
+
     def GetAttachedVolume(self):
         """The volume given to :meth:`Attach`, or ``None``."""
         link = object_state(self).get("volume")
