@@ -408,8 +408,18 @@ def _run_foveation(args) -> int:
             rows += measure_foveation(image, scene, method, sizes=sizes, rounds=rounds, window=window,
                                       framings=framings, variants=variants,
                                       progress=lambda label: _advance(bar, label))
+    from mipcast.bench.foveation_bench import gaze_table, measure_gaze_latency, measure_progressive, progressive_table
+
+    progressive, gaze = [], []
+    for scene, method in jobs:  # progressive refinement and the gaze stream at the largest size, volume filling
+        image, window = _load_scene(scene, args.volume_size)
+        progressive.append(measure_progressive(image, scene, method, size=max(sizes), window=window))
+        gaze.append(measure_gaze_latency(image, scene, method, size=max(sizes), window=window))
     (args.out / "foveation.json").write_text(_strict_json(rows))
-    table = foveation_table(rows)
+    (args.out / "foveation-progressive.json").write_text(_strict_json({"progressive": progressive, "gaze": gaze}))
+    table = foveation_table(rows) + "\n\nProgressive refinement (gaze at the centre, default radius):\n\n" + \
+        progressive_table(progressive) + "\n\nGaze stream (synthetic trace replayed, re-render only when the " \
+        "stream moves the gaze):\n\n" + gaze_table(gaze)
     (args.out / "foveation.md").write_text(table + "\n")
     write_ring_chart(rows, args.out / "foveation.png")
     print(table)

@@ -345,3 +345,152 @@ def write_ring_chart(rows: Sequence[dict], path) -> None:
     figure.tight_layout()
     figure.savefig(path, dpi=100)
     plt.close(figure)
+
+
+def _last_picture(view: OffscreenView) -> np.ndarray:
+    """The window's last rendered picture (RGB, top row first) without rendering again."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
+
+    width, height = view.render_window.GetSize()
+    pixels = vtkUnsignedCharArray()
+    view.render_window.GetRGBACharPixelData(0, 0, width - 1, height - 1, 0, pixels)
+    return vtk_to_numpy(pixels).reshape(height, width, 4)[::-1, :, :3].copy()
+
+
+def measure_progressive(image, scene: str, method: str = "mip", size: int = 1024, framing: str = "fill",
+                        refinement_frames: int = 4, gaze: Sequence[float] = (0.5, 0.5), window=None,
+                        warmup: int = 2) -> dict:
+    """Progressive refinement: time of each still frame and whether it equals full quality.
+
+    The foveated view (progressive on, default radius) renders
+    ``refinement_frames + 1`` still frames after a warm-up pass; each is
+    timed and compared with the method at full quality pixel for pixel.
+
+    Returns
+    -------
+    dict
+        ``scene``, ``method``, ``size``, ``framing``, ``full_ms``, ``steps``:
+        one dict per frame (``step``, ``ms``, ``max_grey_error``,
+        ``equal``), ``frames_to_full``: the first still frame whose picture
+        equals full quality (None if none did).
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> result = measure_progressive(make_fixture("spheres", size=16), "spheres", size=32, refinement_frames=2,
+    ...                              warmup=1)
+    >>> [s["step"] for s in result["steps"]], result["frames_to_full"] <= 2
+    ([0, 1, 2], True)
+    """
+    import time
+
+    full = framed_view(image, method, size, framing, window)
+    fov = framed_view(image, "foveated", size, framing, window)
+    apply_settings(fov.mapper, (("Method", method), ("GazePoint", tuple(gaze)),
+                                ("RefinementFrames", int(refinement_frames)), ("Progressive", True)))
+    for _ in range(warmup):
+        full.render_window.Render()
+    started = time.perf_counter()
+    full.render_window.Render()
+    full.renderer.GetRenderWindow().WaitForCompletion()
+    full_ms = 1000 * (time.perf_counter() - started)
+    reference = _last_picture(full)
+    for _ in range(refinement_frames + warmup + 1):  # warm every step's level mappers
+        fov.render_window.Render()
+    fov.camera.Azimuth(0.5)  # a change, then back: the next frame is the foveated one again
+    fov.render_window.Render()
+    fov.camera.Azimuth(-0.5)
+    steps = []
+    for _ in range(refinement_frames + 1):
+        started = time.perf_counter()
+        fov.render_window.Render()
+        fov.render_window.WaitForCompletion()
+        ms = 1000 * (time.perf_counter() - started)
+        error = int(np.abs(_last_picture(fov).astype(int) - reference).max())
+        steps.append({"step": fov.mapper.GetRefinementStep(), "ms": ms, "max_grey_error": error,
+                      "equal": error == 0})
+    for view in (full, fov):
+        view.render_window.Finalize()
+    first = next((s["step"] for s in steps if s["equal"]), None)
+    return {"scene": scene, "method": method, "size": size, "framing": framing, "full_ms": full_ms,
+            "refinement_frames": refinement_frames, "steps": steps, "frames_to_full": first}
+
+
+def measure_gaze_latency(image, scene: str, method: str = "mip", size: int = 1024, framing: str = "fill",
+                         window=None, samples: Optional[int] = None) -> dict:
+    """Replay :func:`mipcast.core.gaze.synthetic_trace` into a foveated view, rendering when the gaze moves.
+
+    Each sample is pushed (:meth:`~mipcast.mappers.foveated.FoveatedVolumeMapper.PushGaze`); when it asks
+    for a re-render the view renders at once, and the latency from the push to the end of that frame
+    is recorded.  Re-renders are counted per kind of sample.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> result = measure_gaze_latency(make_fixture("spheres", size=16), "spheres", size=32, samples=120)
+    >>> result["re_renders"]["fixation"], result["frames_after_sample"]
+    (2, 1)
+    """
+    from mipcast.core.gaze import synthetic_trace
+
+    view = framed_view(image, "foveated", size, framing, window)
+    view.mapper.SetMethod(method)
+    view.render_window.Render()
+    trace = synthetic_trace()[:samples]
+    latencies, counts = [], {"fixation": 0, "saccade": 0, "pursuit": 0}
+    for sample in trace:
+        if view.mapper.PushGaze(sample.t, sample.x, sample.y):
+            view.render_window.Render()
+            view.render_window.WaitForCompletion()
+            latencies.append(1000 * view.mapper.GetLastGazeLatency())
+            counts[sample.kind] += 1
+            assert view.mapper.GetLastPlan().gaze == view.mapper.GetGazeStream().gaze
+    view.render_window.Finalize()
+    kinds = [s.kind for s in trace]
+    fixations = sum(1 for i, k in enumerate(kinds) if k == "fixation" and (i == 0 or kinds[i - 1] != k))
+    return {"scene": scene, "method": method, "size": size, "framing": framing, "samples": len(trace),
+            "fixations": fixations, "re_renders": counts,
+            "median_latency_ms": statistics.median(latencies) if latencies else float("nan"),
+            "max_latency_ms": max(latencies) if latencies else float("nan"), "frames_after_sample": 1}
+
+
+def progressive_table(results: Sequence[dict]) -> str:
+    """Markdown: per scene, the time of each still frame against full quality and its largest grey error.
+
+    Examples
+    --------
+    >>> r = {"scene": "s", "method": "mip", "size": 8, "framing": "fill", "full_ms": 10.0, "frames_to_full": 2,
+    ...      "steps": [{"step": 0, "ms": 2.0, "max_grey_error": 9, "equal": False}]}
+    >>> progressive_table([r]).splitlines()[-1]
+    '| s mip 8² fill | 10 | 2 | 0: 2 ms (5.0x), error 9 |'
+    """
+    lines = ["| scene | full quality ms | still frames until equal to full quality | each still frame: ms "
+             "(full / frame), largest grey error |", "| --- | --- | --- | --- |"]
+    for r in results:
+        steps = "; ".join(f"{s['step']}: {s['ms']:.0f} ms ({r['full_ms'] / s['ms']:.1f}x), error {s['max_grey_error']}"
+                          for s in r["steps"])
+        lines.append(f"| {r['scene']} {r['method']} {r['size']}² {r['framing']} | {r['full_ms']:.0f} | "
+                     f"{r['frames_to_full'] if r['frames_to_full'] is not None else '-'} | {steps} |")
+    return "\n".join(lines)
+
+
+def gaze_table(results: Sequence[dict]) -> str:
+    """Markdown: re-renders per kind of sample and the latency from sample to frame.
+
+    Examples
+    --------
+    >>> r = {"scene": "s", "method": "mip", "size": 8, "framing": "fill", "samples": 10, "fixations": 2,
+    ...      "re_renders": {"fixation": 2, "saccade": 0, "pursuit": 3}, "median_latency_ms": 5.0,
+    ...      "max_latency_ms": 6.0, "frames_after_sample": 1}
+    >>> gaze_table([r]).splitlines()[-1]
+    '| s mip 8² fill | 10 | 2 | 2 / 0 / 3 | 5 | 6 | 1 |'
+    """
+    lines = ["| scene | samples | fixations | re-renders in fixations / saccades / pursuit | median latency ms "
+             "| max latency ms | frames from sample to picture |", "| --- | --- | --- | --- | --- | --- | --- |"]
+    for r in results:
+        c = r["re_renders"]
+        lines.append(f"| {r['scene']} {r['method']} {r['size']}² {r['framing']} | {r['samples']} | {r['fixations']} | "
+                     f"{c['fixation']} / {c['saccade']} / {c['pursuit']} | {r['median_latency_ms']:.0f} | "
+                     f"{r['max_latency_ms']:.0f} | {r['frames_after_sample']} |")
+    return "\n".join(lines)
