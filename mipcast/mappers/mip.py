@@ -105,11 +105,14 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         return tuple("image_terminate" if n == "refusal" else n for n in names) + ("float_readout",)
 
     def _install_pieces(self, volume) -> None:
-        names = self.GetShaderPieces()
-        # every method: rays aimed from the rendering eye of a stereo pair (mipcast/mappers/stereo.py)
-        shader_pieces.install(volume.GetShaderProperty(),
-                              [shader_pieces.load_piece(n) for n in names + (STEREO_PIECE,)])
+        names = self._pieces_now(volume)
+        shader_pieces.install(volume.GetShaderProperty(), [shader_pieces.load_piece(n) for n in names])
         object_state(self)["installed"] = names
+
+    def _pieces_now(self, volume) -> tuple:
+        """:meth:`GetShaderPieces`, plus the stereo piece while an eye of a stereo pair renders."""
+        names = tuple(self.GetShaderPieces())
+        return names + (STEREO_PIECE,) if eye_uniforms(self, volume) is not None else names
 
     def Detach(self) -> None:
         """Remove mipcast's pieces from the attached volume (if any)."""
@@ -219,13 +222,15 @@ def _check_before_render(mapper, event) -> None:
         uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
         uniforms.SetUniformf("u_mc_refused", 0.0 if problem is None else 1.0)  # shaders/refusal.glsl
     if problem is None:
-        if object_state(mapper).get("installed") != mapper.GetShaderPieces():
+        if object_state(mapper).get("installed") != mapper._pieces_now(volume):
             mapper._install_pieces(volume)
         uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
         mapper._push_uniforms(uniforms)
-        shift, parallel = eye_uniforms(mapper, volume)
-        uniforms.SetUniform3f("u_mc_eyeShift", list(shift))
-        uniforms.SetUniformf("u_mc_eyeParallel", parallel)
+        eye = eye_uniforms(mapper, volume)
+        if eye is not None:  # rays from this eye (shaders/stereo_ray_direction.glsl)
+            uniforms.SetUniform3f("u_mc_eyePosObj", eye["u_mc_eyePosObj"])
+            uniforms.SetUniform3f("u_mc_eyeDirection", eye["u_mc_eyeDirection"])
+            uniforms.SetUniformf("u_mc_eyeParallel", eye["u_mc_eyeParallel"])
         return
     vtkOutputWindow.GetInstance().DisplayErrorText(f"{type(mapper).__name__}: {problem}\n")
     mapper.InvokeEvent(vtkCommand.ErrorEvent)

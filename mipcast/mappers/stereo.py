@@ -8,11 +8,12 @@ points at the focal distance have no parallax, nearer points crossed
 (left eye sees them further right) and farther ones uncrossed parallax.
 VTK's ray caster starts each ray on the (sheared) bounding box but aims
 it from the camera's mono position, which flattens the parallax of a
-volume to a uniform shift; every mipcast mapper therefore points the
-shader's camera position at the eye's centre of projection
-(:func:`eye_position`, the shear is a lateral move of the camera by
-``-s * tan(EyeAngle / 2) * distance`` plus an off-axis frustum) while an eye
-renders (:func:`eye_uniforms`, the ``stereo_ray_direction`` piece).  Everything else the mappers derive per frame
+volume to a uniform shift; every mipcast mapper therefore installs the
+``stereo_ray_direction`` piece while an eye renders, aiming rays from the
+eye's centre of projection (:func:`eye_position`: the shear is a lateral
+move of the camera by ``-s * tan(EyeAngle / 2) * distance`` plus an
+off-axis frustum; :func:`eye_uniforms`).  Mono frames use VTK's code
+unchanged.  Everything else the mappers derive per frame
 comes from the eye's own matrices, so each eye's image is that method seen
 through that eye (tests/test_stereo.py checks it for every method against
 a mono render through the eye's projection).
@@ -163,34 +164,33 @@ def eye_position(camera, eye: str) -> np.ndarray:
     return np.array(camera.GetPosition()) - slope * camera.GetDistance() * right
 
 
-def eye_uniforms(mapper, volume) -> tuple:
-    """(u_mc_eyeShift, u_mc_eyeParallel) for the eye ``mapper`` renders now (zeros for mono frames).
+def eye_uniforms(mapper, volume) -> Optional[dict]:
+    """The ``stereo_ray_direction`` uniforms for the eye ``mapper`` renders now; None for mono frames.
 
     The camera comes from ``object_state(mapper)["draw_camera"]`` (private
     level mappers drawing for another mapper) or the renderer drawing
-    ``volume``.
+    ``volume``.  Returns ``u_mc_eyePosObj`` (the eye in the volume's object
+    space), ``u_mc_eyeDirection`` (the eye's direction of projection, world)
+    and ``u_mc_eyeParallel``.
 
     Examples
     --------
     >>> from vtkmodules.vtkRenderingCore import vtkVolume
-    >>> eye_uniforms(None, vtkVolume())
-    ((0.0, 0.0, 0.0), 0.0)
+    >>> eye_uniforms(None, vtkVolume()) is None
+    True
     """
     camera = object_state(mapper).get("draw_camera") if mapper is not None else None
     if camera is None:
         renderer = rendering_renderer(mapper, volume)
         camera = renderer.GetActiveCamera() if renderer is not None else None
-    if camera is None:
-        return (0.0, 0.0, 0.0), 0.0
-    parallel = 1.0 if camera.GetParallelProjection() else 0.0
-    if not camera.GetStereo():
-        return (0.0, 0.0, 0.0), parallel
+    if camera is None or not camera.GetStereo():
+        return None
     eye = "left" if camera.GetLeftEye() else "right"
-    if parallel:
-        slope = math.tan(math.radians(camera.GetEyeAngle()) / 2.0) * (1.0 if eye == "left" else -1.0)
-        right = matrix_array(camera.GetViewTransformMatrix())[0, :3]
-        shift = slope * right * 1.0  # the direction of projection is a unit vector
-        return tuple(float(v) for v in shift), parallel
-    inverse = np.linalg.inv(matrix_array(volume.GetMatrix()))
-    offset = eye_position(camera, eye) - np.array(camera.GetPosition())
-    return tuple(float(v) for v in inverse[:3, :3] @ offset), parallel
+    slope = math.tan(math.radians(camera.GetEyeAngle()) / 2.0) * (1.0 if eye == "left" else -1.0)
+    view = matrix_array(camera.GetViewTransformMatrix())
+    # the parallel shear x += slope * z tilts the rays: along -z (forward) they move by +slope in x
+    direction = -view[2, :3] + slope * view[0, :3]
+    position = np.linalg.inv(matrix_array(volume.GetMatrix())) @ np.array([*eye_position(camera, eye), 1.0])
+    return {"u_mc_eyePosObj": [float(v) for v in position[:3] / position[3]],
+            "u_mc_eyeDirection": [float(v) for v in direction / np.linalg.norm(direction)],
+            "u_mc_eyeParallel": 1.0 if camera.GetParallelProjection() else 0.0}
