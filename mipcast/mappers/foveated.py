@@ -477,7 +477,11 @@ def _draw(mapper, state, volume, renderer) -> None:
         if level in masks and not readout:
             mask_texture = _mask_texture(state, renderer, level, masks[level])
             mask_texture.Activate()
-            object_state(level_mapper)["mask_unit"] = mask_texture.GetTextureUnit()
+            level_state = object_state(level_mapper)
+            level_state["mask_unit"] = mask_texture.GetTextureUnit()
+            if level_state.get("mask_unit_built") not in (None, level_state["mask_unit"]):
+                # VTK sets our sampler only when it builds the shader: rebuild it for the new unit
+                level_mapper._install_pieces(level_volume)
         try:
             level_volume.RenderVolumetricGeometry(renderer)
         finally:
@@ -587,10 +591,15 @@ def _new_level(method: str, masked: bool = False) -> dict:
 
 @calldata_type(VTK_OBJECT)
 def _bind_mask_sampler(level_mapper, event, program) -> None:
-    """Point the masked level's ``u_mc_fovMask`` at the texture unit its mask is bound to."""
+    """Point the masked level's ``u_mc_fovMask`` at the texture unit its mask is bound to.
+
+    VTK invokes UpdateShaderEvent when it builds the shader, not every frame;
+    :func:`_draw` re-installs the pieces (a rebuild) should the unit change.
+    """
     unit = object_state(level_mapper).get("mask_unit")
     if program is not None and unit is not None and unit >= 0:
         program.SetUniformi("u_mc_fovMask", int(unit))
+        object_state(level_mapper)["mask_unit_built"] = unit
 
 
 def _read_texels(renderer, viewport, grid) -> np.ndarray:
