@@ -251,6 +251,53 @@ class MipPlotterComponent:
                 return
         raise ValueError("this volume was not added by plotter.mip.add_volume (or was removed already)")
 
+    def set_stereo(self, mode: Optional[str] = "anaglyph", *, eye_angle: Optional[float] = None) -> None:
+        """Show the plotter as a stereo pair: ``"anaglyph"`` (red-cyan), ``"side-by-side"``, or None (mono).
+
+        Every mipcast method renders both eyes (see :mod:`mipcast.mappers.stereo`);
+        ``eye_angle`` (degrees, default VTK's 2) is set on the active camera.
+
+        Examples
+        --------
+        >>> import pyvista as pv
+        >>> import mipcast.filters
+        >>> from mipcast.data_fixtures import make_fixture
+        >>> plotter = pv.Plotter(off_screen=True, window_size=(48, 32))
+        >>> volume = plotter.mip.add_volume(pv.wrap(make_fixture("frontback", size=16)))
+        >>> plotter.mip.set_stereo("side-by-side", eye_angle=6.0)
+        >>> plotter.render_window.GetStereoTypeAsString(), plotter.screenshot().shape
+        ('SplitViewportHorizontal', (32, 48, 3))
+        >>> plotter.mip.set_stereo(None); bool(plotter.render_window.GetStereoRender())
+        False
+        >>> plotter.close()
+        """
+        from mipcast.mappers.stereo import set_stereo
+
+        set_stereo(self._plotter.render_window, mode, eye_angle, self._plotter.camera if eye_angle else None)
+
+    def enable_progressive(self, interval_ms: int = 40) -> None:
+        """Let a timer render the refining frames of progressive foveated volumes (``SetProgressive``).
+
+        Each tick renders once if a volume this component added needs
+        refinement (:mod:`mipcast.mappers.refinement`); nothing busy-waits.
+
+        Examples
+        --------
+        >>> import pyvista as pv
+        >>> import mipcast.filters
+        >>> from mipcast.data_fixtures import make_fixture
+        >>> plotter = pv.Plotter(off_screen=True, window_size=(32, 32))
+        >>> volume = plotter.mip.add_volume(pv.wrap(make_fixture("vessels", size=16)), "foveated", progressive=True)
+        >>> plotter.mip.enable_progressive()
+        >>> plotter.close()
+        """
+        from mipcast.mappers.refinement import drive_refinement
+
+        if self._plotter.iren is None:
+            return  # no interactor (off-screen without one): render the frames yourself
+        self._refinement = drive_refinement(self._plotter.iren.interactor,
+                                            lambda: [volume.GetMapper() for volume in self.volumes], interval_ms)
+
     def __plotter_close__(self) -> None:
         """Remove every volume this component added (pyvista calls it on ``close``)."""
         while self._added:

@@ -125,6 +125,13 @@ def test_bench_foveation_writes_table_chart_and_ring_errors(tmp_path, capsys):
     assert "Levoy & Whitaker" in (tmp_path / "foveation.md").read_text()
     assert (tmp_path / "foveation.png").stat().st_size > 10000
     assert "%|" in capsys.readouterr().err  # the progress bar
+    # content-adaptive rows beside acuity-only; progressive refinement and the gaze replay
+    adaptive = by["fill", "content-adaptive 2 grey | centre"]
+    assert adaptive["content_tolerance"] == 2.0 and adaptive["fovea_structure_within_1"] >= 0.99
+    extra = json.loads((tmp_path / "foveation-progressive.json").read_text())
+    assert extra["progressive"][0]["frames_to_full"] == 4 and extra["progressive"][0]["steps"][-1]["equal"]
+    assert extra["gaze"][0]["re_renders"]["fixation"] == extra["gaze"][0]["fixations"]
+    assert "Progressive refinement" in (tmp_path / "foveation.md").read_text()
 
 
 def test_console_script_is_installed():

@@ -93,6 +93,11 @@ def _parser() -> argparse.ArgumentParser:
     render.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
     render.add_argument("--component", type=_component, default=None, metavar="K|magnitude",
                         help="component of a multi-component array to draw (default: the magnitude)")
+    render.add_argument("--stereo", default=None, choices=["anaglyph", "side-by-side", "left", "right"],
+                        help="a stereo pair of any method: red-cyan anaglyph or side by side (each eye half "
+                             "width); use a perspective view (--view perspective) for depth")
+    render.add_argument("--eye-angle", type=float, default=None,
+                        help="degrees between the eyes with --stereo (default VTK's 2)")
     render.set_defaults(run=_run_render)
     render.epilog = _parameters_help(render)
 
@@ -107,6 +112,8 @@ def _parser() -> argparse.ArgumentParser:
     view.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
     view.add_argument("--component", type=_component, default=None, metavar="K|magnitude",
                       help="component of a multi-component array to draw (default: the magnitude)")
+    view.add_argument("--stereo", nargs="?", const="anaglyph", default=None, choices=["anaglyph", "side-by-side"],
+                      help="show a stereo pair (default anaglyph, red-cyan; or side-by-side)")
     view.set_defaults(run=run_view)
     view.epilog = _parameters_help(view)
 
@@ -127,6 +134,10 @@ def _parser() -> argparse.ArgumentParser:
                             "whole, gaze at the centre and a corner (foveation.md/json/png)")
     bench.add_argument("--foveation-methods", nargs="+", default=["mip"],
                        help="methods the foveated variants render with (--foveation)")
+    bench.add_argument("--foveation-variants", nargs="+", default=None,
+                       help="names of foveation_bench.VARIANTS to measure (--foveation; default: all)")
+    bench.add_argument("--framings", nargs="+", default=None, choices=["fill", "whole"],
+                       help="framings measured by --foveation (default: fill and whole)")
     bench.add_argument("--gpu-report", action="store_true",
                        help="instead: the fixed GPU suite (parity, speed x accuracy at 512/1024, foveation, "
                             "first frame, memory, peers): gpu-report.md/json/png; refuses software OpenGL")
@@ -270,6 +281,12 @@ def _run_render(args) -> int:
     view = OffscreenView(image, args.method, size=tuple(args.size), view=args.view,
                          sample_distance=distance, window=window, component=component)
     set_parameters(view.mapper, **args.params)
+    if args.stereo is not None:
+        from mipcast.mappers.stereo import set_stereo
+
+        set_stereo(view.render_window, args.stereo, args.eye_angle, view.camera)
+    elif args.eye_angle is not None:
+        raise ValueError("--eye-angle needs --stereo anaglyph|side-by-side")
     if args.turntable is not None:
         from mipcast.app.turntable import write_turntable
 
@@ -352,7 +369,8 @@ def run_view(args) -> int:
     image = with_scalars(read_volume(args.input, series_uid=args.series), args.scalars)
     check_image(image, args.component)  # mipcast.InputError before the window opens
     run_viewer(image, args.method, clim=_window(prepared_image(image, args.component), args.window),
-               params=args.params, view=args.view, component=args.component)  # checks params before the window
+               params=args.params, view=args.view, component=args.component,
+               stereo=args.stereo)  # checks params before the window
     return 0
 
 
@@ -407,16 +425,33 @@ def _run_foveation(args) -> int:
     rounds = min(args.rounds, 3)
     started = time.perf_counter()
     jobs = [(scene, method) for scene in args.scenes for method in args.foveation_methods]
-    views = 3 + len(VARIANTS) * len(GAZES)  # full, off, variants, periphery alone
+    unknown = sorted(set(args.foveation_variants or ()) - set(VARIANTS))
+    if unknown:
+        raise SystemExit(f"unknown --foveation-variants {', '.join(map(repr, unknown))}; "
+                         f"valid: {', '.join(map(repr, VARIANTS))}")
+    variants = {name: VARIANTS[name] for name in (args.foveation_variants or VARIANTS)}
+    framings = args.framings or list(FRAMINGS)
+    views = 3 + len(variants) * len(GAZES)  # full, off, variants, periphery alone
     rows = []
-    with _progress_bar(len(jobs) * len(sizes) * len(FRAMINGS) * (rounds + views)) as bar:
+    with _progress_bar(len(jobs) * len(sizes) * len(framings) * (rounds + views)) as bar:
         for scene, method in jobs:
             image, window = _load_scene(scene, args.volume_size)
             bar.set_description(f"{scene} {method}")
             rows += measure_foveation(image, scene, method, sizes=sizes, rounds=rounds, window=window,
+                                      framings=framings, variants=variants,
                                       progress=lambda label: _advance(bar, label))
+    from mipcast.bench.foveation_bench import gaze_table, measure_gaze_latency, measure_progressive, progressive_table
+
+    progressive, gaze = [], []
+    for scene, method in jobs:  # progressive refinement and the gaze stream at the largest size, volume filling
+        image, window = _load_scene(scene, args.volume_size)
+        progressive.append(measure_progressive(image, scene, method, size=max(sizes), window=window))
+        gaze.append(measure_gaze_latency(image, scene, method, size=max(sizes), window=window))
     (args.out / "foveation.json").write_text(strict_json(rows, indent=2))
-    table = foveation_table(rows)
+    (args.out / "foveation-progressive.json").write_text(strict_json({"progressive": progressive, "gaze": gaze}, indent=2))
+    table = foveation_table(rows) + "\n\nProgressive refinement (gaze at the centre, default radius):\n\n" + \
+        progressive_table(progressive) + "\n\nGaze stream (synthetic trace replayed, re-render only when the " \
+        "stream moves the gaze):\n\n" + gaze_table(gaze)
     (args.out / "foveation.md").write_text(table + "\n")
     write_ring_chart(rows, args.out / "foveation.png")
     print(table)

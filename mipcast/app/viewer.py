@@ -103,7 +103,8 @@ def has_display(environ=None, platform: Optional[str] = None) -> bool:
 
 def build_viewer(image, method: str = "mip", *, cmap="gray", clim: Optional[Sequence[float]] = None,
                  window_size: Sequence[int] = (900, 800), off_screen: bool = False,
-                 params: Optional[dict] = None, view: Optional[str] = None, component=None):
+                 params: Optional[dict] = None, view: Optional[str] = None, component=None,
+                 stereo: Optional[str] = None):
     """Build the interactive viewer's plotter without showing it.
 
     The volume is added through ``plotter.mip.add_volume`` on a black
@@ -136,6 +137,9 @@ def build_viewer(image, method: str = "mip", *, cmap="gray", clim: Optional[Sequ
         view (``"anterior"``, ...); default pyvista's.
     component : int or "magnitude", optional
         Which component of multi-component scalars to draw (default: the magnitude).
+    stereo : str, optional
+        A stereo pair: ``"anaglyph"`` (red-cyan) or ``"side-by-side"``
+        (:data:`mipcast.mappers.stereo.STEREO_MODES`); default mono.
 
     Returns
     -------
@@ -154,7 +158,8 @@ def build_viewer(image, method: str = "mip", *, cmap="gray", clim: Optional[Sequ
     >>> plotter.close()
     """
     return _Viewer(image, method, cmap=cmap, clim=clim, window_size=window_size,
-                   off_screen=off_screen, params=params, view=view, component=component).plotter
+                   off_screen=off_screen, params=params, view=view, component=component,
+                   stereo=stereo).plotter
 
 
 def run_viewer(image, method: str = "mip", **options) -> None:
@@ -168,7 +173,7 @@ def run_viewer(image, method: str = "mip", **options) -> None:
         The first method, a name from ``mipcast.METHODS``.
     **options
         Keyword arguments of :func:`build_viewer` (``cmap``, ``clim``,
-        ``window_size``, ``params``, ``view``).
+        ``window_size``, ``params``, ``view``, ``stereo``).
 
     Raises
     ------
@@ -194,10 +199,11 @@ class _Viewer:
     """The viewer's state: plotter, current method and volume, widgets, parameter values."""
 
     def __init__(self, image, method, *, cmap="gray", clim=None, window_size=(900, 800),
-                 off_screen=False, params=None, view=None, component=None) -> None:
+                 off_screen=False, params=None, view=None, component=None, stereo=None) -> None:
         import pyvista
 
         from mipcast.mappers.input_preparer import prepared_image
+        from mipcast.mappers.stereo import set_stereo
 
         importlib.import_module("mipcast.filters")  # registers plotter.mip
 
@@ -212,6 +218,8 @@ class _Viewer:
         self.legend = None
         self.plotter = pyvista.Plotter(off_screen=off_screen, window_size=list(window_size))
         self.plotter.set_background("black")
+        if stereo is not None:
+            set_stereo(self.plotter.render_window, stereo)
         self.interactive = self.plotter.iren is not None
         if self.interactive:
             self.plotter.add_key_event("m", self.next_method)
@@ -219,6 +227,9 @@ class _Viewer:
             self.plotter.add_key_event("bracketleft", lambda: self.move_slab(-1))
             self.plotter.add_key_event("bracketright", lambda: self.move_slab(1))
             self.plotter.iren.add_observer("MouseMoveEvent", self._on_mouse_move)
+            from mipcast.mappers.refinement import drive_refinement  # progressive refinement: a timer
+
+            self.refinement = drive_refinement(self.plotter.iren.interactor, lambda: [self.mapper])
         self.set_method(method)
         if view is not None:
             set_view(self.plotter.renderer, self.grid, view)

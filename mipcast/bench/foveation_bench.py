@@ -42,6 +42,8 @@ VARIANTS = {
     "radius 0.05, falloff 0.04": {"FovealRadius": 0.05, "Falloff": 0.04},
     "default, 'level' sampling": {"PeripheralSampling": "level"},
     "default, 4 levels": {"NumberOfLevels": 4},
+    "content-adaptive 2 grey": {"ContentTolerance": 2.0},
+    "content-adaptive 8 grey": {"ContentTolerance": 8.0},
 }
 #: A gaze far outside the viewport: every pixel at the coarsest level.  Its
 #: row times the periphery alone, a floor under any gaze's frame time where
@@ -120,7 +122,10 @@ def ring_errors(full: np.ndarray, foveated: np.ndarray, gaze: Sequence[float], r
     -------
     dict
         ``fovea_within_1`` (share of pixels inside the radius within one
-        grey level), ``mean`` (all pixels) and ``rings``: one dict per ring
+        grey level), ``fovea_structure_within_1`` (the same over the
+        fovea's pixels where full quality shows structure: not the
+        darkest value of ``full``), ``mean`` (all pixels),
+        ``mean_outside`` (pixels outside the radius) and ``rings``: one dict per ring
         with ``e_from``, ``e_to``, ``pixels``, ``mean``, ``p99``, ``max``
         (largest channel difference per pixel).
 
@@ -129,8 +134,8 @@ def ring_errors(full: np.ndarray, foveated: np.ndarray, gaze: Sequence[float], r
     >>> full = np.zeros((20, 20, 3), np.uint8)
     >>> blurred = full.copy(); blurred[:, :2] = 9          # errors on the left edge only
     >>> result = ring_errors(full, blurred, (0.5, 0.5), 0.2, ring=0.25)
-    >>> result["fovea_within_1"], [r["max"] for r in result["rings"]]
-    (1.0, [0, 9, 9])
+    >>> result["fovea_within_1"], [r["max"] for r in result["rings"]], result["mean_outside"] > 0
+    (1.0, [0, 9, 9], True)
     """
     height, width = full.shape[:2]
     e = eccentricity((width, height), gaze, width / height)
@@ -144,8 +149,13 @@ def ring_errors(full: np.ndarray, foveated: np.ndarray, gaze: Sequence[float], r
             rings.append({"e_from": float(low), "e_to": float(high), "pixels": int(values.size),
                           "mean": float(values.mean()), "p99": float(np.percentile(values, 99)),
                           "max": int(values.max())})
+    grey = full[..., :3].max(axis=-1)
+    structure = inside & (grey > grey.min())
     return {"fovea_within_1": float(np.mean(error[inside] <= 1)) if inside.any() else float("nan"),
-            "mean": float(error.mean()), "rings": rings}
+            "fovea_structure_within_1": float(np.mean(error[structure] <= 1)) if structure.any() else float("nan"),
+            "mean": float(error.mean()),
+            "mean_outside": float(error[~inside].mean()) if (~inside).any() else float("nan"),
+            "rings": rings}
 
 
 def measure_foveation(image, scene: str, method: str = "mip", sizes: Sequence[int] = (512, 1024),
@@ -242,6 +252,9 @@ def _foveated_figures(full_view: OffscreenView, full_picture: np.ndarray, full_s
             "ray_ratio": cost["ray_ratio"], "sample_ratio": cost["sample_ratio"],
             "ceiling": 1.0 / share if share > 0 else float("inf"),
             "fovea_within_1": errors["fovea_within_1"], "mean_grey_error": errors["mean"],
+            "fovea_structure_within_1": errors["fovea_structure_within_1"],
+            "mean_grey_error_outside": errors["mean_outside"],
+            "content_tolerance": mapper.GetContentTolerance(),
             "rings": errors["rings"]}
 
 
@@ -254,14 +267,15 @@ def foveation_table(rows: Sequence[dict]) -> str:
     ...        "speedup": 2.0, "ray_ratio": 3.0, "sample_ratio": 2.5, "ceiling": 6.9,
     ...        "fovea_within_1": 1.0, "mean_grey_error": 0.5}
     >>> print(foveation_table([row]).splitlines()[-1])
-    | s mip 8² fill | default \\| centre | 3.00 | 2.50 | 2.00 | 6.9 | 100.0 % | 0.50 |
+    | s mip 8² fill | default \\| centre | 3.00 | 2.50 | 2.00 | 6.9 | 100.0 % | 0.50 | - | - |
     """
     from mipcast.bench.paper_tables import LEVOY_TABLE_I
 
     lines = ["| scene | setting | rays full / foveated | samples full / foveated | time full / foveated "
-             "| ceiling | fovea within 1 grey | mean grey error |",
-             "| --- | --- | --- | --- | --- | --- | --- | --- |",
-             "| paper (Levoy & Whitaker 1990, Table I) | | {rays:.2f} | {samples:.2f} | {time:.2f} | | | |".format(
+             "| ceiling | fovea within 1 grey | mean grey error | fovea structure within 1 grey "
+             "| mean grey error outside the fovea |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+             "| paper (Levoy & Whitaker 1990, Table I) | | {rays:.2f} | {samples:.2f} | {time:.2f} | | | | | |".format(
                  **LEVOY_TABLE_I)]
     for row in rows:
         if "ray_ratio" not in row:
@@ -269,8 +283,14 @@ def foveation_table(rows: Sequence[dict]) -> str:
         setting = row["setting"].replace("|", "\\|")
         lines.append(f"| {row['scene']} {row['method']} {row['size']}² {row['framing']} | {setting} | "
                      f"{row['ray_ratio']:.2f} | {row['sample_ratio']:.2f} | {row['speedup']:.2f} | "
-                     f"{row['ceiling']:.1f} | {_share(row['fovea_within_1'])} | {row['mean_grey_error']:.2f} |")
+                     f"{row['ceiling']:.1f} | {_share(row['fovea_within_1'])} | {row['mean_grey_error']:.2f} | "
+                     f"{_share(row.get('fovea_structure_within_1', float('nan')))} | "
+                     f"{_number(row.get('mean_grey_error_outside', float('nan')))} |")
     return "\n".join(lines)
+
+
+def _number(value: float) -> str:
+    return f"{value:.2f}" if np.isfinite(value) else "-"
 
 
 def _share(fraction: float) -> str:
@@ -325,3 +345,152 @@ def write_ring_chart(rows: Sequence[dict], path) -> None:
     figure.tight_layout()
     figure.savefig(path, dpi=100)
     plt.close(figure)
+
+
+def _last_picture(view: OffscreenView) -> np.ndarray:
+    """The window's last rendered picture (RGB, top row first) without rendering again."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
+
+    width, height = view.render_window.GetSize()
+    pixels = vtkUnsignedCharArray()
+    view.render_window.GetRGBACharPixelData(0, 0, width - 1, height - 1, 0, pixels)
+    return vtk_to_numpy(pixels).reshape(height, width, 4)[::-1, :, :3].copy()
+
+
+def measure_progressive(image, scene: str, method: str = "mip", size: int = 1024, framing: str = "fill",
+                        refinement_frames: int = 4, gaze: Sequence[float] = (0.5, 0.5), window=None,
+                        warmup: int = 2) -> dict:
+    """Progressive refinement: time of each still frame and whether it equals full quality.
+
+    The foveated view (progressive on, default radius) renders
+    ``refinement_frames + 1`` still frames after a warm-up pass; each is
+    timed and compared with the method at full quality pixel for pixel.
+
+    Returns
+    -------
+    dict
+        ``scene``, ``method``, ``size``, ``framing``, ``full_ms``, ``steps``:
+        one dict per frame (``step``, ``ms``, ``max_grey_error``,
+        ``equal``), ``frames_to_full``: the first still frame whose picture
+        equals full quality (None if none did).
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> result = measure_progressive(make_fixture("spheres", size=16), "spheres", size=32, refinement_frames=2,
+    ...                              warmup=1)
+    >>> [s["step"] for s in result["steps"]], result["frames_to_full"] <= 2
+    ([0, 1, 2], True)
+    """
+    import time
+
+    full = framed_view(image, method, size, framing, window)
+    fov = framed_view(image, "foveated", size, framing, window)
+    apply_settings(fov.mapper, (("Method", method), ("GazePoint", tuple(gaze)),
+                                ("RefinementFrames", int(refinement_frames)), ("Progressive", True)))
+    for _ in range(warmup):
+        full.render_window.Render()
+    started = time.perf_counter()
+    full.render_window.Render()
+    full.renderer.GetRenderWindow().WaitForCompletion()
+    full_ms = 1000 * (time.perf_counter() - started)
+    reference = _last_picture(full)
+    for _ in range(refinement_frames + warmup + 1):  # warm every step's level mappers
+        fov.render_window.Render()
+    fov.camera.Azimuth(0.5)  # a change, then back: the next frame is the foveated one again
+    fov.render_window.Render()
+    fov.camera.Azimuth(-0.5)
+    steps = []
+    for _ in range(refinement_frames + 1):
+        started = time.perf_counter()
+        fov.render_window.Render()
+        fov.render_window.WaitForCompletion()
+        ms = 1000 * (time.perf_counter() - started)
+        error = int(np.abs(_last_picture(fov).astype(int) - reference).max())
+        steps.append({"step": fov.mapper.GetRefinementStep(), "ms": ms, "max_grey_error": error,
+                      "equal": error == 0})
+    for view in (full, fov):
+        view.render_window.Finalize()
+    first = next((s["step"] for s in steps if s["equal"]), None)
+    return {"scene": scene, "method": method, "size": size, "framing": framing, "full_ms": full_ms,
+            "refinement_frames": refinement_frames, "steps": steps, "frames_to_full": first}
+
+
+def measure_gaze_latency(image, scene: str, method: str = "mip", size: int = 1024, framing: str = "fill",
+                         window=None, samples: Optional[int] = None) -> dict:
+    """Replay :func:`mipcast.core.gaze.synthetic_trace` into a foveated view, rendering when the gaze moves.
+
+    Each sample is pushed (:meth:`~mipcast.mappers.foveated.FoveatedVolumeMapper.PushGaze`); when it asks
+    for a re-render the view renders at once, and the latency from the push to the end of that frame
+    is recorded.  Re-renders are counted per kind of sample.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> result = measure_gaze_latency(make_fixture("spheres", size=16), "spheres", size=32, samples=120)
+    >>> result["re_renders"]["fixation"], result["frames_after_sample"]
+    (2, 1)
+    """
+    from mipcast.core.gaze import synthetic_trace
+
+    view = framed_view(image, "foveated", size, framing, window)
+    view.mapper.SetMethod(method)
+    view.render_window.Render()
+    trace = synthetic_trace()[:samples]
+    latencies, counts = [], {"fixation": 0, "saccade": 0, "pursuit": 0}
+    for sample in trace:
+        if view.mapper.PushGaze(sample.t, sample.x, sample.y):
+            view.render_window.Render()
+            view.render_window.WaitForCompletion()
+            latencies.append(1000 * view.mapper.GetLastGazeLatency())
+            counts[sample.kind] += 1
+            assert view.mapper.GetLastPlan().gaze == view.mapper.GetGazeStream().gaze
+    view.render_window.Finalize()
+    kinds = [s.kind for s in trace]
+    fixations = sum(1 for i, k in enumerate(kinds) if k == "fixation" and (i == 0 or kinds[i - 1] != k))
+    return {"scene": scene, "method": method, "size": size, "framing": framing, "samples": len(trace),
+            "fixations": fixations, "re_renders": counts,
+            "median_latency_ms": statistics.median(latencies) if latencies else float("nan"),
+            "max_latency_ms": max(latencies) if latencies else float("nan"), "frames_after_sample": 1}
+
+
+def progressive_table(results: Sequence[dict]) -> str:
+    """Markdown: per scene, the time of each still frame against full quality and its largest grey error.
+
+    Examples
+    --------
+    >>> r = {"scene": "s", "method": "mip", "size": 8, "framing": "fill", "full_ms": 10.0, "frames_to_full": 2,
+    ...      "steps": [{"step": 0, "ms": 2.0, "max_grey_error": 9, "equal": False}]}
+    >>> progressive_table([r]).splitlines()[-1]
+    '| s mip 8² fill | 10 | 2 | 0: 2 ms (5.0x), error 9 |'
+    """
+    lines = ["| scene | full quality ms | still frames until equal to full quality | each still frame: ms "
+             "(full / frame), largest grey error |", "| --- | --- | --- | --- |"]
+    for r in results:
+        steps = "; ".join(f"{s['step']}: {s['ms']:.0f} ms ({r['full_ms'] / s['ms']:.1f}x), error {s['max_grey_error']}"
+                          for s in r["steps"])
+        lines.append(f"| {r['scene']} {r['method']} {r['size']}² {r['framing']} | {r['full_ms']:.0f} | "
+                     f"{r['frames_to_full'] if r['frames_to_full'] is not None else '-'} | {steps} |")
+    return "\n".join(lines)
+
+
+def gaze_table(results: Sequence[dict]) -> str:
+    """Markdown: re-renders per kind of sample and the latency from sample to frame.
+
+    Examples
+    --------
+    >>> r = {"scene": "s", "method": "mip", "size": 8, "framing": "fill", "samples": 10, "fixations": 2,
+    ...      "re_renders": {"fixation": 2, "saccade": 0, "pursuit": 3}, "median_latency_ms": 5.0,
+    ...      "max_latency_ms": 6.0, "frames_after_sample": 1}
+    >>> gaze_table([r]).splitlines()[-1]
+    '| s mip 8² fill | 10 | 2 | 2 / 0 / 3 | 5 | 6 | 1 |'
+    """
+    lines = ["| scene | samples | fixations | re-renders in fixations / saccades / pursuit | median latency ms "
+             "| max latency ms | frames from sample to picture |", "| --- | --- | --- | --- | --- | --- | --- |"]
+    for r in results:
+        c = r["re_renders"]
+        lines.append(f"| {r['scene']} {r['method']} {r['size']}² {r['framing']} | {r['samples']} | {r['fixations']} | "
+                     f"{c['fixation']} / {c['saccade']} / {c['pursuit']} | {r['median_latency_ms']:.0f} | "
+                     f"{r['max_latency_ms']:.0f} | {r['frames_after_sample']} |")
+    return "\n".join(lines)

@@ -184,4 +184,29 @@ FOVEATED = (
               "How peripheral levels sample along their rays: no farther apart than the level's rays "
               "(footprint, default), the paper's one level per image level (level), or full-quality "
               "sampling (rays).", choices=foveation.SAMPLING_POLICIES),
+    Parameter("content_tolerance", "float", 0.0,
+              "Content-adaptive ray density, in grey levels (0 = off). The coarsest level is cast over "
+              "the whole view first; a finer ray is cast only where neighbouring coarse values differ by "
+              "more than this, or, inside the fovea, where the coarse picture shows structure (above the "
+              "transfer function's floor); elsewhere the coarser picture is interpolated.",
+              low=0.0, unit="grey levels"),
+    Parameter("gaze_fixation_radius", "float", 0.02,
+              "Gaze streams (PushGaze): how far the eye may wander from the rendered gaze, in viewport "
+              "heights, before a frame re-renders (tracker jitter and microsaccades below it cause none).",
+              low=0.0, unit="viewport heights"),
+    Parameter("gaze_saccade_velocity", "float", 2.0,
+              "Gaze streams: eye speed, in viewport heights per second, above which samples belong to a "
+              "saccade; during one the last fixation is kept, and the landing moves the gaze at once.",
+              low=0.0, unit="viewport heights per second"),
+    Parameter("gaze_prediction", "float", 0.0,
+              "Gaze streams: seconds to extrapolate a moving gaze (pursuit, drift) ahead to hide the "
+              "render latency; 0 = off.", low=0.0, unit="seconds"),
+    Parameter("progressive", "bool", False,
+              "Progressive refinement: while camera, data, settings and gaze are still, each new frame "
+              "widens the full-quality disc around the gaze until, after refinement_frames frames, the "
+              "picture is the method at full quality; any change drops back to the foveated frame. An "
+              "application renders the refining frames from a timer (NeedsRefinement)."),
+    Parameter("refinement_frames", "int", 4,
+              "Progressive refinement: still frames after the foveated one until full quality.",
+              low=1, high=64),
 ) + SLAB

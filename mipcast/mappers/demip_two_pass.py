@@ -189,6 +189,7 @@ def _draw_first_pass(mapper, event) -> None:
         first.Attach(first_volume)
         entry = state["first_pass"] = {"mapper": first, "volume": first_volume, "matrix": vtkMatrix4x4()}
     _copy_settings(mapper, volume, entry)
+    object_state(entry["mapper"])["draw_camera"] = renderer.GetActiveCamera()  # its eye, in stereo
     width, height, x0, y0 = [0], [0], [0], [0]
     renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
     first_uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()

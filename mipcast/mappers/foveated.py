@@ -6,13 +6,15 @@ from typing import Optional, Sequence
 
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import vtkCommand, vtkWeakReference
+from vtkmodules.util.misc import calldata_type
+from vtkmodules.vtkCommonCore import VTK_OBJECT, VTK_UNSIGNED_CHAR, vtkCommand, vtkUnsignedCharArray, vtkWeakReference
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkCommonMath import vtkMatrix4x4
 from vtkmodules.vtkRenderingCore import vtkCamera, vtkVolume
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
-from mipcast.core import foveation, parameter_tables
+from mipcast.core import content_adaptive, foveation, parameter_tables
+from mipcast.core.gaze import GazeStream
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
 from mipcast.core.parameters import parameter_accessors
 from mipcast.mappers import float_readout, volume_pyramid
@@ -106,6 +108,8 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     PIECES = ("mip_globals", "refusal")
     #: Pieces every level adds to its method's own.
     LEVEL_PIECES = ("foveated_skip", "foveated_weight")
+    #: Pieces of the finer levels with content-adaptive ray density (ContentTolerance > 0).
+    MASKED_LEVEL_PIECES = ("foveated_skip_masked", "foveated_mask_dec", "foveated_weight")
     PARAMETERS = parameter_tables.FOVEATED
 
     def __init__(self) -> None:
@@ -123,6 +127,17 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
             object_state(self).pop("levels_drawn", None)  # new private mappers at the next render
             self._set_parameter("method", method)
 
+    def SetContentTolerance(self, *tolerance) -> None:
+        """Content-adaptive ray density: grey levels a coarse neighbourhood may vary by unrefined (0 = off).
+
+        See :mod:`mipcast.core.content_adaptive`.  Turning it on or off builds
+        new private level mappers (other shader pieces) at the next render.
+        """
+        tolerance = _parameter("content_tolerance").check(*tolerance)
+        if (tolerance > 0) != (self.GetContentTolerance() > 0):
+            object_state(self).pop("levels_drawn", None)
+        self._set_parameter("content_tolerance", tolerance)
+
     def SetGazePoint(self, *xy) -> None:
         """Look at ``(x, y)`` in normalised viewport coordinates ((0, 0) bottom-left).
 
@@ -135,12 +150,104 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         state["gaze_source"] = "point"
         self._set_parameter("gaze_point", gaze)
 
+    def SetGazeSaccadeVelocity(self, *velocity) -> None:
+        """Eye speed (viewport heights per second, > 0) above which gaze samples belong to a saccade."""
+        velocity = _parameter("gaze_saccade_velocity").check(*velocity)
+        if velocity <= 0:
+            raise ValueError(f"gaze_saccade_velocity must be > 0, got {velocity!r}")
+        self._set_parameter("gaze_saccade_velocity", velocity)
+
+    # -- gaze streams (an eye tracker) ------------------------------------------
+    def PushGaze(self, t: float, x: float, y: float) -> bool:
+        """Feed one eye-tracker sample: time ``t`` (s), gaze ``(x, y)`` (normalised viewport coordinates).
+
+        The sample goes through the mapper's :class:`mipcast.core.gaze.GazeStream`
+        (fixations below :meth:`GetGazeFixationRadius` and saccades change
+        nothing; see :mod:`mipcast.core.gaze`), and the gaze follows the
+        stream from now on.  Returns True when the gaze to render with
+        changed: render then (the sample is used by the next frame; its
+        latency is :meth:`GetLastGazeLatency`).
+
+        Examples
+        --------
+        >>> mapper = FoveatedVolumeMapper()
+        >>> mapper.PushGaze(0.0, 0.3, 0.3), mapper.PushGaze(0.03, 0.301, 0.3), mapper.GetGazeSource()
+        (True, False, 'stream')
+        """
+        import time
+
+        state = object_state(self)
+        stream = self.GetGazeStream()
+        changed = stream.push(t, x, y)
+        if state["gaze_source"] != "stream":
+            state["gaze_source"] = "stream"
+            changed = True
+        if changed:
+            state["gaze_pushed"] = time.perf_counter()
+            self.Modified()
+        return changed
+
+    def SetGazeCallable(self, source) -> None:
+        """Poll ``source()`` at every render for the latest tracker sample ``(t, x, y)`` (None: no news).
+
+        ``source=None`` stops polling (the stream keeps its last gaze).  A
+        tracker whose API is a callback can call :meth:`PushGaze` instead.
+        """
+        if source is not None and not callable(source):
+            raise TypeError(f"gaze source must be callable returning (t, x, y) or None, got {source!r}")
+        state = object_state(self)
+        state["gaze_callable"] = source
+        if source is not None:
+            self.GetGazeStream()
+            state["gaze_source"] = "stream"
+
+    def GetGazeStream(self) -> GazeStream:
+        """The :class:`mipcast.core.gaze.GazeStream` behind :meth:`PushGaze` (made on first use)."""
+        state = object_state(self)
+        params = self._parameters()
+        stream = state.get("gaze_stream")
+        if stream is None:
+            stream = state["gaze_stream"] = GazeStream()
+        stream.fixation_radius = params["gaze_fixation_radius"]
+        stream.saccade_velocity = params["gaze_saccade_velocity"]
+        stream.prediction = params["gaze_prediction"]
+        return stream
+
+    # -- progressive refinement ---------------------------------------------------
+    def NeedsRefinement(self) -> bool:
+        """True when progressive refinement is on and the last frame was not yet full quality.
+
+        An application's timer renders again while this holds (nothing
+        changes between its frames, so each refines more); see
+        :meth:`GetRefinementStep`.
+
+        Examples
+        --------
+        >>> FoveatedVolumeMapper().NeedsRefinement()
+        False
+        """
+        state = object_state(self)
+        if not self._parameters()["progressive"] or "frame" not in state:
+            return False
+        return state.get("refine_step", 0) < self._parameters()["refinement_frames"]
+
+    def GetRefinementStep(self) -> int:
+        """Still frames refined so far (0: the foveated frame; ``RefinementFrames``: full quality)."""
+        return int(object_state(self).get("refine_step", 0))
+
+    def GetLastGazeLatency(self) -> Optional[float]:
+        """Seconds from the :meth:`PushGaze` that last moved the gaze to the end of the frame that used it.
+
+        None before such a frame.
+        """
+        return object_state(self).get("gaze_latency")
+
     def GetGazePoint(self) -> tuple:
         """The gaze point used by the last render (or set since), normalised viewport coordinates."""
         return tuple(object_state(self)["gaze"])
 
     def GetGazeSource(self) -> str:
-        """Where the gaze comes from: ``"point"``, ``"mouse"`` or ``"region"``."""
+        """Where the gaze comes from: ``"point"``, ``"mouse"``, ``"region"`` or ``"stream"`` (:meth:`PushGaze`)."""
         return object_state(self)["gaze_source"]
 
     def FoveationOn(self) -> None:
@@ -267,8 +374,12 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         return total
 
     def GetLevelMapper(self, level: int):
-        """The private mapper drawing pyramid level ``level`` (None if never drawn)."""
-        entry = object_state(self).get("levels_drawn", {}).get(int(level))
+        """The private mapper drawing pyramid level ``level`` (None if never drawn).
+
+        With content-adaptive density on, the finer levels' masked mappers.
+        """
+        drawn = object_state(self).get("levels_drawn", {})
+        entry = drawn.get((int(level), "masked")) or drawn.get(int(level))
         return None if entry is None else entry["mapper"]
 
     # -- rendering ------------------------------------------------------------
@@ -311,6 +422,12 @@ def _draw_levels(mapper, event) -> None:
 
 
 def _restore_own_draw(mapper, event) -> None:
+    state = object_state(mapper)
+    pushed = state.pop("gaze_in_frame", None)
+    if pushed is not None:
+        import time
+
+        state["gaze_latency"] = time.perf_counter() - pushed
     saved = object_state(mapper).pop("own_draw", None)
     if saved is not None:
         mapper.SetCropping(saved[0])
@@ -326,12 +443,21 @@ def _draw(mapper, state, volume, renderer) -> None:
     camera = renderer.GetActiveCamera()
     gaze, radius = _current_gaze(state, renderer, camera, viewport)
     state["gaze"] = gaze
+    foveate = params["foveation"]
+    if params["progressive"]:
+        radius, foveate = _refine(state, params, image, volume, camera, viewport, gaze, radius)
+    else:
+        state.pop("refine_step", None)
     auto = bool(mapper.GetAutoAdjustSampleDistances())
     base_isd = 1.0 if auto else float(mapper.GetImageSampleDistance())
     base_distance = _auto_sample_distance(image, volume) if auto else float(mapper.GetSampleDistance())
     plan = foveation.plan_frame(viewport, gaze, radius, params["falloff"], params["number_of_levels"],
-                                params["foveation"], _level_cap(image, volume, camera, viewport),
+                                foveate, _level_cap(image, volume, camera, viewport),
                                 base_isd)
+    tolerance = float(params["content_tolerance"])
+    adaptive = tolerance > 0 and len(plan.layers) > 1
+    if adaptive:
+        plan = content_adaptive.adaptive_plan(plan)
     cells = _walks_cells(params["method"])
     spacings = volume_pyramid.pyramid_voxel_sizes(image, params["number_of_levels"])
     world_per_pixel = _world_per_pixel(camera, volume, viewport)
@@ -340,13 +466,24 @@ def _draw(mapper, state, volume, renderer) -> None:
     layers, values = [], {}
     gl_state = renderer.GetRenderWindow().GetState()
     depth = _capture_depth(state, renderer)
-    for layer in plan.layers:
+    masks = {}
+    before = _read_texels(renderer, viewport, plan.layers[0].grid) if adaptive and not readout else None
+    for index, layer in enumerate(plan.layers):
         level = layer.level
+        if adaptive and index == 1:
+            if readout:
+                after = _grey_texels(volume, values[plan.layers[0].level])
+                masks = content_adaptive.refinement_masks(after, np.zeros_like(after), plan, tolerance)
+            else:
+                after = _read_texels(renderer, viewport, plan.layers[0].grid)
+                masks = content_adaptive.refinement_masks(after, before, plan, tolerance)
         footprint = world_per_pixel * viewport[3] / max(layer.grid[1], 1)
         volume_level, distance = volume_pyramid.level_sampling(
             level, footprint, base_distance, spacings, cells, params["peripheral_sampling"])
-        entry = drawn.get(level) or _new_level(params["method"])
-        drawn[level] = entry
+        masked = adaptive and index > 0
+        key = level if not masked else (level, "masked")
+        entry = drawn.get(key) or _new_level(params["method"], masked)
+        drawn[key] = entry
         level_mapper, level_volume = entry["mapper"], entry["volume"]
         if depth is not None and level_mapper.GetDepthTexture() is not depth:
             level_mapper.SetSharedDepthTexture(depth)
@@ -361,6 +498,7 @@ def _draw(mapper, state, volume, renderer) -> None:
         _copy_settings(mapper, volume, level_mapper, level_volume, entry["matrix"], distance,
                        layer.image_sample_distance)
         _set_uniforms(level_volume, plan, layer)
+        object_state(level_mapper)["draw_camera"] = camera
         if readout:
             object_state(level_mapper)["exact_readout"] = True
             level_mapper.RenderToImageOn()
@@ -368,13 +506,26 @@ def _draw(mapper, state, volume, renderer) -> None:
         scissor = layer.scissor if not readout else None
         if scissor is not None:
             gl_state.vtkglScissor(*scissor)
+        mask_texture = None
+        if level in masks and not readout:
+            mask_texture = _mask_texture(state, renderer, level, masks[level])
+            mask_texture.Activate()
+            level_state = object_state(level_mapper)
+            level_state["mask_unit"] = mask_texture.GetTextureUnit()
+            if level_state.get("mask_unit_built") not in (None, level_state["mask_unit"]):
+                # VTK sets our sampler only when it builds the shader: rebuild it for the new unit
+                level_mapper._install_pieces(level_volume)
         try:
             level_volume.RenderVolumetricGeometry(renderer)
         finally:
+            if mask_texture is not None:
+                mask_texture.Deactivate()
             if scissor is not None:
                 gl_state.vtkglScissor(*viewport)
             if readout:
                 values[level] = _level_values(level_mapper, layer.grid)
+                if level in masks:
+                    values[level][~masks[level]] = np.nan
                 object_state(level_mapper).pop("exact_readout", None)
                 level_mapper.RenderToImageOff()
         layers.append((level, volume_level, distance, level_input))
@@ -387,8 +538,47 @@ def _draw(mapper, state, volume, renderer) -> None:
     snapshot = vtkCamera()
     snapshot.DeepCopy(camera)
     state["frame"] = {"plan": plan, "camera": snapshot, "matrix": matrix, "image": image,
-                      "layers": layers, "cells": cells, "method": params["method"],
+                      "layers": layers, "cells": cells, "method": params["method"], "masks": masks,
                       "base_distance": base_distance, "base_isd": base_isd}
+
+
+def _refine(state, params, image, volume, camera, viewport, gaze, radius):
+    """(radius, foveation) of this frame under progressive refinement; counts the still frames.
+
+    A frame is still when the camera, the volume's matrix and property, the
+    input, the settings, the viewport and the gaze are those of the frame
+    before.  Still frame ``k`` of ``N`` widens the disc linearly from the
+    foveal radius to the farthest viewport corner; frame ``N`` is full
+    quality (one level, as with foveation off).
+    """
+    # to 7 digits: vtkWindowToImageFilter renders with the view angle off by 1e-9 relative
+    signature = (_rounded(camera.GetPosition() + camera.GetFocalPoint() + camera.GetViewUp()
+                          + (camera.GetViewAngle(), camera.GetParallelScale(), camera.GetEyeAngle())),
+                 camera.GetParallelProjection(),  # not the eye: both eyes of a stereo pair refine
+                 tuple(matrix_array(volume.GetMatrix()).ravel()), _property_stamp(volume.GetProperty()),
+                 image.GetAddressAsString("vtkObjectBase"), image.GetMTime(), tuple(viewport), tuple(gaze),
+                 tuple(sorted((k, repr(v)) for k, v in params.items())))
+    frames = int(params["refinement_frames"])
+    still = state.get("refine_signature") == signature
+    step = min(state.get("refine_step", 0) + 1, frames) if still else 0
+    state["refine_signature"], state["refine_step"] = signature, step
+    if step >= frames:
+        return radius, False
+    x0, y0, width, height = viewport
+    aspect = width / height
+    farthest = max(math.hypot((cx - gaze[0]) * aspect, cy - gaze[1]) for cx in (0.0, 1.0) for cy in (0.0, 1.0))
+    return radius + max(farthest - radius, 0.0) * step / frames, params["foveation"]
+
+
+def _property_stamp(prop) -> tuple:
+    """What of a volume property changes the picture (its own MTime moves at the first render)."""
+    return (prop.GetRGBTransferFunction(0).GetMTime(), prop.GetScalarOpacity(0).GetMTime(),
+            prop.GetGradientOpacity(0).GetMTime(), prop.GetInterpolationType(), prop.GetShade(0),
+            prop.GetScalarOpacityUnitDistance(0))
+
+
+def _rounded(values) -> tuple:
+    return tuple(float(f"{float(v):.7g}") for v in values)
 
 
 def _capture_depth(state, renderer):
@@ -423,27 +613,87 @@ def _capture_depth(state, renderer):
     return depth
 
 
-def _new_level(method: str) -> dict:
-    level_mapper = _level_class(FOVEATION_LAYERS[method].factory)()
+def _new_level(method: str, masked: bool = False) -> dict:
+    level_mapper = _level_class(FOVEATION_LAYERS[method].factory, masked)()
     level_volume = vtkVolume()
     level_mapper.Attach(level_volume)
+    if masked:
+        level_mapper.AddObserver(vtkCommand.UpdateShaderEvent, _bind_mask_sampler)
     return {"mapper": level_mapper, "volume": level_volume, "matrix": vtkMatrix4x4()}
+
+
+@calldata_type(VTK_OBJECT)
+def _bind_mask_sampler(level_mapper, event, program) -> None:
+    """Point the masked level's ``u_mc_fovMask`` at the texture unit its mask is bound to.
+
+    VTK invokes UpdateShaderEvent when it builds the shader, not every frame;
+    :func:`_draw` re-installs the pieces (a rebuild) should the unit change.
+    """
+    unit = object_state(level_mapper).get("mask_unit")
+    if program is not None and unit is not None and unit >= 0:
+        program.SetUniformi("u_mc_fovMask", int(unit))
+        object_state(level_mapper)["mask_unit_built"] = unit
+
+
+def _read_texels(renderer, viewport, grid) -> np.ndarray:
+    """The window's picture (RGB, uint8) at the texel centres of ``grid``, top row first."""
+    x0, y0, width, height = viewport
+    pixels = vtkUnsignedCharArray()
+    renderer.GetRenderWindow().GetRGBACharPixelData(x0, y0, x0 + width - 1, y0 + height - 1, 0, pixels)
+    picture = vtk_to_numpy(pixels).reshape(height, width, 4)[::-1, :, :3]
+    return content_adaptive.coarse_texels(picture, grid)
+
+
+def _grey_texels(volume, values) -> np.ndarray:
+    """Grey levels (over black) the volume's transfer functions give a level's float readout."""
+    prop = volume.GetProperty()
+    colour, opacity = prop.GetRGBTransferFunction(0), prop.GetScalarOpacity(0)
+    finite = np.nan_to_num(values, nan=-np.inf)
+    low, high = colour.GetRange()
+    points = np.linspace(low, high, 1024)
+    table = np.array([colour.GetColor(v)[0] * opacity.GetValue(v) for v in points])
+    grey = np.interp(np.clip(finite, low, high), points, table) * 255.0
+    return np.where(np.isfinite(finite), np.round(grey), 0.0)[..., None]
+
+
+def _mask_texture(state, renderer, level, mask):
+    """A level's refinement mask as a nearest-filtered 2D texture (bottom row first)."""
+    from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
+
+    textures = state.setdefault("mask_textures", {})
+    window = renderer.GetRenderWindow()
+    texture = textures.get(level)
+    if texture is None or texture.GetContext() is not window:
+        texture = vtkTextureObject()
+        texture.SetContext(window)
+        texture.SetMinificationFilter(vtkTextureObject.Nearest)
+        texture.SetMagnificationFilter(vtkTextureObject.Nearest)
+        texture.SetWrapS(vtkTextureObject.ClampToEdge)
+        texture.SetWrapT(vtkTextureObject.ClampToEdge)
+        textures[level] = texture
+    data = np.ascontiguousarray(mask[::-1], dtype=np.uint8) * np.uint8(255)
+    rows, columns = data.shape
+    texture.Create2DFromRaw(columns, rows, 1, VTK_UNSIGNED_CHAR, data)
+    return texture
 
 
 _LEVEL_CLASSES: dict = {}
 
 
-def _level_class(base):
-    """``base`` (a mipcast mapper class) plus the foveation pieces."""
-    cls = _LEVEL_CLASSES.get(base)
+def _level_class(base, masked: bool = False):
+    """``base`` (a mipcast mapper class) plus the foveation pieces (with a refinement mask if ``masked``)."""
+    cls = _LEVEL_CLASSES.get((base, masked))
     if cls is None:
-        def GetShaderPieces(self):
-            return tuple(base.GetShaderPieces(self)) + FoveatedVolumeMapper.LEVEL_PIECES
+        extra = FoveatedVolumeMapper.MASKED_LEVEL_PIECES if masked else FoveatedVolumeMapper.LEVEL_PIECES
 
-        cls = type(f"Foveated{base.__name__}Level", (base,), {
+        def GetShaderPieces(self):
+            return tuple(base.GetShaderPieces(self)) + extra
+
+        name = f"Foveated{base.__name__}{'Masked' if masked else ''}Level"
+        cls = type(name, (base,), {
             "__doc__": f"One pyramid level of a FoveatedVolumeMapper rendering with {base.__name__}.",
             "GetShaderPieces": GetShaderPieces})
-        _LEVEL_CLASSES[base] = cls
+        _LEVEL_CLASSES[(base, masked)] = cls
     return cls
 
 
@@ -488,6 +738,24 @@ def _current_gaze(state, renderer, camera, viewport):
     params = state["parameters"]
     radius = params["foveal_radius"]
     source = state["gaze_source"]
+    if source == "stream":
+        poll = state.get("gaze_callable")
+        if poll is not None:
+            sample = poll()
+            if sample is not None:
+                stream = state["gaze_stream"]
+                stream.aspect = width / height
+                if stream.last_time is None or float(sample[0]) > stream.last_time:
+                    import time
+
+                    if stream.push(*sample):
+                        state["gaze_pushed"] = time.perf_counter()
+        stream = state.get("gaze_stream")
+        if stream is not None and stream.gaze is not None:
+            stream.aspect = width / height
+            if "gaze_pushed" in state:
+                state["gaze_in_frame"] = state.pop("gaze_pushed")
+            return tuple(stream.gaze), radius
     if source == "mouse" and state.get("mouse_seen"):
         interactor = state["mouse"][0].Get()
         if interactor is not None:
@@ -577,6 +845,8 @@ def _frame_cost(frame) -> dict:
     for (level, volume_level, distance, level_input), layer in zip(frame["layers"], plan.layers):
         e = foveation.eccentricity(layer.grid, plan.gaze, plan.aspect)
         cast = (e >= layer.cast_from) & (e < layer.cast_to)
+        if level in frame.get("masks", {}):
+            cast &= frame["masks"][level]
         kind = {"cells_of": level_input} if frame["cells"] else {"sample_distance": distance}
         rays, samples = grid_cost(image, camera, size, layer.grid, volume_matrix=matrix, cast=cast, **kind)
         rows.append({"level": level, "volume_level": volume_level, "grid": tuple(layer.grid),

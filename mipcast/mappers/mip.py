@@ -12,6 +12,11 @@ from mipcast.mappers import clip_uniforms, shader_pieces
 from mipcast.mappers.float_readout import from_data_units
 from mipcast.mappers.input_preparer import InputPreparer
 from mipcast.mappers.private_draw import rendering_renderer
+from mipcast.mappers.stereo import eye_uniforms
+
+
+#: The piece every mipcast mapper adds to its own: stereo-correct ray directions.
+STEREO_PIECE = "stereo_ray_direction"
 
 
 @parameter_accessors
@@ -249,11 +254,16 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         return tuple("image_terminate" if n == "refusal" else n for n in names) + ("float_readout",)
 
     def _install_pieces(self, volume) -> None:
-        names = self.GetShaderPieces()
+        names = self._pieces_now(volume)
         # every method: VTK's clipping set-up off, mipcast's loops clip (clip_uniforms)
         shader_pieces.install(volume.GetShaderProperty(),
                               [shader_pieces.load_piece(n) for n in names + ("clipping_off",)])
         object_state(self)["installed"] = names
+
+    def _pieces_now(self, volume) -> tuple:
+        """:meth:`GetShaderPieces`, plus the stereo piece while an eye of a stereo pair renders."""
+        names = tuple(self.GetShaderPieces())
+        return names + (STEREO_PIECE,) if eye_uniforms(self, volume) is not None else names
 
     def Detach(self) -> None:
         """Remove mipcast's pieces from the attached volume (if any)."""
@@ -261,6 +271,14 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         if volume is not None:
             shader_pieces.uninstall(volume.GetShaderProperty())
         object_state(self).pop("volume", None)
+
+    def NeedsRefinement(self) -> bool:
+        """Whether a timer should render again to refine the picture (False: this method draws it at once).
+
+        The foveated mapper with progressive refinement answers True while
+        refining (:mod:`mipcast.mappers.refinement` drives it).
+        """
+        return False
 
     def GetAttachedVolume(self):
         """The volume given to :meth:`Attach`, or ``None``."""
@@ -406,9 +424,15 @@ def _check_before_render(mapper, event) -> None:
         uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
         uniforms.SetUniformf("u_mc_refused", 0.0 if problem is None else 1.0)  # shaders/refusal.glsl
     if problem is None:
-        if object_state(mapper).get("installed") != mapper.GetShaderPieces():
+        if object_state(mapper).get("installed") != mapper._pieces_now(volume):
             mapper._install_pieces(volume)
-        mapper._push_uniforms(volume.GetShaderProperty().GetFragmentCustomUniforms())
+        uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+        mapper._push_uniforms(uniforms)
+        eye = eye_uniforms(mapper, volume)
+        if eye is not None:  # rays from this eye (shaders/stereo_ray_direction.glsl)
+            uniforms.SetUniform3f("u_mc_eyePosObj", eye["u_mc_eyePosObj"])
+            uniforms.SetUniform3f("u_mc_eyeDirection", eye["u_mc_eyeDirection"])
+            uniforms.SetUniformf("u_mc_eyeParallel", eye["u_mc_eyeParallel"])
         mapper._push_clipping(volume)
         return
     vtkOutputWindow.GetInstance().DisplayErrorText(f"{type(mapper).__name__}: {problem}\n")
