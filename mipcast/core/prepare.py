@@ -30,7 +30,7 @@ Examples
 >>> import numpy as np
 >>> from vtkmodules.util.numpy_support import numpy_to_vtk
 >>> from vtkmodules.vtkCommonCore import VTK_BIT
-from vtkmodules.vtkCommonDataModel import vtkImageData
+>>> from vtkmodules.vtkCommonDataModel import vtkImageData
 >>> image = vtkImageData()
 >>> image.SetDimensions(2, 2, 2)
 >>> _ = image.GetPointData().SetScalars(numpy_to_vtk(np.array([0, 1, 2, 3, 4, 5, 6, np.nan]), deep=True))
