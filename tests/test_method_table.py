@@ -20,27 +20,9 @@ from mipcast.mappers.mip import sampled_projection_mapper
 from mipcast.methods import METHODS, Method, register, unregister
 from mipcast.offscreen import OffscreenView
 from mipcast.reference.rays import hit_rays, scatter, trilinear
+from test_shader_pieces import TOY_FIRST_SAMPLE  # the one-piece toy projection
 
-FIRST_SAMPLE_PIECE = """// mipcast piece: toy_first_sample_only
-// fills: Picking::Dec
-// mode: augment
-// Toy projection: the value of the first sample along the ray.
-void mcBeginRay(inout int first, inout int count)
-{
-  mc_rayMax = -1.0e30;
-}
-
-bool mcSample(float value, int i)
-{
-  mc_rayMax = value;
-  return false;
-}
-
-void mcEndRay(int count)
-{
-  mc_rayMax = mcNormalised(mc_rayMax);
-}
-"""
+FIRST_SAMPLE_PIECE = TOY_FIRST_SAMPLE.replace("toy_first_sample", "toy_first_sample_only", 1)
 
 
 def first_sample_reference(image, camera, size, *, sample_distance, window=None):
