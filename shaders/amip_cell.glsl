@@ -96,6 +96,7 @@ McRay mcBeginRay()
   ray.length = max(0.0, min(min(toPlanes.x, toPlanes.y), toPlanes.z));
   ray.length = min(ray.length, g_terminatePointMax * length(g_dirStep) + length(g_rayJitter));
   ray.start = 0.0;
+#ifdef MC_CLIPPING
   if (u_mc_clipCount > 0)
   {
     mcClipRange(entryTex, dirTex, ray.start, ray.length);
@@ -104,6 +105,7 @@ McRay mcBeginRay()
       discard;  // clipped away: nothing of the ray is left
     }
   }
+#endif
   ray.origin = entryTex * dims - 0.5;
   ray.dir = dirTex * dims;
   ray.still = lessThan(abs(ray.dir), vec3(1.0e-20));

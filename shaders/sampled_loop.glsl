@@ -53,6 +53,7 @@
 #ifdef MC_GLOBAL_PHASE
   mcGlobalPhase(mc_stepsInBox, mc_base, mc_first, mc_count);
 #endif
+#ifdef MC_CLIPPING
   if (u_mc_clipCount > 0)
   {
     float mc_lo = 0.0;
@@ -65,6 +66,7 @@
       discard;  // clipped away: nothing of the ray is left
     }
   }
+#endif
   mcBeginRay(mc_first, mc_count);
   for (int mc_i = mc_first; mc_i < mc_count; ++mc_i)
   {

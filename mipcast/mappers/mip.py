@@ -261,9 +261,18 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         object_state(self)["installed"] = names
 
     def _pieces_now(self, volume) -> tuple:
-        """:meth:`GetShaderPieces`, plus the stereo piece while an eye of a stereo pair renders."""
+        """:meth:`GetShaderPieces`, plus the stereo piece while an eye of a stereo pair renders and
+        ``clip_active`` while something clips (planes, cropping, a slab)."""
         names = tuple(self.GetShaderPieces())
+        if self._clips():
+            names += ("clip_active",)
         return names + (STEREO_PIECE,) if eye_uniforms(self, volume) is not None else names
+
+    def _clips(self) -> bool:
+        """Clipping planes, cropping or a slab: the loops then narrow each ray (``clip_active``)."""
+        planes = self.GetClippingPlanes()
+        return bool(self._slab_settings()[0] or self.GetCropping()
+                    or (planes is not None and planes.GetNumberOfItems() > 0))
 
     def Detach(self) -> None:
         """Remove mipcast's pieces from the attached volume (if any)."""
@@ -360,12 +369,18 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     def _push_clipping(self, volume) -> None:
         """Upload the planes this render clips with (clipping planes, cropping box, slab)."""
         thickness, centre, normal = self._slab_settings()
+        uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+        if not self._clips():
+            declared = volume.GetAddressAsString("vtkObjectBase")
+            if object_state(self).get("clip_declared") == declared:
+                uniforms.SetUniformi("u_mc_clipCount", 0)  # nothing clips: the rows stay as they are
+                return
+            object_state(self)["clip_declared"] = declared  # the shader names every row: set them once
         camera = None
         if thickness:  # the camera: the slab may follow it, DEMIP's depth range needs it
             renderer = rendering_renderer(self, volume)
             camera = renderer.GetActiveCamera() if renderer is not None else object_state(self).get("clip_camera")
         rows = clip_uniforms.texture_rows(self, self.GetInput(), volume, camera)
-        uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
         clip_uniforms.push(uniforms, rows)
         uniforms.SetUniform2f("u_mc_slabDepth", list(clip_uniforms.slab_depth_range(self, camera)))
 
