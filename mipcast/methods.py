@@ -35,6 +35,7 @@ from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
 from mipcast.mappers.demip import DEMIPVolumeMapper
 from mipcast.mappers.demip_two_pass import DEMIPTwoPassVolumeMapper
 from mipcast.mappers.foveated import FoveatedVolumeMapper
+from mipcast.mappers import shader_pieces
 from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.mappers.projections import (AnalyticAverageVolumeMapper, AnalyticMinIPVolumeMapper,
                                          AverageVolumeMapper, MinIPVolumeMapper)
@@ -334,10 +335,15 @@ def attach(mapper, volume) -> None:
     >>> attach(mapper, volume)
     >>> volume.GetMapper() is mapper
     True
+    >>> attach(create_mapper("mip"), volume)
+    >>> attach(create_mapper("stock"), volume)   # mipcast's pieces leave with the mipcast mapper
+    >>> shader_pieces.installed_tags(volume.GetShaderProperty())
+    []
     """
     if isinstance(mapper, MIPVolumeMapper):
         mapper.Attach(volume)
-    else:
+    else:  # VTK's own mapper: no mipcast piece may stay on the volume from a method drawn before
+        shader_pieces.uninstall(volume.GetShaderProperty())
         volume.SetMapper(mapper)
 
 

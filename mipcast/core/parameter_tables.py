@@ -44,7 +44,9 @@ def _slab_normal(*values):
 SLAB = (
     Parameter("slab_thickness", "float", 0.0,
               "Thickness of the slab, in world units (mm for DICOM): only the part of each ray between two "
-              "planes this far apart counts (0: the whole volume).", low=0.0, unit="world units"),
+              "planes this far apart counts (0: the whole volume). Going from 0 to a slab (or back) installs "
+              "the clipping piece (one compile each way); changing a slab's thickness does not.",
+              low=0.0, unit="world units", pieces=True),
     Parameter("slab_centre", "value", None,
               "A point (x, y, z) on the slab's mid-plane, in world coordinates; None: the camera's focal "
               "point (the slab follows the camera).", convert=_slab_point, variadic=True, unit="world units"),
@@ -188,8 +190,9 @@ FOVEATED = (
               "Content-adaptive ray density, in grey levels (0 = off). The coarsest level is cast over "
               "the whole view first; a finer ray is cast only where neighbouring coarse values differ by "
               "more than this, or, inside the fovea, where the coarse picture shows structure (above the "
-              "transfer function's floor); elsewhere the coarser picture is interpolated.",
-              low=0.0, unit="grey levels"),
+              "transfer function's floor); elsewhere the coarser picture is interpolated. Turning it on "
+              "or off installs the mask pieces (one compile each way).",
+              low=0.0, unit="grey levels", pieces=True),
     Parameter("gaze_fixation_radius", "float", 0.02,
               "Gaze streams (PushGaze): how far the eye may wander from the rendered gaze, in viewport "
               "heights, before a frame re-renders (tracker jitter and microsaccades below it cause none).",
