@@ -59,15 +59,23 @@ float mcWindowDepth(float d)
 // Normalised depth of the sample at hitTex on the ray entering the box at
 // entryTex, by u_mc_depthMode (0 window, 1 steps, 2 entry_plus_length,
 // 3 eye_distance); 0 = the box's near side, 1 = its far side, clamped. With
-// a slab normal to the view direction, near and far are those of the slab
-// (where it lies inside the box): the depth is normalised over the slab.
+// a slab (at any angle to the view) near and far are those of the part of
+// the box inside the slab (u_mc_slabDepth, u_mc_slabDistance: computed per
+// render in mipcast/mappers/clip_uniforms.py, else +-1e30), and steps and
+// entry_plus_length measure from where the ray enters the slab (its faces
+// u_mc_slabNear/u_mc_slabFar as texture-space rows, else (0, 0, 0, 1),
+// which keep every point: the entry stays the box entry).
 float mcDemipDepth(vec3 hitTex, vec3 entryTex)
 {
+  float slabLo = 0.0;
+  float slabHi = 1.0e30;
+  mcClipPlane(u_mc_slabNear, entryTex, g_dirStep, slabLo, slabHi);
+  mcClipPlane(u_mc_slabFar, entryTex, g_dirStep, slabLo, slabHi);
+  entryTex += max(slabLo, 0.0) * g_dirStep;
   mat4 texToEye = in_modelViewMatrix * mcTextureToWorld();
   vec3 hitEye = (texToEye * vec4(hitTex, 1.0)).xyz;
   vec3 entryEye = (texToEye * vec4(entryTex, 1.0)).xyz;
   vec2 range = mcBoxViewRange(texToEye);
-  // a slab facing the camera: depth runs over the slab (u_mc_slabDepth, else +-1e30)
   range = vec2(max(range.x, u_mc_slabDepth.x), min(range.y, u_mc_slabDepth.y));
   float extent = max(range.y - range.x, 1.0e-30);
   float depth;
@@ -98,6 +106,8 @@ float mcDemipDepth(vec3 hitTex, vec3 entryTex)
                         vec3(lessThan(eyeTex, 0.5 * (in_texMin[0] + in_texMax[0]))));
     float nearDistance = length((texToEye * vec4(nearest, 1.0)).xyz);
     float farDistance = length((texToEye * vec4(farthest, 1.0)).xyz);
+    nearDistance = max(nearDistance, u_mc_slabDistance.x);
+    farDistance = min(farDistance, u_mc_slabDistance.y);
     depth = (length(hitEye) - nearDistance) / max(farDistance - nearDistance, 1.0e-30);
   }
   return clamp(depth, 0.0, 1.0);

@@ -234,13 +234,12 @@ def test_demip_depth_is_normalised_over_the_slab(mode):
     scene.mapper.SetSlabThickness(8.0)
     scene.mapper.SetSlabCentre(11.5, 11.5, 0.75 * n)  # around the high-z (near) ball
     camera = scene.camera
-    middle = float(np.subtract((11.5, 11.5, 0.75 * n), camera.GetPosition()) @ camera.GetDirectionOfProjection())
     depth = render_depth(scene.render_window, scene.mapper)
     expected = reference.render(image, camera, scene.size, method="demip", sample_distance=scene.sample_distance,
                                 window=scene.window, output="depth", depth_mode=mode,
                                 clip_planes=slab_planes(8.0, (11.5, 11.5, 0.75 * n),
                                                         camera.GetDirectionOfProjection()),
-                                depth_range=(middle - 4.0, middle + 4.0))
+                                slab=(8.0, (11.5, 11.5, 0.75 * n), camera.GetDirectionOfProjection()))
     both = np.isfinite(depth) & np.isfinite(expected)
     assert both.mean() > 0.02 and np.mean(np.isnan(depth) != np.isnan(expected)) < 0.01
     assert np.max(np.abs(depth[both] - expected[both])) <= 1e-3
@@ -261,3 +260,43 @@ def test_more_clipping_planes_than_vtk_takes_are_refused(vessels):
     assert "at most 6" in mapper.GetRenderProblem() and "RemoveClippingPlane" in mapper.GetRenderProblem()
     mapper.RemoveClippingPlane(plane)
     assert mapper.GetRenderProblem() is None
+
+
+def _oblique_normal(camera):
+    """The view direction tilted 35 degrees towards the camera's right."""
+    view = np.array(camera.GetDirectionOfProjection())
+    right = np.cross(view, camera.GetViewUp())
+    right /= np.linalg.norm(right)
+    return tuple(np.cos(np.radians(35.0)) * view + np.sin(np.radians(35.0)) * right)
+
+
+@pytest.mark.parametrize("facing", [True, False], ids=["facing", "oblique-slab"])
+@pytest.mark.parametrize("view", ["oblique", "perspective"])
+@pytest.mark.parametrize("mode", ["window", "steps", "entry_plus_length", "eye_distance"])
+def test_demip_depth_runs_over_the_slab_in_every_mode(mode, view, facing):
+    """Every depth mode, parallel and perspective, a slab facing the camera or at an angle: depth over the slab."""
+    from mipcast import reference
+    from mipcast.mappers.demip import render_depth
+
+    n = 24
+    image = make_fixture("frontback", size=n)
+    scene = OffscreenView(image, "demip", size=(40, 40), view=view)
+    camera = scene.camera
+    centre = (11.5, 11.5, 0.7 * n)
+    normal = camera.GetDirectionOfProjection() if facing else _oblique_normal(camera)
+    scene.mapper.SetDepthMode(mode)
+    scene.mapper.SetSlabThickness(9.0)
+    scene.mapper.SetSlabCentre(*centre)
+    scene.mapper.SetSlabNormal(*normal)
+    depth = render_depth(scene.render_window, scene.mapper)
+    expected = reference.render(image, camera, scene.size, method="demip", sample_distance=scene.sample_distance,
+                                window=scene.window, output="depth", depth_mode=mode,
+                                clip_planes=slab_planes(9.0, centre, normal), slab=(9.0, centre, normal))
+    both = np.isfinite(depth) & np.isfinite(expected)
+    assert both.mean() > 0.02 and np.mean(np.isnan(depth) != np.isnan(expected)) < 0.01
+    assert np.max(np.abs(depth[both] - expected[both])) < 1e-5  # test_demip's depth tolerance
+    # normalised over the slab, not over the box (nor from the box entry)
+    over_box = reference.render(image, camera, scene.size, method="demip", sample_distance=scene.sample_distance,
+                                window=scene.window, output="depth", depth_mode=mode,
+                                clip_planes=slab_planes(9.0, centre, normal))
+    assert np.median(np.abs(depth[both] - over_box[both])) > 0.01  # an oblique slab spans much of the box

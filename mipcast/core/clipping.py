@@ -137,3 +137,63 @@ def ray_interval(origin: np.ndarray, direction: np.ndarray, t_low, t_high, rows:
         hi = np.where(rate < 0, np.minimum(hi, cross), hi)
         hi = np.where((rate == 0) & (at0 < 0), -np.inf, hi)
     return lo, hi
+
+
+def region_extent(rows: np.ndarray, upper: Sequence[float], to_eye: np.ndarray) -> Optional[Tuple[float, float, float, float]]:
+    """View depths and eye distances spanned by the box ``[0, upper]`` cut by the planes ``rows``.
+
+    The box and ``rows`` (:func:`plane_rows`, kept side ``>= 0``) are in one
+    space (index space, say); ``to_eye`` (4x4) maps it to eye coordinates
+    (camera at the origin looking down -z).  The kept region is a convex
+    polytope; returns ``(near, far, nearest, farthest)``: the least and
+    greatest view distance ``-z`` over it and the least and greatest
+    distance from the eye point, or ``None`` if nothing of the box is kept.
+    DEMIP normalises its depth over this region (docs/methods.md, "Slabs,
+    clipping and cropping").
+
+    Examples
+    --------
+    >>> rows = plane_rows(*slab_planes(2.0, (5, 5, 5), (0, 0, 1)))
+    >>> to_eye = np.eye(4); to_eye[2, 3] = -20.0          # eye at z = 20 looking down -z
+    >>> [round(v, 6) for v in region_extent(rows, (10, 10, 10), to_eye)]
+    [14.0, 16.0, 14.0, 21.354157]
+    """
+    upper = np.asarray(upper, dtype=np.float64).reshape(3)
+    box = plane_rows(*box_planes((0.0, upper[0], 0.0, upper[1], 0.0, upper[2])))
+    rows = np.concatenate([box, np.asarray(rows, dtype=np.float64).reshape(-1, 4)])
+    rows = rows @ np.linalg.inv(np.asarray(to_eye, dtype=np.float64))  # the planes in eye space
+    scale = np.linalg.norm(rows[:, :3], axis=1)
+    rows = rows[scale > 0] / scale[scale > 0, None]
+    tolerance = 1e-9 * max(1.0, float(np.abs(rows[:, 3]).max(initial=1.0)))
+
+    def inside(points: np.ndarray) -> np.ndarray:
+        return np.all(points @ rows[:, :3].T + rows[:, 3] >= -tolerance, axis=1)
+
+    count = len(rows)
+    vertices = []
+    for i in range(count):
+        for j in range(i + 1, count):
+            for k in range(j + 1, count):
+                a = rows[[i, j, k], :3]
+                if abs(np.linalg.det(a)) > 1e-12:
+                    vertices.append(np.linalg.solve(a, -rows[[i, j, k], 3]))
+    vertices = np.array(vertices).reshape(-1, 3)
+    vertices = vertices[inside(vertices)]
+    if not len(vertices):
+        return None
+    # the nearest point to the eye (the origin): the origin itself, or its
+    # projection on a face or an edge of the region, or a vertex
+    candidates = [np.zeros((1, 3)), vertices]
+    normals, offsets = rows[:, :3], rows[:, 3]
+    candidates.append(-offsets[:, None] * normals)
+    for i in range(count):
+        for j in range(i + 1, count):
+            a = normals[[i, j]]
+            gram = a @ a.T
+            if abs(np.linalg.det(gram)) > 1e-12:
+                candidates.append((a.T @ np.linalg.solve(gram, -offsets[[i, j]]))[None])
+    candidates = np.concatenate(candidates)
+    candidates = candidates[inside(candidates)]
+    distance = -vertices[:, 2]
+    return (float(distance.min()), float(distance.max()),
+            float(np.linalg.norm(candidates, axis=1).min()), float(np.linalg.norm(vertices, axis=1).max()))

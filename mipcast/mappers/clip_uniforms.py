@@ -24,7 +24,7 @@ from typing import Optional
 import numpy as np
 
 from mipcast.core.camera_rays import index_space, matrix_array
-from mipcast.core.clipping import MAX_PLANES, box_planes, plane_rows, slab_planes
+from mipcast.core.clipping import MAX_PLANES, box_planes, plane_rows, region_extent, slab_planes
 
 #: VTK's value of ``GetCroppingRegionFlags()`` for the sub-volume (the only one supported).
 SUBVOLUME_FLAGS = 0x2000
@@ -96,22 +96,47 @@ def slab_of(mapper, camera) -> Optional[tuple]:
     return float(thickness), tuple(centre), tuple(normal)
 
 
-def slab_depth_range(mapper, camera) -> tuple:
-    """Eye depths ``(near, far)`` of a slab normal to the view direction (DEMIP normalises depth over it).
+#: The slab uniforms DEMIP reads when no slab is set: depth over the box, depth from the box entry.
+NO_SLAB = {"u_mc_slabDepth": (-1.0e30, 1.0e30), "u_mc_slabDistance": (-1.0e30, 1.0e30),
+           "u_mc_slabNear": (0.0, 0.0, 0.0, 1.0), "u_mc_slabFar": (0.0, 0.0, 0.0, 1.0)}
 
-    ``(-1e30, 1e30)`` without a slab, or for a slab at an angle to the view
-    direction (its depth range is then the box's).
+
+def slab_uniforms(mapper, image, volume, camera) -> dict:
+    """DEMIP's slab uniforms now: the depth range and entry plane of the box's part inside the slab.
+
+    ``u_mc_slabDepth`` holds the least and greatest view distance (eye
+    ``-z``) over the part of the box inside the slab (for any slab
+    orientation: :func:`mipcast.core.clipping.region_extent`),
+    ``u_mc_slabDistance`` the least and greatest distance from the eye
+    point over it (perspective ``eye_distance``), ``u_mc_slabNear`` /
+    ``u_mc_slabFar`` the slab's two faces as texture-space rows (``steps``
+    and ``entry_plus_length`` measure from where the ray enters the slab).
+    :data:`NO_SLAB` without a slab or without a camera.
     """
     slab = slab_of(mapper, camera)
-    if slab is None or camera is None:
-        return (-1.0e30, 1.0e30)
-    thickness, centre, normal = slab
-    view = np.array(camera.GetDirectionOfProjection(), float)
-    normal = np.array(normal, float) / np.linalg.norm(normal)
-    if abs(normal @ view) < 1.0 - 1.0e-6:
-        return (-1.0e30, 1.0e30)
-    middle = float((np.array(centre, float) - np.array(camera.GetPosition(), float)) @ view)
-    return (middle - 0.5 * thickness, middle + 0.5 * thickness)
+    if slab is None or camera is None or image is None:
+        return dict(NO_SLAB)
+    origins, normals = slab_planes(*slab)
+    from_world = np.linalg.inv(matrix_array(volume.GetMatrix())) if volume is not None else np.eye(4)
+    to_index, upper = index_space(image)
+    world_to_index = to_index @ from_world
+    to_eye = matrix_array(camera.GetViewTransformMatrix()) @ np.linalg.inv(world_to_index)
+    extent = region_extent(plane_rows(origins, normals, world_to_index), upper, to_eye)
+    rows = plane_rows(origins, normals, world_to_texture(image, volume))
+    rows = rows / np.linalg.norm(rows[:, :3], axis=1, keepdims=True)
+    if extent is None:  # the slab misses the box: every ray is clipped away anyway
+        extent = (-1.0e30, 1.0e30, -1.0e30, 1.0e30)
+    return {"u_mc_slabDepth": extent[:2], "u_mc_slabDistance": extent[2:],
+            "u_mc_slabNear": tuple(rows[0]), "u_mc_slabFar": tuple(rows[1])}
+
+
+def push_slab(uniforms, values: dict) -> None:
+    """Upload :func:`slab_uniforms` (or :data:`NO_SLAB`)."""
+    for name, value in values.items():
+        if len(value) == 2:
+            uniforms.SetUniform2f(name, [float(v) for v in value])
+        else:
+            uniforms.SetUniform4f(name, [float(v) for v in value])
 
 
 def world_to_texture(image, volume) -> np.ndarray:

@@ -211,7 +211,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         self._install_pieces(volume)
         volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniformf("u_mc_refused", 0.0)
         clip_uniforms.push(volume.GetShaderProperty().GetFragmentCustomUniforms(), ())
-        volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniform2f("u_mc_slabDepth", [-1.0e30, 1.0e30])
+        clip_uniforms.push_slab(volume.GetShaderProperty().GetFragmentCustomUniforms(), clip_uniforms.NO_SLAB)
         link = vtkWeakReference()  # a C++ weak pointer: Python wrappers come and go
         link.Set(volume)
         object_state(self)["volume"] = link
@@ -374,6 +374,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
             declared = volume.GetAddressAsString("vtkObjectBase")
             if object_state(self).get("clip_declared") == declared:
                 uniforms.SetUniformi("u_mc_clipCount", 0)  # nothing clips: the rows stay as they are
+                clip_uniforms.push_slab(uniforms, clip_uniforms.NO_SLAB)  # DEMIP's depth: over the box again
                 return
             object_state(self)["clip_declared"] = declared  # the shader names every row: set them once
         camera = None
@@ -382,7 +383,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
             camera = renderer.GetActiveCamera() if renderer is not None else object_state(self).get("clip_camera")
         rows = clip_uniforms.texture_rows(self, self.GetInput(), volume, camera)
         clip_uniforms.push(uniforms, rows)
-        uniforms.SetUniform2f("u_mc_slabDepth", list(clip_uniforms.slab_depth_range(self, camera)))
+        clip_uniforms.push_slab(uniforms, clip_uniforms.slab_uniforms(self, self.GetInput(), volume, camera))
 
     def _derived_settings(self) -> dict:
         """Values besides the parameters that the table's uniforms depend on (e.g. the window)."""

@@ -17,6 +17,7 @@ import numpy as np
 
 from mipcast.core.camera_rays import index_space, matrix_array
 from mipcast.core.parameter_tables import DEMIP
+from mipcast.core.clipping import plane_rows, ray_interval, region_extent, slab_planes
 from mipcast.core.parameters import check_values
 from mipcast.core.shading import FLOOR_TOLERANCE, chroma_color, sphere_color
 from mipcast.core.prepare import prepare_scalars
@@ -31,7 +32,7 @@ OUTPUTS = ("depth", "rgb", "value")
 SCENE_PARAMETERS = {"sample_distance": None, "window": None, "output": "depth"}
 
 
-def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, depth_range=None,
+def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=None,
                  **params: Any) -> np.ndarray:
     """Depth-enhanced MIP in float64: depth, final colour or maximum per pixel.
 
@@ -46,9 +47,14 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, depth_r
     clip_planes : (origins, normals), optional
         Clipping planes in world coordinates, as in :func:`mipcast.reference.render`:
         only samples on every plane's kept side count.
-    depth_range : (near, far), optional
-        Eye depths of a slab normal to the view direction: depth is
-        normalised over it (where it lies inside the box) instead of the box.
+    slab : (thickness, centre, normal), optional
+        The slab (world coordinates) the mapper clips with; its two planes
+        must also be among ``clip_planes``.  Depth is then normalised over
+        the part of the box inside the slab (its least and greatest view
+        distance, or eye distance, over that region, for any slab
+        orientation: :func:`mipcast.core.clipping.region_extent`), and
+        ``steps`` / ``entry_plus_length`` measure from where the ray enters
+        the slab instead of the box.
     **params
         ``sample_distance : float`` (required): world units between samples,
         placed as in ``method="mip"`` (``t_enter + k * sample_distance``,
@@ -166,8 +172,8 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, depth_r
     term = first >= 0
     where = entry + ((np.maximum(first, 0) + 1) * step)[:, None] * direction
     geometry = _Geometry(image, camera, width / height)
-    if depth_range is not None:
-        geometry.near, geometry.far = max(geometry.near, depth_range[0]), min(geometry.far, depth_range[1])
+    if slab is not None:
+        entry = geometry.narrow_to_slab(slab, entry, direction)
     depth = np.where(term, geometry.depth(mode, where, entry), np.nan)
     if output == "depth":
         return scatter(depth, hit, height, width)
@@ -262,6 +268,17 @@ class _Geometry:
         self.nearest = np.linalg.norm(self.eye(np.clip(eye_index, 0.0, upper)[None])[0])
         self.farthest = np.linalg.norm(corner_eye, axis=1).max()
         self.centre = self.world(0.5 * upper[None])[0]
+
+    def narrow_to_slab(self, slab, entry: np.ndarray, direction: np.ndarray) -> np.ndarray:
+        """Depth over the box's part inside ``slab``; returns the rays' entries into the slab."""
+        rows = plane_rows(*slab_planes(*slab), np.linalg.inv(self.to_world))
+        to_eye = self.view @ self.to_world
+        extent = region_extent(rows, self.upper, to_eye)
+        if extent is not None:
+            self.near, self.far = max(self.near, extent[0]), min(self.far, extent[1])
+            self.nearest, self.farthest = max(self.nearest, extent[2]), min(self.farthest, extent[3])
+        lo, _ = ray_interval(entry, direction, 0.0, np.inf, rows)
+        return entry + np.maximum(lo, 0.0)[:, None] * direction
 
     def world(self, index: np.ndarray) -> np.ndarray:
         return index @ self.to_world[:3, :3].T + self.to_world[:3, 3]
