@@ -162,7 +162,8 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
 
     image = with_scalars(image, scalars)
     check_image(image, component)  # raises mipcast.InputError before anything is added
-    low, high = resolve_window(prepared_image(image, component), clim)
+    projection = METHODS[method].projection if method in METHODS else "mip"  # create_mapper names a bad one
+    low, high = resolve_window(prepared_image(image, component), clim, projection)
     if sample_distance is None:
         sample_distance = min(abs(s) for s in image.GetSpacing())
     mapper = create_mapper(method)

@@ -122,8 +122,9 @@ class OffscreenView:
     window : tuple of float or str, optional
         Grey window (low, high) in data units, used as given; default (or
         ``"auto"``) the window a viewer would pick
-        (:func:`mipcast.core.windowing.default_window`: a CT preset for
-        Hounsfield units, else histogram percentiles); ``"full"`` the data
+        (:func:`mipcast.core.windowing.default_window` for the method's
+        projection, MIP, MinIP or average: a CT preset for Hounsfield
+        units, else histogram percentiles); ``"full"`` the data
         range; or a preset name (:data:`mipcast.core.windowing.PRESETS`).
         The chosen (low, high) is ``self.window``.
 
@@ -144,9 +145,9 @@ class OffscreenView:
         if sample_distance is None:
             sample_distance = min(abs(s) for s in image.GetSpacing())
         self.sample_distance = check_positive("sample_distance", sample_distance)
-        self.window = resolve_window(prepared_image(image, component), window)
         #: The :class:`mipcast.methods.Method` entry.
         self.method = methods.METHODS[check_choice("method", method, tuple(methods.METHODS))]
+        self.window = resolve_window(prepared_image(image, component), window, self.method.projection)
         self.mapper = self.method.create()
         self.set_input(image, component)
         self.mapper.SetAutoAdjustSampleDistances(False)

@@ -265,7 +265,7 @@ def _run_render(args) -> int:
         raise ValueError("--slab-sweep and --turntable are two animations: give one of them")
     component = getattr(args, "component", None)
     check_image(image, component)  # mipcast.InputError before anything renders
-    window = _window(prepared_image(image, component), args.window)
+    window = _window(prepared_image(image, component), args.window, args.method)
     distance = args.sample_distance
     if distance == "auto":
         from mipcast.bench.auto_sampling import choose_samples_per_voxel
@@ -305,16 +305,17 @@ def _run_render(args) -> int:
     return 0
 
 
-def _window(image, tokens):
-    """``--window`` tokens -> (low, high); says which rule chose a default one."""
+def _window(image, tokens, method: str = "mip"):
+    """``--window`` tokens -> (low, high) for ``method``'s projection; says which rule chose a default one."""
     from mipcast.core.windowing import parse_window, resolve_window, window_and_reason
 
+    projection = METHODS[method].projection if method in METHODS else "mip"
     spec = parse_window(tokens)
     if spec is None or spec == "auto":
-        window, reason = window_and_reason(image)
+        window, reason = window_and_reason(image, projection)
         print(f"window {window[0]:.6g} to {window[1]:.6g} ({reason}; --window full for the data range)")
         return window
-    return resolve_window(image, spec)
+    return resolve_window(image, spec, projection)
 
 
 def _component(text: str):
@@ -368,7 +369,7 @@ def run_view(args) -> int:
 
     image = with_scalars(read_volume(args.input, series_uid=args.series), args.scalars)
     check_image(image, args.component)  # mipcast.InputError before the window opens
-    run_viewer(image, args.method, clim=_window(prepared_image(image, args.component), args.window),
+    run_viewer(image, args.method, clim=_window(prepared_image(image, args.component), args.window, args.method),
                params=args.params, view=args.view, component=args.component,
                stereo=args.stereo)  # checks params before the window
     return 0

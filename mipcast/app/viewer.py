@@ -211,7 +211,8 @@ class _Viewer:
         self.grid = pyvista.wrap(image)
         self.cmap = cmap
         self.component = component  # of multi-component scalars (default: the magnitude)
-        self.clim = resolve_window(prepared_image(self.grid, component), clim)
+        projection = METHODS[method].projection if method in METHODS else "mip"  # MinIP/average: their own
+        self.clim = resolve_window(prepared_image(self.grid, component), clim, projection)
         self.voxel = min(abs(s) for s in self.grid.GetSpacing())
         self.sample_voxels = 1.0
         self.volume = None

@@ -22,8 +22,26 @@ also stated in docs/usage.md ("The default window"):
   = the 99.5th percentile of the voxels above ``low`` (a few of the
   brightest voxels saturate).  Where that gives no range, the data range.
 
+That is the rule for a MIP (``projection="mip"``, the method table's
+``Method.projection``).  The other projections keep other values, so they
+get other windows:
+
+- **MinIP** (``"minip"``) keeps the darkest value: the rule mirrored.  CT:
+  the ``"ct-minip"`` preset, -1000 to -400 HU (air and airways dark, lung
+  parenchyma grey, soft tissue white).  Anything else: ``high`` = median -
+  3 robust standard deviations, the darkest the bright surround (tissue)
+  reaches in a projection, but at least the 0.5th percentile; ``low`` = the
+  0.5th percentile of the voxels below ``high`` (the darkest structures,
+  air, at the bottom).
+- **Average** (``"average"``) keeps the mean, which lies in a much
+  narrower range than the voxels: CT the ``"ct-soft"`` preset (soft tissue,
+  -160 to 240 HU); anything else the 1st to 99th percentiles of the
+  volume's average projections along its three index axes (what an
+  average projection shows, for any view, approximately).
+
 ``"full"`` is the data range (the default before this rule), ``"auto"`` the
-rule, a preset name (:data:`PRESETS`) its window, and ``(low, high)`` itself.
+rule, a preset name (:data:`PRESETS`) its window, and ``(low, high)`` itself,
+whatever the projection.
 
 Examples
 --------
@@ -33,6 +51,9 @@ Examples
 True
 >>> resolve_window(make_fixture("spheres", size=16), "full")
 (0.0, 1.0)
+>>> low, high = default_window(make_fixture("airways", size=32), "minip")
+>>> 0.0 <= low < 0.2 < 0.6 < high < 0.8
+True
 """
 from __future__ import annotations
 
@@ -46,7 +67,12 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 #: for the head CT: contrast and bone, the skull not saturated);
 #: ``ct-bone`` is the usual bone window (width 2000, level 500);
 #: ``ct-angio`` a CT angiography window (width 700, level 200).
-PRESETS = {"ct-mip": (150.0, 1800.0), "ct-bone": (-500.0, 1500.0), "ct-angio": (-150.0, 550.0)}
+#: ``ct-minip`` the default for a CT MinIP (airways: air to lung), ``ct-soft``
+#: for a CT average (soft tissue, width 400, level 40).
+PRESETS = {"ct-mip": (150.0, 1800.0), "ct-bone": (-500.0, 1500.0), "ct-angio": (-150.0, 550.0),
+           "ct-minip": (-1000.0, -400.0), "ct-soft": (-160.0, 240.0)}
+#: The projections the default window has a rule for (``Method.projection``).
+PROJECTIONS = ("mip", "minip", "average")
 #: The words :func:`resolve_window` takes besides presets and (low, high).
 KEYWORDS = ("auto", "full")
 #: At most this many voxels enter the percentiles (an even stride over the rest).
@@ -96,8 +122,15 @@ def looks_like_ct(image, values: Optional[np.ndarray] = None) -> bool:
     return -1100.0 <= float(np.percentile(values, 1)) <= -900.0 and float(values.max()) > 300.0
 
 
-def default_window(image) -> Tuple[float, float]:
-    """The window a viewer would pick for ``image`` (module docstring: the rule).
+def default_window(image, projection: str = "mip") -> Tuple[float, float]:
+    """The window a viewer would pick for ``image`` drawn as ``projection`` (module docstring: the rule).
+
+    Parameters
+    ----------
+    image : vtkImageData
+        The volume.
+    projection : {"mip", "minip", "average"}, default: "mip"
+        What the method keeps along a ray (the method table's ``Method.projection``).
 
     Returns
     -------
@@ -105,10 +138,10 @@ def default_window(image) -> Tuple[float, float]:
         (low, high) with high > low in data units; the data range for
         constant data (no better choice exists).
     """
-    return window_and_reason(image)[0]
+    return window_and_reason(image, projection)[0]
 
 
-def window_and_reason(image) -> Tuple[Tuple[float, float], str]:
+def window_and_reason(image, projection: str = "mip") -> Tuple[Tuple[float, float], str]:
     """:func:`default_window` and a few words saying which rule chose it (for messages).
 
     Examples
@@ -117,8 +150,12 @@ def window_and_reason(image) -> Tuple[Tuple[float, float], str]:
     >>> window_and_reason(make_fixture("spheres", size=16))[1]
     'histogram percentiles'
     """
+    if projection not in PROJECTIONS:
+        raise ValueError(f"projection must be one of {', '.join(PROJECTIONS)}; got {projection!r}")
     values = _sample(image)
     full = data_range(image)
+    if projection != "mip":
+        return _other_window(image, values, full, projection)
     if looks_like_ct(image, values):
         low, high = PRESETS["ct-mip"]
         high = min(high, full[1])
@@ -141,7 +178,37 @@ def window_and_reason(image) -> Tuple[Tuple[float, float], str]:
     return (full[0], full[0] + 1.0), "constant data"
 
 
-def resolve_window(image, window: WindowSpec = None) -> Tuple[float, float]:
+def _other_window(image, values, full, projection: str) -> Tuple[Tuple[float, float], str]:
+    """The MinIP and average rules of the module docstring."""
+    if looks_like_ct(image, values):
+        name = "ct-minip" if projection == "minip" else "ct-soft"
+        low, high = PRESETS[name]
+        if full[0] < high and full[1] > low:
+            return (max(low, full[0]), min(high, full[1])), f"CT preset {name} (HU)"
+    if values.size:
+        values = values.astype(np.float64, copy=False)
+        if projection == "minip":
+            median = float(np.median(values))
+            spread = 1.4826 * float(np.median(np.abs(values - median)))
+            high = max(median - 3.0 * spread, float(np.percentile(values, 0.5)))
+            below = values[values < high]
+            if below.size:
+                low = float(np.percentile(below, 0.5))
+                if not high > low:
+                    low = float(below.min())
+                if high > low:
+                    return (low, high), "histogram percentiles (MinIP)"
+        else:
+            averages = _axis_averages(image)
+            low, high = (float(v) for v in np.percentile(averages, [1.0, 99.0]))
+            if high > low:
+                return (low, high), "percentiles of the average projections"
+    if full[1] > full[0]:
+        return full, "data range"
+    return (full[0], full[0] + 1.0), "constant data"
+
+
+def resolve_window(image, window: WindowSpec = None, projection: str = "mip") -> Tuple[float, float]:
     """Turn a window request into (low, high).
 
     Parameters
@@ -151,6 +218,8 @@ def resolve_window(image, window: WindowSpec = None) -> Tuple[float, float]:
     window : None, str or sequence of two floats
         ``None`` or ``"auto"``: :func:`default_window`; ``"full"``: the data
         range; a name of :data:`PRESETS`; or ``(low, high)``, returned as floats.
+    projection : {"mip", "minip", "average"}, default: "mip"
+        The method's projection (``Method.projection``): which default rule.
 
     Raises
     ------
@@ -166,11 +235,11 @@ def resolve_window(image, window: WindowSpec = None) -> Tuple[float, float]:
     (-500.0, 1500.0)
     """
     if window is None:
-        return default_window(image)
+        return default_window(image, projection)
     if isinstance(window, str):
         name = window.strip().lower()
         if name == "auto":
-            return default_window(image)
+            return default_window(image, projection)
         if name == "full":
             return data_range(image)
         if name in PRESETS:
@@ -203,6 +272,27 @@ def parse_window(tokens: Optional[Sequence[str]]) -> WindowSpec:
             pass
     raise ValueError(f"--window takes LOW HIGH, 'auto', 'full' or one of {', '.join(sorted(PRESETS))}; "
                      f"got {' '.join(tokens)!r}")
+
+
+def _axis_averages(image) -> np.ndarray:
+    """The volume's means along each index axis (every k-th point: at most about :data:`SAMPLE_LIMIT` used)."""
+    values = vtk_to_numpy(image.GetPointData().GetScalars())
+    if values.ndim > 1:
+        values = values[:, 0]
+    nx, ny, nz = image.GetDimensions()
+    volume = values.reshape(nz, ny, nx)
+    stride = max(1, int(np.ceil((volume.size / SAMPLE_LIMIT) ** (1.0 / 3.0))))
+    volume = volume[::stride, ::stride, ::stride]
+    finite = np.isfinite(volume) if np.issubdtype(volume.dtype, np.floating) else None
+    parts = []
+    for axis in range(3):
+        if finite is None:
+            parts.append(volume.mean(axis=axis, dtype=np.float64).ravel())
+        else:
+            count = finite.sum(axis=axis)
+            total = np.where(finite, volume, 0.0).sum(axis=axis, dtype=np.float64)
+            parts.append((total / np.maximum(count, 1))[count > 0].ravel())
+    return np.concatenate(parts)
 
 
 def _sample(image) -> np.ndarray:
