@@ -127,10 +127,15 @@ def write_animation(path: Union[str, Path], frames: Sequence[np.ndarray], fps: f
 
 def write_turntable(view, frames: int, path: Union[str, Path], fps: float = FPS) -> Path:
     """:func:`turntable_frames` then :func:`write_animation` (the suffix is checked first)."""
-    if Path(path).suffix.lower() not in SUFFIXES:
-        raise ValueError(f"--turntable writes an animation: --out must end in {' or '.join(SUFFIXES)}, "
-                         f"got {Path(path).name!r}")
+    _check_suffix(path, "--turntable")
     return write_animation(path, turntable_frames(view, frames), fps=fps)
+
+
+def _check_suffix(path, option: str) -> None:
+    """Refuse an ``--out`` that is no animation file (before any frame renders)."""
+    if Path(path).suffix.lower() not in SUFFIXES:
+        raise ValueError(f"{option} writes an animation: --out must end in {' or '.join(SUFFIXES)}, "
+                         f"got {Path(path).name!r}")
 
 
 def _reporter(progress, total: int):
@@ -207,7 +212,5 @@ def slab_sweep_frames(view, frames: int, *, progress: Union[bool, Callable[[int,
 
 def write_slab_sweep(view, frames: int, path: Union[str, Path], fps: float = FPS) -> Path:
     """:func:`slab_sweep_frames` then :func:`write_animation` (the suffix is checked first)."""
-    if Path(path).suffix.lower() not in SUFFIXES:
-        raise ValueError(f"--slab-sweep writes an animation: --out must end in {' or '.join(SUFFIXES)}, "
-                         f"got {Path(path).name!r}")
+    _check_suffix(path, "--slab-sweep")
     return write_animation(path, slab_sweep_frames(view, frames), fps=fps)

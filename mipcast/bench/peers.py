@@ -33,6 +33,7 @@ from typing import Callable, Optional, Sequence
 
 import numpy as np
 
+from mipcast.bench.benchmark import interleaved_frame_times
 from mipcast.core.camera_rays import box_interval, index_space, matrix_array, pixel_centres, unproject
 from mipcast.core.ray_cost import grid_cost
 from mipcast.offscreen import OffscreenView
@@ -408,7 +409,8 @@ def measure_peers(image, scene: str, edge: int, view: str = "oblique", window=No
     peers = {f"vispy {m}": VispyView(image, camera, size, m, window, step) for m in methods}
     if "mip" in methods:
         peers[UNCLIPPED] = VispyView(image, camera, size, "mip", window, step, clip=False)
-    times = _interleaved({**views, **peers}, rounds, frames, warmup, report)
+    times = interleaved_frame_times({**views, **peers}, rounds=rounds, frames=frames, warmup=warmup,
+                                    progress=report)  # vispy views have frame_times too
     exact = reference.render(image, camera, size, method="analytic")
     report("reference")
     base = statistics.median(times["stock"])
@@ -445,18 +447,6 @@ def measure_peers(image, scene: str, edge: int, view: str = "oblique", window=No
     for peer in peers.values():
         peer.close()
     return rows
-
-
-def _interleaved(items: dict, rounds: int, frames: int, warmup: int, report) -> dict:
-    """Interleaved frame times of VTK views and vispy views alike (both have ``frame_times``)."""
-    for item in items.values():
-        item.frame_times(frames=0, warmup=warmup)
-    samples: dict = {label: [] for label in items}
-    for number in range(rounds):
-        for label, item in items.items():
-            samples[label].extend(item.frame_times(frames=frames, warmup=0))
-        report(f"timing round {number + 1}/{rounds}")
-    return samples
 
 
 def peers_table(rows: Sequence[dict]) -> str:
@@ -612,7 +602,7 @@ def cost_model(image, edges: Sequence[int] = (128, 256, 384), rates: Sequence[fl
                     items[name] = VispyView(image, camera, size, "mip", (0.0, 1.0), step, clip=clip)
                     counted = vispy_samples(image, camera, size, step, "mip", clip=clip)
                     counts[name] = (counted["rays"], counted["fetches"])
-            times = _interleaved(items, rounds, frames, 2, lambda label: None)
+            times = interleaved_frame_times(items, rounds=rounds, frames=frames, warmup=2)
             for name, item in items.items():
                 points[name].append({"edge": edge, "rate": rate, "rays": counts[name][0],
                                      "samples": counts[name][1], "median_ms": 1000 * statistics.median(times[name])})
