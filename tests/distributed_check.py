@@ -13,7 +13,7 @@ first frame, ``--raise-rank R`` makes it raise: the job must end, not hang.
 ``--max-voxels`` is each rank's texture budget (refused above it).
 
     OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \\
-    PYTHONPATH=$(python tests/installed.py) xvfb-run -a -s "-screen 0 1280x1024x24" \\
+    PYTHONPATH=$(python tests/installed.py) xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" \\
     mpiexec --oversubscribe -n 2 pvbatch --symmetric tests/distributed_check.py --out /tmp/d.json
 """
 import argparse

@@ -2,7 +2,7 @@
 
 Usage (from the repository root, the plugin built by plugin/representation/build.sh)::
 
-    PYTHONPATH=$PWD xvfb-run -a -s "-screen 0 1280x1024x24" pvpython \\
+    PYTHONPATH=$PWD xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" pvpython \\
         tests/paraview_representation_check.py --plugin PATH [--png-dir DIR] [--server HOST:PORT] [--parts a,b]
 
 Writes the "vessels" fixture (48^3) to a .vti, opens it with ParaView's XML

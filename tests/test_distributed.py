@@ -33,12 +33,13 @@ pytestmark = pytest.mark.skipif(bool(missing), reason="needs " + ", ".join(missi
 def display():
     """One private X server for this module's jobs, on a display Xvfb picks itself (-displayfd).
 
-    ``xvfb-run -a`` races with other jobs on a busy machine (two pick one
-    display, and a job loses its X connection mid-run: "bad X server
-    connection"); ``-displayfd`` has the server choose a free display.
+    ``-displayfd`` has the server choose a free display; ``-noreset`` keeps
+    it from resetting when its last client leaves (a rank connecting during
+    a reset fails: "bad X server connection").
     """
     read, write = os.pipe()
-    server = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0", "1280x1024x24", "-nolisten", "tcp"],
+    server = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0", "1280x1024x24", "-nolisten", "tcp",
+                               "-noreset"],
                               pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     os.close(write)
     with os.fdopen(read) as pipe:

@@ -121,10 +121,11 @@ def _env():
     return env
 
 
-def _report(completed):
+def _report(completed, server_log=""):
     lines = [line for line in completed.stdout.splitlines() if line.startswith("{")]
     assert completed.returncode == 0 and lines, (
-        f"exit {completed.returncode}\nstdout:\n{completed.stdout[-3000:]}\nstderr:\n{completed.stderr[-5000:]}")
+        f"exit {completed.returncode}\nstdout:\n{completed.stdout[-3000:]}\nstderr:\n{completed.stderr[-5000:]}"
+        f"\nserver log:\n{server_log[-3000:]}")
     return json.loads(lines[-1])
 
 
@@ -158,7 +159,7 @@ def client_server(plugin, tmp_path_factory):
         log = (pngs / "server.log").read_text() if (pngs / "server.log").exists() else ""
         if completed.returncode == 0 or "bad X server connection" not in log:
             break
-    report = _report(completed)
+    report = _report(completed, "\n".join(line for line in log.splitlines() if "Broken pipe" not in line))
     report["server_log"] = log
     return report
 

@@ -1,9 +1,13 @@
 """Run a command under a private X server (xvfb-run), for the VTK 9.2 / ParaView checks.
 
-``xvfb-run -a`` can occasionally fail to give the client a display on a
-busy machine: VTK then aborts in ``vtkXOpenGLRenderWindow::CreateAWindow``
-("bad X server connection") before any of our code runs.  That one failure
-is retried once; any other failure is returned as it is.
+An X server resets itself when its last client disconnects, and a
+connection attempted during the reset fails: VTK then aborts in
+``vtkXOpenGLRenderWindow::CreateAWindow`` ("bad X server connection").
+With two X clients under one ``xvfb-run`` (pvserver and pvpython), one
+closing its probe window while the other opens its own hit this now and
+then; ``-noreset`` keeps the server up.  A display that still fails
+("bad X server connection") is retried once; any other failure is
+returned as it is.
 """
 import json
 import os
@@ -13,8 +17,9 @@ from pathlib import Path
 
 from installed import ROOT, pvpython_env
 
-#: A 24-bit screen: GLX needs a true-colour visual (xvfb-run's default is 8-bit).
-SERVER = ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24"]
+#: A 24-bit screen (GLX needs a true-colour visual; xvfb-run's default is 8-bit),
+#: never reset between clients.
+SERVER = ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24 -noreset"]
 _NO_DISPLAY = ("bad X server connection", "CreateAWindow", "cannot open display")
 
 

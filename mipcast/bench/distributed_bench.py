@@ -82,7 +82,7 @@ def table(args) -> int:
                    "--size", str(args.size), "--image", *map(str, args.image), "--methods", args.methods,
                    "--frames", str(args.frames), "--warmup", str(args.warmup)]
         if not os.environ.get("DISPLAY") and shutil.which("xvfb-run"):
-            command = ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24"] + command
+            command = ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24 -noreset"] + command
         env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
         done = subprocess.run(command, env=env, capture_output=True, text=True, timeout=1800)
         if done.returncode != 0:
