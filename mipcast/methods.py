@@ -169,10 +169,11 @@ def projection_reference(name: str) -> Callable[..., np.ndarray]:
     """The float64 reference :func:`mipcast.reference.render` of ``name``, in the table's signature.
 
     ``reference(image, camera, size, *, sample_distance=None, window=None,
-    clip_planes=None, component=None)``: sampled projections use
+    clip_planes=None, cropping=None, component=None)``: sampled projections use
     ``sample_distance`` (samples at ``entry + k * sample_distance``), exact
     ones ignore it; ``clip_planes`` is ``(origins, normals)`` in world
-    coordinates; ``component`` as :meth:`~mipcast.MIPVolumeMapper.SetComponent`.
+    coordinates; ``cropping`` is ``(region planes, region flags)`` as VTK's
+    ``SetCroppingRegionPlanes`` / ``GetCroppingRegionFlags()``; ``component`` as :meth:`~mipcast.MIPVolumeMapper.SetComponent`.
 
     Examples
     --------
@@ -182,9 +183,10 @@ def projection_reference(name: str) -> Callable[..., np.ndarray]:
     sampled = "sample_distance" in reference.METHODS[name]
 
     def projection(image, camera, size, *, sample_distance=None, window=None, clip_planes=None,
-                   component=None) -> np.ndarray:
+                   cropping=None, component=None) -> np.ndarray:
         extra = {"sample_distance": sample_distance} if sampled else {}
-        return reference.render(image, camera, size, name, clip_planes=clip_planes, component=component, **extra)
+        return reference.render(image, camera, size, name, clip_planes=clip_planes, cropping=cropping,
+                                component=component, **extra)
 
     projection.__name__ = f"{name}_reference"
     projection.__doc__ = f"The float64 reference of {name!r} (mipcast.reference.render)."
@@ -204,10 +206,11 @@ EXACT_REFERENCES = {"mip": exact_mip_reference, "minip": exact_minip_reference,
 
 
 def demip_reference(image, camera, size, *, sample_distance: float, window, clip_planes=None,
-                    **params) -> np.ndarray:
+                    cropping=None, **params) -> np.ndarray:
     """DEMIP's float readout (the ray's value) in float64."""
     return reference.render(image, camera, size, "demip", sample_distance=sample_distance,
-                            window=window, output="value", clip_planes=clip_planes, **params)
+                            window=window, output="value", clip_planes=clip_planes, cropping=cropping,
+                            **params)
 
 
 _DEMIP_BENCH = (

@@ -83,7 +83,16 @@ vec3 mcPlanesAfter(McRay ray, float t)
 // where it leaves the point bounds or reaches the depth-buffer end; with
 // clipping planes, a cropping box or a slab (mcClipRange) the walk runs
 // exactly from the clipped entry (start) to the clipped exit (length), and a
-// ray with nothing left draws nothing.
+// ray with nothing left draws nothing. With cropping regions (clip_regions)
+// a ray none of whose pieces between the cropping planes is visible draws
+// nothing, and mcWalkCell hands only the visible pieces of each cell to the
+// hook.
+#ifdef MC_CROP_REGIONS
+// The cropping planes in index space (set in mcBeginRay).
+vec3 mc_cropLowIndex;
+vec3 mc_cropHighIndex;
+#endif
+
 McRay mcBeginRay()
 {
   McRay ray;
@@ -111,6 +120,14 @@ McRay mcBeginRay()
   ray.still = lessThan(abs(ray.dir), vec3(1.0e-20));
   ray.tDelta = mix(1.0 / max(abs(ray.dir), vec3(1.0e-20)), vec3(1.0e30), vec3(ray.still));
   ray.lastCell = ivec3(dims) - 2;
+#ifdef MC_CROP_REGIONS
+  mc_cropLowIndex = u_mc_cropLow * dims - 0.5;
+  mc_cropHighIndex = u_mc_cropHigh * dims - 0.5;
+  if (!mcCropAnyVisible(ray.origin, ray.dir, mc_cropLowIndex, mc_cropHighIndex, ray.start, ray.length))
+  {
+    discard;  // the ray crosses hidden cropping regions only
+  }
+#endif
   return ray;
 }
 
@@ -143,7 +160,26 @@ void mcWalkCell(McRay ray, ivec3 cell, float t1, inout float t0, inout vec3 tNex
   vec4 hi;
   mcCellCorners(cell, lo, hi);
   mc_cellsWalked += 1.0;
+#ifdef MC_CROP_REGIONS
+  // Cropping regions (clip_regions): the segment split at the cropping
+  // planes (at most 6 cuts), each visible piece to the hook.
+  float a = t0;
+  for (int piece = 0; piece < 7; ++piece)
+  {
+    float b = mcCropNextCut(ray.origin, ray.dir, mc_cropLowIndex, mc_cropHighIndex, a, t1);
+    if (mcCropRegionVisible(ray.origin + (0.5 * (a + b)) * ray.dir, mc_cropLowIndex, mc_cropHighIndex))
+    {
+      mcCell(lo, hi, ray.origin + a * ray.dir - vec3(cell), (b - a) * ray.dir, b - a, rayMax);
+    }
+    a = b;
+    if (a >= t1)
+    {
+      break;
+    }
+  }
+#else
   mcCell(lo, hi, ray.origin + t0 * ray.dir - vec3(cell), (t1 - t0) * ray.dir, t1 - t0, rayMax);
+#endif
   tNext += ray.tDelta * vec3(lessThanEqual(tNext, vec3(t1 * (1.0 + 1.0e-6) + 1.0e-7)));
   t0 = t1;
 }

@@ -34,6 +34,10 @@
 // Clipping (planes, cropping box, slab; mcClipRange): the ray keeps the
 // unclipped ray's sample positions and marches only the samples inside the
 // kept interval (first > 0 then); a ray with none left draws nothing.
+// Cropping regions other than the sub-volume (the clip_regions piece defines
+// MC_CROP_REGIONS): both marches skip the samples in hidden regions (the
+// hooks never see them; indices i keep their positions), and a ray without
+// a visible sample draws nothing.
 // Per-sample work is the hooks' only: every lane of a SIMD group runs the
 // same loop (llvmpipe runs lanes in lockstep).
 // Bricks of a distributed volume (mipcast.distributed): with the
@@ -68,6 +72,27 @@
   }
 #endif
   mcBeginRay(mc_first, mc_count);
+#ifdef MC_CROP_REGIONS
+  bool mc_seen = false;
+  for (int mc_i = mc_first; mc_i < mc_count; ++mc_i)
+  {
+    vec3 mc_at = mc_base + float(mc_i) * g_dirStep;
+    if (!mcCropVisible(mc_at))
+    {
+      continue;  // a hidden cropping region: the sample does not count
+    }
+    mc_seen = true;
+    if (!mcSample(texture3D(in_volume[0], mc_at).r, mc_i))
+    {
+      mc_count = mc_i;
+      break;
+    }
+  }
+  if (!mc_seen)
+  {
+    discard;  // no sample in a visible cropping region
+  }
+#else
   for (int mc_i = mc_first; mc_i < mc_count; ++mc_i)
   {
     if (!mcSample(texture3D(in_volume[0], mc_base + float(mc_i) * g_dirStep).r, mc_i))
@@ -76,6 +101,7 @@
       break;
     }
   }
+#endif
 #ifdef MC_SECOND_MARCH
   int mc_from = mc_first;
   int mc_to = mc_count;
@@ -84,6 +110,12 @@
     int mc_found = -1;
     for (int mc_j = mc_from; mc_j < mc_to; ++mc_j)
     {
+#ifdef MC_CROP_REGIONS
+      if (!mcCropVisible(mc_base + float(mc_j) * g_dirStep))
+      {
+        continue;
+      }
+#endif
       if (mcSecondSample(texture3D(in_volume[0], mc_base + float(mc_j) * g_dirStep).r, mc_j))
       {
         mc_found = mc_j;

@@ -197,3 +197,61 @@ def region_extent(rows: np.ndarray, upper: Sequence[float], to_eye: np.ndarray) 
     distance = -vertices[:, 2]
     return (float(distance.min()), float(distance.max()),
             float(np.linalg.norm(candidates, axis=1).min()), float(np.linalg.norm(vertices, axis=1).max()))
+
+
+# -- cropping regions ---------------------------------------------------------------
+#: VTK's ``GetCroppingRegionFlags()`` of the sub-volume (``SetCroppingRegionFlagsToSubVolume``):
+#: bit 13, the centre region.  mipcast crops to it with the box's six planes (:func:`box_planes`).
+SUBVOLUME_FLAGS = 0x2000
+#: Every one of the 27 regions (no region hidden).
+ALL_REGIONS = (1 << 27) - 1
+
+
+def crop_box(bounds: Sequence[float], transform: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """The cropping planes ``(x0, x1, y0, y1, z0, z1)`` (data coordinates) in another space.
+
+    ``transform`` (4x4, data -> index or texture coordinates) maps the
+    corners ``(x0, y0, z0)`` and ``(x1, y1, z1)``; returns their images
+    ``(low, high)`` (3,) each: the planes are ``p_a = low_a`` and
+    ``p_a = high_a`` on axis ``a`` there.
+
+    Examples
+    --------
+    >>> low, high = crop_box((1, 3, 0, 2, 4, 5), np.diag([2.0, 1.0, 1.0, 1.0]))
+    >>> low.tolist(), high.tolist()
+    ([2.0, 0.0, 4.0], [6.0, 2.0, 5.0])
+    """
+    b = _vector("cropping region planes", bounds, 6)
+    transform = np.asarray(transform, dtype=np.float64)
+    corners = np.array([[b[0], b[2], b[4], 1.0], [b[1], b[3], b[5], 1.0]]) @ transform.T
+    corners = corners[:, :3] / corners[:, 3:]
+    return corners[0], corners[1]
+
+
+def crop_region(points: np.ndarray, low: np.ndarray, high: np.ndarray) -> np.ndarray:
+    """VTK's cropping region number (bit index, 0..26) of each point (N, 3).
+
+    Per axis ``a``: 0 below ``low_a``, 1 from ``low_a`` up to (not including)
+    ``high_a``, 2 from ``high_a`` on (VTK's GPU ray caster's rule); the
+    region is ``i + 3 j + 9 k``, the bit of ``GetCroppingRegionFlags()``
+    that makes it visible.
+
+    Examples
+    --------
+    >>> crop_region(np.array([[0.5, 0.5, 0.5], [2.0, 0.5, 0.5], [-1, -1, 9]]), np.zeros(3), np.ones(3)).tolist()
+    [13, 14, 18]
+    """
+    points = np.asarray(points, dtype=np.float64)
+    code = (points >= low).astype(np.int64) + (points >= high)
+    return code[..., 0] + 3 * code[..., 1] + 9 * code[..., 2]
+
+
+def crop_visible(points: np.ndarray, low: np.ndarray, high: np.ndarray, flags: int) -> np.ndarray:
+    """Whether each point (N, 3) lies in a region whose bit is set in ``flags``.
+
+    Examples
+    --------
+    >>> crop_visible(np.array([[0.5, 0.5, 0.5], [2.0, 0.5, 0.5]]), np.zeros(3), np.ones(3), 0x2000).tolist()
+    [True, False]
+    """
+    return ((int(flags) >> crop_region(points, low, high)) & 1).astype(bool)

@@ -1,11 +1,11 @@
-"""The planes every mipcast mapper clips its rays with, as shader uniforms.
+"""The planes and cropping regions every mipcast mapper clips its rays with, as shader uniforms.
 
 One list of planes per render, in world coordinates (:mod:`mipcast.core.clipping`):
 
 * the mapper's clipping planes (``AddClippingPlane``; at most six, as in VTK);
-* its cropping box (``SetCropping(True)``, ``SetCroppingRegionPlanes`` in
-  the image's data coordinates); only the sub-volume region flags
-  (``SetCroppingRegionFlagsToSubVolume()``, VTK's default) are supported;
+* its cropping box with the sub-volume flags (``SetCropping(True)``,
+  ``SetCroppingRegionPlanes`` in the image's data coordinates,
+  ``SetCroppingRegionFlagsToSubVolume()``, VTK's default): its six faces;
 * its slab (``SetSlabThickness``, ``SetSlabCentre``, ``SetSlabNormal``; the
   centre defaults to the camera's focal point, the normal to the view
   direction, both read at every render).
@@ -16,6 +16,17 @@ numbers, it never rebuilds the shader) in texture coordinates; the loops (``samp
 narrow each ray to the kept interval once per ray (``mcClipRange`` in
 ``mip_globals``).  VTK's own clipping code is switched off (``clipping_off``:
 it moves the ray's start, which would shift mipcast's samples).
+
+Any other cropping region flags (``SetCroppingRegionFlagsToFence()``,
+``...Cross()``, any of the 2^27 values of ``SetCroppingRegionFlags``) are
+regions, not planes: the six cropping planes cut the volume into 27 regions
+and region ``(i, j, k)`` (per axis 0 below the first plane, 1 from it up to
+the second, 2 from the second on) is visible where bit ``i + 3 j + 9 k`` of
+the flags is set.  They go up as ``u_mc_cropFlags`` (int) and
+``u_mc_cropLow`` / ``u_mc_cropHigh`` (the planes in texture coordinates,
+:func:`crop_uniforms`) with the ``clip_regions`` piece (instead of
+``clip_active``): the sampled loop skips the samples of hidden regions, the
+cell walk takes only the visible pieces of each cell's segment.
 """
 from __future__ import annotations
 
@@ -24,10 +35,9 @@ from typing import Optional
 import numpy as np
 
 from mipcast.core.camera_rays import index_space, matrix_array
-from mipcast.core.clipping import MAX_PLANES, box_planes, plane_rows, region_extent, slab_planes
+from mipcast.core.clipping import (MAX_PLANES, SUBVOLUME_FLAGS, box_planes, crop_box, plane_rows, region_extent,
+                                   slab_planes)
 
-#: VTK's value of ``GetCroppingRegionFlags()`` for the sub-volume (the only one supported).
-SUBVOLUME_FLAGS = 0x2000
 #: Most user clipping planes (VTK's limit).
 MAX_USER_PLANES = 6
 
@@ -35,25 +45,54 @@ MAX_USER_PLANES = 6
 def clipping_problem(mapper) -> Optional[str]:
     """Why the mapper's clipping planes or cropping cannot be honoured, or ``None``.
 
+    More than six clipping planes are refused (VTK's limit); every cropping
+    region flag value is honoured.
+
     Examples
     --------
     >>> from mipcast.mappers.mip import MIPVolumeMapper
     >>> mapper = MIPVolumeMapper()
+    >>> mapper.SetCropping(True); mapper.SetCroppingRegionFlagsToFence()
     >>> clipping_problem(mapper) is None
     True
-    >>> mapper.SetCropping(True); mapper.SetCroppingRegionFlagsToFence()
-    >>> print(clipping_problem(mapper))  # doctest: +ELLIPSIS
-    cropping region flags 0x...: mipcast methods crop to the sub-volume only ...
     """
     planes = mapper.GetClippingPlanes()
     if planes is not None and planes.GetNumberOfItems() > MAX_USER_PLANES:
         return (f"{planes.GetNumberOfItems()} clipping planes: mipcast methods (as VTK's GPU mapper) "
                 f"take at most {MAX_USER_PLANES}; remove some with RemoveClippingPlane")
-    if mapper.GetCropping() and mapper.GetCroppingRegionFlags() != SUBVOLUME_FLAGS:
-        return (f"cropping region flags {mapper.GetCroppingRegionFlags():#x}: mipcast methods crop to the "
-                "sub-volume only (one box, every ray's part inside it exactly); call "
-                "SetCroppingRegionFlagsToSubVolume(), or use clipping planes")
     return None
+
+
+def crops_regions(mapper) -> bool:
+    """Whether the mapper crops with region flags other than the sub-volume (the ``clip_regions`` piece).
+
+    Examples
+    --------
+    >>> from mipcast.mappers.mip import MIPVolumeMapper
+    >>> mapper = MIPVolumeMapper()
+    >>> mapper.SetCropping(True)
+    >>> crops_regions(mapper)
+    False
+    >>> mapper.SetCroppingRegionFlagsToInvertedCross()
+    >>> crops_regions(mapper)
+    True
+    """
+    return bool(mapper.GetCropping()) and mapper.GetCroppingRegionFlags() != SUBVOLUME_FLAGS
+
+
+def crop_uniforms(mapper, image) -> dict:
+    """``u_mc_cropFlags`` and ``u_mc_cropLow`` / ``u_mc_cropHigh``: the region flags and the
+    cropping planes in texture coordinates (see the module doc)."""
+    low, high = crop_box(mapper.GetCroppingRegionPlanes(), data_to_texture(image))
+    return {"u_mc_cropFlags": int(mapper.GetCroppingRegionFlags()) & ((1 << 27) - 1),
+            "u_mc_cropLow": tuple(float(v) for v in low), "u_mc_cropHigh": tuple(float(v) for v in high)}
+
+
+def push_crop(uniforms, values: dict) -> None:
+    """Upload :func:`crop_uniforms`."""
+    uniforms.SetUniformi("u_mc_cropFlags", int(values["u_mc_cropFlags"]))
+    uniforms.SetUniform3f("u_mc_cropLow", list(values["u_mc_cropLow"]))
+    uniforms.SetUniform3f("u_mc_cropHigh", list(values["u_mc_cropHigh"]))
 
 
 def world_planes(mapper, camera) -> tuple:
@@ -159,10 +198,14 @@ def data_to_texture(image) -> np.ndarray:
 
 
 def texture_rows(mapper, image, volume, camera) -> np.ndarray:
-    """Every plane the mapper clips with now, as texture-space rows (P, 4) (see the module doc)."""
+    """Every plane the mapper clips with now, as texture-space rows (P, 4) (see the module doc).
+
+    The cropping box is among them with the sub-volume flags only (other
+    flags crop by regions: :func:`crop_uniforms`).
+    """
     origins, normals = world_planes(mapper, camera)
     rows = [plane_rows(origins, normals, world_to_texture(image, volume))]
-    if mapper.GetCropping():
+    if mapper.GetCropping() and not crops_regions(mapper):
         rows.append(plane_rows(*box_planes(mapper.GetCroppingRegionPlanes()), data_to_texture(image)))
     rows = np.concatenate(rows, axis=0)
     # scale each row to unit normal length: keeps float32 comparisons well conditioned

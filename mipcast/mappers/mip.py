@@ -262,10 +262,11 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
 
     def _pieces_now(self, volume) -> tuple:
         """:meth:`GetShaderPieces`, plus the stereo piece while an eye of a stereo pair renders and
-        ``clip_active`` while something clips (planes, cropping, a slab)."""
+        ``clip_active`` while something clips (planes, cropping, a slab); ``clip_regions`` instead
+        while it crops with region flags other than the sub-volume."""
         names = tuple(self.GetShaderPieces())
         if self._clips():
-            names += ("clip_active",)
+            names += ("clip_regions" if clip_uniforms.crops_regions(self) else "clip_active",)
         return names + (STEREO_PIECE,) if eye_uniforms(self, volume) is not None else names
 
     def _clips(self) -> bool:
@@ -383,6 +384,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
             camera = renderer.GetActiveCamera() if renderer is not None else object_state(self).get("clip_camera")
         rows = clip_uniforms.texture_rows(self, self.GetInput(), volume, camera)
         clip_uniforms.push(uniforms, rows)
+        if clip_uniforms.crops_regions(self):
+            clip_uniforms.push_crop(uniforms, clip_uniforms.crop_uniforms(self, self.GetInput()))
         clip_uniforms.push_slab(uniforms, clip_uniforms.slab_uniforms(self, self.GetInput(), volume, camera))
 
     def _derived_settings(self) -> dict:

@@ -19,7 +19,7 @@ from mipcast.core.validation import check_choice, check_positive, check_size
 from mipcast.reference.demip import render_demip
 from mipcast.reference.mip import (exact_maximum, exact_mean, exact_minimum, sampled_maximum, sampled_mean,
                                    sampled_minimum)
-from mipcast.reference.rays import BUDGET, RAY_CHUNK, clip_interval, hit_rays, scatter
+from mipcast.reference.rays import BUDGET, RAY_CHUNK, clip_interval, cropping_setup, hit_rays, scatter
 
 #: Parameters each method accepts; all of them are required ("demip" also
 #: takes optional ones: :data:`mipcast.reference.demip.PARAMETERS`).
@@ -32,7 +32,7 @@ _KERNELS = {"mip": sampled_maximum, "analytic": exact_maximum, "minip": sampled_
 
 
 def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
-           clip_planes=None, **params: Any) -> np.ndarray:
+           clip_planes=None, cropping=None, **params: Any) -> np.ndarray:
     """Render a maximum (minimum, mean) intensity projection in float64 on the CPU.
 
     Parameters
@@ -80,6 +80,17 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
         (where ``normal . (x - origin) >= 0``) counts; ``"mip"`` keeps the
         unclipped ray's sample positions.  Slabs and cropping boxes are planes
         too (:mod:`mipcast.core.clipping`).  NaN where nothing of the ray is left.
+    cropping : (bounds, flags), optional
+        VTK's cropping: ``bounds`` the six ``SetCroppingRegionPlanes`` (data
+        coordinates), ``flags`` ``GetCroppingRegionFlags()``.  The planes cut
+        the volume into 27 regions; region ``(i, j, k)`` (0 below the first
+        plane of an axis, 1 from it up to the second, 2 from the second on)
+        is visible where bit ``i + 3 j + 9 k`` of ``flags`` is set.  Sampled
+        methods keep only the samples in visible regions; the exact ones
+        split each cell's segment at the cropping planes and take the
+        maximum (minimum, integral and length) over the visible pieces.
+        The sub-volume (``0x2000``) is the box's six planes, as
+        ``clip_planes``.  NaN where no sample (no piece) is visible.
     **params
         ``sample_distance : float`` (method ``"mip"``, required): distance
         between samples in world units, > 0 (also ``"minip"``, ``"average"``).
@@ -128,7 +139,8 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     width, height = check_size(size)
     method = check_choice("method", method, tuple(METHODS))
     if method == "demip":  # depth, colour or maximum: see mipcast.reference.demip
-        return render_demip(image, camera, (width, height), clip_planes=clip_planes, component=component, **params)
+        return render_demip(image, camera, (width, height), clip_planes=clip_planes, cropping=cropping,
+                            component=component, **params)
     allowed = METHODS[method]
     unknown = sorted(set(params) - set(allowed))
     if unknown:
@@ -144,6 +156,7 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     if prepared.missing and method not in ("mip", "analytic"):
         raise InputError(f"method {method!r} cannot take missing values yet ({prepared.missing} NaN/Inf "
                          "voxels; missing data is defined for maximum projections only): replace them first")
+    clip_planes, crop = cropping_setup(image, cropping, clip_planes)
     hit, entry, direction, length = hit_rays(image, camera, (width, height))
     values = np.array(prepared.values, dtype=np.float64)
     lo, hi = clip_interval(image, entry, direction, length, clip_planes, within_box=not sampled)
@@ -161,9 +174,9 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
         part = slice(start, start + chunk)
         if sampled:
             found[part] = kernel(values, entry[part], direction[part], length[part], step,
-                                 keep=(lo[part], hi[part]))
+                                 keep=(lo[part], hi[part]), crop=crop)
         else:
-            found[part] = kernel(values, entry[part], direction[part], length[part])
+            found[part] = kernel(values, entry[part], direction[part], length[part], crop=crop)
     # clipped away, or rays that saw no finite data (below the finite minimum): background
     found[(lo > hi) | ~np.isfinite(found) | (found < prepared.missing_below)] = np.nan
     return scatter(found, hit, height, width)

@@ -17,12 +17,12 @@ import numpy as np
 
 from mipcast.core.camera_rays import index_space, matrix_array
 from mipcast.core.parameter_tables import DEMIP
-from mipcast.core.clipping import plane_rows, ray_interval, region_extent, slab_planes
+from mipcast.core.clipping import crop_visible, plane_rows, ray_interval, region_extent, slab_planes
 from mipcast.core.parameters import check_values
 from mipcast.core.shading import FLOOR_TOLERANCE, chroma_color, sphere_color
 from mipcast.core.prepare import prepare_scalars
 from mipcast.core.validation import check_choice, check_positive, check_size
-from mipcast.reference.rays import BUDGET, clip_interval, hit_rays, scatter, trilinear
+from mipcast.reference.rays import BUDGET, clip_interval, cropping_setup, hit_rays, scatter, trilinear
 
 #: What :func:`render_demip` can return.
 OUTPUTS = ("depth", "rgb", "value")
@@ -32,7 +32,7 @@ OUTPUTS = ("depth", "rgb", "value")
 SCENE_PARAMETERS = {"sample_distance": None, "window": None, "output": "depth"}
 
 
-def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=None,
+def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=None, cropping=None,
                  **params: Any) -> np.ndarray:
     """Depth-enhanced MIP in float64: depth, final colour or maximum per pixel.
 
@@ -55,6 +55,13 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
         orientation: :func:`mipcast.core.clipping.region_extent`), and
         ``steps`` / ``entry_plus_length`` measure from where the ray enters
         the slab instead of the box.
+    cropping : (bounds, flags), optional
+        VTK's cropping regions, as in :func:`mipcast.reference.render`: only
+        samples in visible regions count (the maximum, the same-material
+        search, LMIP, attenuation and MIDA see the visible samples only).
+        Depth is normalised as without cropping (over the box, or its part
+        inside the slab), and ``steps`` / ``entry_plus_length`` measure from
+        the box (slab) entry.
     **params
         ``sample_distance : float`` (required): world units between samples,
         placed as in ``method="mip"`` (``t_enter + k * sample_distance``,
@@ -129,6 +136,7 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
     local = local if projection == "lmip" else np.inf
     voxels_per_step = step / min(abs(v) for v in image.GetSpacing())
 
+    clip_planes, crop = cropping_setup(image, cropping, clip_planes)
     hit, entry, direction, length = hit_rays(image, camera, (width, height))
     values = np.array(prepared.values, dtype=np.float64)
     lo, hi = clip_interval(image, entry, direction, length, clip_planes, within_box=False)
@@ -140,7 +148,7 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
     chunk = max(1, BUDGET // max(1, int(count.max(initial=1))))
     for start in range(0, len(count), chunk):
         part = slice(start, start + chunk)
-        sample, valid = _samples(values, entry[part], direction[part], count[part], step)
+        sample, valid = _samples(values, entry[part], direction[part], count[part], step, crop)
         if clip_planes is not None:
             at = np.arange(1, sample.shape[1] + 1)[None, :] * step
             valid = valid & (at >= lo[part, None]) & (at <= hi[part, None])
@@ -200,12 +208,16 @@ def _window(window: Any) -> tuple:
     return low, high
 
 
-def _samples(values, entry, direction, count, step) -> tuple:
-    """Trilinear samples (N, K) at ``k * step``, k = 1..K, and which of them exist."""
+def _samples(values, entry, direction, count, step, crop=None) -> tuple:
+    """Trilinear samples (N, K) at ``k * step``, k = 1..K, and which of them exist (and are visible:
+    ``crop``, :func:`mipcast.core.clipping.crop_visible`)."""
     k = np.arange(1, int(count.max()) + 1)
     position = entry[:, None, :] + (k[:, None] * step) * direction[:, None, :]
     sample = trilinear(values, position.reshape(-1, 3)).reshape(len(count), len(k))
-    return sample, k[None, :] <= count[:, None]
+    valid = k[None, :] <= count[:, None]
+    if crop is not None:
+        valid &= crop_visible(position, *crop)
+    return sample, valid
 
 
 def _local(sample, valid, local) -> np.ndarray:

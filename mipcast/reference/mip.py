@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from mipcast.core.clipping import crop_visible
 from mipcast.reference.rays import BUDGET, cells, gather, trilinear
 
 
@@ -18,10 +19,12 @@ def _sample_count(length: np.ndarray, step: float) -> np.ndarray:
 
 
 def _sampled_reduce(values: np.ndarray, entry: np.ndarray, direction: np.ndarray, length: np.ndarray,
-                    step: float, reduce: np.ufunc, empty: float, keep=None) -> tuple:
+                    step: float, reduce: np.ufunc, empty: float, keep=None, crop=None) -> tuple:
     """``reduce`` (np.maximum, np.minimum, np.add) over the samples ``entry + k * step``, k = 1..K.
 
     ``keep = (lo, hi)`` (N,): only samples with ``lo <= k * step <= hi`` count.
+    ``crop = (low, high, flags)`` (index space, :func:`mipcast.core.clipping.crop_visible`):
+    only samples in a visible cropping region count.
     Returns the reduction (``empty`` where no sample counted) and the number of
     samples that counted.
     """
@@ -38,6 +41,8 @@ def _sampled_reduce(values: np.ndarray, entry: np.ndarray, direction: np.ndarray
         if keep is not None:  # a clipped ray keeps the unclipped ray's sample positions
             at = k * step
             valid &= (at >= keep[0][rows, None]) & (at <= keep[1][rows, None])
+        if crop is not None:  # a sample in a hidden cropping region does not count
+            valid &= crop_visible(position, *crop)
         sample[~valid] = empty
         best[rows] = reduce(best[rows], reduce.reduce(sample, axis=1))
         used[rows] += valid.sum(axis=1)
@@ -46,30 +51,33 @@ def _sampled_reduce(values: np.ndarray, entry: np.ndarray, direction: np.ndarray
 
 
 def sampled_maximum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-                    length: np.ndarray, step: float, keep=None) -> np.ndarray:
+                    length: np.ndarray, step: float, keep=None, crop=None) -> np.ndarray:
     """VTK-style sampled maximum along rays starting at their box entry (``-inf``: no sample kept)."""
-    return _sampled_reduce(values, entry, direction, length, step, np.maximum, -np.inf, keep)[0]
+    return _sampled_reduce(values, entry, direction, length, step, np.maximum, -np.inf, keep, crop)[0]
 
 
 def sampled_minimum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-                    length: np.ndarray, step: float, keep=None) -> np.ndarray:
+                    length: np.ndarray, step: float, keep=None, crop=None) -> np.ndarray:
     """VTK-style sampled minimum (MINIMUM_INTENSITY blend) along rays starting at their box entry."""
-    return _sampled_reduce(values, entry, direction, length, step, np.minimum, np.inf, keep)[0]
+    return _sampled_reduce(values, entry, direction, length, step, np.minimum, np.inf, keep, crop)[0]
 
 
 def sampled_mean(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-                 length: np.ndarray, step: float, keep=None) -> np.ndarray:
+                 length: np.ndarray, step: float, keep=None, crop=None) -> np.ndarray:
     """Mean of the same samples (VTK's AVERAGE_INTENSITY blend, every sample in range, opaque)."""
-    total, used = _sampled_reduce(values, entry, direction, length, step, np.add, 0.0, keep)
+    total, used = _sampled_reduce(values, entry, direction, length, step, np.add, 0.0, keep, crop)
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(used > 0, total / np.maximum(used, 1), np.nan)
 
 
-def _crossings(entry: np.ndarray, direction: np.ndarray, length: np.ndarray) -> np.ndarray:
+def _crossings(entry: np.ndarray, direction: np.ndarray, length: np.ndarray, crop=None) -> np.ndarray:
     """Sorted ray parameters of box entry, exit and all grid-plane crossings.
 
     Returns an (N, S) array with ``0`` and ``length`` included, padded with
     ``inf``; consecutive finite values bound the segments of single cells.
+    With ``crop = (low, high, flags)`` the crossings of the six cropping
+    planes (index space) are among them: each segment then lies in one
+    cell and one cropping region.
     """
     exit_ = entry + length[:, None] * direction
     low = np.ceil(np.minimum(entry, exit_))
@@ -82,6 +90,12 @@ def _crossings(entry: np.ndarray, direction: np.ndarray, length: np.ndarray) -> 
             t = (plane - entry[:, axis, None]) / direction[:, axis, None]
             t = np.clip(t, 0.0, length[:, None])
             columns.append(np.where(np.arange(t.shape[1]) < count[:, axis, None], t, np.inf))
+        if crop is not None:
+            for axis in range(3):
+                for plane in (crop[0][axis], crop[1][axis]):
+                    t = (plane - entry[:, axis]) / direction[:, axis]
+                    inside = np.isfinite(t) & (t > 0.0) & (t < length)
+                    columns.append(np.where(inside, t, np.inf)[:, None])
     return np.sort(np.concatenate(columns, axis=1), axis=1)
 
 
@@ -95,20 +109,25 @@ def _lerp_poly(low: list, high: list, w0: np.ndarray, dw: np.ndarray) -> list:
 
 
 def _cell_cubics(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-                 length: np.ndarray) -> tuple:
+                 length: np.ndarray, crop=None) -> tuple:
     """Per crossed cell segment, the cubic ``((a s + b) s + c) s + d`` (s in [0, 1]) of the interpolant.
 
-    Returns ``(a, b, c, d, span, starts)``: coefficients and length (world
-    units) of each segment, and the index of each ray's first segment (the
-    segments of ray r are ``starts[r]`` up to ``starts[r + 1]``).
+    Returns ``(a, b, c, d, span, starts, visible)``: coefficients and length
+    (world units) of each segment, the index of each ray's first segment (the
+    segments of ray r are ``starts[r]`` up to ``starts[r + 1]``), and whether
+    each segment counts: with ``crop = (low, high, flags)`` the segments are
+    also split at the cropping planes and a segment counts where its
+    midpoint's cropping region is visible (all count without ``crop``).
     """
-    bounds = _crossings(entry, direction, length)
+    bounds = _crossings(entry, direction, length, crop)
     valid = np.isfinite(bounds[:, 1:])
     ray, column = np.nonzero(valid)
     t0, t1 = bounds[ray, column], bounds[ray, column + 1]
     start = entry[ray] + t0[:, None] * direction[ray]
     stop = entry[ray] + t1[:, None] * direction[ray]
-    cell = cells(values, 0.5 * (start + stop))
+    middle = 0.5 * (start + stop)
+    cell = cells(values, middle)
+    visible = np.ones(len(t0), bool) if crop is None else crop_visible(middle, *crop)
     u0 = np.clip(start - cell, 0.0, 1.0)
     du = np.clip(stop - cell, 0.0, 1.0) - u0
 
@@ -118,13 +137,14 @@ def _cell_cubics(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
                           u0[:, axis, None], du[:, axis, None])
     d, c, b, a = (p[:, 0] for p in poly)
     starts = np.concatenate([[0], np.cumsum(valid.sum(axis=1))[:-1]])
-    return a, b, c, d, t1 - t0, starts
+    return a, b, c, d, t1 - t0, starts, visible
 
 
 def exact_maximum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-           length: np.ndarray) -> np.ndarray:
-    """Exact maximum of the trilinear interpolant along each ray segment."""
-    a, b, c, d, _, starts = _cell_cubics(values, entry, direction, length)
+                  length: np.ndarray, crop=None) -> np.ndarray:
+    """Exact maximum of the trilinear interpolant along each ray segment
+    (over its visible cropping regions' pieces with ``crop``; ``-inf`` where none is)."""
+    a, b, c, d, _, starts, visible = _cell_cubics(values, entry, direction, length, crop)
     best = np.maximum(d, ((a + b) + c) + d)
     qa, qb = 3.0 * a, 2.0 * b
     disc = qb * qb - 4.0 * qa * c
@@ -134,27 +154,33 @@ def exact_maximum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
             inside = (disc >= 0) & (root > 0) & (root < 1)
             s = np.where(inside, root, 0.0)
             best = np.where(inside, np.maximum(best, ((a * s + b) * s + c) * s + d), best)
-    return np.maximum.reduceat(best, starts)
+    return np.maximum.reduceat(np.where(visible, best, -np.inf), starts)
 
 
 def exact_minimum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-                  length: np.ndarray) -> np.ndarray:
+                  length: np.ndarray, crop=None) -> np.ndarray:
     """Exact minimum of the trilinear interpolant along each ray: minus the maximum of its negation
     (negation is exact, and the negated cubics are the cubics of the negated corners)."""
-    return -exact_maximum(-values, entry, direction, length)
+    return -exact_maximum(-values, entry, direction, length, crop)
 
 
 def exact_mean(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-               length: np.ndarray) -> np.ndarray:
+               length: np.ndarray, crop=None) -> np.ndarray:
     """Exact mean of the trilinear interpolant along each ray inside the volume.
 
     The integral of each cell's cubic over its segment is
     ``(d + c / 2 + b / 3 + a / 4) * span``; the mean is the sum over the
     ray's cells divided by its length.  A ray of zero length (touching an
-    edge) gets the value at its entry.
+    edge) gets the value at its entry.  With ``crop``: the integral over the
+    visible pieces divided by their length (the entry of the first visible
+    piece if that length is 0; NaN where no piece is visible).
     """
-    a, b, c, d, span, starts = _cell_cubics(values, entry, direction, length)
-    integral = np.add.reduceat((d + c / 2.0 + b / 3.0 + a / 4.0) * span, starts)
-    total = np.add.reduceat(span, starts)
+    a, b, c, d, span, starts, visible = _cell_cubics(values, entry, direction, length, crop)
+    integral = np.add.reduceat(np.where(visible, (d + c / 2.0 + b / 3.0 + a / 4.0) * span, 0.0), starts)
+    total = np.add.reduceat(np.where(visible, span, 0.0), starts)
+    # the first visible segment of each ray (its first segment without cropping)
+    index = np.arange(len(d))
+    first = np.minimum.reduceat(np.where(visible, index, len(d)), starts)
+    entry_value = np.where(first < len(d), d[np.minimum(first, len(d) - 1)], np.nan)
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(total > 0, integral / np.where(total > 0, total, 1.0), d[starts])
+        return np.where(total > 0, integral / np.where(total > 0, total, 1.0), entry_value)

@@ -13,7 +13,7 @@ from numpy.lib.stride_tricks import as_strided
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.core.camera_rays import camera_rays, index_space
-from mipcast.core.clipping import plane_rows, ray_interval
+from mipcast.core.clipping import SUBVOLUME_FLAGS, box_planes, crop_box, plane_rows, ray_interval
 
 #: Rays per chunk of the sampled reference.
 RAY_CHUNK = 65536
@@ -101,3 +101,46 @@ def clip_interval(image, entry: np.ndarray, direction: np.ndarray, length: np.nd
     to_index, _ = index_space(image)
     rows = plane_rows(origins, normals, to_index)
     return ray_interval(entry, direction, low, high, rows)
+
+
+def cropping_setup(image, cropping, clip_planes) -> tuple:
+    """VTK's cropping for the references: ``(clip_planes, crop)``.
+
+    ``cropping`` is ``(bounds, flags)``: ``SetCroppingRegionPlanes`` (six
+    numbers, data coordinates) and ``GetCroppingRegionFlags()``, or ``None``.
+    The sub-volume (flags ``0x2000``) is the box's six planes, appended to
+    ``clip_planes`` (as the mappers clip with it); other flags give ``crop =
+    (low, high, flags)``, the planes in index space for
+    :func:`mipcast.core.clipping.crop_visible` (``None``: no cropping).
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkCommonDataModel import vtkImageData
+    >>> image = vtkImageData()
+    >>> image.SetDimensions(5, 5, 5)
+    >>> image.SetSpacing(2.0, 1.0, 1.0)
+    >>> planes, crop = cropping_setup(image, ((1, 3, 1, 3, 1, 3), 0x1), None)
+    >>> planes is None, crop[0].tolist(), crop[1].tolist(), crop[2]
+    (True, [0.5, 1.0, 1.0], [1.5, 3.0, 3.0], 1)
+    >>> planes, crop = cropping_setup(image, ((1, 3, 1, 3, 1, 3), 0x2000), None)
+    >>> len(planes[0]), crop
+    (6, None)
+    """
+    if cropping is None:
+        return clip_planes, None
+    try:
+        bounds, flags = cropping
+        flags = int(flags)
+    except (TypeError, ValueError):
+        raise TypeError(f"cropping must be (six region planes, region flags), got {cropping!r}") from None
+    if not 0 <= flags < (1 << 27):
+        raise ValueError(f"cropping region flags must be in 0 .. 0x7ffffff (27 regions), got {flags:#x}")
+    if flags == SUBVOLUME_FLAGS:
+        origins, normals = box_planes(bounds)
+        if clip_planes is not None:
+            origins = np.concatenate([np.asarray(clip_planes[0], float).reshape(-1, 3), origins])
+            normals = np.concatenate([np.asarray(clip_planes[1], float).reshape(-1, 3), normals])
+        return (origins, normals), None
+    to_index, _ = index_space(image)
+    low, high = crop_box(bounds, to_index)
+    return clip_planes, (low, high, flags)

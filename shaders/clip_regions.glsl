@@ -1,0 +1,69 @@
+// mipcast piece: clip_regions
+// fills: Clipping::Dec
+// mode: augment
+// Installed instead of clip_active while the mapper crops with region flags
+// other than the sub-volume (SetCroppingRegionFlags: Fence, Cross, any of the
+// 2^27 values). The six cropping planes cut the volume into 27 regions;
+// region (i, j, k) per axis 0 below the first plane, 1 from it up to the
+// second, 2 from the second on (VTK's rule) is visible where bit
+// i + 3 j + 9 k of u_mc_cropFlags is set. u_mc_cropLow / u_mc_cropHigh are
+// the planes in texture coordinates (mipcast/mappers/clip_uniforms.py).
+// The sampled loop skips samples in hidden regions; the cell walk (amip_cell)
+// splits each cell's segment at the planes and hands only the visible pieces
+// to its mcCell hook. Clipping planes and slabs still narrow each ray with
+// mcClipRange (MC_CLIPPING). A ray that meets no visible sample (piece) draws
+// nothing. Sub-volume cropping and no cropping never carry this code.
+#define MC_CLIPPING
+#define MC_CROP_REGIONS
+
+// Whether the point p lies in a visible region of the planes low / high
+// (one space: texture coordinates, or index space for the cell walk).
+bool mcCropRegionVisible(vec3 p, vec3 low, vec3 high)
+{
+  ivec3 code = ivec3(greaterThanEqual(p, low)) + ivec3(greaterThanEqual(p, high));
+  return ((u_mc_cropFlags >> (code.x + 3 * code.y + 9 * code.z)) & 1) != 0;
+}
+
+// The sampled loop's test: a sample at texture coordinate p counts.
+bool mcCropVisible(vec3 p)
+{
+  return mcCropRegionVisible(p, u_mc_cropLow, u_mc_cropHigh);
+}
+
+// The first crossing of a cropping plane by origin + t * dir after t = a,
+// or b if none comes before b.
+float mcCropNextCut(vec3 origin, vec3 dir, vec3 low, vec3 high, float a, float b)
+{
+  float next = b;
+  for (int axis = 0; axis < 3; ++axis)
+  {
+    if (dir[axis] != 0.0)
+    {
+      float toLow = (low[axis] - origin[axis]) / dir[axis];
+      float toHigh = (high[axis] - origin[axis]) / dir[axis];
+      next = (toLow > a && toLow < next) ? toLow : next;
+      next = (toHigh > a && toHigh < next) ? toHigh : next;
+    }
+  }
+  return next;
+}
+
+// Whether any piece of [a, b] (split at the cropping planes, each piece's
+// region taken at its midpoint) is visible.
+bool mcCropAnyVisible(vec3 origin, vec3 dir, vec3 low, vec3 high, float a, float b)
+{
+  for (int piece = 0; piece < 7; ++piece)
+  {
+    float next = mcCropNextCut(origin, dir, low, high, a, b);
+    if (mcCropRegionVisible(origin + (0.5 * (a + next)) * dir, low, high))
+    {
+      return true;
+    }
+    a = next;
+    if (a >= b)
+    {
+      break;
+    }
+  }
+  return false;
+}
