@@ -139,18 +139,23 @@ def test_clipping_planes_and_cropping_are_honoured_by_every_method(vessels, name
 
 
 @pytest.mark.parametrize("name", [n for n, m in METHODS.items() if m.float_readout])
-def test_cropping_flags_other_than_the_subvolume_are_refused_with_a_message(vessels, name):
+def test_more_than_six_clipping_planes_are_refused_with_a_message(vessels, name):
+    # (every cropping region flag value renders: tests/test_cropping_flags.py)
     scene = OffscreenView(vessels, name, size=SIZE, view="oblique")
     messages = []
     scene.mapper.AddObserver(vtkCommand.ErrorEvent, lambda *args: messages.append(args))
-    scene.mapper.SetCropping(True)
-    scene.mapper.SetCroppingRegionPlanes(4, 18, 4, 18, 4, 18)
-    scene.mapper.SetCroppingRegionFlagsToFence()
-    assert "SetCroppingRegionFlagsToSubVolume" in scene.mapper.GetRenderProblem()
+    planes = []
+    for index in range(7):
+        plane = vtkPlane()
+        plane.SetOrigin(11.0, 11.0, 11.0)
+        plane.SetNormal(0.1 * index, 1.0, 0.0)
+        planes.append(plane)
+        scene.mapper.AddClippingPlane(plane)
+    assert "RemoveClippingPlane" in scene.mapper.GetRenderProblem()
     assert scene.screenshot().max() == 0 and messages
-    scene.mapper.SetCroppingRegionFlagsToSubVolume()
+    scene.mapper.RemoveClippingPlane(planes[-1])
+    assert scene.mapper.GetRenderProblem() is None
     assert scene.screenshot().max() > 0
-    assert scene.mapper.GetCroppingRegionFlags() == 0x2000 and scene.mapper.GetCropping()
 
 
 def test_slab_parameters_are_checked_and_shared_by_every_method_table():

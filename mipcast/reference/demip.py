@@ -145,6 +145,7 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
     maximum = np.empty(len(count))
     first = np.empty(len(count), dtype=np.int64)
     mida = np.empty(len(count))
+    sampled = np.empty(len(count), bool)
     chunk = max(1, BUDGET // max(1, int(count.max(initial=1))))
     for start in range(0, len(count), chunk):
         part = slice(start, start + chunk)
@@ -152,6 +153,7 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
         if clip_planes is not None:
             at = np.arange(1, sample.shape[1] + 1)[None, :] * step
             valid = valid & (at >= lo[part, None]) & (at <= hi[part, None])
+        sampled[part] = valid.any(axis=1)
         if projection == "attenuated":
             maximum[part] = _attenuated(sample, valid, low, high, attenuation * voxels_per_step)
             first[part] = -1
@@ -162,11 +164,11 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
         if projection == "mida":
             mida[part] = _mida(sample, valid, low, high)
             first[part] = -1
-    # rays left with no sample (clipped away) or that saw no finite data (their
-    # maximum lies below the finite minimum: the test of shaders/missing_exit.glsl) are background
+    # rays left with no sample (clipped away, or in hidden cropping regions only) or that saw no
+    # finite data (their maximum lies below the finite minimum: the test of shaders/missing_exit.glsl) are background
     hit = hit.copy()
     seen = np.flatnonzero(hit)
-    gone = ~np.isfinite(maximum)
+    gone = ~np.isfinite(maximum) | ~sampled
     if prepared.missing:
         gone |= maximum < prepared.missing_below
     if gone.any():
