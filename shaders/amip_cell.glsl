@@ -151,6 +151,20 @@ bool mcCellsGoOn(float value);
 void mcCell(vec4 lo, vec4 hi, vec3 u0, vec3 du, float span, inout float value);
 float mcCellsEnd(float value);
 
+#ifdef MC_CROP_REGIONS
+// The piece of the cell's segment from a to the next cropping plane (or t1):
+// to the hook if its region (at its midpoint) is visible; a moves to its end.
+void mcCropCellPiece(McRay ray, ivec3 cell, vec4 lo, vec4 hi, inout float a, float t1, inout float value)
+{
+  float b = mcCropNextCut(ray.origin, ray.dir, mc_cropLowIndex, mc_cropHighIndex, a, t1);
+  if (mcCropRegionVisible(ray.origin + (0.5 * (a + b)) * ray.dir, mc_cropLowIndex, mc_cropHighIndex))
+  {
+    mcCell(lo, hi, ray.origin + a * ray.dir - vec3(cell), (b - a) * ray.dir, b - a, value);
+  }
+  a = b;
+}
+#endif
+
 // One DDA step: the segment [t0, t1] in `cell` goes to the projection's
 // mcCell hook with the cell's corners; then every axis whose plane is
 // reached steps (ties at edges and corners step together) and t0 moves to t1.
@@ -162,21 +176,16 @@ void mcWalkCell(McRay ray, ivec3 cell, float t1, inout float t0, inout vec3 tNex
   mc_cellsWalked += 1.0;
 #ifdef MC_CROP_REGIONS
   // Cropping regions (clip_regions): the segment split at the cropping
-  // planes (at most 6 cuts), each visible piece to the hook.
+  // planes (at most 6 cuts, 7 pieces, written out), each visible piece to
+  // the hook; the first piece also when the segment has zero length.
   float a = t0;
-  for (int piece = 0; piece < 7; ++piece)
-  {
-    float b = mcCropNextCut(ray.origin, ray.dir, mc_cropLowIndex, mc_cropHighIndex, a, t1);
-    if (mcCropRegionVisible(ray.origin + (0.5 * (a + b)) * ray.dir, mc_cropLowIndex, mc_cropHighIndex))
-    {
-      mcCell(lo, hi, ray.origin + a * ray.dir - vec3(cell), (b - a) * ray.dir, b - a, rayMax);
-    }
-    a = b;
-    if (a >= t1)
-    {
-      break;
-    }
-  }
+  mcCropCellPiece(ray, cell, lo, hi, a, t1, rayMax);
+  if (a < t1) mcCropCellPiece(ray, cell, lo, hi, a, t1, rayMax);
+  if (a < t1) mcCropCellPiece(ray, cell, lo, hi, a, t1, rayMax);
+  if (a < t1) mcCropCellPiece(ray, cell, lo, hi, a, t1, rayMax);
+  if (a < t1) mcCropCellPiece(ray, cell, lo, hi, a, t1, rayMax);
+  if (a < t1) mcCropCellPiece(ray, cell, lo, hi, a, t1, rayMax);
+  if (a < t1) mcCropCellPiece(ray, cell, lo, hi, a, t1, rayMax);
 #else
   mcCell(lo, hi, ray.origin + t0 * ray.dir - vec3(cell), (t1 - t0) * ray.dir, t1 - t0, rayMax);
 #endif

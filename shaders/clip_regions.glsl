@@ -24,46 +24,46 @@ bool mcCropRegionVisible(vec3 p, vec3 low, vec3 high)
   return ((u_mc_cropFlags >> (code.x + 3 * code.y + 9 * code.z)) & 1) != 0;
 }
 
-// The sampled loop's test: a sample at texture coordinate p counts.
-bool mcCropVisible(vec3 p)
+// The sampled loop's test: sample i at base + i * step (texture coordinates) counts.
+bool mcCropSampleVisible(vec3 base, vec3 step, int i)
 {
-  return mcCropRegionVisible(p, u_mc_cropLow, u_mc_cropHigh);
+  return mcCropRegionVisible(base + float(i) * step, u_mc_cropLow, u_mc_cropHigh);
 }
 
 // The first crossing of a cropping plane by origin + t * dir after t = a,
 // or b if none comes before b.
 float mcCropNextCut(vec3 origin, vec3 dir, vec3 low, vec3 high, float a, float b)
 {
-  float next = b;
-  for (int axis = 0; axis < 3; ++axis)
-  {
-    if (dir[axis] != 0.0)
-    {
-      float toLow = (low[axis] - origin[axis]) / dir[axis];
-      float toHigh = (high[axis] - origin[axis]) / dir[axis];
-      next = (toLow > a && toLow < next) ? toLow : next;
-      next = (toHigh > a && toHigh < next) ? toHigh : next;
-    }
-  }
-  return next;
+  vec3 still = vec3(equal(dir, vec3(0.0)));
+  vec3 safe = mix(dir, vec3(1.0), still);
+  vec3 toLow = (low - origin) / safe;
+  vec3 toHigh = (high - origin) / safe;
+  toLow = mix(toLow, vec3(b), max(still, vec3(lessThanEqual(toLow, vec3(a)))));
+  toHigh = mix(toHigh, vec3(b), max(still, vec3(lessThanEqual(toHigh, vec3(a)))));
+  vec3 next = min(toLow, toHigh);
+  return min(b, min(min(next.x, next.y), next.z));
 }
 
-// Whether any piece of [a, b] (split at the cropping planes, each piece's
-// region taken at its midpoint) is visible.
+// The piece of [a, b] from a to the next cropping plane: whether it is
+// visible (its region taken at its midpoint); a moves to its end.
+bool mcCropPieceVisible(vec3 origin, vec3 dir, vec3 low, vec3 high, inout float a, float b)
+{
+  float next = mcCropNextCut(origin, dir, low, high, a, b);
+  bool visible = mcCropRegionVisible(origin + (0.5 * (a + next)) * dir, low, high);
+  a = next;
+  return visible;
+}
+
+// Whether any piece of [a, b] between the cropping planes is visible: at
+// most 7 pieces (six planes), written out.
 bool mcCropAnyVisible(vec3 origin, vec3 dir, vec3 low, vec3 high, float a, float b)
 {
-  for (int piece = 0; piece < 7; ++piece)
-  {
-    float next = mcCropNextCut(origin, dir, low, high, a, b);
-    if (mcCropRegionVisible(origin + (0.5 * (a + next)) * dir, low, high))
-    {
-      return true;
-    }
-    a = next;
-    if (a >= b)
-    {
-      break;
-    }
-  }
-  return false;
+  bool seen = mcCropPieceVisible(origin, dir, low, high, a, b);
+  seen = seen || (a < b && mcCropPieceVisible(origin, dir, low, high, a, b));
+  seen = seen || (a < b && mcCropPieceVisible(origin, dir, low, high, a, b));
+  seen = seen || (a < b && mcCropPieceVisible(origin, dir, low, high, a, b));
+  seen = seen || (a < b && mcCropPieceVisible(origin, dir, low, high, a, b));
+  seen = seen || (a < b && mcCropPieceVisible(origin, dir, low, high, a, b));
+  seen = seen || (a < b && mcCropPieceVisible(origin, dir, low, high, a, b));
+  return seen;
 }

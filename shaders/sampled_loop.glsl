@@ -74,32 +74,26 @@
   mcBeginRay(mc_first, mc_count);
 #ifdef MC_CROP_REGIONS
   bool mc_seen = false;
+#endif
   for (int mc_i = mc_first; mc_i < mc_count; ++mc_i)
   {
-    vec3 mc_at = mc_base + float(mc_i) * g_dirStep;
-    if (!mcCropVisible(mc_at))
+#ifdef MC_CROP_REGIONS
+    if (!mcCropSampleVisible(mc_base, g_dirStep, mc_i))
     {
       continue;  // a hidden cropping region: the sample does not count
     }
     mc_seen = true;
-    if (!mcSample(texture3D(in_volume[0], mc_at).r, mc_i))
-    {
-      mc_count = mc_i;
-      break;
-    }
-  }
-  if (!mc_seen)
-  {
-    discard;  // no sample in a visible cropping region
-  }
-#else
-  for (int mc_i = mc_first; mc_i < mc_count; ++mc_i)
-  {
+#endif
     if (!mcSample(texture3D(in_volume[0], mc_base + float(mc_i) * g_dirStep).r, mc_i))
     {
       mc_count = mc_i;
       break;
     }
+  }
+#ifdef MC_CROP_REGIONS
+  if (!mc_seen)
+  {
+    discard;  // no sample in a visible cropping region
   }
 #endif
 #ifdef MC_SECOND_MARCH
@@ -111,7 +105,7 @@
     for (int mc_j = mc_from; mc_j < mc_to; ++mc_j)
     {
 #ifdef MC_CROP_REGIONS
-      if (!mcCropVisible(mc_base + float(mc_j) * g_dirStep))
+      if (!mcCropSampleVisible(mc_base, g_dirStep, mc_j))
       {
         continue;
       }
