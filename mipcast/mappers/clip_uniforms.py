@@ -82,7 +82,19 @@ def crops_regions(mapper) -> bool:
 
 def crop_uniforms(mapper, image) -> dict:
     """``u_mc_cropFlags`` and ``u_mc_cropLow`` / ``u_mc_cropHigh``: the region flags and the
-    cropping planes in texture coordinates (see the module doc)."""
+    cropping planes in texture coordinates (see the module doc).
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> from mipcast.mappers.mip import MIPVolumeMapper
+    >>> mapper = MIPVolumeMapper()
+    >>> mapper.SetCropping(True); mapper.SetCroppingRegionPlanes(1.5, 5.5, 0, 7, 0, 7)
+    >>> mapper.SetCroppingRegionFlagsToFence()
+    >>> values = crop_uniforms(mapper, make_fixture("spheres", size=8))
+    >>> hex(values["u_mc_cropFlags"]), values["u_mc_cropLow"][0], values["u_mc_cropHigh"][0]
+    ('0x2ebfeba', 0.25, 0.75)
+    """
     low, high = crop_box(mapper.GetCroppingRegionPlanes(), data_to_texture(image))
     return {"u_mc_cropFlags": int(mapper.GetCroppingRegionFlags()) & ((1 << 27) - 1),
             "u_mc_cropLow": tuple(float(v) for v in low), "u_mc_cropHigh": tuple(float(v) for v in high)}
