@@ -123,7 +123,9 @@ McRay mcBeginRay()
 #ifdef MC_CROP_REGIONS
   mc_cropLowIndex = u_mc_cropLow * dims - 0.5;
   mc_cropHighIndex = u_mc_cropHigh * dims - 0.5;
-  if (!mcCropAnyVisible(ray.origin, ray.dir, mc_cropLowIndex, mc_cropHighIndex, ray.start, ray.length))
+  // the walk runs from the first visible piece's start to the last one's end
+  mcCropVisibleHull(ray.origin, ray.dir, mc_cropLowIndex, mc_cropHighIndex, ray.start, ray.length);
+  if (ray.start > ray.length)
   {
     discard;  // the ray crosses hidden cropping regions only
   }

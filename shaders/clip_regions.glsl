@@ -10,7 +10,8 @@
 // the planes in texture coordinates (mipcast/mappers/clip_uniforms.py).
 // The sampled loop skips samples in hidden regions; the cell walk (amip_cell)
 // splits each cell's segment at the planes and hands only the visible pieces
-// to its mcCell hook. Clipping planes and slabs still narrow each ray with
+// to its mcCell hook; both first narrow each ray to the hull of its visible
+// pieces (mcCropVisibleHull). Clipping planes and slabs still narrow each ray with
 // mcClipRange (MC_CLIPPING). A ray that meets no visible sample (piece) draws
 // nothing. Sub-volume cropping and no cropping never carry this code.
 #define MC_CLIPPING
@@ -44,26 +45,35 @@ float mcCropNextCut(vec3 origin, vec3 dir, vec3 low, vec3 high, float a, float b
   return min(b, min(min(next.x, next.y), next.z));
 }
 
-// The piece of [a, b] from a to the next cropping plane: whether it is
-// visible (its region taken at its midpoint); a moves to its end.
-bool mcCropPieceVisible(vec3 origin, vec3 dir, vec3 low, vec3 high, inout float a, float b)
+// One piece of the hull search (mcCropVisibleHull): the piece from t to the
+// next cropping plane; if visible, first / last grow to hold it.
+void mcCropHullPiece(vec3 origin, vec3 dir, vec3 low, vec3 high, inout float t, float b,
+                     inout float first, inout float last)
 {
-  float next = mcCropNextCut(origin, dir, low, high, a, b);
-  bool visible = mcCropRegionVisible(origin + (0.5 * (a + next)) * dir, low, high);
-  a = next;
-  return visible;
+  float next = mcCropNextCut(origin, dir, low, high, t, b);
+  if (mcCropRegionVisible(origin + (0.5 * (t + next)) * dir, low, high))
+  {
+    first = min(first, t);
+    last = max(last, next);
+  }
+  t = next;
 }
 
-// Whether any piece of [a, b] between the cropping planes is visible: at
-// most 7 pieces (six planes), written out.
-bool mcCropAnyVisible(vec3 origin, vec3 dir, vec3 low, vec3 high, float a, float b)
+// Narrow [a, b] to the hull of its visible pieces (from the start of the
+// first to the end of the last; a > b: none is visible). Once per ray: the
+// loops then skip what lies before and after the visible regions.
+void mcCropVisibleHull(vec3 origin, vec3 dir, vec3 low, vec3 high, inout float a, inout float b)
 {
-  bool seen = mcCropPieceVisible(origin, dir, low, high, a, b);
-  seen = seen || (a < b && mcCropPieceVisible(origin, dir, low, high, a, b));
-  seen = seen || (a < b && mcCropPieceVisible(origin, dir, low, high, a, b));
-  seen = seen || (a < b && mcCropPieceVisible(origin, dir, low, high, a, b));
-  seen = seen || (a < b && mcCropPieceVisible(origin, dir, low, high, a, b));
-  seen = seen || (a < b && mcCropPieceVisible(origin, dir, low, high, a, b));
-  seen = seen || (a < b && mcCropPieceVisible(origin, dir, low, high, a, b));
-  return seen;
+  float first = 1.0e30;
+  float last = -1.0e30;
+  float t = a;
+  mcCropHullPiece(origin, dir, low, high, t, b, first, last);
+  if (t < b) mcCropHullPiece(origin, dir, low, high, t, b, first, last);
+  if (t < b) mcCropHullPiece(origin, dir, low, high, t, b, first, last);
+  if (t < b) mcCropHullPiece(origin, dir, low, high, t, b, first, last);
+  if (t < b) mcCropHullPiece(origin, dir, low, high, t, b, first, last);
+  if (t < b) mcCropHullPiece(origin, dir, low, high, t, b, first, last);
+  if (t < b) mcCropHullPiece(origin, dir, low, high, t, b, first, last);
+  a = first;
+  b = last;
 }

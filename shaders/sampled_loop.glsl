@@ -71,6 +71,21 @@
     }
   }
 #endif
+#ifdef MC_CROP_REGIONS
+  {
+    // only the samples within the hull of the visible regions (one step of
+    // margin each side: the per-sample test below decides)
+    float mc_lo = float(mc_first) - 1.0;
+    float mc_hi = float(mc_count);
+    mcCropVisibleHull(mc_base, g_dirStep, u_mc_cropLow, u_mc_cropHigh, mc_lo, mc_hi);
+    if (mc_lo > mc_hi)
+    {
+      discard;  // the ray crosses hidden cropping regions only
+    }
+    mc_first = max(mc_first, int(ceil(mc_lo)) - 1);
+    mc_count = min(mc_count, int(floor(mc_hi)) + 2);
+  }
+#endif
   mcBeginRay(mc_first, mc_count);
 #ifdef MC_CROP_REGIONS
   bool mc_seen = false;
