@@ -17,8 +17,21 @@ volume property's transfer functions.
   shader piece), so the bricks together take exactly the single-process
   samples.
 
-Only methods whose :class:`mipcast.methods.Method` entry has
-``distributed="max"`` are accepted. mpi4py provides the communicator
+- DEMIP (``demip``, ``demip_two_pass``: ``distributed="demip"``), in two
+  reductions, exactly the single-process definition: phase 1 is the MAX
+  reduction of the sampled MIP above (DEMIP's maximum); phase 2 hands that
+  whole-ray maximum back to every rank's GPU as a float texture, each rank
+  marches its brick's share of the whole volume's samples to the first
+  sample of the same material as the GLOBAL maximum and reads out its
+  whole-ray index (:class:`mipcast.mappers.demip_brick.DEMIPBrickDepthMapper`),
+  and a MIN reduction gives the whole ray's first same-material sample.
+  Its depth (normalised over the WHOLE volume's box, every depth mode),
+  Eq. 1, the colour sphere and pseudo-chromadepth are applied on the CPU
+  with :mod:`mipcast.core.demip_depth`, the maths of the float64 reference.
+  Projection ``"mip"`` only, no slab (refused with a message).
+
+The method table's ``distributed`` entry names the route (:data:`ROUTES`);
+other methods are refused with a message. mpi4py provides the communicator
 (``from mpi4py import MPI``; inside ``pvbatch --symmetric`` too); without
 mpi4py a job of one process runs (:class:`OneRank`).
 
@@ -42,10 +55,16 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkImagingCore import vtkImageClip
 
+from vtkmodules.vtkRenderingCore import vtkVolume
+
 from mipcast import methods
+from mipcast.core.camera_rays import camera_rays
+from mipcast.core.demip_depth import DepthGeometry, enhance
 from mipcast.core.object_state import object_state
+from mipcast.core.parameter_tables import DEMIP
 from mipcast.core.parameters import set_parameters
 from mipcast.core.validation import check_choice, check_image
+from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, first_match_index
 from mipcast.offscreen import OffscreenView, set_view
 
 Extent = Tuple[int, int, int, int, int, int]
@@ -253,7 +272,8 @@ class DistributedView:
         least one layer of points, e.g. :func:`split_extents`, ParaView's
         readers, RedistributeDataSet with ghost cells).
     method : str, default: "mip"
-        A method whose table entry has ``distributed="max"`` (``mip``, ``analytic``).
+        A method whose table entry has a ``distributed`` route (:data:`ROUTES`):
+        ``mip``, ``analytic`` (``"max"``), ``demip``, ``demip_two_pass`` (``"demip"``).
     size, view, sample_distance
         As :class:`mipcast.offscreen.OffscreenView`, for the whole volume
         (the camera frames the whole volume; default sample distance: the
@@ -290,10 +310,12 @@ class DistributedView:
                  max_voxels: Optional[int] = None, time_wait: bool = False, **settings) -> None:
         check_image(piece)
         entry = methods.METHODS[check_choice("method", method, tuple(methods.METHODS))]
-        if entry.distributed != "max":
-            able = [m.name for m in methods.METHODS.values() if m.distributed == "max"]
+        if entry.distributed not in ROUTES:
+            able = [m.name for m in methods.METHODS.values() if m.distributed in ROUTES]
             raise ValueError(f"method {method!r} has no exact distributed composite yet; "
                              f"use one of {able}, or render the whole volume on one rank")
+        #: The composite route (:data:`ROUTES`), from the method table's ``distributed``.
+        self.route = entry.distributed
         self.comm = world_communicator() if comm is None else comm
         self.whole_extent = whole_extent(piece, self.comm)
         points = int(np.prod([piece.GetExtent()[2 * a + 1] - piece.GetExtent()[2 * a] + 1 for a in range(3)]))
@@ -305,24 +327,56 @@ class DistributedView:
             if window != "full":
                 raise ValueError(f"window must be (low, high) or 'full', got {window!r}")
             window = whole_range(piece, self.comm)
-        stub = _whole_stub(piece, self.whole_extent)
+        self.stub = _whole_stub(piece, self.whole_extent)
         if sample_distance is None:
             sample_distance = min(abs(s) for s in piece.GetSpacing())
-        self.local = OffscreenView(piece, method, size, "front", sample_distance, tuple(window))
-        set_view(self.local.renderer, stub, view)
-        if settings:
-            set_parameters(self.local.mapper, **settings)
+        self.sample_distance = float(sample_distance)
+        first_method = ROUTES[self.route]["first_pass"] or entry.name
+        self.local = OffscreenView(piece, first_method, size, "front", sample_distance, tuple(window))
+        set_view(self.local.renderer, self.stub, view)
         self.window = self.local.window
         texture_min, texture_max = global_texture_box(piece.GetExtent(), self.whole_extent)
-        object_state(self.local.mapper)["global_box"] = (texture_min, texture_max)
-        uniforms = self.local.volume.GetShaderProperty().GetFragmentCustomUniforms()
-        uniforms.SetUniform3f("u_mc_globalTexMin", texture_min)
-        uniforms.SetUniform3f("u_mc_globalTexMax", texture_max)
-        self.local.mapper.Modified()
+        self._global_box = (texture_min, texture_max)
+        _set_global_box(self.local.mapper, self.local.volume, self._global_box)
+        #: Phase 2 of the ``"demip"`` route (None for ``"max"``).
+        self.depth_mapper = None
+        if self.route == "demip":
+            self._make_depth_pass(piece, settings)
+        elif settings:
+            set_parameters(self.local.mapper, **settings)
         self.time_wait = bool(time_wait)
         #: Seconds of the last frame: ``render`` (this rank's brick), ``wait`` (for the
         #: other ranks, with ``time_wait``), ``composite`` (the reduction).
         self.last_times = {"render": 0.0, "wait": 0.0, "composite": 0.0}
+
+    def _make_depth_pass(self, piece, settings) -> None:
+        """The ``"demip"`` route's phase-2 mapper: DEMIP's settings, this brick, the whole volume's samples."""
+        mapper = self.depth_mapper = DEMIPBrickDepthMapper()
+        mapper.SetInputData(piece)
+        mapper.SetSampleDistance(self.local.sample_distance)
+        mapper.SetUseJittering(False)
+        volume = self.depth_volume = vtkVolume()
+        volume.SetProperty(self.local.volume.GetProperty())
+        mapper.Attach(volume)
+        volume.VisibilityOff()
+        self.local.renderer.AddVolume(volume)
+        if settings:
+            set_parameters(mapper, **settings)
+        values = self.demip_parameters()
+        if values["projection"] != "mip":
+            raise ValueError(f"distributed DEMIP composites projection 'mip' only, got {values['projection']!r} "
+                             "(LMIP, attenuated MIP and MIDA depend on the order along the whole ray): "
+                             "set projection='mip' or render the whole volume on one rank")
+        if values["slab_thickness"] > 0:
+            raise ValueError("distributed DEMIP has no slab yet (slab_thickness > 0): "
+                             "render the slab on one rank, or set slab_thickness=0")
+        _set_global_box(mapper, volume, self._global_box)
+
+    def demip_parameters(self) -> dict:
+        """The DEMIP settings of the ``"demip"`` route (name -> value, from the phase-2 mapper)."""
+        if self.depth_mapper is None:
+            raise ValueError(f"the {self.route!r} route has no DEMIP parameters")
+        return {p.name: getattr(self.depth_mapper, p.getter)() for p in DEMIP}
 
     @property
     def camera(self):
@@ -345,9 +399,106 @@ class DistributedView:
                            "composite": time.perf_counter() - ready}
         return np.where(values < _NO_SAMPLE, np.nan, values).astype(np.float32)
 
+    def first_match(self, values: Optional[np.ndarray] = None) -> np.ndarray:
+        """Collective (``"demip"`` route): each pixel's whole-ray index of the first same-material sample.
+
+        Phase 2: every rank's brick against the GLOBAL maximum ``values``
+        (default: a new :meth:`float_image`), then a MIN reduction.  Sample
+        k sits at the whole box's entry + (1 + k) sample distances; +inf
+        where the ray has no DEMIP term.
+        """
+        if self.depth_mapper is None:
+            raise ValueError(f"the {self.route!r} route has no same-material search")
+        if values is None:
+            values = self.float_image()
+        self.local.volume.VisibilityOff()
+        self.depth_volume.VisibilityOn()
+        try:
+            found = first_match_index(self.local.render_window, self.depth_mapper, values)
+        finally:
+            self.depth_volume.VisibilityOff()
+            self.local.volume.VisibilityOn()
+        return _reduce_inplace(self.comm, np.ascontiguousarray(found, dtype=np.float64), "min")
+
+    def demip_image(self) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Collective (``"demip"`` route): (maximum, depth, straight RGB in [0, 1]), float64, top row first.
+
+        The maximum in data units (NaN: miss), the depth of the first
+        same-material sample in [0, 1] (NaN: no DEMIP term; normalised over
+        the whole volume's box, the table's depth mode) and the final
+        straight colour (Eq. 1, sphere, chromadepth where there is a term,
+        the transfer functions' colour of the maximum elsewhere; 0 on misses).
+        """
+        values = self.float_image()
+        index = self.first_match(values)
+        params = self.demip_parameters()
+        height, width = values.shape
+        rays = camera_rays(self.stub, self.camera, (width, height))
+        entry = rays.origin + rays.t_enter[..., None] * rays.direction
+        hit = ~np.isnan(values)
+        term = hit & np.isfinite(index) & rays.hit
+        where = entry + ((np.where(term, index, 0.0) + 1.0) * self.sample_distance)[..., None] * rays.direction
+        geometry = DepthGeometry(self.stub, self.camera, width / height)
+        depth = np.full(values.shape, np.nan)
+        depth[term] = geometry.depth(params["depth_mode"], where[term], entry[term])
+        rgb = _transfer_colour(np.where(hit, values, 0.0), self.local.volume.GetProperty())
+        rgb[term] = enhance(rgb[term], depth[term], np.ones(int(term.sum()), dtype=bool), where[term], geometry,
+                            params)
+        rgb[~hit] = 0.0
+        return values.astype(np.float64), depth, rgb
+
+    def depth_image(self) -> np.ndarray:
+        """Collective (``"demip"`` route): the DEMIP depth per pixel (NaN: no term), as ``render_depth``."""
+        return self.demip_image()[1]
+
     def screenshot(self) -> np.ndarray:
         """Collective: the picture (uint8 RGB, top row first): the reduced float image coloured."""
+        if self.route == "demip":
+            values, _, rgb = self.demip_image()
+            opacity = _opacity(np.nan_to_num(values), self.local.volume.GetProperty())
+            out = np.where(np.isnan(values)[..., None], 0.0, rgb * 255.0 * opacity[..., None])
+            return np.clip(np.rint(out), 0, 255).astype(np.uint8)
         return colour(self.float_image(), self.local.volume.GetProperty())
+
+
+#: The distributed composites, by the method table's ``distributed`` value:
+#: ``first_pass`` is the method each rank renders for the MAX reduction
+#: (None: the method itself).
+ROUTES = {
+    "max": {"first_pass": None, "doc": "the MAX reduction of the bricks' float readouts"},
+    "demip": {"first_pass": "mip",
+              "doc": "MAX of the bricks' sampled MIP, then MIN of the whole-ray index of the first sample of "
+                     "the global maximum's material; depth, Eq. 1 and sphere on the CPU"},
+}
+
+
+def _set_global_box(mapper, volume, box) -> None:
+    """A brick's mapper takes the whole volume's sample positions (the ``global_phase`` piece)."""
+    object_state(mapper)["global_box"] = box
+    uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+    uniforms.SetUniform3f("u_mc_globalTexMin", box[0])
+    uniforms.SetUniform3f("u_mc_globalTexMax", box[1])
+    mapper.Modified()
+
+
+def _transfer_colour(values: np.ndarray, volume_property, entries: int = 4096) -> np.ndarray:
+    """The colour transfer function's straight RGB in [0, 1] at ``values`` (float64, shape + (3,))."""
+    function = volume_property.GetRGBTransferFunction()
+    low, high = function.GetRange()
+    if not high > low:
+        return np.repeat(np.full(values.shape, 0.0)[..., None], 3, axis=-1) + np.array(function.GetColor(low))
+    table = np.zeros(3 * entries)
+    function.GetTable(low, high, entries, table)
+    table = table.reshape(entries, 3)
+    at = np.linspace(low, high, entries)
+    return np.stack([np.interp(values, at, table[:, c]) for c in range(3)], axis=-1)
+
+
+def _opacity(values: np.ndarray, volume_property) -> np.ndarray:
+    """The scalar opacity at ``values``."""
+    function = volume_property.GetScalarOpacity()
+    flat = np.asarray(values, dtype=np.float64).ravel()
+    return np.array([function.GetValue(v) for v in flat]).reshape(np.shape(values))
 
 
 def colour(values: np.ndarray, volume_property) -> np.ndarray:
