@@ -360,8 +360,15 @@ class DistributedView:
         mapper.Attach(volume)
         volume.VisibilityOff()
         self.local.renderer.AddVolume(volume)
-        if settings:
-            set_parameters(mapper, **settings)
+        self.set_parameters(**settings)
+        _set_global_box(mapper, volume, self._global_box)
+
+    def set_parameters(self, **settings) -> None:
+        """Change the method's parameters (every rank alike), as :func:`mipcast.core.parameters.set_parameters`."""
+        if self.depth_mapper is None:
+            set_parameters(self.local.mapper, **settings)
+            return
+        set_parameters(self.depth_mapper, **settings)
         values = self.demip_parameters()
         if values["projection"] != "mip":
             raise ValueError(f"distributed DEMIP composites projection 'mip' only, got {values['projection']!r} "
@@ -370,7 +377,6 @@ class DistributedView:
         if values["slab_thickness"] > 0:
             raise ValueError("distributed DEMIP has no slab yet (slab_thickness > 0): "
                              "render the slab on one rank, or set slab_thickness=0")
-        _set_global_box(mapper, volume, self._global_box)
 
     def demip_parameters(self) -> dict:
         """The DEMIP settings of the ``"demip"`` route (name -> value, from the phase-2 mapper)."""
@@ -455,9 +461,7 @@ class DistributedView:
         """Collective: the picture (uint8 RGB, top row first): the reduced float image coloured."""
         if self.route == "demip":
             values, _, rgb = self.demip_image()
-            opacity = _opacity(np.nan_to_num(values), self.local.volume.GetProperty())
-            out = np.where(np.isnan(values)[..., None], 0.0, rgb * 255.0 * opacity[..., None])
-            return np.clip(np.rint(out), 0, 255).astype(np.uint8)
+            return demip_picture(values, rgb, self.local.volume.GetProperty())
         return colour(self.float_image(), self.local.volume.GetProperty())
 
 
@@ -470,6 +474,23 @@ ROUTES = {
               "doc": "MAX of the bricks' sampled MIP, then MIN of the whole-ray index of the first sample of "
                      "the global maximum's material; depth, Eq. 1 and sphere on the CPU"},
 }
+
+
+def demip_picture(values: np.ndarray, rgb: np.ndarray, volume_property) -> np.ndarray:
+    """The 8-bit picture of :meth:`DistributedView.demip_image`: straight colour times the maximum's opacity.
+
+    As DEMIP's colour exit (``shaders/demip_color.glsl``): the opacity is
+    MIP's, premultiplied; black where the ray missed.
+
+    Examples
+    --------
+    >>> from mipcast.offscreen import grey_property
+    >>> demip_picture(np.array([[0.5, np.nan]]), np.full((1, 2, 3), 0.5), grey_property((0.0, 1.0)))[0, :, 0]
+    array([128,   0], dtype=uint8)
+    """
+    opacity = _opacity(np.nan_to_num(values), volume_property)
+    out = np.where(np.isnan(values)[..., None], 0.0, np.nan_to_num(rgb) * 255.0 * opacity[..., None])
+    return np.clip(np.rint(out), 0, 255).astype(np.uint8)
 
 
 def _set_global_box(mapper, volume, box) -> None:

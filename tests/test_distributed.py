@@ -92,6 +92,46 @@ def test_bricks_composite_exactly(display, ranks):
     check_exact(results, ranks)
 
 
+def check_demip(results, ranks, methods_run):
+    """DEMIP against one process: pictures, maximum, depth (GPU and float64 reference), which pixels get a term."""
+    assert results is not None and results["ranks"] == ranks
+    seen = {(case["method"], case["axis"], case["depth_mode"], case["sphere_weight"]) for case in results["cases"]}
+    assert {case[0] for case in seen} == set(methods_run)
+    modes = {case["depth_mode"] for case in results["cases"] if case["method"] == "demip"}
+    assert modes == {"window", "steps", "entry_plus_length", "eye_distance"}
+    for case in results["cases"]:
+        label = f"{case['method']} {case['depth_mode']} sphere {case['sphere_weight']} split {case['axis']}: {case}"
+        assert case["lit"] > 0.3, label
+        assert min(case["pixels_won"]) > 0.02 * sum(case["pixels_won"]), label
+        assert case["within_1_grey"] >= 0.999 and case["within_2_grey"] >= 0.999, label
+        assert case["misses_agree"] >= 0.999 and case["term_agree"] >= 0.999, label
+        assert case["reference_term_agree"] >= 0.999, label
+        assert case["float_max_error"] <= methods.METHODS[case["method"]].reference_tolerance, label
+        # the same first same-material sample: depth equal to float32 rounding on >= 99.9 % of the pixels
+        assert case["depth_within_1e-5"] >= 0.999, label
+        assert case["reference_depth_within_1e-5"] >= 0.999, label
+
+
+@pytest.mark.parametrize("ranks", [2, 4])
+def test_demip_composites_exactly(display, ranks):
+    """DEMIP (every depth mode x sphere on/off) and two-pass DEMIP, split along x, y and z."""
+    done, results = run_check(display, ranks, "--axes", "x,y,z", "--methods", "demip,demip_two_pass")
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    check_demip(results, ranks, ["demip", "demip_two_pass"])
+
+
+def test_methods_without_a_route_are_refused():
+    from mipcast.data_fixtures import make_fixture
+    from mipcast.distributed import ROUTES, DistributedView
+
+    assert {m.distributed for m in methods.METHODS.values()} - {None} <= set(ROUTES)
+    image = make_fixture("vessels", size=16)
+    with pytest.raises(ValueError, match="no exact distributed composite"):
+        DistributedView(image, "foveated", size=(16, 16))
+    with pytest.raises(ValueError, match="projection 'mip' only"):
+        DistributedView(image, "demip", size=(16, 16), projection="lmip")
+
+
 def test_ghost_layers_and_texture_budget(display):
     """Bricks with a ghost layer each side; a budget one process exceeds, two ranks meet."""
     budget = 64 * 64 * 36  # the whole 64^3 volume is 262144 points; a z-slab of 2 ranks, 64*64*34
