@@ -58,13 +58,14 @@ from vtkmodules.vtkImagingCore import vtkImageClip
 from vtkmodules.vtkRenderingCore import vtkVolume
 
 from mipcast import methods
-from mipcast.core.camera_rays import camera_rays
+from mipcast.core.camera_rays import camera_rays, matrix_array
 from mipcast.core.demip_depth import DepthGeometry, enhance
 from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import DEMIP
 from mipcast.core.parameters import set_parameters
 from mipcast.core.validation import check_choice, check_image
 from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, first_match_index
+from mipcast.mappers.float_readout import read_normalised, texture_scale
 from mipcast.offscreen import OffscreenView, set_view
 
 Extent = Tuple[int, int, int, int, int, int]
@@ -323,11 +324,16 @@ class DistributedView:
             raise ValueError(f"rank {self.comm.rank}: brick {piece.GetExtent()} has {points} points, over this "
                              f"rank's texture budget of {int(max_voxels)}: run more ranks (mpiexec -n) "
                              "or split the volume finer")
+        #: The whole volume's scalar range (every rank's readouts are normalised with it).
+        self.data_range = whole_range(piece, self.comm)
         if isinstance(window, str):
             if window != "full":
                 raise ValueError(f"window must be (low, high) or 'full', got {window!r}")
-            window = whole_range(piece, self.comm)
+            window = self.data_range
         self.stub = _whole_stub(piece, self.whole_extent)
+        self.piece_extent = tuple(piece.GetExtent())
+        self._texture_scale = texture_scale(piece.GetPointData().GetScalars())
+        self._brick_range = piece.GetPointData().GetScalars().GetRange(0)
         if sample_distance is None:
             sample_distance = min(abs(s) for s in piece.GetSpacing())
         self.sample_distance = float(sample_distance)
@@ -338,6 +344,7 @@ class DistributedView:
         texture_min, texture_max = global_texture_box(piece.GetExtent(), self.whole_extent)
         self._global_box = (texture_min, texture_max)
         _set_global_box(self.local.mapper, self.local.volume, self._global_box)
+        self._set_static_uniforms(self.local.volume)
         #: Phase 2 of the ``"demip"`` route (None for ``"max"``).
         self.depth_mapper = None
         if self.route == "demip":
@@ -362,6 +369,38 @@ class DistributedView:
         self.local.renderer.AddVolume(volume)
         self.set_parameters(**settings)
         _set_global_box(mapper, volume, self._global_box)
+        self._set_static_uniforms(volume)
+
+    def _set_static_uniforms(self, volume) -> None:
+        """The global_phase piece's whole/brick index boxes, spacing, step and the whole range's normalisation."""
+        uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+        uniforms.SetUniform3f("u_mc_wholeLo", [float(v) for v in self.whole_extent[0::2]])
+        uniforms.SetUniform3f("u_mc_wholeHi", [float(v) for v in self.whole_extent[1::2]])
+        uniforms.SetUniform3f("u_mc_brickLo", [float(v) for v in self.piece_extent[0::2]])
+        uniforms.SetUniform3f("u_mc_brickHi", [float(v) for v in self.piece_extent[1::2]])
+        uniforms.SetUniform3f("u_mc_raySpacing", [abs(float(v)) for v in self.stub.GetSpacing()])
+        uniforms.SetUniformf("u_mc_rayStep", self.sample_distance)
+        low, high = self.data_range
+        brick_low, brick_high = self._brick_range
+        if high > low and brick_high > brick_low:
+            # the brick's normalised scalar -> the WHOLE range's (float32 readouts on one grid)
+            uniforms.SetUniform3f("u_mc_globalNorm", [1.0, (brick_high - brick_low) / (high - low),
+                                                      (brick_low - low) / (high - low)])
+        else:
+            uniforms.SetUniform3f("u_mc_globalNorm", [0.0, 1.0, 0.0])
+        for name in ("u_mc_rayPoint0", "u_mc_rayPointX", "u_mc_rayPointY", "u_mc_rayDirection"):
+            uniforms.SetUniform3f(name, [0.0, 0.0, 0.0])
+        uniforms.SetUniform4f("u_mc_rayEye", [0.0, 0.0, 0.0, 0.0])
+
+    def _push_rays(self) -> None:
+        """This frame's rays (the camera may have moved): the same uniforms on every rank."""
+        width, height = self.local.size
+        values = ray_uniforms(self.stub, self.camera, (width, height))
+        volumes = [self.local.volume] + ([self.depth_volume] if self.depth_mapper is not None else [])
+        for volume in volumes:
+            uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+            for name, value in values.items():
+                (uniforms.SetUniform4f if len(value) == 4 else uniforms.SetUniform3f)(name, value)
 
     def set_parameters(self, **settings) -> None:
         """Change the method's parameters (every rank alike), as :func:`mipcast.core.parameters.set_parameters`."""
@@ -389,10 +428,23 @@ class DistributedView:
         """This rank's vtkCamera (the same on every rank)."""
         return self.local.camera
 
+    def _local_float(self) -> np.ndarray:
+        """This rank's float readout in data units: on the whole range's grid where global_phase draws."""
+        mapper = self.local.mapper
+        low, high = self.data_range
+        if "global_phase" not in mapper.GetShaderPieces():
+            return self.local.float_image()  # cell walking: the brick's own normalisation
+        normalised = read_normalised(self.local.render_window, mapper)
+        if high > low and self._brick_range[1] > self._brick_range[0]:
+            return ((low + normalised * (high - low)) / self._texture_scale).astype(np.float32)
+        scalars = mapper.GetRenderedInput().GetPointData().GetScalars()
+        return render_float_units(normalised, scalars)
+
     def float_image(self) -> np.ndarray:
         """Collective: the whole volume's float image (data units, NaN = miss), on every rank."""
         start = time.perf_counter()
-        local = self.local.float_image()
+        self._push_rays()
+        local = self._local_float()
         #: This rank's own float image of its brick (the last frame), before the reduction.
         self.last_local = local
         middle = time.perf_counter()
@@ -420,7 +472,8 @@ class DistributedView:
         self.local.volume.VisibilityOff()
         self.depth_volume.VisibilityOn()
         try:
-            found = first_match_index(self.local.render_window, self.depth_mapper, values)
+            self._push_rays()
+            found = first_match_index(self.local.render_window, self.depth_mapper, values, self.data_range)
         finally:
             self.depth_volume.VisibilityOff()
             self.local.volume.VisibilityOn()
@@ -463,6 +516,62 @@ class DistributedView:
             values, _, rgb = self.demip_image()
             return demip_picture(values, rgb, self.local.volume.GetProperty())
         return colour(self.float_image(), self.local.volume.GetProperty())
+
+
+def render_float_units(normalised: np.ndarray, scalars) -> np.ndarray:
+    """A readout (VTK's normalised scalar of ``scalars``) in data units, float32."""
+    from mipcast.mappers.float_readout import to_data_units
+
+    return to_data_units(normalised, scalars).astype(np.float32)
+
+
+def ray_uniforms(image, camera, size) -> dict:
+    """The global_phase piece's per-pixel ray, in the absolute point-index space of ``image``.
+
+    A pixel at NDC (x, y) casts the ray through ``u_mc_rayPoint0 + x *
+    u_mc_rayPointX + y * u_mc_rayPointY`` (the points at the NDC depth of
+    the box's centre) along ``u_mc_rayDirection`` (parallel projection,
+    ``u_mc_rayEye.w`` 0) or away from the eye ``u_mc_rayEye.xyz``
+    (perspective, w 1).  float64 here, the same float32 uniforms on every
+    rank, so every rank casts the same rays bit for bit.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkCommonDataModel import vtkImageData
+    >>> from vtkmodules.vtkRenderingCore import vtkCamera
+    >>> image = vtkImageData()
+    >>> image.SetExtent(0, 10, 0, 10, 0, 10)
+    >>> camera = vtkCamera()
+    >>> camera.SetFocalPoint(5, 5, 5); camera.SetPosition(5, 5, 40); camera.ParallelProjectionOn()
+    >>> camera.SetParallelScale(8.0)
+    >>> rays = ray_uniforms(image, camera, (16, 16))
+    >>> [round(v, 6) for v in rays["u_mc_rayPoint0"]], rays["u_mc_rayEye"][3]
+    ([5.0, 5.0, 5.0], 0.0)
+    """
+    width, height = size
+    to_ndc = matrix_array(camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
+    from_ndc = np.linalg.inv(to_ndc)
+    to_index = matrix_array(image.GetPhysicalToIndexMatrix())
+    bounds = image.GetBounds()
+    centre = np.array([0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]), 0.5 * (bounds[4] + bounds[5]),
+                       1.0])
+    centre_ndc = to_ndc @ centre
+    depth = centre_ndc[2] / centre_ndc[3]
+
+    def index_at(x, y, z):
+        world = from_ndc @ np.array([x, y, z, 1.0])
+        return (to_index @ np.append(world[:3] / world[3], 1.0))[:3]
+
+    point = index_at(0.0, 0.0, depth)
+    out = {"u_mc_rayPoint0": point, "u_mc_rayPointX": index_at(1.0, 0.0, depth) - point,
+           "u_mc_rayPointY": index_at(0.0, 1.0, depth) - point}
+    if camera.GetParallelProjection():
+        out["u_mc_rayDirection"] = index_at(0.0, 0.0, 1.0) - index_at(0.0, 0.0, -1.0)
+        out["u_mc_rayEye"] = np.zeros(4)
+    else:
+        out["u_mc_rayDirection"] = np.zeros(3)
+        out["u_mc_rayEye"] = np.append((to_index @ np.append(camera.GetPosition(), 1.0))[:3], 1.0)
+    return {name: [float(v) for v in value] for name, value in out.items()}
 
 
 #: The distributed composites, by the method table's ``distributed`` value:

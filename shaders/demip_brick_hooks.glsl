@@ -11,15 +11,24 @@
 // float readout in data units, so the maximum's own sample must still
 // match (the floor test on the maximum is DEMIP's, unloosened). mc_matchIndex is that sample's WHOLE-ray index (-1: none in this
 // brick); the ranks' minimum is the whole ray's first same-material sample.
-// No DEMIP term (no march) where the maximum is not above the floor.
+// No DEMIP term (no march) where the maximum is not above the floor. The
+// maximum (mc_globalMax) and the material window's ends (u_mc_brickWindow:
+// floor, ceiling, eps, floor tolerance) come in this brick's normalised
+// scalar, the ends those of the transfer functions over the WHOLE volume's
+// range (a brick's own range would clamp them).
 #define MC_BRICK_SLACK 1.0e-6
 
-float mc_globalMax;   // normalised; > 1e29: no maximum
+float mc_globalMax;   // normalised (this brick's); > 1e29: no maximum
 float mc_brickAbove;  // the raw same-material threshold
 
 void mcBeginRay(inout int first, inout int count)
 {
   mcDemipBeginRay();
+  float mc_floorRaw = mcRaw(u_mc_brickWindow.x);
+  float mc_ceilingRaw = mcRaw(u_mc_brickWindow.y);
+  float mc_span = mc_ceilingRaw - mc_floorRaw;
+  mc_window = vec4(mc_floorRaw, mc_ceilingRaw, u_mc_brickWindow.z * mc_span,
+                   mc_floorRaw + u_mc_brickWindow.w * mc_span);
   float mc_maxRaw = mcRaw(mc_globalMax);
   float mc_width = mc_window.y - mc_window.x;
   mc_brickAbove = min(mc_maxRaw, mc_window.y) - mc_window.z - MC_BRICK_SLACK * abs(mc_width);

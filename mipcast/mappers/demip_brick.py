@@ -19,6 +19,8 @@ from vtkmodules.vtkCommonCore import vtkCommand
 from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
 
 from mipcast.core.object_state import object_state
+from mipcast.core.shading import FLOOR_TOLERANCE
+from mipcast.core.transfer_bounds import constant_ends
 from mipcast.mappers.demip import DEMIPVolumeMapper
 from mipcast.mappers.float_readout import from_data_units, read_normalised
 
@@ -59,7 +61,8 @@ class DEMIPBrickDepthMapper(DEMIPVolumeMapper):
         return self._with_missing("demip_brick_readout" if n == "float_readout" else n for n in names)
 
 
-def first_match_index(render_window, mapper: DEMIPBrickDepthMapper, maximum: np.ndarray) -> np.ndarray:
+def first_match_index(render_window, mapper: DEMIPBrickDepthMapper, maximum: np.ndarray,
+                      data_range) -> np.ndarray:
     """Render phase 2 once: per pixel, the whole-ray index of this brick's first same-material sample.
 
     Parameters
@@ -70,6 +73,9 @@ def first_match_index(render_window, mapper: DEMIPBrickDepthMapper, maximum: np.
         Attached, its volume the only visible one.
     maximum : numpy.ndarray, shape (height, width)
         The whole volume's per-pixel maximum in data units (NaN: none), top row first.
+    data_range : (low, high)
+        The whole volume's scalar range (the material window's ends are the
+        transfer functions' over it, :func:`mipcast.core.transfer_bounds.constant_ends`).
 
     Returns
     -------
@@ -79,6 +85,14 @@ def first_match_index(render_window, mapper: DEMIPBrickDepthMapper, maximum: np.
     """
     scalars = mapper.GetRenderedInput().GetPointData().GetScalars()
     normalised = np.where(np.isnan(maximum), NO_MAXIMUM, from_data_units(np.nan_to_num(maximum), scalars))
+    ends = constant_ends(mapper.GetAttachedVolume().GetProperty(), *data_range)
+    low, high = scalars.GetRange(0)
+    floor, ceiling = ((v - low) / (high - low) if high > low else 0.0 for v in ends)  # as normalised_ends
+    if not ceiling > floor:  # constant transfer functions: no ray gets a DEMIP term (as DEMIPVolumeMapper)
+        floor, ceiling = 1.0e20, 2.0e20
+    eps = mapper.GetMaterialThreshold() if mapper.GetDepthOf() == "same_material" else 0.0
+    mapper.GetAttachedVolume().GetShaderProperty().GetFragmentCustomUniforms().SetUniform4f(
+        "u_mc_brickWindow", [floor, ceiling, eps, FLOOR_TOLERANCE])
     height, width = maximum.shape
     state = object_state(mapper)
     texture = state.get("maximum_texture")
