@@ -334,6 +334,7 @@ class DistributedView:
         self.piece_extent = tuple(piece.GetExtent())
         self._texture_scale = texture_scale(piece.GetPointData().GetScalars())
         self._brick_range = piece.GetPointData().GetScalars().GetRange(0)
+        self._scalar_type = piece.GetPointData().GetScalars().GetDataTypeAsString()
         if sample_distance is None:
             sample_distance = min(abs(s) for s in piece.GetSpacing())
         self.sample_distance = float(sample_distance)
@@ -382,9 +383,14 @@ class DistributedView:
         uniforms.SetUniformf("u_mc_rayStep", self.sample_distance)
         low, high = self.data_range
         brick_low, brick_high = self._brick_range
-        if high > low and brick_high > brick_low:
+        raw_per_data = _RAW_PER_DATA.get(self._scalar_type)
+        if high > low and raw_per_data is not None:
+            # VTK's normalisation of the raw texel value with the WHOLE range: the same on every rank
+            uniforms.SetUniform3f("u_mc_globalNorm", [1.0, self._texture_scale / (raw_per_data * (high - low)),
+                                                      -low / (high - low)])
+        elif high > low and brick_high > brick_low:
             # the brick's normalised scalar -> the WHOLE range's (float32 readouts on one grid)
-            uniforms.SetUniform3f("u_mc_globalNorm", [1.0, (brick_high - brick_low) / (high - low),
+            uniforms.SetUniform3f("u_mc_globalNorm", [2.0, (brick_high - brick_low) / (high - low),
                                                       (brick_low - low) / (high - low)])
         else:
             uniforms.SetUniform3f("u_mc_globalNorm", [0.0, 1.0, 0.0])
@@ -516,6 +522,12 @@ class DistributedView:
             values, _, rgb = self.demip_image()
             return demip_picture(values, rgb, self.local.volume.GetProperty())
         return colour(self.float_image(), self.local.volume.GetProperty())
+
+
+#: Raw texel value per data unit of the scalar types VTK uploads as they are (8-bit ones as
+#: normalised integers): their brick textures hold the same bits on every rank.
+_RAW_PER_DATA = {"float": 1.0, "double": 1.0, "unsigned char": 1.0 / 255.0, "char": 1.0 / 127.0,
+                 "signed char": 1.0 / 127.0}
 
 
 def render_float_units(normalised: np.ndarray, scalars) -> np.ndarray:

@@ -17,13 +17,12 @@
 // the samples whose cell (clamped to the whole box) lies in its extent:
 // every cell lies in a brick (bricks share a point layer), a sample on a
 // shared face belongs to the cell above it. Samples of cells elsewhere
-// read -1e30 (no sample). VTK uploads each brick's texture normalised by
-// the brick's own range, so texel values differ between splits in float32
-// rounding: the samples agree to about 1e-7 of the range, not bit for bit.
-// mcGlobalNormalised re-normalises to the WHOLE volume's range
-// (u_mc_globalNorm = (on, brick range / whole range, (brick low - whole
-// low) / whole range)), so the readouts of all ranks are on one grid. The base position in the brick's
-// texture coordinates is still set (clipping uses it).
+// read -1e30 (no sample). mcGlobalNormalised is VTK's normalisation
+// with the WHOLE volume's range, so that the readouts of all ranks are on
+// one grid: u_mc_globalNorm = (1, scale, bias) maps the raw texel value
+// directly (float and 8-bit data, whose texels hold the data as they are:
+// the same bits on every rank), (2, a, b) re-normalises the brick's
+// normalised scalar (other types), (0, ..) leaves VTK's.
 #define MC_GLOBAL_PHASE
 
 vec3 mc_gEntry;  // whole box entry, absolute point index
@@ -31,7 +30,11 @@ vec3 mc_gStep;   // one sample step, point-index units
 
 float mcGlobalNormalised(float raw)
 {
-  return u_mc_globalNorm.x > 0.5 ? mcNormalised(raw) * u_mc_globalNorm.y + u_mc_globalNorm.z : mcNormalised(raw);
+  if (u_mc_globalNorm.x > 1.5)
+  {
+    return mcNormalised(raw) * u_mc_globalNorm.y + u_mc_globalNorm.z;
+  }
+  return u_mc_globalNorm.x > 0.5 ? raw * u_mc_globalNorm.y + u_mc_globalNorm.z : mcNormalised(raw);
 }
 
 void mcGlobalPhase(float stepsInBox, inout vec3 base, inout int first, inout int count)
