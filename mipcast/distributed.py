@@ -512,6 +512,20 @@ class DistributedView:
         rgb[~hit] = 0.0
         return values.astype(np.float64), depth, rgb
 
+    def images(self) -> dict:
+        """Collective: the route's float images by name (top row first), for shipping to a client.
+
+        ``"mip_value"`` (the maximum, data units, NaN = miss) on every route;
+        the ``"demip"`` route adds ``"demip_depth"`` (NaN: no DEMIP term) and
+        the final straight colour ``"demip_red"``, ``"demip_green"``,
+        ``"demip_blue"`` (in [0, 1]; :func:`demip_picture` makes the 8-bit picture).
+        """
+        if self.route != "demip":
+            return {"mip_value": self.float_image()}
+        values, depth, rgb = self.demip_image()
+        return {"mip_value": values.astype(np.float32), "demip_depth": depth, "demip_red": rgb[..., 0],
+                "demip_green": rgb[..., 1], "demip_blue": rgb[..., 2]}
+
     def depth_image(self) -> np.ndarray:
         """Collective (``"demip"`` route): the DEMIP depth per pixel (NaN: no term), as ``render_depth``."""
         return self.demip_image()[1]
