@@ -443,8 +443,9 @@ class DistributedView:
         """This rank's float readout in data units: on the whole range's grid where global_phase draws."""
         mapper = self.local.mapper
         low, high = self.data_range
-        if "global_phase" not in mapper.GetShaderPieces():
-            return self.local.float_image()  # cell walking: the brick's own normalisation
+        pieces = mapper.GetShaderPieces()
+        if "global_phase" not in pieces and "global_cells" not in pieces:
+            return self.local.float_image()  # the brick's own normalisation
         normalised = read_normalised(self.local.render_window, mapper)
         if high > low and self._brick_range[1] > self._brick_range[0]:
             return ((low + normalised * (high - low)) / self._texture_scale).astype(np.float32)
