@@ -11,7 +11,9 @@ volume property's transfer functions.
 
 - Analytic MIP (cell walking): a cell lies entirely in one brick (or in two,
   on a shared layer), so the maximum over the bricks is the maximum over the
-  whole volume's cells.
+  whole volume's cells; the ``global_cells`` piece walks the whole volume's
+  ray over the brick's cells, every plane parameter from its index, so N
+  ranks give the 1-rank floats bit for bit.
 - Sampled MIP: each brick takes the whole volume's samples, bit for bit
   (the ``global_phase`` shader piece): each pixel's ray is cast in the
   whole volume's point-index space from uniforms that are the same on
@@ -19,9 +21,7 @@ volume property's transfer functions.
   + (1 + k) steps and is interpolated by hand from its cell's 8 points (the
   brick holding the cell takes it), and the readout is normalised with the
   whole range: N ranks give the 1-rank float image bit for bit (measured on
-  2 and 4 ranks, every split).  Analytic MIP agrees to ~2e-5 of the range
-  between split counts (its cell walk starts from each brick's own
-  rasterised entry).
+  2 and 4 ranks, every split).
 - DEMIP (``demip``, ``demip_two_pass``: ``distributed="demip"``), in two
   reductions, exactly the single-process definition: phase 1 is the MAX
   reduction of the sampled MIP above (DEMIP's maximum); phase 2 hands that
