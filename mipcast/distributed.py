@@ -11,14 +11,32 @@ volume property's transfer functions.
 
 - Analytic MIP (cell walking): a cell lies entirely in one brick (or in two,
   on a shared layer), so the maximum over the bricks is the maximum over the
-  whole volume's cells.
-- Sampled MIP: each brick takes the whole volume's sample positions
-  (whole-box entry + (1 + k) * step along the ray, the ``global_phase``
-  shader piece), so the bricks together take exactly the single-process
-  samples.
+  whole volume's cells; the ``global_cells`` piece walks the whole volume's
+  ray over the brick's cells, every plane parameter from its index, so N
+  ranks give the 1-rank floats bit for bit.
+- Sampled MIP: each brick takes the whole volume's samples, bit for bit
+  (the ``global_phase`` shader piece): each pixel's ray is cast in the
+  whole volume's point-index space from uniforms that are the same on
+  every rank (:func:`ray_uniforms`), sample k sits at the whole box's entry
+  + (1 + k) steps and is interpolated by hand from its cell's 8 points (the
+  brick holding the cell takes it), and the readout is normalised with the
+  whole range: N ranks give the 1-rank float image bit for bit (measured on
+  2 and 4 ranks, every split).
+- DEMIP (``demip``, ``demip_two_pass``: ``distributed="demip"``), in two
+  reductions, exactly the single-process definition: phase 1 is the MAX
+  reduction of the sampled MIP above (DEMIP's maximum); phase 2 hands that
+  whole-ray maximum back to every rank's GPU as a float texture, each rank
+  marches its brick's share of the whole volume's samples to the first
+  sample of the same material as the GLOBAL maximum and reads out its
+  whole-ray index (:class:`mipcast.mappers.demip_brick.DEMIPBrickDepthMapper`),
+  and a MIN reduction gives the whole ray's first same-material sample.
+  Its depth (normalised over the WHOLE volume's box, every depth mode),
+  Eq. 1, the colour sphere and pseudo-chromadepth are applied on the CPU
+  with :mod:`mipcast.core.demip_depth`, the maths of the float64 reference.
+  Projection ``"mip"`` only, no slab (refused with a message).
 
-Only methods whose :class:`mipcast.methods.Method` entry has
-``distributed="max"`` are accepted. mpi4py provides the communicator
+The method table's ``distributed`` entry names the route (:data:`ROUTES`);
+other methods are refused with a message. mpi4py provides the communicator
 (``from mpi4py import MPI``; inside ``pvbatch --symmetric`` too); without
 mpi4py a job of one process runs (:class:`OneRank`).
 
@@ -42,10 +60,17 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkImagingCore import vtkImageClip
 
+from vtkmodules.vtkRenderingCore import vtkVolume
+
 from mipcast import methods
+from mipcast.core.camera_rays import camera_rays, matrix_array
+from mipcast.core.demip_depth import DepthGeometry, enhance
 from mipcast.core.object_state import object_state
+from mipcast.core.parameter_tables import DEMIP
 from mipcast.core.parameters import set_parameters
 from mipcast.core.validation import check_choice, check_image
+from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, first_match_index
+from mipcast.mappers.float_readout import read_normalised, texture_scale
 from mipcast.offscreen import OffscreenView, set_view
 
 Extent = Tuple[int, int, int, int, int, int]
@@ -253,7 +278,8 @@ class DistributedView:
         least one layer of points, e.g. :func:`split_extents`, ParaView's
         readers, RedistributeDataSet with ghost cells).
     method : str, default: "mip"
-        A method whose table entry has ``distributed="max"`` (``mip``, ``analytic``).
+        A method whose table entry has a ``distributed`` route (:data:`ROUTES`):
+        ``mip``, ``analytic`` (``"max"``), ``demip``, ``demip_two_pass`` (``"demip"``).
     size, view, sample_distance
         As :class:`mipcast.offscreen.OffscreenView`, for the whole volume
         (the camera frames the whole volume; default sample distance: the
@@ -290,10 +316,12 @@ class DistributedView:
                  max_voxels: Optional[int] = None, time_wait: bool = False, **settings) -> None:
         check_image(piece)
         entry = methods.METHODS[check_choice("method", method, tuple(methods.METHODS))]
-        if entry.distributed != "max":
-            able = [m.name for m in methods.METHODS.values() if m.distributed == "max"]
+        if entry.distributed not in ROUTES:
+            able = [m.name for m in methods.METHODS.values() if m.distributed in ROUTES]
             raise ValueError(f"method {method!r} has no exact distributed composite yet; "
                              f"use one of {able}, or render the whole volume on one rank")
+        #: The composite route (:data:`ROUTES`), from the method table's ``distributed``.
+        self.route = entry.distributed
         self.comm = world_communicator() if comm is None else comm
         self.whole_extent = whole_extent(piece, self.comm)
         points = int(np.prod([piece.GetExtent()[2 * a + 1] - piece.GetExtent()[2 * a] + 1 for a in range(3)]))
@@ -301,38 +329,134 @@ class DistributedView:
             raise ValueError(f"rank {self.comm.rank}: brick {piece.GetExtent()} has {points} points, over this "
                              f"rank's texture budget of {int(max_voxels)}: run more ranks (mpiexec -n) "
                              "or split the volume finer")
+        #: The whole volume's scalar range (every rank's readouts are normalised with it).
+        self.data_range = whole_range(piece, self.comm)
         if isinstance(window, str):
             if window != "full":
                 raise ValueError(f"window must be (low, high) or 'full', got {window!r}")
-            window = whole_range(piece, self.comm)
-        stub = _whole_stub(piece, self.whole_extent)
+            window = self.data_range
+        self.stub = _whole_stub(piece, self.whole_extent)
+        self.piece_extent = tuple(piece.GetExtent())
+        self._texture_scale = texture_scale(piece.GetPointData().GetScalars())
+        self._brick_range = piece.GetPointData().GetScalars().GetRange(0)
+        self._scalar_type = piece.GetPointData().GetScalars().GetDataTypeAsString()
         if sample_distance is None:
             sample_distance = min(abs(s) for s in piece.GetSpacing())
-        self.local = OffscreenView(piece, method, size, "front", sample_distance, tuple(window))
-        set_view(self.local.renderer, stub, view)
-        if settings:
-            set_parameters(self.local.mapper, **settings)
+        self.sample_distance = float(sample_distance)
+        first_method = ROUTES[self.route]["first_pass"] or entry.name
+        self.local = OffscreenView(piece, first_method, size, "front", sample_distance, tuple(window))
+        set_view(self.local.renderer, self.stub, view)
         self.window = self.local.window
         texture_min, texture_max = global_texture_box(piece.GetExtent(), self.whole_extent)
-        object_state(self.local.mapper)["global_box"] = (texture_min, texture_max)
-        uniforms = self.local.volume.GetShaderProperty().GetFragmentCustomUniforms()
-        uniforms.SetUniform3f("u_mc_globalTexMin", texture_min)
-        uniforms.SetUniform3f("u_mc_globalTexMax", texture_max)
-        self.local.mapper.Modified()
+        self._global_box = (texture_min, texture_max)
+        _set_global_box(self.local.mapper, self.local.volume, self._global_box)
+        self._set_static_uniforms(self.local.volume)
+        #: Phase 2 of the ``"demip"`` route (None for ``"max"``).
+        self.depth_mapper = None
+        if self.route == "demip":
+            self._make_depth_pass(piece, settings)
+        elif settings:
+            set_parameters(self.local.mapper, **settings)
         self.time_wait = bool(time_wait)
         #: Seconds of the last frame: ``render`` (this rank's brick), ``wait`` (for the
         #: other ranks, with ``time_wait``), ``composite`` (the reduction).
         self.last_times = {"render": 0.0, "wait": 0.0, "composite": 0.0}
+
+    def _make_depth_pass(self, piece, settings) -> None:
+        """The ``"demip"`` route's phase-2 mapper: DEMIP's settings, this brick, the whole volume's samples."""
+        mapper = self.depth_mapper = DEMIPBrickDepthMapper()
+        mapper.SetInputData(piece)
+        mapper.SetSampleDistance(self.local.sample_distance)
+        mapper.SetUseJittering(False)
+        volume = self.depth_volume = vtkVolume()
+        volume.SetProperty(self.local.volume.GetProperty())
+        mapper.Attach(volume)
+        volume.VisibilityOff()
+        self.local.renderer.AddVolume(volume)
+        self.set_parameters(**settings)
+        _set_global_box(mapper, volume, self._global_box)
+        self._set_static_uniforms(volume)
+
+    def _set_static_uniforms(self, volume) -> None:
+        """The global_phase piece's whole/brick index boxes, spacing, step and the whole range's normalisation."""
+        uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+        uniforms.SetUniform3f("u_mc_wholeLo", [float(v) for v in self.whole_extent[0::2]])
+        uniforms.SetUniform3f("u_mc_wholeHi", [float(v) for v in self.whole_extent[1::2]])
+        uniforms.SetUniform3f("u_mc_brickLo", [float(v) for v in self.piece_extent[0::2]])
+        uniforms.SetUniform3f("u_mc_brickHi", [float(v) for v in self.piece_extent[1::2]])
+        uniforms.SetUniform3f("u_mc_raySpacing", [abs(float(v)) for v in self.stub.GetSpacing()])
+        uniforms.SetUniformf("u_mc_rayStep", self.sample_distance)
+        low, high = self.data_range
+        brick_low, brick_high = self._brick_range
+        raw_per_data = _RAW_PER_DATA.get(self._scalar_type)
+        if high > low and raw_per_data is not None:
+            # VTK's normalisation of the raw texel value with the WHOLE range: the same on every rank
+            uniforms.SetUniform3f("u_mc_globalNorm", [1.0, self._texture_scale / (raw_per_data * (high - low)),
+                                                      -low / (high - low)])
+        elif high > low and brick_high > brick_low:
+            # the brick's normalised scalar -> the WHOLE range's (float32 readouts on one grid)
+            uniforms.SetUniform3f("u_mc_globalNorm", [2.0, (brick_high - brick_low) / (high - low),
+                                                      (brick_low - low) / (high - low)])
+        else:
+            uniforms.SetUniform3f("u_mc_globalNorm", [0.0, 1.0, 0.0])
+        for name in ("u_mc_rayPoint0", "u_mc_rayPointX", "u_mc_rayPointY", "u_mc_rayDirection"):
+            uniforms.SetUniform3f(name, [0.0, 0.0, 0.0])
+        uniforms.SetUniform4f("u_mc_rayEye", [0.0, 0.0, 0.0, 0.0])
+
+    def _push_rays(self) -> None:
+        """This frame's rays (the camera may have moved): the same uniforms on every rank."""
+        width, height = self.local.size
+        values = ray_uniforms(self.stub, self.camera, (width, height))
+        volumes = [self.local.volume] + ([self.depth_volume] if self.depth_mapper is not None else [])
+        for volume in volumes:
+            uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+            for name, value in values.items():
+                (uniforms.SetUniform4f if len(value) == 4 else uniforms.SetUniform3f)(name, value)
+
+    def set_parameters(self, **settings) -> None:
+        """Change the method's parameters (every rank alike), as :func:`mipcast.core.parameters.set_parameters`."""
+        if self.depth_mapper is None:
+            set_parameters(self.local.mapper, **settings)
+            return
+        set_parameters(self.depth_mapper, **settings)
+        values = self.demip_parameters()
+        if values["projection"] != "mip":
+            raise ValueError(f"distributed DEMIP composites projection 'mip' only, got {values['projection']!r} "
+                             "(LMIP, attenuated MIP and MIDA depend on the order along the whole ray): "
+                             "set projection='mip' or render the whole volume on one rank")
+        if values["slab_thickness"] > 0:
+            raise ValueError("distributed DEMIP has no slab yet (slab_thickness > 0): "
+                             "render the slab on one rank, or set slab_thickness=0")
+
+    def demip_parameters(self) -> dict:
+        """The DEMIP settings of the ``"demip"`` route (name -> value, from the phase-2 mapper)."""
+        if self.depth_mapper is None:
+            raise ValueError(f"the {self.route!r} route has no DEMIP parameters")
+        return {p.name: getattr(self.depth_mapper, p.getter)() for p in DEMIP}
 
     @property
     def camera(self):
         """This rank's vtkCamera (the same on every rank)."""
         return self.local.camera
 
+    def _local_float(self) -> np.ndarray:
+        """This rank's float readout in data units: on the whole range's grid where global_phase draws."""
+        mapper = self.local.mapper
+        low, high = self.data_range
+        pieces = mapper.GetShaderPieces()
+        if "global_phase" not in pieces and "global_cells" not in pieces:
+            return self.local.float_image()  # the brick's own normalisation
+        normalised = read_normalised(self.local.render_window, mapper)
+        if high > low and self._brick_range[1] > self._brick_range[0]:
+            return ((low + normalised * (high - low)) / self._texture_scale).astype(np.float32)
+        scalars = mapper.GetRenderedInput().GetPointData().GetScalars()
+        return render_float_units(normalised, scalars)
+
     def float_image(self) -> np.ndarray:
         """Collective: the whole volume's float image (data units, NaN = miss), on every rank."""
         start = time.perf_counter()
-        local = self.local.float_image()
+        self._push_rays()
+        local = self._local_float()
         #: This rank's own float image of its brick (the last frame), before the reduction.
         self.last_local = local
         middle = time.perf_counter()
@@ -345,9 +469,198 @@ class DistributedView:
                            "composite": time.perf_counter() - ready}
         return np.where(values < _NO_SAMPLE, np.nan, values).astype(np.float32)
 
+    def first_match(self, values: Optional[np.ndarray] = None) -> np.ndarray:
+        """Collective (``"demip"`` route): each pixel's whole-ray index of the first same-material sample.
+
+        Phase 2: every rank's brick against the GLOBAL maximum ``values``
+        (default: a new :meth:`float_image`), then a MIN reduction.  Sample
+        k sits at the whole box's entry + (1 + k) sample distances; +inf
+        where the ray has no DEMIP term.
+        """
+        if self.depth_mapper is None:
+            raise ValueError(f"the {self.route!r} route has no same-material search")
+        if values is None:
+            values = self.float_image()
+        self.local.volume.VisibilityOff()
+        self.depth_volume.VisibilityOn()
+        try:
+            self._push_rays()
+            found = first_match_index(self.local.render_window, self.depth_mapper, values, self.data_range)
+        finally:
+            self.depth_volume.VisibilityOff()
+            self.local.volume.VisibilityOn()
+        return _reduce_inplace(self.comm, np.ascontiguousarray(found, dtype=np.float64), "min")
+
+    def demip_image(self) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Collective (``"demip"`` route): (maximum, depth, straight RGB in [0, 1]), float64, top row first.
+
+        The maximum in data units (NaN: miss), the depth of the first
+        same-material sample in [0, 1] (NaN: no DEMIP term; normalised over
+        the whole volume's box, the table's depth mode) and the final
+        straight colour (Eq. 1, sphere, chromadepth where there is a term,
+        the transfer functions' colour of the maximum elsewhere; 0 on misses).
+        """
+        values = self.float_image()
+        index = self.first_match(values)
+        params = self.demip_parameters()
+        height, width = values.shape
+        rays = camera_rays(self.stub, self.camera, (width, height))
+        entry = rays.origin + rays.t_enter[..., None] * rays.direction
+        hit = ~np.isnan(values)
+        term = hit & np.isfinite(index) & rays.hit
+        where = entry + ((np.where(term, index, 0.0) + 1.0) * self.sample_distance)[..., None] * rays.direction
+        geometry = DepthGeometry(self.stub, self.camera, width / height)
+        depth = np.full(values.shape, np.nan)
+        depth[term] = geometry.depth(params["depth_mode"], where[term], entry[term])
+        rgb = _transfer_colour(np.where(hit, values, 0.0), self.local.volume.GetProperty())
+        rgb[term] = enhance(rgb[term], depth[term], np.ones(int(term.sum()), dtype=bool), where[term], geometry,
+                            params)
+        rgb[~hit] = 0.0
+        return values.astype(np.float64), depth, rgb
+
+    def images(self) -> dict:
+        """Collective: the route's float images by name (top row first), for shipping to a client.
+
+        ``"mip_value"`` (the maximum, data units, NaN = miss) on every route;
+        the ``"demip"`` route adds ``"demip_depth"`` (NaN: no DEMIP term) and
+        the final straight colour ``"demip_red"``, ``"demip_green"``,
+        ``"demip_blue"`` (in [0, 1]; :func:`demip_picture` makes the 8-bit picture).
+        """
+        if self.route != "demip":
+            return {"mip_value": self.float_image()}
+        values, depth, rgb = self.demip_image()
+        return {"mip_value": values.astype(np.float32), "demip_depth": depth, "demip_red": rgb[..., 0],
+                "demip_green": rgb[..., 1], "demip_blue": rgb[..., 2]}
+
+    def depth_image(self) -> np.ndarray:
+        """Collective (``"demip"`` route): the DEMIP depth per pixel (NaN: no term), as ``render_depth``."""
+        return self.demip_image()[1]
+
     def screenshot(self) -> np.ndarray:
         """Collective: the picture (uint8 RGB, top row first): the reduced float image coloured."""
+        if self.route == "demip":
+            values, _, rgb = self.demip_image()
+            return demip_picture(values, rgb, self.local.volume.GetProperty())
         return colour(self.float_image(), self.local.volume.GetProperty())
+
+
+#: Raw texel value per data unit of the scalar types VTK uploads as they are (8-bit ones as
+#: normalised integers): their brick textures hold the same bits on every rank.
+_RAW_PER_DATA = {"float": 1.0, "double": 1.0, "unsigned char": 1.0 / 255.0, "char": 1.0 / 127.0,
+                 "signed char": 1.0 / 127.0}
+
+
+def render_float_units(normalised: np.ndarray, scalars) -> np.ndarray:
+    """A readout (VTK's normalised scalar of ``scalars``) in data units, float32."""
+    from mipcast.mappers.float_readout import to_data_units
+
+    return to_data_units(normalised, scalars).astype(np.float32)
+
+
+def ray_uniforms(image, camera, size) -> dict:
+    """The global_phase piece's per-pixel ray, in the absolute point-index space of ``image``.
+
+    A pixel at NDC (x, y) casts the ray through ``u_mc_rayPoint0 + x *
+    u_mc_rayPointX + y * u_mc_rayPointY`` (the points at the NDC depth of
+    the box's centre) along ``u_mc_rayDirection`` (parallel projection,
+    ``u_mc_rayEye.w`` 0) or away from the eye ``u_mc_rayEye.xyz``
+    (perspective, w 1).  float64 here, the same float32 uniforms on every
+    rank, so every rank casts the same rays bit for bit.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkCommonDataModel import vtkImageData
+    >>> from vtkmodules.vtkRenderingCore import vtkCamera
+    >>> image = vtkImageData()
+    >>> image.SetExtent(0, 10, 0, 10, 0, 10)
+    >>> camera = vtkCamera()
+    >>> camera.SetFocalPoint(5, 5, 5); camera.SetPosition(5, 5, 40); camera.ParallelProjectionOn()
+    >>> camera.SetParallelScale(8.0)
+    >>> rays = ray_uniforms(image, camera, (16, 16))
+    >>> [round(v, 6) for v in rays["u_mc_rayPoint0"]], rays["u_mc_rayEye"][3]
+    ([5.0, 5.0, 5.0], 0.0)
+    """
+    width, height = size
+    to_ndc = matrix_array(camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
+    from_ndc = np.linalg.inv(to_ndc)
+    to_index = matrix_array(image.GetPhysicalToIndexMatrix())
+    bounds = image.GetBounds()
+    centre = np.array([0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]), 0.5 * (bounds[4] + bounds[5]),
+                       1.0])
+    centre_ndc = to_ndc @ centre
+    depth = centre_ndc[2] / centre_ndc[3]
+
+    def index_at(x, y, z):
+        world = from_ndc @ np.array([x, y, z, 1.0])
+        return (to_index @ np.append(world[:3] / world[3], 1.0))[:3]
+
+    point = index_at(0.0, 0.0, depth)
+    out = {"u_mc_rayPoint0": point, "u_mc_rayPointX": index_at(1.0, 0.0, depth) - point,
+           "u_mc_rayPointY": index_at(0.0, 1.0, depth) - point}
+    if camera.GetParallelProjection():
+        out["u_mc_rayDirection"] = index_at(0.0, 0.0, 1.0) - index_at(0.0, 0.0, -1.0)
+        out["u_mc_rayEye"] = np.zeros(4)
+    else:
+        out["u_mc_rayDirection"] = np.zeros(3)
+        out["u_mc_rayEye"] = np.append((to_index @ np.append(camera.GetPosition(), 1.0))[:3], 1.0)
+    return {name: [float(v) for v in value] for name, value in out.items()}
+
+
+#: The distributed composites, by the method table's ``distributed`` value:
+#: ``first_pass`` is the method each rank renders for the MAX reduction
+#: (None: the method itself).
+ROUTES = {
+    "max": {"first_pass": None, "doc": "the MAX reduction of the bricks' float readouts"},
+    "demip": {"first_pass": "mip",
+              "doc": "MAX of the bricks' sampled MIP, then MIN of the whole-ray index of the first sample of "
+                     "the global maximum's material; depth, Eq. 1 and sphere on the CPU"},
+}
+
+
+def demip_picture(values: np.ndarray, rgb: np.ndarray, volume_property) -> np.ndarray:
+    """The 8-bit picture of :meth:`DistributedView.demip_image`: straight colour times the maximum's opacity.
+
+    As DEMIP's colour exit (``shaders/demip_color.glsl``): the opacity is
+    MIP's, premultiplied; black where the ray missed.
+
+    Examples
+    --------
+    >>> from mipcast.offscreen import grey_property
+    >>> demip_picture(np.array([[0.5, np.nan]]), np.full((1, 2, 3), 0.5), grey_property((0.0, 1.0)))[0, :, 0]
+    array([128,   0], dtype=uint8)
+    """
+    opacity = _opacity(np.nan_to_num(values), volume_property)
+    out = np.where(np.isnan(values)[..., None], 0.0, np.nan_to_num(rgb) * 255.0 * opacity[..., None])
+    return np.clip(np.rint(out), 0, 255).astype(np.uint8)
+
+
+def _set_global_box(mapper, volume, box) -> None:
+    """A brick's mapper takes the whole volume's sample positions (the ``global_phase`` piece)."""
+    object_state(mapper)["global_box"] = box
+    uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+    uniforms.SetUniform3f("u_mc_globalTexMin", box[0])
+    uniforms.SetUniform3f("u_mc_globalTexMax", box[1])
+    mapper.Modified()
+
+
+def _transfer_colour(values: np.ndarray, volume_property, entries: int = 4096) -> np.ndarray:
+    """The colour transfer function's straight RGB in [0, 1] at ``values`` (float64, shape + (3,))."""
+    function = volume_property.GetRGBTransferFunction()
+    low, high = function.GetRange()
+    if not high > low:
+        return np.repeat(np.full(values.shape, 0.0)[..., None], 3, axis=-1) + np.array(function.GetColor(low))
+    table = np.zeros(3 * entries)
+    function.GetTable(low, high, entries, table)
+    table = table.reshape(entries, 3)
+    at = np.linspace(low, high, entries)
+    return np.stack([np.interp(values, at, table[:, c]) for c in range(3)], axis=-1)
+
+
+def _opacity(values: np.ndarray, volume_property) -> np.ndarray:
+    """The scalar opacity at ``values``."""
+    function = volume_property.GetScalarOpacity()
+    flat = np.asarray(values, dtype=np.float64).ravel()
+    return np.array([function.GetValue(v) for v in flat]).reshape(np.shape(values))
 
 
 def colour(values: np.ndarray, volume_property) -> np.ndarray:

@@ -82,8 +82,11 @@ class Method:
         benchmark reads its error there.
     distributed : str, optional
         How bricks of a volume split across processes composite exactly
-        (:mod:`mipcast.distributed`): ``"max"``, the maximum of the bricks'
-        float readouts is the whole volume's; None: not distributed yet.
+        (:mod:`mipcast.distributed`, its ``ROUTES``): ``"max"``, the maximum
+        of the bricks' float readouts is the whole volume's; ``"demip"``, the
+        MAX of the bricks' sampled MIP, then the MIN of the whole-ray index of
+        the first sample of the global maximum's material (depth, Eq. 1 and
+        sphere on the CPU); None: not distributed yet.
     bench : tuple of (label, samples_per_voxel, settings), optional
         Its rows in ``mipcast bench``: ``settings`` are ``(Name, value)``
         pairs for its setters; default one row, the method's own name at one
@@ -265,10 +268,10 @@ for _method in (
            bench=(("analytic", None, ()), ("analytic, no skipping", None, (("Skipping", False),)))),
     Method("demip", "DEMIP", "MIP brightened where its material is near (depth-enhanced MIP, colour sphere)",
            DEMIPVolumeMapper, reference=demip_reference, reference_tolerance=1e-4,
-           parameters=parameter_tables.DEMIP, foveation_layer=True, bench=_DEMIP_BENCH),
+           parameters=parameter_tables.DEMIP, foveation_layer=True, distributed="demip", bench=_DEMIP_BENCH),
     Method("demip_two_pass", "DEMIP (two passes)", "DEMIP split into two GPU passes, for timing the split",
            _demip_two_pass, reference=demip_reference, reference_tolerance=1e-4,
-           parameters=parameter_tables.DEMIP, bench=(("demip two passes", 1, ()),)),
+           parameters=parameter_tables.DEMIP, distributed="demip", bench=(("demip two passes", 1, ()),)),
     Method("foveated", "Foveated", "full quality around a gaze point, fewer rays and samples elsewhere",
            FoveatedVolumeMapper, parameters=parameter_tables.FOVEATED,
            bench=(("foveated mip", 1, ()), ("foveated mip, gaze at a corner", 1, (("GazePoint", (0.1, 0.1)),)),

@@ -47,12 +47,14 @@ with abort_on_error(comm):
         piece.GetPointData().SetActiveScalars(array)
     view = DistributedView(piece, settings["method"], size=tuple(settings["size"]), view=settings["view"],
                            window=settings["window"] or "full", comm=comm, **settings["parameters"])
-    values = view.float_image()
+    images = view.images()
     output = self.GetOutputDataObject(0)
     if comm.rank == 0:
-        column = numpy_to_vtk(values.ravel().astype("float32"), deep=True)
-        column.SetName("mip_value")
-        output.AddColumn(column)
+        for name, values in images.items():
+            column = numpy_to_vtk(values.ravel().astype("float32"), deep=True)
+            column.SetName(name)
+            output.AddColumn(column)
+        values = images["mip_value"]
         output.GetFieldData().AddArray(numpy_to_vtk([float(values.shape[0]), float(values.shape[1])], deep=True))
         output.GetFieldData().GetArray(0).SetName("mip_shape")
 """
@@ -67,7 +69,10 @@ def distributed_mip(source, method: str = "mip", size: Sequence[int] = (256, 256
     source : paraview proxy
         Image data with one-component point scalars (e.g. ``XMLImageDataReader``).
     method : str
-        A method with ``distributed="max"`` in :data:`mipcast.methods.METHODS`.
+        A method with a ``distributed`` route in :data:`mipcast.methods.METHODS`
+        (``mip``, ``analytic``; ``demip``, ``demip_two_pass``, whose table also
+        carries ``demip_depth`` and the colour ``demip_red/green/blue``:
+        :func:`fetch_images`).
     size, view
         Output (width, height) and a camera preset of :data:`mipcast.offscreen.VIEW_NAMES`.
     window : (low, high), optional
@@ -97,14 +102,19 @@ def distributed_mip(source, method: str = "mip", size: Sequence[int] = (256, 256
 
 def fetch_image(flt) -> np.ndarray:
     """The filter's float image on the client: numpy float32 (height, width), top row first."""
+    return fetch_images(flt)["mip_value"]
+
+
+def fetch_images(flt) -> dict:
+    """Every image the filter's table carries (:meth:`mipcast.distributed.DistributedView.images`), by name."""
     from paraview import servermanager
     from vtkmodules.util.numpy_support import vtk_to_numpy
 
     table = servermanager.Fetch(flt)
-    column = table.GetColumnByName("mip_value")
     shape = table.GetFieldData().GetArray("mip_shape")
-    if column is None or shape is None:
+    if table.GetColumnByName("mip_value") is None or shape is None:
         raise RuntimeError("the distributed MIP filter produced no image: see the server's output "
                            "(mipcast and mpi4py must be importable on every server rank)")
     height, width = int(shape.GetValue(0)), int(shape.GetValue(1))
-    return vtk_to_numpy(column).reshape(height, width).astype(np.float32)
+    return {table.GetColumnName(i): vtk_to_numpy(table.GetColumn(i)).reshape(height, width).astype(np.float32)
+            for i in range(table.GetNumberOfColumns())}

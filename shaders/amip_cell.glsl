@@ -23,6 +23,7 @@ struct McRay
   vec3 tDelta;     // t between voxel planes, per axis
   float start;     // t where the walk starts: 0, or the clipped entry
   float length;    // t where the ray leaves the point bounds, is terminated or clipped
+  ivec3 firstCell; // the cells the walk may visit (whole-volume indices on a distributed brick)
   ivec3 lastCell;
 };
 
@@ -72,12 +73,29 @@ float mcCellMaximum(vec4 lo, vec4 hi, vec3 u0, vec3 du)
 
 // Ray parameters of the next voxel plane per axis after parameter t; 1e30
 // on axes the ray runs parallel to.
+#ifdef MC_GLOBAL_CELLS
+// On a distributed brick: from the cell the walk starts in, each plane's
+// parameter from its index ((plane - origin) / dir, as every later step).
+vec3 mcPlanesAfter(McRay ray, float t)
+{
+  // the cell the ray enters at t: on an axis whose voxel plane it crosses at t
+  // (within the walk's tie tolerance) the cell beyond the plane
+  vec3 here = ray.origin + t * ray.dir;
+  vec3 nearest = floor(here + 0.5);
+  bvec3 onPlane = lessThanEqual(abs(here - nearest), (abs(t) * 1.0e-6 + 1.0e-7) * abs(ray.dir) + 1.0e-6);
+  vec3 entered = mix(floor(here), nearest - vec3(lessThan(ray.dir, vec3(0.0))), vec3(onPlane));
+  vec3 cell = vec3(clamp(ivec3(entered), ray.firstCell, ray.lastCell));
+  vec3 plane = cell + vec3(greaterThan(ray.dir, vec3(0.0)));
+  return mix((plane - ray.origin) / mix(ray.dir, vec3(1.0), vec3(ray.still)), vec3(1.0e30), vec3(ray.still));
+}
+#else
 vec3 mcPlanesAfter(McRay ray, float t)
 {
   vec3 here = ray.origin + t * ray.dir;
   vec3 plane = mix(floor(here) + 1.0, ceil(here) - 1.0, vec3(lessThan(ray.dir, vec3(0.0))));
   return mix(t + (plane - here) / mix(ray.dir, vec3(1.0), vec3(ray.still)), vec3(1.0e30), vec3(ray.still));
 }
+#endif
 
 // The ray from its true entry (g_dataPos is one jitter step further in) to
 // where it leaves the point bounds or reaches the depth-buffer end; with
@@ -93,6 +111,43 @@ vec3 mc_cropLowIndex;
 vec3 mc_cropHighIndex;
 #endif
 
+#ifdef MC_GLOBAL_CELLS
+// A distributed brick (global_cells): the whole volume's ray, t = 0 at the
+// whole box's entry, walked over this brick's cells [u_mc_brickLo,
+// u_mc_brickHi - 1] from where it enters the brick's box to where it leaves.
+McRay mcBeginRay()
+{
+  McRay ray;
+  vec3 entry;
+  vec3 dir;
+  if (!mcGlobalRay(entry, dir))
+  {
+    discard;  // the ray misses the whole volume
+  }
+  ray.origin = entry;
+  ray.dir = dir;
+  ray.still = lessThan(abs(ray.dir), vec3(1.0e-20));
+  ray.tDelta = mix(1.0 / max(abs(ray.dir), vec3(1.0e-20)), vec3(1.0e30), vec3(ray.still));
+  vec3 safe = mix(ray.dir, vec3(1.0), vec3(ray.still));
+  vec3 a = (u_mc_brickLo - ray.origin) / safe;
+  vec3 b = (u_mc_brickHi - ray.origin) / safe;
+  vec3 inside = vec3(greaterThanEqual(ray.origin, u_mc_brickLo)) * vec3(lessThanEqual(ray.origin, u_mc_brickHi));
+  vec3 lo = mix(min(a, b), mix(vec3(1.0e30), vec3(-1.0e30), inside), vec3(ray.still));
+  vec3 hi = mix(max(a, b), mix(vec3(-1.0e30), vec3(1.0e30), inside), vec3(ray.still));
+  vec3 wa = (u_mc_wholeHi - ray.origin) / safe;
+  vec3 wb = (u_mc_wholeLo - ray.origin) / safe;
+  vec3 whole = mix(max(wa, wb), vec3(1.0e30), vec3(ray.still));
+  ray.start = max(max(max(lo.x, lo.y), lo.z), 0.0);
+  ray.length = min(min(min(hi.x, hi.y), hi.z), min(min(whole.x, whole.y), whole.z));
+  if (ray.start > ray.length)
+  {
+    discard;  // the whole ray passes this brick by
+  }
+  ray.firstCell = ivec3(u_mc_brickLo);
+  ray.lastCell = max(ivec3(u_mc_brickHi) - 1, ray.firstCell);
+  return ray;
+}
+#else
 McRay mcBeginRay()
 {
   McRay ray;
@@ -119,6 +174,7 @@ McRay mcBeginRay()
   ray.dir = dirTex * dims;
   ray.still = lessThan(abs(ray.dir), vec3(1.0e-20));
   ray.tDelta = mix(1.0 / max(abs(ray.dir), vec3(1.0e-20)), vec3(1.0e30), vec3(ray.still));
+  ray.firstCell = ivec3(0);
   ray.lastCell = ivec3(dims) - 2;
 #ifdef MC_CROP_REGIONS
   mc_cropLowIndex = u_mc_cropLow * dims - 0.5;
@@ -132,11 +188,12 @@ McRay mcBeginRay()
 #endif
   return ray;
 }
+#endif
 
 // The cell holding the segment [t0, t1] (by its midpoint: robust at ties).
 ivec3 mcCellOf(McRay ray, float t0, float t1)
 {
-  return clamp(ivec3(floor(ray.origin + (0.5 * (t0 + t1)) * ray.dir)), ivec3(0), ray.lastCell);
+  return clamp(ivec3(floor(ray.origin + (0.5 * (t0 + t1)) * ray.dir)), ray.firstCell, ray.lastCell);
 }
 
 // The projection's hooks (one cell-hook piece per exact projection fills
@@ -174,7 +231,11 @@ void mcWalkCell(McRay ray, ivec3 cell, float t1, inout float t0, inout vec3 tNex
 {
   vec4 lo;
   vec4 hi;
+#ifdef MC_GLOBAL_CELLS
+  mcCellCorners(cell - ray.firstCell, lo, hi);  // the brick's texture starts at its first point
+#else
   mcCellCorners(cell, lo, hi);
+#endif
   mc_cellsWalked += 1.0;
 #ifdef MC_CROP_REGIONS
   // Cropping regions (clip_regions): the segment split at the cropping
@@ -191,6 +252,15 @@ void mcWalkCell(McRay ray, ivec3 cell, float t1, inout float t0, inout vec3 tNex
 #else
   mcCell(lo, hi, ray.origin + t0 * ray.dir - vec3(cell), (t1 - t0) * ray.dir, t1 - t0, rayMax);
 #endif
-  tNext += ray.tDelta * vec3(lessThanEqual(tNext, vec3(t1 * (1.0 + 1.0e-6) + 1.0e-7)));
+  bvec3 stepped = lessThanEqual(tNext, vec3(t1 * (1.0 + 1.0e-6) + 1.0e-7));
+#ifdef MC_GLOBAL_CELLS
+  // the next plane of each stepped axis, its parameter from its index
+  vec3 plane = vec3(cell) + mix(vec3(-1.0), vec3(2.0), vec3(greaterThan(ray.dir, vec3(0.0))));
+  vec3 direct = mix((plane - ray.origin) / mix(ray.dir, vec3(1.0), vec3(ray.still)), vec3(1.0e30),
+                    vec3(ray.still));
+  tNext = mix(tNext, direct, vec3(stepped));
+#else
+  tNext += ray.tDelta * vec3(stepped);
+#endif
   t0 = t1;
 }

@@ -2,43 +2,105 @@
 // fills: BinaryMask::Dec
 // mode: augment
 // One brick of a distributed volume (mipcast.distributed): the sampled loop
-// takes the WHOLE volume's sample positions, not the brick's. The whole
-// volume's point bounds reach the shader in this brick's texture
-// coordinates (u_mc_globalTexMin, u_mc_globalTexMax). As in VTK's loop
-// for the whole volume, sample k sits at the whole box's entry + (1 + k)
-// steps, for k = 0 .. floor(steps from the first sample to the box's exit);
-// this brick marches those k whose position lies in its own point bounds
-// (t in [-1, stepsInBox] steps from g_dataPos, a brick's entry being one step
-// before g_dataPos), widened by MC_FACE_TOLERANCE steps so that a sample on a
-// face two bricks share is taken by at least one of them (a position up to
-// that far outside reads the face's value: the texture clamps to its edge).
+// takes the WHOLE volume's samples, at positions bit for bit the same on
+// every rank whatever the split. Each pixel's ray is computed in the whole volume's
+// absolute point-index space from uniforms that are the same on every rank
+// (mipcast.distributed.ray_uniforms: the ray's point on a plane through
+// the volume, affine in the pixel's NDC, and the eye or the parallel
+// direction; the whole and the brick's index boxes, the spacing and the
+// sample distance), not from the brick's own rasterised texture
+// coordinates. As in VTK's loop for the whole volume, sample k sits at the
+// whole box's entry + (1 + k) steps, k = 0 .. floor(steps from the first
+// sample to the box's exit). mcGlobalSample(k) interpolates it by hand
+// (texelFetch of the cell's 8 points, exact cell index and fractions),
+// so the value does not depend on the brick's texture size; a brick takes
+// the samples whose cell (clamped to the whole box) lies in its extent:
+// every cell lies in a brick (bricks share a point layer), a sample on a
+// shared face belongs to the cell above it. Samples of cells elsewhere
+// read -1e30 (no sample). mcGlobalNormalised is VTK's normalisation
+// with the WHOLE volume's range, so that the readouts of all ranks are on
+// one grid: u_mc_globalNorm = (1, scale, bias) maps the raw texel value
+// directly (float and 8-bit data, whose texels hold the data as they are:
+// the same bits on every rank), (2, a, b) re-normalises the brick's
+// normalised scalar (other types), (0, ..) leaves VTK's.
 #define MC_GLOBAL_PHASE
-#define MC_FACE_TOLERANCE 1.0e-4
+
+vec3 mc_gEntry;  // whole box entry, absolute point index
+vec3 mc_gStep;   // one sample step, point-index units
+
+float mcGlobalNormalised(float raw)
+{
+  if (u_mc_globalNorm.x > 1.5)
+  {
+    return mcNormalised(raw) * u_mc_globalNorm.y + u_mc_globalNorm.z;
+  }
+  return u_mc_globalNorm.x > 0.5 ? raw * u_mc_globalNorm.y + u_mc_globalNorm.z : mcNormalised(raw);
+}
 
 void mcGlobalPhase(float stepsInBox, inout vec3 base, inout int first, inout int count)
 {
+  // the whole volume's sample 0 in this brick's texture coordinates (for clipping)
   bvec3 mc_up = greaterThan(g_dirStep, vec3(0.0));
   vec3 mc_in = (mix(u_mc_globalTexMax, u_mc_globalTexMin, vec3(mc_up)) - g_dataPos) / g_dirStep;
-  vec3 mc_out = (mix(u_mc_globalTexMin, u_mc_globalTexMax, vec3(mc_up)) - g_dataPos) / g_dirStep;
   mc_in = mix(mc_in, vec3(-1.0e30), vec3(equal(g_dirStep, vec3(0.0))));
-  mc_out = mix(mc_out, vec3(1.0e30), vec3(equal(g_dirStep, vec3(0.0))));
-  float mc_g0 = max(max(mc_in.x, mc_in.y), mc_in.z) + 1.0;  // whole volume's sample 0
-  float mc_gOut = min(min(mc_out.x, mc_out.y), mc_out.z);
-  int mc_last = int(floor(max(mc_gOut - mc_g0, 0.0)));    // as VTK's count for the whole box
-  float mc_hi = min(stepsInBox, ceil(max(g_terminatePointMax, 0.0)));
-  base = g_dataPos + mc_g0 * g_dirStep;
-  first = max(0, int(ceil(-1.0 - MC_FACE_TOLERANCE - mc_g0)));
-  count = min(mc_last, int(floor(mc_hi + MC_FACE_TOLERANCE - mc_g0))) + 1;
-  if (mc_g0 > mc_gOut)
+  base = g_dataPos + (max(max(mc_in.x, mc_in.y), mc_in.z) + 1.0) * g_dirStep;
+
+  vec2 mc_ndc = 2.0 * gl_FragCoord.xy * in_inverseWindowSize - 1.0;
+  vec3 mc_point = u_mc_rayPoint0 + mc_ndc.x * u_mc_rayPointX + mc_ndc.y * u_mc_rayPointY;
+  vec3 mc_dir = mix(u_mc_rayDirection, mc_point - u_mc_rayEye.xyz, u_mc_rayEye.w);
+  mc_gStep = mc_dir * (u_mc_rayStep / length(mc_dir * u_mc_raySpacing));
+  vec3 mc_a = (u_mc_wholeLo - mc_point) / mc_gStep;
+  vec3 mc_b = (u_mc_wholeHi - mc_point) / mc_gStep;
+  bvec3 mc_flat = equal(mc_gStep, vec3(0.0));
+  vec3 mc_lo = mix(min(mc_a, mc_b), vec3(-1.0e30), vec3(mc_flat));
+  vec3 mc_hi = mix(max(mc_a, mc_b), vec3(1.0e30), vec3(mc_flat));
+  float mc_sIn = max(max(mc_lo.x, mc_lo.y), mc_lo.z);
+  float mc_sOut = min(min(mc_hi.x, mc_hi.y), mc_hi.z);
+  mc_gEntry = mc_point + mc_sIn * mc_gStep;
+  if (mc_sIn > mc_sOut)
   {
-    // A grazing ray shorter than one step: VTK still takes sample 0, past the
-    // whole box, where the texture reads the value at the nearest point of
-    // the box. The brick holding that point takes it.
-    vec3 mc_near = clamp(base, u_mc_globalTexMin, u_mc_globalTexMax);
-    vec3 mc_slack = vec3(MC_FACE_TOLERANCE) * abs(g_dirStep);
-    bool mc_mine = all(greaterThanEqual(mc_near, in_texMin[0] - mc_slack)) &&
-                   all(lessThanEqual(mc_near, in_texMax[0] + mc_slack));
     first = 0;
-    count = mc_mine ? 1 : 0;
+    count = 0;  // the ray misses the whole box
+    return;
   }
+  int mc_last = int(floor(max(mc_sOut - mc_sIn - 1.0, 0.0)));
+  // this brick's part of the ray, one sample wider each side (the cell test decides)
+  vec3 mc_ba = (u_mc_brickLo - mc_gEntry) / mc_gStep;
+  vec3 mc_bb = (u_mc_brickHi - mc_gEntry) / mc_gStep;
+  vec3 mc_blo = mix(min(mc_ba, mc_bb), vec3(-1.0e30), vec3(mc_flat));
+  vec3 mc_bhi = mix(max(mc_ba, mc_bb), vec3(1.0e30), vec3(mc_flat));
+  float mc_bIn = max(max(mc_blo.x, mc_blo.y), mc_blo.z);
+  float mc_bOut = min(min(mc_bhi.x, mc_bhi.y), mc_bhi.z);
+  first = mc_last == 0 ? 0 : int(clamp(floor(mc_bIn) - 2.0, 0.0, float(mc_last + 1)));
+  count = mc_last == 0 ? 1 : int(clamp(ceil(mc_bOut) + 1.0, 0.0, float(mc_last + 1)));
 }
+
+float mcGlobalSample(int k)
+{
+  vec3 mc_p = clamp(mc_gEntry + float(k + 1) * mc_gStep, u_mc_wholeLo, u_mc_wholeHi);
+  vec3 mc_c = max(min(floor(mc_p), u_mc_wholeHi - 1.0), u_mc_wholeLo);
+  vec3 mc_c1 = min(mc_c + 1.0, u_mc_wholeHi);
+  if (any(lessThan(mc_c, u_mc_brickLo)) || any(greaterThan(mc_c1, u_mc_brickHi)))
+  {
+    return -1.0e30;
+  }
+  vec3 mc_t = mc_p - mc_c;
+  ivec3 mc_i = ivec3(mc_c - u_mc_brickLo);
+  ivec3 mc_j = ivec3(mc_c1 - u_mc_brickLo);
+  float mc_v000 = texelFetch(in_volume[0], mc_i, 0).r;
+  float mc_v100 = texelFetch(in_volume[0], ivec3(mc_j.x, mc_i.y, mc_i.z), 0).r;
+  float mc_v010 = texelFetch(in_volume[0], ivec3(mc_i.x, mc_j.y, mc_i.z), 0).r;
+  float mc_v110 = texelFetch(in_volume[0], ivec3(mc_j.x, mc_j.y, mc_i.z), 0).r;
+  float mc_v001 = texelFetch(in_volume[0], ivec3(mc_i.x, mc_i.y, mc_j.z), 0).r;
+  float mc_v101 = texelFetch(in_volume[0], ivec3(mc_j.x, mc_i.y, mc_j.z), 0).r;
+  float mc_v011 = texelFetch(in_volume[0], ivec3(mc_i.x, mc_j.y, mc_j.z), 0).r;
+  float mc_v111 = texelFetch(in_volume[0], mc_j, 0).r;
+  float mc_x00 = mix(mc_v000, mc_v100, mc_t.x);
+  float mc_x10 = mix(mc_v010, mc_v110, mc_t.x);
+  float mc_x01 = mix(mc_v001, mc_v101, mc_t.x);
+  float mc_x11 = mix(mc_v011, mc_v111, mc_t.x);
+  return mix(mix(mc_x00, mc_x10, mc_t.y), mix(mc_x01, mc_x11, mc_t.y), mc_t.z);
+}
+
+// mcNormalised from here on (the hook pieces' mcEndRay): the whole volume's normalisation
+#define mcNormalised mcGlobalNormalised

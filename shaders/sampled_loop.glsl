@@ -45,7 +45,9 @@
 // mcGlobalPhase), sample i sits at mc_base + i * g_dirStep where mc_base is
 // the WHOLE volume's first sample along this ray, and first .. count - 1
 // are the whole volume's samples that lie in this brick: every brick takes
-// the single-process sample positions and indices.
+// the single-process sample positions and indices; the values are read by
+// mcGlobalSample(i) (the whole-volume ray, interpolated by hand), so they
+// are bit for bit the same whatever the split.
   vec3 mc_limit = mix(in_texMin[0], in_texMax[0], vec3(greaterThan(g_dirStep, vec3(0.0))));
   vec3 mc_toExit = (mc_limit - g_dataPos) / g_dirStep;
   mc_toExit = mix(mc_toExit, vec3(1.0e30), vec3(equal(g_dirStep, vec3(0.0))));
@@ -99,7 +101,11 @@
     }
     mc_seen = true;
 #endif
+#ifdef MC_GLOBAL_PHASE
+    if (!mcSample(mcGlobalSample(mc_i), mc_i))
+#else
     if (!mcSample(texture3D(in_volume[0], mc_base + float(mc_i) * g_dirStep).r, mc_i))
+#endif
     {
       mc_count = mc_i;
       break;
@@ -125,7 +131,11 @@
         continue;
       }
 #endif
+#ifdef MC_GLOBAL_PHASE
+      if (mcSecondSample(mcGlobalSample(mc_j), mc_j))
+#else
       if (mcSecondSample(texture3D(in_volume[0], mc_base + float(mc_j) * g_dirStep).r, mc_j))
+#endif
       {
         mc_found = mc_j;
         break;

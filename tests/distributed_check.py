@@ -10,6 +10,14 @@ float images (largest difference as a fraction of the range, and the
 fraction of bit-identical pixels). Rank 0 writes the results as JSON to
 ``--out``. ``--die-rank R`` makes rank R kill itself (SIGKILL) after the
 first frame, ``--raise-rank R`` makes it raise: the job must end, not hang.
+
+Methods on the ``"demip"`` route (``demip``, ``demip_two_pass``) run one
+case per depth mode of ``--demip-modes`` and sphere weight of
+``--spheres`` (one view per axis, its parameters changed between cases):
+pictures (within 1 and 2 grey), the maximum's float image, the depth
+against the single process's ``render_depth`` and against the float64
+reference (``render_demip(output="depth")``), and whether the same pixels
+get a DEMIP term.
 ``--max-voxels`` is each rank's texture budget (refused above it).
 
     OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \\
@@ -25,10 +33,14 @@ import sys
 import numpy as np
 
 from mipcast.data_fixtures import make_fixture
-from mipcast.distributed import (DistributedView, abort_on_error, colour, extract_piece, split_extents,
+from mipcast.distributed import (DistributedView, OneRank, abort_on_error, colour, extract_piece, split_extents,
                                  world_communicator)
+from mipcast import methods
 from mipcast.core.parameters import set_parameters
+from mipcast.distributed import demip_picture
+from mipcast.mappers.demip import render_depth
 from mipcast.offscreen import OffscreenView
+from mipcast.reference.demip import render_demip
 
 AXES = {"x": 0, "y": 1, "z": 2, "d3": None}
 
@@ -40,12 +52,122 @@ def compare(distributed_rgb, single_rgb, distributed_float, single_float, span):
     diff = np.abs(distributed_float[both].astype(np.float64) - single_float[both].astype(np.float64))
     return {
         "within_1_grey": float(close.mean()),
+        "within_2_grey": float((np.abs(distributed_rgb.astype(int) - single_rgb.astype(int)).max(axis=2) <= 2).mean()),
         "max_grey_off": int(np.abs(distributed_rgb.astype(int) - single_rgb.astype(int)).max()),
         "float_max_error": float(diff.max() / span) if diff.size else 0.0,
         "float_identical": float((diff == 0).mean()) if diff.size else 1.0,
         "misses_agree": miss_agree,
         "lit": float((single_rgb.max(axis=2) > 8).mean()),
     }
+
+
+_ONE_RANK = {}  # method -> rank 0's view of the whole volume as one rank's brick (DistributedView, OneRank)
+
+
+def one_rank(method, image, args, window, view):
+    """Rank 0's 1-rank DistributedView of the whole volume (the same camera): what N ranks must equal."""
+    single = _ONE_RANK.get(method)
+    if single is None:
+        single = _ONE_RANK[method] = DistributedView(image, method, size=tuple(args.image), window=window,
+                                                     comm=OneRank())
+    single.camera.DeepCopy(view.camera)
+    return single
+
+
+def against_one_rank(rgb, values, one_rgb, one_values, span, depth=None, one_depth=None):
+    """N ranks against 1 rank: largest grey and float difference, bit-identical floats, depth."""
+    both = ~np.isnan(values) & ~np.isnan(one_values)
+    diff = np.abs(values[both].astype(np.float64) - one_values[both].astype(np.float64))
+    grey = np.abs(rgb.astype(int) - one_rgb.astype(int)).max(axis=2)
+    out = {"one_rank_max_grey_off": int(grey.max()), "one_rank_within_1_grey": float((grey <= 1).mean()),
+           "one_rank_float_max_error": float(diff.max() / span) if diff.size else 0.0,
+           "one_rank_float_identical": float((diff == 0).mean()) if diff.size else 1.0,
+           "one_rank_misses_agree": float(np.mean(np.isnan(values) == np.isnan(one_values)))}
+    if depth is not None:
+        known = ~np.isnan(depth) & ~np.isnan(one_depth)
+        out["one_rank_depth_max_error"] = float(np.abs(depth[known] - one_depth[known]).max()) if known.any() else 0.0
+        out["one_rank_term_agree"] = float(np.mean(np.isnan(depth) == np.isnan(one_depth)))
+    return out
+
+
+def _wins(comm, view, values):
+    """Which rank's brick holds each pixel's maximum (pixel counts per rank): every brick must contribute."""
+    wins = np.zeros(comm.size, dtype=np.int64)
+    wins[comm.rank] = int(np.sum(view.last_local == values))
+    if comm.size > 1:
+        from mpi4py import MPI
+
+        comm.Allreduce(MPI.IN_PLACE, wins, op=MPI.SUM)
+    return wins
+
+
+def save_png(args, name, rgb, values):
+    from vtk_png import write_png
+
+    os.makedirs(args.png, exist_ok=True)
+    write_png(os.path.join(args.png, f"{name}.png"), rgb)
+    np.save(os.path.join(args.png, f"{name}.npy"), values)
+
+
+_SINGLE = {}     # method -> rank 0's one-process view (its parameters changed per case)
+_REFERENCE = {}  # settings -> float64 reference depth
+
+
+def demip_cases(args, comm, image, window, span, axis, axis_number, extents, method, view, settings, keep,
+                results):
+    """The depth mode x sphere weight cases of a ``"demip"``-route method on this split (collective)."""
+    modes = args.demip_modes.split(",")
+    spheres = [float(v) for v in args.spheres.split(",")]
+    if method in args.sweep.split(","):
+        cases = [(mode, sphere) for mode in modes for sphere in spheres]
+    else:
+        cases = [(modes[axis_number % len(modes)], spheres[axis_number % len(spheres)])]
+    for mode, sphere in cases:
+        case_settings = dict(settings, depth_mode=mode, sphere_weight=sphere)
+        view.set_parameters(**case_settings)
+        values, depth, straight = view.demip_image()
+        wins = _wins(comm, view, values)
+        rgb = demip_picture(values, straight, view.local.volume.GetProperty())
+        if comm.rank != 0:
+            continue
+        single = _SINGLE.get(method)
+        if single is None:
+            single = _SINGLE[method] = OffscreenView(image, method, size=tuple(args.image), window=window)
+            keep.append(single)
+        set_parameters(single.mapper, **case_settings)
+        single.camera.DeepCopy(view.camera)
+        single_float = single.float_image()
+        single_rgb = single.screenshot()
+        single_depth = render_depth(single.render_window, single.mapper)
+        key = json.dumps(case_settings, sort_keys=True)
+        if key not in _REFERENCE:
+            _REFERENCE[key] = render_demip(image, view.camera, tuple(args.image),
+                                           sample_distance=view.sample_distance, window=window,
+                                           output="depth", **case_settings)
+        reference = _REFERENCE[key]
+        one = one_rank(method, image, args, window, view)
+        one.set_parameters(**case_settings)
+        one_values, one_depth, one_straight = one.demip_image()
+        one_rgb = demip_picture(one_values, one_straight, one.local.volume.GetProperty())
+        both = ~np.isnan(depth) & ~np.isnan(single_depth)
+        near = ~np.isnan(depth) & ~np.isnan(reference)
+        case = {"axis": axis, "method": method, "depth_mode": mode, "sphere_weight": sphere,
+                "bricks": [list(e) for e in extents], "pixels_won": wins.tolist(),
+                **compare(rgb, single_rgb, values.astype(np.float32), single_float, span),
+                "depth_max_error": float(np.abs(depth[both] - single_depth[both]).max()) if both.any() else 0.0,
+                "depth_within_1e-5": float((np.abs(depth[both] - single_depth[both]) <= 1e-5).mean())
+                if both.any() else 1.0,
+                "reference_depth_within_1e-5": float((np.abs(depth[near] - reference[near]) <= 1e-5).mean())
+                if near.any() else 1.0,
+                "reference_depth_error": float(np.abs(depth[near] - reference[near]).max()) if near.any() else 0.0,
+                "term_agree": float(np.mean(np.isnan(depth) == np.isnan(single_depth))),
+                **against_one_rank(rgb, values, one_rgb, one_values, span, depth, one_depth),
+                "reference_term_agree": float(np.mean(np.isnan(depth) == np.isnan(reference)))}
+        results["cases"].append(case)
+        print(json.dumps(case), flush=True) if os.environ.get("MIPCAST_CHECK_VERBOSE") else None
+        if args.png:
+            save_png(args, f"{method}-{mode}-s{sphere:g}-{axis}-n{comm.size}", rgb, values)
+            save_png(args, f"{method}-{mode}-s{sphere:g}-single", single_rgb, single_float)
 
 
 def main(argv=None):
@@ -57,6 +179,11 @@ def main(argv=None):
     parser.add_argument("--methods", default="mip,analytic")
     parser.add_argument("--set", action="append", default=[], metavar="METHOD:NAME=VALUE",
                         help="a parameter for one method, e.g. analytic:packed_corners=0")
+    parser.add_argument("--demip-modes", default="window,steps,entry_plus_length,eye_distance")
+    parser.add_argument("--spheres", default="0,0.5", help="sphere weights of the DEMIP cases")
+    parser.add_argument("--sweep", default="demip",
+                        help="'demip'-route methods that run every mode x sphere on every split; the others "
+                             "run one case per split (split j: mode j, sphere j, cycling)")
     parser.add_argument("--ghost", type=int, default=0)
     parser.add_argument("--max-voxels", type=int, default=None)
     parser.add_argument("--die-rank", type=int, default=None)
@@ -71,7 +198,7 @@ def main(argv=None):
     keep = []  # every window stays open to the end: closing one X display and opening the next aborts now and then
     with abort_on_error(comm):
         frame = 0
-        for axis in args.axes.split(","):
+        for axis_number, axis in enumerate(args.axes.split(",")):
             extents = split_extents(image.GetExtent(), comm.size, AXES[axis], ghost=args.ghost)
             brick = extract_piece(image, extents[comm.rank])
             for method in args.methods.split(","):
@@ -84,15 +211,15 @@ def main(argv=None):
                 view = DistributedView(brick, method, size=tuple(args.image), window=window, comm=comm,
                                        max_voxels=args.max_voxels, **settings)
                 keep.append(view)
+                if methods.METHODS[method].distributed == "demip":
+                    frame += 1
+                    if args.raise_rank == comm.rank and frame == 1:
+                        raise RuntimeError("rank asked to fail (--raise-rank)")
+                    demip_cases(args, comm, image, window, span, axis, axis_number, extents, method, view,
+                                settings, keep, results)
+                    continue
                 values = view.float_image()
-                # which rank's brick holds each pixel's maximum: every brick must contribute
-                won = np.array([np.sum(view.last_local == values)], dtype=np.int64)
-                wins = np.zeros(comm.size, dtype=np.int64)
-                wins[comm.rank] = won[0]
-                if comm.size > 1:
-                    from mpi4py import MPI
-
-                    comm.Allreduce(MPI.IN_PLACE, wins, op=MPI.SUM)
+                wins = _wins(comm, view, values)
                 rgb = colour(values, view.local.volume.GetProperty())
                 frame += 1
                 if args.die_rank == comm.rank and frame == 1:
@@ -107,19 +234,20 @@ def main(argv=None):
                     single.camera.DeepCopy(view.camera)
                     single_float = single.float_image()
                     single_rgb = single.screenshot()
+                    one = one_rank(method, image, args, window, view)
+                    if settings:
+                        one.set_parameters(**settings)
+                    one_values = one.float_image()
                     case = {"axis": axis, "method": method, "bricks": [list(e) for e in extents],
                             "pixels_won": wins.tolist(), "seconds": view.last_times,
-                            **compare(rgb, single_rgb, values, single_float, span)}
+                            **compare(rgb, single_rgb, values, single_float, span),
+                            **against_one_rank(rgb, values, colour(one_values, one.local.volume.GetProperty()),
+                                               one_values, span)}
                     results["cases"].append(case)
-                    print(json.dumps(case), flush=True)
+                    print(json.dumps(case), flush=True) if os.environ.get("MIPCAST_CHECK_VERBOSE") else None
                     if args.png:
-                        from vtk_png import write_png
-
-                        os.makedirs(args.png, exist_ok=True)
-                        write_png(os.path.join(args.png, f"{method}-{axis}-n{comm.size}.png"), rgb)
-                        write_png(os.path.join(args.png, f"{method}-single.png"), single_rgb)
-                        np.save(os.path.join(args.png, f"{method}-{axis}-n{comm.size}.npy"), values)
-                        np.save(os.path.join(args.png, f"{method}-single.npy"), single_float)
+                        save_png(args, f"{method}-{axis}-n{comm.size}", rgb, values)
+                        save_png(args, f"{method}-single", single_rgb, single_float)
     if comm.rank == 0:
         with open(args.out, "w") as handle:
             json.dump(results, handle, indent=1)

@@ -3,7 +3,8 @@
 Writes the 64^3 vessel phantom to a ``.vti``, reads it with ParaView's
 ``XMLImageDataReader`` (each server rank gets a piece), and runs
 :func:`mipcast.plugin.distributed_paraview.distributed_mip` for ``mip`` and
-``analytic``; the client compares the fetched float image and its colours
+``analytic`` (and ``demip`` with the eye-distance depth and the colour
+sphere, when ``--methods`` names it); the client compares the fetched float image and its colours
 with a single-process :class:`mipcast.offscreen.OffscreenView`. Also
 renders ParaView's own MIP (Volume representation, BlendMode MIP) and
 saves it as ``paraview-mip-n<ranks>.png`` for the contrast (compare two
@@ -31,9 +32,11 @@ def main():
     from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
 
     from mipcast.data_fixtures import make_fixture
-    from mipcast.distributed import colour
+    from mipcast import methods
+    from mipcast.core.parameters import set_parameters
+    from mipcast.distributed import colour, demip_picture
     from mipcast.offscreen import OffscreenView
-    from mipcast.plugin.distributed_paraview import distributed_mip, fetch_image
+    from mipcast.plugin.distributed_paraview import distributed_mip, fetch_images
 
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--out", required=True)
@@ -62,12 +65,21 @@ def main():
     results = {"ranks": ranks, "session": "client-server" if args.connect else "pvbatch", "cases": []}
     keep = []  # every window stays open to the end: closing one X display and opening the next aborts now and then
     for method in args.methods.split(","):
-        flt = distributed_mip(reader, method=method, size=tuple(args.image), view="oblique", window=window)
-        values = fetch_image(flt)
+        demip = methods.METHODS[method].distributed == "demip"
+        parameters = {"depth_mode": "eye_distance", "sphere_weight": 0.5} if demip else {}
+        flt = distributed_mip(reader, method=method, size=tuple(args.image), view="oblique", window=window,
+                              **parameters)
+        images = fetch_images(flt)
+        values = images["mip_value"]
         single = OffscreenView(image, method, size=tuple(args.image), window=window)
+        set_parameters(single.mapper, **parameters)
         keep.append(single)
         reference = single.float_image()
-        rgb = colour(values, single.volume.GetProperty())
+        if demip:
+            straight = np.stack([images[f"demip_{c}"] for c in ("red", "green", "blue")], axis=-1)
+            rgb = demip_picture(values, straight.astype(np.float64), single.volume.GetProperty())
+        else:
+            rgb = colour(values, single.volume.GetProperty())
         single_rgb = single.screenshot()
         both = ~np.isnan(values) & ~np.isnan(reference)
         diff = np.abs(values[both].astype(np.float64) - reference[both])

@@ -6,8 +6,11 @@ checks every brick holds some pixels' maximum (vessels cross the borders),
 the pictures agree with the single-process picture within 1 grey level on
 >= 99.9 % of pixels, so do hits and misses, and the float images agree within
 the method's readout tolerance (its ``reference_tolerance`` in the method
-table); plus a rank's texture budget, ghost layers, and a rank that dies or
-raises: the job ends with a message, not a hang.
+table); against the whole volume as ONE rank's brick (the same rays), the
+float images are bit-identical (sampled and analytic MIP). DEMIP (every depth mode, sphere on/off) and two-pass DEMIP:
+pictures, maximum, depth against one process and against the float64
+reference. Plus a rank's texture budget, ghost layers, and a rank that dies
+or raises: the job ends with a message, not a hang.
 """
 import json
 import os
@@ -83,6 +86,17 @@ def check_exact(results, ranks):
         # hit/miss agree (grazing silhouette rays: a pixel or two of 9216 with 4 ranks, see the README)
         assert case["misses_agree"] >= 0.999, label
         assert case["float_max_error"] <= methods.METHODS[case["method"]].reference_tolerance, label
+        check_one_rank(case, label)
+
+
+def check_one_rank(case, label):
+    """N ranks against the whole volume as one rank's brick (the same rays): the same float32 bits.
+
+    Sampled methods take the whole volume's rays and samples (global_phase),
+    cell walks the whole volume's ray and plane parameters (global_cells).
+    """
+    assert case["one_rank_within_1_grey"] >= 0.999 and case["one_rank_misses_agree"] >= 0.999, label
+    assert case["one_rank_float_max_error"] == 0.0, label
 
 
 @pytest.mark.parametrize("ranks", [2, 4])
@@ -90,6 +104,48 @@ def test_bricks_composite_exactly(display, ranks):
     done, results = run_check(display, ranks, "--axes", "x,y,z,d3", "--methods", "mip,analytic")
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     check_exact(results, ranks)
+
+
+def check_demip(results, ranks, methods_run):
+    """DEMIP against one process: pictures, maximum, depth (GPU and float64 reference), which pixels get a term."""
+    assert results is not None and results["ranks"] == ranks
+    seen = {(case["method"], case["axis"], case["depth_mode"], case["sphere_weight"]) for case in results["cases"]}
+    assert {case[0] for case in seen} == set(methods_run)
+    modes = {case["depth_mode"] for case in results["cases"] if case["method"] == "demip"}
+    assert modes == {"window", "steps", "entry_plus_length", "eye_distance"}
+    for case in results["cases"]:
+        label = f"{case['method']} {case['depth_mode']} sphere {case['sphere_weight']} split {case['axis']}: {case}"
+        assert case["lit"] > 0.3, label
+        assert min(case["pixels_won"]) > 0.02 * sum(case["pixels_won"]), label
+        assert case["within_1_grey"] >= 0.999 and case["within_2_grey"] >= 0.999, label
+        assert case["misses_agree"] >= 0.999 and case["term_agree"] >= 0.999, label
+        assert case["reference_term_agree"] >= 0.999, label
+        assert case["float_max_error"] <= methods.METHODS[case["method"]].reference_tolerance, label
+        # the same first same-material sample: depth equal to float32 rounding on >= 99.9 % of the pixels
+        assert case["depth_within_1e-5"] >= 0.999, label
+        assert case["reference_depth_within_1e-5"] >= 0.999, label
+        check_one_rank(case, label)
+        assert case["one_rank_depth_max_error"] == 0.0 and case["one_rank_term_agree"] >= 0.999, label
+
+
+@pytest.mark.parametrize("ranks", [2, 4])
+def test_demip_composites_exactly(display, ranks):
+    """DEMIP (every depth mode x sphere on/off) and two-pass DEMIP, split along x, y and z."""
+    done, results = run_check(display, ranks, "--axes", "x,y,z", "--methods", "demip,demip_two_pass")
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    check_demip(results, ranks, ["demip", "demip_two_pass"])
+
+
+def test_methods_without_a_route_are_refused():
+    from mipcast.data_fixtures import make_fixture
+    from mipcast.distributed import ROUTES, DistributedView
+
+    assert {m.distributed for m in methods.METHODS.values()} - {None} <= set(ROUTES)
+    image = make_fixture("vessels", size=16)
+    with pytest.raises(ValueError, match="no exact distributed composite"):
+        DistributedView(image, "foveated", size=(16, 16))
+    with pytest.raises(ValueError, match="projection 'mip' only"):
+        DistributedView(image, "demip", size=(16, 16), projection="lmip")
 
 
 def test_ghost_layers_and_texture_budget(display):
@@ -121,10 +177,10 @@ PARAVIEW_CHECK = ROOT / "tests" / "distributed_paraview_check.py"
 
 
 
-def check_paraview_results(out, ranks, session):
+def check_paraview_results(out, ranks, session, methods_run=("mip", "analytic")):
     results = json.loads(out.read_text())
     assert results["ranks"] == ranks and results["session"] == session
-    assert [case["method"] for case in results["cases"]] == ["mip", "analytic"]
+    assert [case["method"] for case in results["cases"]] == list(methods_run)
     for case in results["cases"]:
         assert case["lit"] > 0.3, case
         assert case["within_1_grey"] >= 0.999, case
@@ -133,13 +189,14 @@ def check_paraview_results(out, ranks, session):
 
 
 def test_paraview_reader_split_in_pvbatch(display, tmp_path):
-    """ParaView's XMLImageDataReader splits the volume over 2 pvbatch ranks; mipcast composites exactly."""
+    """ParaView's XMLImageDataReader splits the volume over 2 pvbatch ranks; mipcast composites exactly (DEMIP too)."""
     out = tmp_path / "pvbatch.json"
-    command = ["mpiexec", "--oversubscribe", "-n", "2", "pvbatch", str(PARAVIEW_CHECK), "--out", str(out)]
+    command = ["mpiexec", "--oversubscribe", "-n", "2", "pvbatch", str(PARAVIEW_CHECK), "--out", str(out),
+               "--methods", "mip,analytic,demip"]
     done = subprocess.run(command, env=_paraview_env(display), capture_output=True, text=True, timeout=240,
                           cwd="/tmp")
     assert done.returncode == 0 and out.exists(), done.stdout[-3000:] + done.stderr[-3000:]
-    check_paraview_results(out, 2, "pvbatch")
+    check_paraview_results(out, 2, "pvbatch", ("mip", "analytic", "demip"))
 
 
 def test_pvserver_two_ranks_behind_a_pvpython_client(display, tmp_path):

@@ -243,11 +243,15 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
 
         A brick of a distributed volume (``global_box`` in the mapper's state,
         set by :mod:`mipcast.distributed`) also gets ``global_phase``: the
-        sampled loop then takes the whole volume's sample positions.
+        sampled loop then takes the whole volume's sample positions; the
+        exact projections' cell walk gets ``global_cells`` (the whole
+        volume's ray, walked over the brick's cells).
         """
         state = object_state(self)
         if state.get("global_box") is not None and "sampled_loop" in names:
             names = tuple(names) + ("global_phase",)
+        elif state.get("global_box") is not None and "amip_cell" in names:
+            names = tuple(names) + ("global_cells",)
         if not state.get("exact_readout"):
             return tuple(names)
         # rendering to image: VTK's ray set-up with the viewport-offset fix (it also refuses)

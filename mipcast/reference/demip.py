@@ -15,11 +15,11 @@ from typing import Any
 
 import numpy as np
 
-from mipcast.core.camera_rays import index_space, matrix_array
 from mipcast.core.parameter_tables import DEMIP
-from mipcast.core.clipping import crop_visible, plane_rows, ray_interval, region_extent, slab_planes
+from mipcast.core.clipping import crop_visible
 from mipcast.core.parameters import check_values
-from mipcast.core.shading import FLOOR_TOLERANCE, chroma_color, sphere_color
+from mipcast.core.demip_depth import DepthGeometry, enhance
+from mipcast.core.shading import FLOOR_TOLERANCE
 from mipcast.core.prepare import prepare_scalars
 from mipcast.core.validation import check_choice, check_positive, check_size
 from mipcast.reference.rays import BUDGET, clip_interval, cropping_setup, hit_rays, scatter, trilinear
@@ -127,11 +127,9 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
     step = check_positive("sample_distance", scene["sample_distance"])
     low, high = _window(scene["window"])
     output = check_choice("output", scene.get("output", "depth"), OUTPUTS)
-    depth_weight, mode, sphere_weight = p["depth_weight"], p["depth_mode"], p["sphere_weight"]
+    mode = p["depth_mode"]
     eps = 0.0 if p["depth_of"] == "maximum" else p["material_threshold"]
-    front, back = p["sphere_colors"]
-    orientation = np.array(p["sphere_orientation"])
-    chroma_weight, projection, attenuation = p["chroma_depth_weight"], p["projection"], p["attenuation"]
+    projection, attenuation = p["projection"], p["attenuation"]
     local = low + p["local_threshold"] * (high - low)
     local = local if projection == "lmip" else np.inf
     voxels_per_step = step / min(abs(v) for v in image.GetSpacing())
@@ -181,7 +179,7 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
 
     term = first >= 0
     where = entry + ((np.maximum(first, 0) + 1) * step)[:, None] * direction
-    geometry = _Geometry(image, camera, width / height)
+    geometry = DepthGeometry(image, camera, width / height)
     if slab is not None:
         entry = geometry.narrow_to_slab(slab, entry, direction)
     depth = np.where(term, geometry.depth(mode, where, entry), np.nan)
@@ -189,14 +187,7 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
         return scatter(depth, hit, height, width)
 
     grey = mida if projection == "mida" else np.clip((maximum - low) / (high - low), 0.0, 1.0)
-    color = np.repeat(grey[:, None], 3, axis=1)
-    known = np.nan_to_num(depth)
-    enhanced = color * (1.0 - depth_weight) + 2.0 * depth_weight * (1.0 - known)[:, None]
-    if sphere_weight > 0:
-        sphere = geometry.sphere_color(where, orientation[:, 2], np.array(front), np.array(back))
-        enhanced = enhanced * (1.0 - sphere_weight) + sphere * sphere_weight
-    enhanced = enhanced * (1.0 - chroma_weight) + chroma_color(known) * chroma_weight
-    color = np.where(term[:, None], np.clip(enhanced, 0.0, 1.0), color)
+    color = enhance(np.repeat(grey[:, None], 3, axis=1), depth, term, where, geometry, p)
     return scatter(color, hit, height, width)
 
 
@@ -263,65 +254,3 @@ def _same_material(sample, valid, low, high, eps) -> tuple:
     same = valid & (material >= top[:, None] - eps) & (material > FLOOR_TOLERANCE)
     first = np.where(same.any(axis=1) & (top > FLOOR_TOLERANCE), same.argmax(axis=1), -1)
     return maximum, first
-
-
-class _Geometry:
-    """Index <-> world <-> eye for one image and camera; the box's depth range."""
-
-    def __init__(self, image, camera, aspect: float) -> None:
-        to_index, upper = index_space(image)
-        self.to_world = np.linalg.inv(to_index)
-        self.view = matrix_array(camera.GetViewTransformMatrix())
-        self.projection = matrix_array(camera.GetProjectionTransformMatrix(aspect, -1, 1))
-        self.parallel = bool(camera.GetParallelProjection())
-        self.upper = upper
-        corners = np.array([[x, y, z] for x in (0, upper[0]) for y in (0, upper[1]) for z in (0, upper[2])])
-        corner_eye = self.eye(corners)
-        self.near, self.far = (-corner_eye[:, 2]).min(), (-corner_eye[:, 2]).max()
-        eye_index = to_index[:3, :3] @ np.array(camera.GetPosition()) + to_index[:3, 3]
-        self.nearest = np.linalg.norm(self.eye(np.clip(eye_index, 0.0, upper)[None])[0])
-        self.farthest = np.linalg.norm(corner_eye, axis=1).max()
-        self.centre = self.world(0.5 * upper[None])[0]
-
-    def narrow_to_slab(self, slab, entry: np.ndarray, direction: np.ndarray) -> np.ndarray:
-        """Depth over the box's part inside ``slab``; returns the rays' entries into the slab."""
-        rows = plane_rows(*slab_planes(*slab), np.linalg.inv(self.to_world))
-        to_eye = self.view @ self.to_world
-        extent = region_extent(rows, self.upper, to_eye)
-        if extent is not None:
-            self.near, self.far = max(self.near, extent[0]), min(self.far, extent[1])
-            self.nearest, self.farthest = max(self.nearest, extent[2]), min(self.farthest, extent[3])
-        lo, _ = ray_interval(entry, direction, 0.0, np.inf, rows)
-        return entry + np.maximum(lo, 0.0)[:, None] * direction
-
-    def world(self, index: np.ndarray) -> np.ndarray:
-        return index @ self.to_world[:3, :3].T + self.to_world[:3, 3]
-
-    def eye(self, index: np.ndarray) -> np.ndarray:
-        return self.world(index) @ self.view[:3, :3].T + self.view[:3, 3]
-
-    def window_depth(self, distance: np.ndarray) -> np.ndarray:
-        p = self.projection
-        near_plane = (p[2, 3] + p[3, 3]) / (p[2, 2] + p[3, 2])
-        far_plane = (p[2, 3] - p[3, 3]) / (p[2, 2] - p[3, 2])
-        z = -np.clip(distance, near_plane, far_plane)
-        return 0.5 * (p[2, 2] * z + p[2, 3]) / (p[3, 2] * z + p[3, 3]) + 0.5
-
-    def depth(self, mode: str, where: np.ndarray, entry: np.ndarray) -> np.ndarray:
-        hit_eye, entry_eye = self.eye(where), self.eye(entry)
-        extent = self.far - self.near
-        if mode == "window":
-            near, far = self.window_depth(self.near), self.window_depth(self.far)
-            depth = (self.window_depth(-hit_eye[:, 2]) - near) / (far - near)
-        elif mode == "steps":
-            depth = np.linalg.norm(hit_eye - entry_eye, axis=1) / extent
-        elif mode == "entry_plus_length":
-            depth = (-entry_eye[:, 2] - self.near + np.linalg.norm(hit_eye - entry_eye, axis=1)) / extent
-        elif self.parallel:
-            depth = (-hit_eye[:, 2] - self.near) / extent
-        else:
-            depth = (np.linalg.norm(hit_eye, axis=1) - self.nearest) / (self.farthest - self.nearest)
-        return np.clip(depth, 0.0, 1.0)
-
-    def sphere_color(self, where, axis, front, back) -> np.ndarray:
-        return sphere_color(self.world(where) - self.centre, axis, front, back)

@@ -1,0 +1,47 @@
+// mipcast piece: global_cells
+// fills: Termination::Dec
+// mode: augment
+// One brick of a distributed volume (mipcast.distributed) for the exact
+// projections' cell walk (amip_cell): each pixel's ray is cast in the WHOLE
+// volume's absolute point-index space from uniforms that are the same on
+// every rank (mipcast.distributed.ray_uniforms, as the global_phase piece
+// of the sampled loop), t = 0 at the whole box's entry; the brick walks its
+// own cells (whole indices, corners fetched at cell - u_mc_brickLo) from
+// where the ray enters its box to where it leaves, and every voxel plane's
+// ray parameter is computed from the plane's index, (plane - origin) / dir,
+// never accumulated, so a cell's segment (and its cubic) is the same bit
+// for bit on every rank whatever the split. mcGlobalNormalised: VTK's
+// normalisation with the WHOLE volume's range (u_mc_globalNorm, as in
+// global_phase).
+#define MC_GLOBAL_CELLS
+
+float mcGlobalNormalised(float raw)
+{
+  if (u_mc_globalNorm.x > 1.5)
+  {
+    return mcNormalised(raw) * u_mc_globalNorm.y + u_mc_globalNorm.z;
+  }
+  return u_mc_globalNorm.x > 0.5 ? raw * u_mc_globalNorm.y + u_mc_globalNorm.z : mcNormalised(raw);
+}
+
+// The whole volume's ray: entry point (absolute point index) and direction
+// (point-index units per unit world length); false when it misses the box.
+bool mcGlobalRay(out vec3 entry, out vec3 dir)
+{
+  vec2 ndc = 2.0 * gl_FragCoord.xy * in_inverseWindowSize - 1.0;
+  vec3 point = u_mc_rayPoint0 + ndc.x * u_mc_rayPointX + ndc.y * u_mc_rayPointY;
+  vec3 toward = mix(u_mc_rayDirection, point - u_mc_rayEye.xyz, u_mc_rayEye.w);
+  dir = toward / length(toward * u_mc_raySpacing);
+  bvec3 still = equal(dir, vec3(0.0));
+  vec3 a = (u_mc_wholeLo - point) / mix(dir, vec3(1.0), vec3(still));
+  vec3 b = (u_mc_wholeHi - point) / mix(dir, vec3(1.0), vec3(still));
+  vec3 lo = mix(min(a, b), vec3(-1.0e30), vec3(still));
+  vec3 hi = mix(max(a, b), vec3(1.0e30), vec3(still));
+  float sIn = max(max(lo.x, lo.y), lo.z);
+  float sOut = min(min(hi.x, hi.y), hi.z);
+  entry = point + sIn * dir;
+  return sIn <= sOut;
+}
+
+// mcNormalised from here on (the cell hooks' mcCellsEnd): the whole volume's normalisation
+#define mcNormalised mcGlobalNormalised
