@@ -433,8 +433,158 @@ def _new_mapper(entry, volume, assign):
     return mapper
 
 
+# -- parallel render views: exact compositing by depth ---------------------------------------
+#: The depth range [DEPTH_MARGIN, 1 - DEPTH_MARGIN] the values are mapped to (0 and 1 stay free).
+DEPTH_MARGIN = 1.0e-4
+# OpenGL enums for the state the volume draws in while it writes depth.
+_GL_DEPTH_TEST, _GL_BLEND, _GL_CULL_FACE, _GL_BACK = 0x0B71, 0x0BE2, 0x0B44, 0x0405
+_GL_ONE, _GL_ONE_MINUS_SRC_ALPHA = 1, 0x0303
+
+
+def process_count():
+    """Processes of this process's MPI job (ParaView's global controller; 1 without MPI)."""
+    from vtkmodules.vtkParallelCore import vtkMultiProcessController
+
+    controller = vtkMultiProcessController.GetGlobalController()
+    return 1 if controller is None else controller.GetNumberOfProcesses()
+
+
+def depth_composited_method(method):
+    """Whether ``method``'s pieces composite exactly by depth: its table entry has ``distributed="max"``.
+
+    >>> depth_composited_method("mip"), depth_composited_method("analytic"), depth_composited_method("demip")
+    (True, True, False)
+    """
+    mipcast = _import_mipcast()
+    entry = mipcast.METHODS.get(method)
+    return entry is not None and entry.distributed == "max"
+
+
 @_guarded
-def prepare(key, volume, assign, renderer, interactor):
+def depth_composited(key):
+    """Called at REQUEST_UPDATE: True when this rank's piece is composited by depth, not by ordered blending.
+
+    True for the maximum projections (the method table's ``distributed="max"``
+    entries) in a job of several processes (``mpiexec -n N pvbatch`` or
+    ``pvserver``): the C++ representation then tells the view that it needs
+    no ordered compositing, so IceT composites by Z buffer, and :func:`prepare`
+    has the mapper write each ray's value as its depth.
+    """
+    _import_mipcast()
+    return process_count() > 1 and depth_composited_method(_entry(key).method)
+
+
+def depth_mapping(volume_property, scalars):
+    """(scale, bias) with ``depth = scale * n + bias`` for VTK's normalised scalar ``n`` of ``scalars``.
+
+    ``depth = 1 - (value - low) / (high - low)`` squeezed into
+    ``[DEPTH_MARGIN, 1 - DEPTH_MARGIN]``, for the value in data units
+    (:func:`mipcast.mappers.float_readout.to_data_units`) and (low, high) the
+    transfer functions' range, which ParaView gives every rank alike, while
+    each rank's normalisation follows its own piece's range.
+
+    >>> from vtkmodules.vtkCommonCore import vtkFloatArray
+    >>> from mipcast.offscreen import grey_property
+    >>> scalars = vtkFloatArray()
+    >>> _ = scalars.InsertNextValue(2.0), scalars.InsertNextValue(4.0)
+    >>> scale, bias = depth_mapping(grey_property((0.0, 4.0)), scalars)
+    >>> round(scale * 1.0 + bias, 4), round(scale * 0.0 + bias, 4)   # value 4 (nearest), value 2
+    (0.0001, 0.5)
+    """
+    from mipcast.mappers.float_readout import texture_scale
+
+    ranges = [volume_property.GetRGBTransferFunction().GetRange(), volume_property.GetScalarOpacity().GetRange()]
+    low, high = min(r[0] for r in ranges), max(r[1] for r in ranges)
+    if not high > low:
+        high = low + 1.0
+    first, last = scalars.GetRange(0)
+    factor = texture_scale(scalars)
+    c = (1.0 - 2.0 * DEPTH_MARGIN) / (high - low)
+    # value = (first + n * (last - first)) / factor
+    return -c * (last - first) / factor, (1.0 - DEPTH_MARGIN) - c * (first / factor - low)
+
+
+def _depth_state(entry):
+    """Observers around the mapper's draw: depth writes on (VTK's volume draw turns them off)."""
+    from vtkmodules.vtkCommonCore import vtkCommand, vtkInformation
+    from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLActor
+
+    def start(mapper, event, entry=entry):
+        from mipcast.core.object_state import object_state
+
+        window = entry.render_window.Get()
+        volume = mapper.GetAttachedVolume() if hasattr(mapper, "GetAttachedVolume") else None
+        entry.pushed = None
+        if not object_state(mapper).get("depth_composite") or window is None or volume is None:
+            return
+        keys = volume.GetPropertyKeys()
+        if keys is None:
+            keys = vtkInformation()
+            volume.SetPropertyKeys(keys)
+        # not 0 or 1: the mapper leaves the GL state as it finds it (vtkVolumeStateRAII no-op) ...
+        keys.Set(vtkOpenGLActor.GLDepthMaskOverride(), 2)
+        state = window.GetState()
+        state.Push()
+        # ... which is VTK's volume state, with depth writes on
+        state.vtkglEnable(_GL_DEPTH_TEST)
+        state.vtkglBlendFunc(_GL_ONE, _GL_ONE_MINUS_SRC_ALPHA)
+        state.vtkglEnable(_GL_BLEND)
+        state.vtkglCullFace(_GL_BACK)
+        state.vtkglEnable(_GL_CULL_FACE)
+        state.vtkglDepthMask(True)
+        entry.pushed = state
+
+    def end(mapper, event, entry=entry):
+        state, entry.pushed = getattr(entry, "pushed", None), None
+        if state is not None:
+            state.Pop()
+    return start, end
+
+
+def _set_composite(entry, volume, image, whole):
+    """This rank's piece in the whole volume: global sample positions, depth compositing in parallel."""
+    from mipcast.core.object_state import object_state
+    from mipcast.distributed import global_texture_box
+
+    mapper = entry.mapper
+    state = object_state(mapper)
+    uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+    extent = tuple(image.GetExtent())
+    whole = tuple(int(v) for v in whole) if whole is not None else extent
+    if whole != extent and all(whole[2 * a] <= extent[2 * a] <= extent[2 * a + 1] <= whole[2 * a + 1]
+                               for a in range(3)):
+        low, high = global_texture_box(extent, whole)
+        uniforms.SetUniform3f("u_mc_globalTexMin", low)
+        uniforms.SetUniform3f("u_mc_globalTexMax", high)
+        if state.get("global_box") != (low, high):
+            state["global_box"] = (low, high)
+            mapper.Modified()
+    elif state.pop("global_box", None) is not None:
+        mapper.Modified()
+    if process_count() > 1 and depth_composited_method(entry.mapper_method):
+        rendered = mapper.GetRenderedInput()
+        scalars = rendered.GetPointData().GetScalars() if rendered is not None else None
+        if scalars is not None:
+            scale, bias = depth_mapping(volume.GetProperty(), scalars)
+            uniforms.SetUniformf("u_mc_depthScale", scale)
+            uniforms.SetUniformf("u_mc_depthBias", bias)
+            if not state.get("depth_composite"):
+                state["depth_composite"] = True
+                mapper.Modified()
+            if getattr(entry, "depth_observers", None) is not mapper:
+                from vtkmodules.vtkCommonCore import vtkCommand
+
+                start, end = _depth_state(entry)
+                mapper.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, start, -10.0)
+                mapper.AddObserver(vtkCommand.VolumeMapperRenderEndEvent, end, 10.0)
+                entry.depth_observers = mapper
+            return
+    if state.pop("depth_composite", None):
+        mapper.Modified()
+
+
+@_guarded
+def prepare(key, volume, assign, renderer, interactor, whole=None):
     """Before a frame: the volume's mapper for the current method, up to date; False hides it.
 
     ``assign`` is the C++ representation's ``vtkAssignAttribute`` (the
@@ -458,6 +608,7 @@ def prepare(key, volume, assign, renderer, interactor):
         attach(entry.mapper, volume)
     mapper = entry.mapper
     _apply(entry, entry.values.get(entry.method, {}))
+    _set_composite(entry, volume, image, whole)
     common = entry.applied
     spacing = min(abs(s) for s in image.GetSpacing()) or 1.0
     distance = common.get("common_sample_distance", 0.0) or spacing

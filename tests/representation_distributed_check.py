@@ -1,0 +1,148 @@
+"""The mipcast representation in a parallel ParaView: every rank draws its piece, IceT composites.
+
+Writes the 64^3 vessel phantom as a ``.pvti`` whose pieces are slabs along
+one axis that share a layer of points (:func:`mipcast.distributed.split_extents`;
+``--axis`` 0, 1, 2, ``--pieces`` N), reads it with ParaView's
+``XMLPImageDataReader`` (each rank reads its pieces), shows it with the
+``mipcast`` representation for each method of ``--methods`` and ParaView's
+own Volume representation with BlendMode MIP (``paraview-mip``, for the
+contrast), and saves each picture (``SaveScreenshot``) as
+``<png-dir>/<method>-n<ranks>-axis<a>.png``. The test
+(tests/test_representation_distributed.py) compares the pictures of N ranks
+with those of one rank.
+
+pvbatch (the script runs on rank 0, every rank renders)::
+
+    mpiexec --oversubscribe -n 2 pvbatch tests/representation_distributed_check.py \\
+        --plugin PLUGIN --axis 0 --pieces 2 --data DIR --png-dir DIR --out /tmp/r.json
+
+pvserver behind a pvpython client::
+
+    mpiexec --oversubscribe -n 2 pvserver --server-port=11111 &
+    pvpython tests/representation_distributed_check.py --connect localhost:11111 ...
+"""
+import argparse
+import json
+import os
+
+ARRAY = "scalars"
+
+
+def write_pieces(folder, size, axis, pieces):
+    """The phantom as ``vessels-axis<a>-p<pieces>.pvti`` (pieces sharing a point layer); its path."""
+    from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
+
+    from mipcast.data_fixtures import make_fixture
+    from mipcast.distributed import extract_piece, split_extents
+
+    name = f"vessels{size}-axis{axis}-p{pieces}"
+    path = os.path.join(folder, name + ".pvti")
+    if os.path.exists(path):
+        return path
+    image = make_fixture("vessels", size=size)
+    scalars = image.GetPointData().GetScalars()
+    scalars.SetName(ARRAY)
+    whole = image.GetExtent()
+    lines = []
+    for index, extent in enumerate(split_extents(whole, pieces, axis=axis)):
+        piece_name = f"{name}-{index}.vti"
+        writer = vtkXMLImageDataWriter()
+        writer.SetFileName(os.path.join(folder, piece_name))
+        writer.SetInputData(extract_piece(image, extent))
+        writer.Write()
+        lines.append(f'    <Piece Extent="{" ".join(map(str, extent))}" Source="{piece_name}"/>')
+    kind = scalars.GetDataTypeAsString().replace("unsigned char", "UInt8").replace("float", "Float32") \
+        .replace("double", "Float64").replace("short", "Int16")
+    text = ("<?xml version=\"1.0\"?>\n"
+            '<VTKFile type="PImageData" version="0.1" byte_order="LittleEndian">\n'
+            f'  <PImageData WholeExtent="{" ".join(map(str, whole))}" GhostLevel="0" '
+            f'Origin="{" ".join(map(repr, image.GetOrigin()))}" Spacing="{" ".join(map(repr, image.GetSpacing()))}">\n'
+            f'    <PPointData Scalars="{ARRAY}"><PDataArray type="{kind}" Name="{ARRAY}"/></PPointData>\n'
+            + "\n".join(lines) + "\n  </PImageData>\n</VTKFile>\n")
+    with open(path + ".tmp", "w") as handle:
+        handle.write(text)
+    os.replace(path + ".tmp", path)
+    return path
+
+
+def main():
+    from paraview import simple
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--plugin", required=True)
+    parser.add_argument("--out", required=True)
+    parser.add_argument("--png-dir", required=True)
+    parser.add_argument("--data", required=True, help="folder for the .pvti and its pieces")
+    parser.add_argument("--connect", default=None, help="host:port of a pvserver")
+    parser.add_argument("--axis", type=int, default=0)
+    parser.add_argument("--pieces", type=int, default=2)
+    parser.add_argument("--size", type=int, default=64)
+    parser.add_argument("--image", type=int, nargs=2, default=(96, 96))
+    parser.add_argument("--methods", default="mip,analytic,paraview-mip")
+    args = parser.parse_args()
+    if args.connect:
+        host, port = args.connect.rsplit(":", 1)
+        simple.Connect(host, int(port))
+        simple.LoadPlugin(args.plugin, remote=True, ns=globals())
+    simple.LoadPlugin(args.plugin, remote=False, ns=globals())
+    os.makedirs(args.data, exist_ok=True)
+    os.makedirs(args.png_dir, exist_ok=True)
+    path = write_pieces(args.data, args.size, args.axis, args.pieces)
+    reader = simple.OpenDataFile(path)  # XML Partitioned Image Data Reader: each rank its pieces
+    reader.UpdatePipeline()
+    ranks = simple.servermanager.ActiveConnection.GetNumberOfDataPartitions()
+    low, high = reader.PointData[ARRAY].GetRange()
+    view = simple.CreateView("RenderView")
+    simple.SetActiveView(view)
+    view.ViewSize = list(args.image)
+    view.OrientationAxesVisibility = 0
+    view.UseColorPaletteForBackground = 0
+    view.BackgroundColorMode = "Single Color"
+    view.Background = [0.0, 0.0, 0.0]
+    view.UseFXAA = 0
+    view.UseToneMapping = 0
+    display = simple.Show(reader, view)
+    simple.ColorBy(display, ("POINTS", ARRAY))
+    lut = simple.GetColorTransferFunction(ARRAY)
+    lut.ApplyPreset("Grayscale", True)
+    lut.AutomaticRescaleRangeMode = "Never"
+    lut.RescaleTransferFunction(low, high)
+    pwf = simple.GetOpacityTransferFunction(ARRAY)
+    pwf.Points = [low, 0.0, 0.5, 0.0, high, 1.0, 0.5, 0.0]  # ParaView's default ramp, over the data range
+    results = {"ranks": ranks, "session": "client-server" if args.connect else "pvbatch", "axis": args.axis,
+               "pieces": args.pieces, "pngs": {}}
+    first = True
+    for method in args.methods.split(","):
+        if method == "paraview-mip":
+            display.SetRepresentationType("Volume")
+            # 5.11's domain lists Composite, Isosurface, Slice; the value reaches
+            # vtkVolumeMapper::SetBlendMode on every rank: 1 = MAXIMUM_INTENSITY_BLEND
+            display.GetProperty("BlendMode").SetElement(0, 1)
+            display.UpdateVTKObjects()
+        else:
+            display.SetRepresentationType("mipcast")
+            display.MipcastMethod = method
+        if first:
+            simple.Render(view)
+            view.CameraPosition = [0.0, 0.0, 1.0]
+            view.CameraFocalPoint = [0.0, 0.0, 0.0]
+            view.CameraViewUp = [0.0, 1.0, 0.0]
+            view.ResetCamera(False)
+            camera = view.GetActiveCamera()
+            camera.Azimuth(35.0)
+            camera.Elevation(25.0)
+            camera.OrthogonalizeViewUp()
+            view.ResetCamera(False)
+            first = False
+        simple.Render(view)
+        shot = os.path.join(args.png_dir, f"{method}-n{ranks}-axis{args.axis}.png")
+        simple.SaveScreenshot(shot, view, ImageResolution=list(args.image), TransparentBackground=0)
+        results["pngs"][method] = shot
+        print(json.dumps({"method": method, "png": shot}), flush=True)
+    with open(args.out, "w") as handle:
+        json.dump(results, handle, indent=1)
+    print(json.dumps(results), flush=True)
+
+
+if __name__ == "__main__":
+    main()
