@@ -3,7 +3,7 @@
 Writes the 64^3 vessel phantom as a ``.pvti`` whose pieces are slabs along
 one axis that share a layer of points (:func:`mipcast.distributed.split_extents`;
 ``--axis`` 0, 1, 2, ``--pieces`` N), reads it with ParaView's
-``XMLPImageDataReader`` (each rank reads its pieces), shows it with the
+``XMLPImageDataReader`` (each rank its part), each rank taking its own slab (a ProgrammableFilter reading its piece file; `--axis -1`: the reader's own split of the whole extent), shows it with the
 ``mipcast`` representation for each method of ``--methods`` and ParaView's
 own Volume representation with BlendMode MIP (``paraview-mip``, for the
 contrast), and saves each picture (``SaveScreenshot``) as
@@ -26,6 +26,17 @@ import json
 import os
 
 ARRAY = "scalars"
+#: The ProgrammableFilter's script (--axis 0, 1, 2): this rank's slab, the piece file of its rank.
+SLAB_SCRIPT = """
+from vtkmodules.vtkIOXML import vtkXMLImageDataReader
+from vtkmodules.vtkParallelCore import vtkMultiProcessController
+controller = vtkMultiProcessController.GetGlobalController()
+rank = controller.GetLocalProcessId() if controller is not None else 0
+piece = vtkXMLImageDataReader()
+piece.SetFileName(PIECES + "-%d.vti" % rank)
+piece.Update()
+self.GetOutputDataObject(0).ShallowCopy(piece.GetOutput())
+"""
 
 
 def write_pieces(folder, size, axis, pieces):
@@ -67,6 +78,7 @@ def write_pieces(folder, size, axis, pieces):
 
 def main():
     from paraview import simple
+    from vtkmodules.vtkCommonExecutionModel import vtkExtentTranslator
 
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--plugin", required=True)
@@ -74,8 +86,9 @@ def main():
     parser.add_argument("--png-dir", required=True)
     parser.add_argument("--data", required=True, help="folder for the .pvti and its pieces")
     parser.add_argument("--connect", default=None, help="host:port of a pvserver")
-    parser.add_argument("--axis", type=int, default=0)
-    parser.add_argument("--pieces", type=int, default=2)
+    parser.add_argument("--axis", type=int, default=0,
+                        help="0, 1, 2: each rank shows the slab along that axis; -1: the reader's own split")
+    parser.add_argument("--pieces", type=int, default=2, help="slabs in the file (= the ranks, for --axis >= 0)")
     parser.add_argument("--size", type=int, default=64)
     parser.add_argument("--image", type=int, nargs=2, default=(96, 96))
     parser.add_argument("--methods", default="mip,analytic,paraview-mip")
@@ -87,9 +100,17 @@ def main():
     simple.LoadPlugin(args.plugin, remote=False, ns=globals())
     os.makedirs(args.data, exist_ok=True)
     os.makedirs(args.png_dir, exist_ok=True)
-    path = write_pieces(args.data, args.size, args.axis, args.pieces)
-    reader = simple.OpenDataFile(path)  # XML Partitioned Image Data Reader: each rank its pieces
+    path = write_pieces(args.data, args.size, max(args.axis, 0), args.pieces)
+    reader = simple.OpenDataFile(path)  # XML Partitioned Image Data Reader
     reader.UpdatePipeline()
+    source = reader
+    if args.axis >= 0:
+        # every rank takes the slab of the file's pieces that is its own (the reader's request
+        # would re-split the whole extent its own way); the whole extent stays the reader's
+        source = simple.ProgrammableFilter(Input=reader)
+        source.OutputDataSetType = "vtkImageData"
+        source.Script = SLAB_SCRIPT.replace("PIECES", repr(path[:-len(".pvti")]))
+        source.UpdatePipeline()
     ranks = simple.servermanager.ActiveConnection.GetNumberOfDataPartitions()
     low, high = reader.PointData[ARRAY].GetRange()
     view = simple.CreateView("RenderView")
@@ -101,7 +122,7 @@ def main():
     view.Background = [0.0, 0.0, 0.0]
     view.UseFXAA = 0
     view.UseToneMapping = 0
-    display = simple.Show(reader, view)
+    display = simple.Show(source, view)
     simple.ColorBy(display, ("POINTS", ARRAY))
     lut = simple.GetColorTransferFunction(ARRAY)
     lut.ApplyPreset("Grayscale", True)
@@ -109,7 +130,15 @@ def main():
     lut.RescaleTransferFunction(low, high)
     pwf = simple.GetOpacityTransferFunction(ARRAY)
     pwf.Points = [low, 0.0, 0.5, 0.0, high, 1.0, 0.5, 0.0]  # ParaView's default ramp, over the data range
-    results = {"ranks": ranks, "session": "client-server" if args.connect else "pvbatch", "axis": args.axis,
+    translator = vtkExtentTranslator()  # the split the reader's pipeline requests (--axis -1)
+    translator.SetWholeExtent(*reader.GetDataInformation().GetExtent())
+    translator.SetNumberOfPieces(ranks)
+    reader_pieces = []
+    for index in range(ranks):
+        translator.SetPiece(index)
+        translator.PieceToExtent()
+        reader_pieces.append(list(translator.GetExtent()))
+    results = {"ranks": ranks, "reader_pieces": reader_pieces, "session": "client-server" if args.connect else "pvbatch", "axis": args.axis,
                "pieces": args.pieces, "pngs": {}}
     first = True
     for method in args.methods.split(","):
