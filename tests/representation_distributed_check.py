@@ -26,6 +26,8 @@ import json
 import os
 
 ARRAY = "scalars"
+#: MinIP's grey window: the lowest part of the data range (its minima lie there).
+MINIP_WINDOW = 0.25
 #: The ProgrammableFilter's script (--axis 0, 1, 2): this rank's slab, the piece file of its rank.
 SLAB_SCRIPT = """
 from vtkmodules.vtkIOXML import vtkXMLImageDataReader
@@ -151,6 +153,12 @@ def main():
         else:
             display.SetRepresentationType("mipcast")
             display.MipcastMethod = method
+        if "minip" in method:  # the minimum projections: opaque, a window on the low values
+            lut.RescaleTransferFunction(low, low + MINIP_WINDOW * (high - low))
+            pwf.Points = [low, 1.0, 0.5, 0.0, high, 1.0, 0.5, 0.0]
+        else:
+            lut.RescaleTransferFunction(low, high)
+            pwf.Points = [low, 0.0, 0.5, 0.0, high, 1.0, 0.5, 0.0]
         if first:
             simple.Render(view)
             view.CameraPosition = [0.0, 0.0, 1.0]

@@ -244,17 +244,18 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         A brick of a distributed volume (``global_box`` in the mapper's state,
         set by :mod:`mipcast.distributed`) also gets ``global_phase``: the
         sampled loop then takes the whole volume's sample positions.
-        ``depth_composite`` in the state (set by ParaView's mipcast
-        representation on the ranks of a parallel render view) adds the
-        piece that writes the ray's value as the fragment's depth, for
-        IceT's Z-buffer compositing.
+        ``depth_composite`` in the state (``"max"`` or ``"min"``, set by
+        ParaView's mipcast representation on the ranks of a parallel render
+        view) adds the piece that writes the ray's value as the fragment's
+        depth, for IceT's Z-buffer compositing.
         """
         state = object_state(self)
         if state.get("global_box") is not None and "sampled_loop" in names:
             names = tuple(names) + ("global_phase",)
         if not state.get("exact_readout"):
-            if state.get("depth_composite"):  # a rank's piece in a parallel render view (plugin/representation)
-                names = tuple(names) + ("depth_composite",)
+            composite = state.get("depth_composite")  # a rank's piece in a parallel render view (plugin/representation)
+            if composite:
+                names = tuple(names) + ("depth_composite_min" if composite == "min" else "depth_composite",)
             return tuple(names)
         # rendering to image: VTK's ray set-up with the viewport-offset fix (it also refuses)
         return tuple("image_terminate" if n == "refusal" else n for n in names) + ("float_readout",)

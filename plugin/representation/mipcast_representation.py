@@ -449,35 +449,46 @@ def process_count():
     return 1 if controller is None else controller.GetNumberOfProcesses()
 
 
-def depth_composited_method(method):
-    """Whether ``method``'s pieces composite exactly by depth: its table entry has ``distributed="max"``.
+def depth_composite_op(method):
+    """How ``method``'s pieces composite exactly by depth: ``"max"``, ``"min"`` or None (ordered blending).
 
-    >>> depth_composited_method("mip"), depth_composited_method("analytic"), depth_composited_method("demip")
-    (True, True, False)
+    ``"max"`` for the method table's ``distributed="max"`` entries (the
+    nearest fragment is the largest value), ``"min"`` for the mipcast
+    mappers of the minimum projection (``projection="minip"`` with a float
+    readout: the nearest is the smallest); None for the others.
+
+    >>> [depth_composite_op(m) for m in ("mip", "analytic", "minip", "analytic_minip", "stock_minip", "demip")]
+    ['max', 'max', 'min', 'min', None, None]
     """
     mipcast = _import_mipcast()
     entry = mipcast.METHODS.get(method)
-    return entry is not None and entry.distributed == "max"
+    if entry is None:
+        return None
+    if entry.distributed == "max":
+        return "max"
+    if entry.projection == "minip" and entry.float_readout:
+        return "min"
+    return None
 
 
 @_guarded
 def depth_composited(key):
     """Called at REQUEST_UPDATE: True when this rank's piece is composited by depth, not by ordered blending.
 
-    True for the maximum projections (the method table's ``distributed="max"``
-    entries) in a job of several processes (``mpiexec -n N pvbatch`` or
+    True for the maximum and minimum projections (:func:`depth_composite_op`) in a job of several processes (``mpiexec -n N pvbatch`` or
     ``pvserver``): the C++ representation then tells the view that it needs
     no ordered compositing, so IceT composites by Z buffer, and :func:`prepare`
     has the mapper write each ray's value as its depth.
     """
     _import_mipcast()
-    return process_count() > 1 and depth_composited_method(_entry(key).method)
+    return process_count() > 1 and depth_composite_op(_entry(key).method) is not None
 
 
-def depth_mapping(volume_property, scalars):
+def depth_mapping(volume_property, scalars, op="max"):
     """(scale, bias) with ``depth = scale * n + bias`` for VTK's normalised scalar ``n`` of ``scalars``.
 
-    ``depth = 1 - (value - low) / (high - low)`` squeezed into
+    ``depth = 1 - (value - low) / (high - low)`` (``op="max"``; ``"min"``:
+    ``(value - low) / (high - low)``) squeezed into
     ``[DEPTH_MARGIN, 1 - DEPTH_MARGIN]``, for the value in data units
     (:func:`mipcast.mappers.float_readout.to_data_units`) and (low, high) the
     transfer functions' range, which ParaView gives every rank alike, while
@@ -501,19 +512,21 @@ def depth_mapping(volume_property, scalars):
     factor = texture_scale(scalars)
     c = (1.0 - 2.0 * DEPTH_MARGIN) / (high - low)
     # value = (first + n * (last - first)) / factor
+    if op == "min":
+        return c * (last - first) / factor, DEPTH_MARGIN + c * (first / factor - low)
     return -c * (last - first) / factor, (1.0 - DEPTH_MARGIN) - c * (first / factor - low)
 
 
 def _depth_state(entry):
     """Observers around the mapper's draw: depth writes on (VTK's volume draw turns them off)."""
-    from vtkmodules.vtkCommonCore import vtkCommand, vtkInformation
+    from vtkmodules.vtkCommonCore import vtkInformation
     from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLActor
 
     def start(mapper, event, entry=entry):
         from mipcast.core.object_state import object_state
 
         window = entry.render_window.Get()
-        volume = mapper.GetAttachedVolume() if hasattr(mapper, "GetAttachedVolume") else None
+        volume = mapper.GetAttachedVolume()
         entry.pushed = None
         if not object_state(mapper).get("depth_composite") or window is None or volume is None:
             return
@@ -561,15 +574,16 @@ def _set_composite(entry, volume, image, whole):
             mapper.Modified()
     elif state.pop("global_box", None) is not None:
         mapper.Modified()
-    if process_count() > 1 and depth_composited_method(entry.mapper_method):
+    op = depth_composite_op(entry.mapper_method) if process_count() > 1 else None
+    if op is not None:
         rendered = mapper.GetRenderedInput()
         scalars = rendered.GetPointData().GetScalars() if rendered is not None else None
         if scalars is not None:
-            scale, bias = depth_mapping(volume.GetProperty(), scalars)
+            scale, bias = depth_mapping(volume.GetProperty(), scalars, op)
             uniforms.SetUniformf("u_mc_depthScale", scale)
             uniforms.SetUniformf("u_mc_depthBias", bias)
-            if not state.get("depth_composite"):
-                state["depth_composite"] = True
+            if state.get("depth_composite") != op:
+                state["depth_composite"] = op
                 mapper.Modified()
             if getattr(entry, "depth_observers", None) is not mapper:
                 from vtkmodules.vtkCommonCore import vtkCommand
