@@ -7,7 +7,7 @@ method's picture. Here one rank's picture is the reference, and 2 ranks
 (``mpiexec --oversubscribe -n 2 pvbatch``, split along x), 4 ranks (split
 along z) and ``mpiexec -n 2 pvserver`` behind a pvpython client (split along
 y) must equal it within 1 grey level on >= 99.9 % of the pixels, for ``mip``
-and ``analytic`` (IceT's Z-buffer compositing of value-as-depth fragments,
+and ``analytic`` (and, on 2 pvbatch ranks, ``minip`` and ``analytic_minip``; IceT's Z-buffer compositing of value-as-depth fragments,
 see plugin/README.md). The vessels cross the brick borders: every piece
 holds lit pixels of the picture (checked).
 """
@@ -27,6 +27,8 @@ from installed import ROOT, pvpython_env
 
 CHECK = ROOT / "tests" / "representation_distributed_check.py"
 METHODS = ("mip", "analytic")
+#: Also checked in the 2-rank pvbatch run: the minimum projections (depth increasing with the value).
+MINIP_METHODS = ("minip", "analytic_minip")
 #: Share of pixels within 1 grey level of the one-rank picture.
 MATCH = 0.999
 missing = [tool for tool in ("mpiexec", "pvbatch", "pvserver", "pvpython", "Xvfb", "cmake", "c++")
@@ -65,10 +67,10 @@ def work(tmp_path_factory):
     return tmp_path_factory.mktemp("representation-distributed")
 
 
-def _args(plugin, work, name, axis, pieces):
+def _args(plugin, work, name, axis, pieces, methods=METHODS):
     return [str(CHECK), "--plugin", str(plugin), "--axis", str(axis), "--pieces", str(pieces),
             "--data", str(work / "data"), "--png-dir", str(work / "png"), "--out", str(work / f"{name}.json"),
-            "--methods", ",".join(METHODS)]
+            "--methods", ",".join(methods)]
 
 
 def _results(done, work, name):
@@ -77,10 +79,10 @@ def _results(done, work, name):
     return json.loads(out.read_text())
 
 
-def pvbatch(plugin, display, work, ranks, axis):
+def pvbatch(plugin, display, work, ranks, axis, methods=METHODS):
     name = f"pvbatch-n{ranks}-axis{axis}"
     done = subprocess.run(["mpiexec", "--oversubscribe", "-n", str(ranks), "pvbatch",
-                           *_args(plugin, work, name, axis, ranks)],
+                           *_args(plugin, work, name, axis, ranks, methods)],
                           env=_env(display), capture_output=True, text=True, timeout=240, cwd="/tmp")
     return _results(done, work, name)
 
@@ -100,14 +102,14 @@ def load_png(path):
 @pytest.fixture(scope="module")
 def one_rank(plugin, display, work):
     """The reference: one pvbatch rank reads the whole volume."""
-    results = pvbatch(plugin, display, work, 1, 0)
+    results = pvbatch(plugin, display, work, 1, 0, METHODS + MINIP_METHODS)
     assert results["ranks"] == 1
     return {method: load_png(path) for method, path in results["pngs"].items()}
 
 
-def check_parity(results, one_rank, ranks, session):
+def check_parity(results, one_rank, ranks, session, methods=METHODS):
     assert results["ranks"] == ranks and results["session"] == session
-    for method in METHODS:
+    for method in methods:
         reference = one_rank[method]
         picture = load_png(results["pngs"][method])
         lit = reference.max(axis=2) > 8
@@ -118,7 +120,8 @@ def check_parity(results, one_rank, ranks, session):
 
 
 def test_two_pvbatch_ranks_split_along_x(plugin, display, work, one_rank):
-    check_parity(pvbatch(plugin, display, work, 2, 0), one_rank, 2, "pvbatch")
+    methods = METHODS + MINIP_METHODS
+    check_parity(pvbatch(plugin, display, work, 2, 0, methods), one_rank, 2, "pvbatch", methods)
 
 
 def test_four_pvbatch_ranks_split_along_z(plugin, display, work, one_rank):
@@ -156,7 +159,7 @@ def test_two_pvserver_ranks_behind_a_pvpython_client(plugin, display, work, one_
         name = "pvserver-n2-axis1"
         done = subprocess.run(["pvpython", *_args(plugin, work, name, 1, 2), "--connect", f"localhost:{port}"],
                               env=_env(display), capture_output=True, text=True, timeout=240, cwd="/tmp")
-        assert done.returncode == 0, log.read_text()[-3000:]
+        assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-3000:] + log.read_text()[-3000:]
         check_parity(_results(done, work, name), one_rank, 2, "client-server")
     finally:
         try:
