@@ -7,7 +7,9 @@ one axis that share a layer of points (:func:`mipcast.distributed.split_extents`
 ``mipcast`` representation for each method of ``--methods`` and ParaView's
 own Volume representation with BlendMode MIP (``paraview-mip``, for the
 contrast), and saves each picture (``SaveScreenshot``) as
-``<png-dir>/<method>-n<ranks>-axis<a>.png``. The test
+``<png-dir>/<method>-n<ranks>-axis<a>.png`` (a method listed twice:
+``<method>-again-...``, e.g. to check that switching methods keeps each
+method's compositing). The test
 (tests/test_representation_distributed.py) compares the pictures of N ranks
 with those of one rank.
 
@@ -172,9 +174,10 @@ def main():
             view.ResetCamera(False)
             first = False
         simple.Render(view)
-        shot = os.path.join(args.png_dir, f"{method}-n{ranks}-axis{args.axis}.png")
+        key = method + "-again" if method in results["pngs"] else method  # a method shown twice
+        shot = os.path.join(args.png_dir, f"{key}-n{ranks}-axis{args.axis}.png")
         simple.SaveScreenshot(shot, view, ImageResolution=list(args.image), TransparentBackground=0)
-        results["pngs"][method] = shot
+        results["pngs"][key] = shot
         print(json.dumps({"method": method, "png": shot}), flush=True)
     with open(args.out, "w") as handle:
         json.dump(results, handle, indent=1)

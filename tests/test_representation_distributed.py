@@ -120,8 +120,13 @@ def check_parity(results, one_rank, ranks, session, methods=METHODS):
 
 
 def test_two_pvbatch_ranks_split_along_x(plugin, display, work, one_rank):
+    """Also: DEMIP (still ParaView's ordered compositing) draws the same before and after the depth-composited methods."""
     methods = METHODS + MINIP_METHODS
-    check_parity(pvbatch(plugin, display, work, 2, 0, methods), one_rank, 2, "pvbatch", methods)
+    results = pvbatch(plugin, display, work, 2, 0, ("demip",) + methods + ("demip",))
+    check_parity(results, one_rank, 2, "pvbatch", methods)
+    before, after = load_png(results["pngs"]["demip"]), load_png(results["pngs"]["demip-again"])
+    assert (before.max(axis=2) > 8).mean() > 0.05
+    assert np.array_equal(before, after), "switching to depth-composited methods and back changed DEMIP's picture"
 
 
 def test_four_pvbatch_ranks_split_along_z(plugin, display, work, one_rank):

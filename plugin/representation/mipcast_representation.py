@@ -545,12 +545,15 @@ def _depth_state(entry):
         state.vtkglCullFace(_GL_BACK)
         state.vtkglEnable(_GL_CULL_FACE)
         state.vtkglDepthMask(True)
-        entry.pushed = state
+        entry.pushed = (state, keys)
 
     def end(mapper, event, entry=entry):
-        state, entry.pushed = getattr(entry, "pushed", None), None
-        if state is not None:
+        pushed, entry.pushed = getattr(entry, "pushed", None), None
+        if pushed is not None:
+            state, keys = pushed
             state.Pop()
+            # only for this draw: another method's mapper on this volume sets VTK's state itself
+            keys.Remove(vtkOpenGLActor.GLDepthMaskOverride())
     return start, end
 
 
