@@ -475,8 +475,8 @@ def depth_composite_op(method):
 def depth_composited(key):
     """Called at REQUEST_UPDATE: True when this rank's piece is composited by depth, not by ordered blending.
 
-    True for the maximum and minimum projections (:func:`depth_composite_op`) in a job of several processes (``mpiexec -n N pvbatch`` or
-    ``pvserver``): the C++ representation then tells the view that it needs
+    True for the maximum and minimum projections (:func:`depth_composite_op`)
+    in a job of several processes (``mpiexec -n N pvbatch`` or ``pvserver``): the C++ representation then tells the view that it needs
     no ordered compositing, so IceT composites by Z buffer, and :func:`prepare`
     has the mapper write each ray's value as its depth.
     """

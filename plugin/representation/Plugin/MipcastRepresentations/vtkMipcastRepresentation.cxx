@@ -196,8 +196,9 @@ int vtkMipcastRepresentation::ProcessViewRequest(
   }
   if (request_type == vtkPVView::REQUEST_UPDATE())
   {
-    // The maximum projections composite exactly by depth on several ranks (each rank's
-    // fragment depth decreases with its ray's value; see mipcast_representation.py):
+    // The maximum (and minimum) projections composite exactly by depth on several ranks
+    // (each rank's fragment depth decreases (increases) with its ray's value; see
+    // mipcast_representation.py's depth_composited):
     // no ordered (alpha-blended) compositing then, IceT keeps the nearest fragment.
     vtkPythonInterpreter::Initialize();
     vtkPythonScopeGilEnsurer gil;
