@@ -96,6 +96,7 @@ def main():
     parser.add_argument("--size", type=int, default=64)
     parser.add_argument("--image", type=int, nargs=2, default=(96, 96))
     parser.add_argument("--methods", default="mip,analytic,paraview-mip")
+    parser.add_argument("--outline", action="store_true", help="also show an opaque outline of the volume")
     args = parser.parse_args()
     if args.connect:
         host, port = args.connect.rsplit(":", 1)
@@ -142,6 +143,10 @@ def main():
         translator.SetPiece(index)
         translator.PieceToExtent()
         reader_pieces.append(list(translator.GetExtent()))
+    if args.outline:  # opaque geometry in the same view (the volume's Outline filter, white)
+        outline = simple.Show(simple.Outline(Input=source), view)
+        outline.ColorArrayName = ["POINTS", ""]
+        outline.AmbientColor = outline.DiffuseColor = [1.0, 1.0, 1.0]
     results = {"ranks": ranks, "reader_pieces": reader_pieces, "session": "client-server" if args.connect else "pvbatch", "axis": args.axis,
                "pieces": args.pieces, "pngs": {}}
     first = True
