@@ -380,12 +380,8 @@ class DistributedView:
     def _set_static_uniforms(self, volume) -> None:
         """The global_phase piece's whole/brick index boxes, spacing, step and the whole range's normalisation."""
         uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
-        uniforms.SetUniform3f("u_mc_wholeLo", [float(v) for v in self.whole_extent[0::2]])
-        uniforms.SetUniform3f("u_mc_wholeHi", [float(v) for v in self.whole_extent[1::2]])
-        uniforms.SetUniform3f("u_mc_brickLo", [float(v) for v in self.piece_extent[0::2]])
-        uniforms.SetUniform3f("u_mc_brickHi", [float(v) for v in self.piece_extent[1::2]])
-        uniforms.SetUniform3f("u_mc_raySpacing", [abs(float(v)) for v in self.stub.GetSpacing()])
-        uniforms.SetUniformf("u_mc_rayStep", self.sample_distance)
+        set_brick_uniforms(uniforms, self.whole_extent, self.piece_extent, self.stub.GetSpacing(),
+                           self.sample_distance)
         low, high = self.data_range
         brick_low, brick_high = self._brick_range
         raw_per_data = _RAW_PER_DATA.get(self._scalar_type)
@@ -397,11 +393,7 @@ class DistributedView:
             # the brick's normalised scalar -> the WHOLE range's (float32 readouts on one grid)
             uniforms.SetUniform3f("u_mc_globalNorm", [2.0, (brick_high - brick_low) / (high - low),
                                                       (brick_low - low) / (high - low)])
-        else:
-            uniforms.SetUniform3f("u_mc_globalNorm", [0.0, 1.0, 0.0])
-        for name in ("u_mc_rayPoint0", "u_mc_rayPointX", "u_mc_rayPointY", "u_mc_rayDirection"):
-            uniforms.SetUniform3f(name, [0.0, 0.0, 0.0])
-        uniforms.SetUniform4f("u_mc_rayEye", [0.0, 0.0, 0.0, 0.0])
+
 
     def _push_rays(self) -> None:
         """This frame's rays (the camera may have moved): the same uniforms on every rank."""
@@ -409,9 +401,7 @@ class DistributedView:
         values = ray_uniforms(self.stub, self.camera, (width, height))
         volumes = [self.local.volume] + ([self.depth_volume] if self.depth_mapper is not None else [])
         for volume in volumes:
-            uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
-            for name, value in values.items():
-                (uniforms.SetUniform4f if len(value) == 4 else uniforms.SetUniform3f)(name, value)
+            set_ray_uniforms(volume.GetShaderProperty().GetFragmentCustomUniforms(), values)
 
     def set_parameters(self, **settings) -> None:
         """Change the method's parameters (every rank alike), as :func:`mipcast.core.parameters.set_parameters`."""
@@ -555,6 +545,41 @@ def render_float_units(normalised: np.ndarray, scalars) -> np.ndarray:
     from mipcast.mappers.float_readout import to_data_units
 
     return to_data_units(normalised, scalars).astype(np.float32)
+
+
+def set_brick_uniforms(uniforms, whole: Sequence[int], piece: Sequence[int], spacing: Sequence[float],
+                       sample_distance: float) -> None:
+    """A brick's static ``global_phase`` / ``global_cells`` uniforms on a vtkUniforms.
+
+    The whole volume's and the brick's point-index boxes, the spacing, the
+    sample distance; VTK's own normalisation (``u_mc_globalNorm`` (0, 1, 0):
+    :class:`DistributedView` then sets the whole range's) and no rays yet
+    (:func:`ray_uniforms` each frame, :func:`set_ray_uniforms`).
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkVolume
+    >>> uniforms = vtkVolume().GetShaderProperty().GetFragmentCustomUniforms()
+    >>> set_brick_uniforms(uniforms, (0, 9, 0, 9, 0, 9), (0, 9, 0, 9, 4, 9), (1.0, 1.0, 2.0), 0.5)
+    >>> uniforms.GetUniformNames().count("u_mc_brickLo")
+    1
+    """
+    uniforms.SetUniform3f("u_mc_wholeLo", [float(v) for v in whole[0::2]])
+    uniforms.SetUniform3f("u_mc_wholeHi", [float(v) for v in whole[1::2]])
+    uniforms.SetUniform3f("u_mc_brickLo", [float(v) for v in piece[0::2]])
+    uniforms.SetUniform3f("u_mc_brickHi", [float(v) for v in piece[1::2]])
+    uniforms.SetUniform3f("u_mc_raySpacing", [abs(float(v)) for v in spacing])
+    uniforms.SetUniformf("u_mc_rayStep", float(sample_distance))
+    uniforms.SetUniform3f("u_mc_globalNorm", [0.0, 1.0, 0.0])
+    set_ray_uniforms(uniforms, {name: [0.0, 0.0, 0.0] for name in
+                                ("u_mc_rayPoint0", "u_mc_rayPointX", "u_mc_rayPointY", "u_mc_rayDirection")})
+    uniforms.SetUniform4f("u_mc_rayEye", [0.0, 0.0, 0.0, 0.0])
+
+
+def set_ray_uniforms(uniforms, values: dict) -> None:
+    """Put :func:`ray_uniforms`' values on a vtkUniforms (vec3 and vec4)."""
+    for name, value in values.items():
+        (uniforms.SetUniform4f if len(value) == 4 else uniforms.SetUniform3f)(name, value)
 
 
 def ray_uniforms(image, camera, size) -> dict:

@@ -4,6 +4,11 @@
 // Sampled MinIP's hooks for sampled_loop: the smallest sample along the ray,
 // as VTK's MINIMUM_INTENSITY blend takes it (the first sample sets it; a ray
 // with no sample keeps stock's start value, normalised 1).
+// MC_NO_SAMPLE_FLAG / mc_noSample: whether the ray took no sample (read by
+// depth_composite_min, which draws nothing then).
+#define MC_NO_SAMPLE_FLAG
+bool mc_noSample;
+
 void mcBeginRay(inout int first, inout int count)
 {
   mc_rayMax = 1.0e30;
@@ -17,5 +22,6 @@ bool mcSample(float value, int i)
 
 void mcEndRay(int count)
 {
+  mc_noSample = mc_rayMax > 1.0e29;
   mc_rayMax = count > 0 ? mcNormalised(mc_rayMax) : 1.0;
 }

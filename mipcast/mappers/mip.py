@@ -245,7 +245,13 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         set by :mod:`mipcast.distributed`) also gets ``global_phase``: the
         sampled loop then takes the whole volume's sample positions; the
         exact projections' cell walk gets ``global_cells`` (the whole
-        volume's ray, walked over the brick's cells).
+        volume's ray, walked over the brick's cells).  Both read the
+        whole volume's rays from uniforms (:func:`mipcast.distributed.set_brick_uniforms`,
+        :func:`mipcast.distributed.ray_uniforms`).
+        ``depth_composite`` in the state (``"max"`` or ``"min"``, set by
+        ParaView's mipcast representation on the ranks of a parallel render
+        view) adds the piece that writes the ray's value as the fragment's
+        depth, for IceT's Z-buffer compositing.
         """
         state = object_state(self)
         if state.get("global_box") is not None and "sampled_loop" in names:
@@ -253,6 +259,9 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         elif state.get("global_box") is not None and "amip_cell" in names:
             names = tuple(names) + ("global_cells",)
         if not state.get("exact_readout"):
+            composite = state.get("depth_composite")  # a rank's piece in a parallel render view (plugin/representation)
+            if composite:
+                names = tuple(names) + ("depth_composite_min" if composite == "min" else "depth_composite",)
             return tuple(names)
         # rendering to image: VTK's ray set-up with the viewport-offset fix (it also refuses)
         return tuple("image_terminate" if n == "refusal" else n for n in names) + ("float_readout",)

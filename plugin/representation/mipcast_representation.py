@@ -309,6 +309,7 @@ class _Entry:
         from vtkmodules.vtkCommonCore import vtkWeakReference
 
         self.render_window = vtkWeakReference()
+        self.renderer = vtkWeakReference()  # a brick's rays come from its camera (global_phase)
 
     def stats(self):
         return dict(method=self.method, mapper=type(self.mapper).__name__ if self.mapper else None,
@@ -433,8 +434,212 @@ def _new_mapper(entry, volume, assign):
     return mapper
 
 
+# -- parallel render views: exact compositing by depth ---------------------------------------
+#: The depth range [DEPTH_MARGIN, 1 - DEPTH_MARGIN] the values are mapped to (0 and 1 stay free).
+DEPTH_MARGIN = 1.0e-4
+# OpenGL enums for the state the volume draws in while it writes depth.
+_GL_DEPTH_TEST, _GL_BLEND, _GL_CULL_FACE, _GL_BACK = 0x0B71, 0x0BE2, 0x0B44, 0x0405
+_GL_ONE, _GL_ONE_MINUS_SRC_ALPHA = 1, 0x0303
+
+
+def process_count():
+    """Processes of this process's MPI job (ParaView's global controller; 1 without MPI)."""
+    from vtkmodules.vtkParallelCore import vtkMultiProcessController
+
+    controller = vtkMultiProcessController.GetGlobalController()
+    return 1 if controller is None else controller.GetNumberOfProcesses()
+
+
+def depth_composite_op(method):
+    """How ``method``'s pieces composite exactly by depth: ``"max"``, ``"min"`` or None (ordered blending).
+
+    ``"max"`` for the method table's ``distributed="max"`` entries (the
+    nearest fragment is the largest value), ``"min"`` for the mipcast
+    mappers of the minimum projection (``projection="minip"`` with a float
+    readout: the nearest is the smallest); None for the others.
+
+    >>> [depth_composite_op(m) for m in ("mip", "analytic", "minip", "analytic_minip", "stock_minip", "demip")]
+    ['max', 'max', 'min', 'min', None, None]
+    """
+    mipcast = _import_mipcast()
+    entry = mipcast.METHODS.get(method)
+    if entry is None:
+        return None
+    if entry.distributed == "max":
+        return "max"
+    if entry.projection == "minip" and entry.float_readout:
+        return "min"
+    return None
+
+
 @_guarded
-def prepare(key, volume, assign, renderer, interactor):
+def depth_composited(key):
+    """Called at REQUEST_UPDATE: True when this rank's piece is composited by depth, not by ordered blending.
+
+    True for the maximum and minimum projections (:func:`depth_composite_op`)
+    in a job of several processes (``mpiexec -n N pvbatch`` or ``pvserver``): the C++ representation then tells the view that it needs
+    no ordered compositing, so IceT composites by Z buffer, and :func:`prepare`
+    has the mapper write each ray's value as its depth.
+    """
+    _import_mipcast()
+    return process_count() > 1 and depth_composite_op(_entry(key).method) is not None
+
+
+def depth_mapping(volume_property, scalars, op="max"):
+    """(scale, bias) with ``depth = scale * n + bias`` for VTK's normalised scalar ``n`` of ``scalars``.
+
+    ``depth = 1 - (value - low) / (high - low)`` (``op="max"``; ``"min"``:
+    ``(value - low) / (high - low)``) squeezed into
+    ``[DEPTH_MARGIN, 1 - DEPTH_MARGIN]``, for the value in data units
+    (:func:`mipcast.mappers.float_readout.to_data_units`) and (low, high) the
+    transfer functions' range, which ParaView gives every rank alike, while
+    each rank's normalisation follows its own piece's range.
+
+    >>> from vtkmodules.vtkCommonCore import vtkFloatArray
+    >>> from mipcast.offscreen import grey_property
+    >>> scalars = vtkFloatArray()
+    >>> _ = scalars.InsertNextValue(2.0), scalars.InsertNextValue(4.0)
+    >>> scale, bias = depth_mapping(grey_property((0.0, 4.0)), scalars)
+    >>> round(scale * 1.0 + bias, 4), round(scale * 0.0 + bias, 4)   # value 4 (nearest), value 2
+    (0.0001, 0.5)
+    """
+    from mipcast.mappers.float_readout import texture_scale
+
+    ranges = [volume_property.GetRGBTransferFunction().GetRange(), volume_property.GetScalarOpacity().GetRange()]
+    low, high = min(r[0] for r in ranges), max(r[1] for r in ranges)
+    if not high > low:
+        high = low + 1.0
+    first, last = scalars.GetRange(0)
+    factor = texture_scale(scalars)
+    c = (1.0 - 2.0 * DEPTH_MARGIN) / (high - low)
+    # value = (first + n * (last - first)) / factor
+    if op == "min":
+        return c * (last - first) / factor, DEPTH_MARGIN + c * (first / factor - low)
+    return -c * (last - first) / factor, (1.0 - DEPTH_MARGIN) - c * (first / factor - low)
+
+
+def _depth_state(entry):
+    """Observers around the mapper's draw: depth writes on (VTK's volume draw turns them off)."""
+    from vtkmodules.vtkCommonCore import vtkInformation
+    from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLActor
+
+    def start(mapper, event, entry=entry):
+        from mipcast.core.object_state import object_state
+
+        window = entry.render_window.Get()
+        volume = mapper.GetAttachedVolume()
+        entry.pushed = None
+        if not object_state(mapper).get("depth_composite") or window is None or volume is None:
+            return
+        keys = volume.GetPropertyKeys()
+        if keys is None:
+            keys = vtkInformation()
+            volume.SetPropertyKeys(keys)
+        # not 0 or 1: the mapper leaves the GL state as it finds it (vtkVolumeStateRAII no-op) ...
+        keys.Set(vtkOpenGLActor.GLDepthMaskOverride(), 2)
+        state = window.GetState()
+        state.Push()
+        # ... which is VTK's volume state, with depth writes on
+        state.vtkglEnable(_GL_DEPTH_TEST)
+        state.vtkglBlendFunc(_GL_ONE, _GL_ONE_MINUS_SRC_ALPHA)
+        state.vtkglEnable(_GL_BLEND)
+        state.vtkglCullFace(_GL_BACK)
+        state.vtkglEnable(_GL_CULL_FACE)
+        state.vtkglDepthMask(True)
+        entry.pushed = (state, keys)
+
+    def end(mapper, event, entry=entry):
+        pushed, entry.pushed = getattr(entry, "pushed", None), None
+        if pushed is not None:
+            state, keys = pushed
+            state.Pop()
+            # only for this draw: another method's mapper on this volume sets VTK's state itself
+            keys.Remove(vtkOpenGLActor.GLDepthMaskOverride())
+    return start, end
+
+
+def _ray_pusher(entry):
+    """An observer of the mapper's draw: this frame's whole-volume rays for a brick (global_phase, global_cells).
+
+    The rays come from the view's camera and size, the same on every rank
+    (:func:`mipcast.distributed.ray_uniforms`), so that every rank samples
+    the whole volume's rays at the same positions.
+    """
+    def push(mapper, event, entry=entry):
+        from mipcast.core.object_state import object_state
+        from mipcast.distributed import ray_uniforms, set_ray_uniforms
+        from vtkmodules.vtkCommonDataModel import vtkImageData
+
+        renderer, volume = entry.renderer.Get(), mapper.GetAttachedVolume()
+        stub = getattr(entry, "whole_stub", None)
+        if renderer is None or volume is None or stub is None or object_state(mapper).get("global_box") is None:
+            return
+        whole, origin, spacing, direction = stub
+        image = vtkImageData()
+        image.SetExtent(*whole)
+        image.SetOrigin(origin)
+        image.SetSpacing(spacing)
+        image.SetDirectionMatrix(direction)
+        uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+        uniforms.SetUniformf("u_mc_rayStep", float(mapper.GetSampleDistance()))
+        set_ray_uniforms(uniforms, ray_uniforms(image, renderer.GetActiveCamera(), renderer.GetSize()))
+    return push
+
+
+def _set_composite(entry, volume, image, whole):
+    """This rank's piece in the whole volume: global sample positions, depth compositing in parallel."""
+    from mipcast.core.object_state import object_state
+    from mipcast.distributed import global_texture_box, set_brick_uniforms
+
+    mapper = entry.mapper
+    state = object_state(mapper)
+    uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+    extent = tuple(image.GetExtent())
+    whole = tuple(int(v) for v in whole) if whole is not None else extent
+    if whole != extent and all(whole[2 * a] <= extent[2 * a] <= extent[2 * a + 1] <= whole[2 * a + 1]
+                               for a in range(3)):
+        low, high = global_texture_box(extent, whole)
+        uniforms.SetUniform3f("u_mc_globalTexMin", low)
+        uniforms.SetUniform3f("u_mc_globalTexMax", high)
+        set_brick_uniforms(uniforms, whole, extent, image.GetSpacing(), mapper.GetSampleDistance())
+        direction = image.GetDirectionMatrix()
+        entry.whole_stub = (whole, image.GetOrigin(), image.GetSpacing(),
+                            [direction.GetElement(i, j) for i in range(3) for j in range(3)])
+        if state.get("global_box") != (low, high):
+            state["global_box"] = (low, high)
+            mapper.Modified()
+        if getattr(entry, "ray_observer", None) is not mapper:
+            from vtkmodules.vtkCommonCore import vtkCommand
+
+            mapper.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, _ray_pusher(entry), -5.0)
+            entry.ray_observer = mapper
+    elif state.pop("global_box", None) is not None:
+        mapper.Modified()
+    op = depth_composite_op(entry.mapper_method) if process_count() > 1 else None
+    if op is not None:
+        rendered = mapper.GetRenderedInput()
+        scalars = rendered.GetPointData().GetScalars() if rendered is not None else None
+        if scalars is not None:
+            scale, bias = depth_mapping(volume.GetProperty(), scalars, op)
+            uniforms.SetUniformf("u_mc_depthScale", scale)
+            uniforms.SetUniformf("u_mc_depthBias", bias)
+            if state.get("depth_composite") != op:
+                state["depth_composite"] = op
+                mapper.Modified()
+            if getattr(entry, "depth_observers", None) is not mapper:
+                from vtkmodules.vtkCommonCore import vtkCommand
+
+                start, end = _depth_state(entry)
+                mapper.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, start, -10.0)
+                mapper.AddObserver(vtkCommand.VolumeMapperRenderEndEvent, end, 10.0)
+                entry.depth_observers = mapper
+            return
+    if state.pop("depth_composite", None):
+        mapper.Modified()
+
+
+@_guarded
+def prepare(key, volume, assign, renderer, interactor, whole=None):
     """Before a frame: the volume's mapper for the current method, up to date; False hides it.
 
     ``assign`` is the C++ representation's ``vtkAssignAttribute`` (the
@@ -447,6 +652,8 @@ def prepare(key, volume, assign, renderer, interactor):
     entry = _entry(key)
     if renderer is not None and entry.render_window.Get() is not renderer.GetRenderWindow():
         entry.render_window.Set(renderer.GetRenderWindow())  # weak: the view owns its window
+    if renderer is not None and entry.renderer.Get() is not renderer:
+        entry.renderer.Set(renderer)
     assign.Update()
     image = assign.GetOutputDataObject(0)
     if image is None or image.GetNumberOfPoints() == 0 or not image.IsA("vtkImageData"):
@@ -458,6 +665,7 @@ def prepare(key, volume, assign, renderer, interactor):
         attach(entry.mapper, volume)
     mapper = entry.mapper
     _apply(entry, entry.values.get(entry.method, {}))
+    _set_composite(entry, volume, image, whole)
     common = entry.applied
     spacing = min(abs(s) for s in image.GetSpacing()) or 1.0
     distance = common.get("common_sample_distance", 0.0) or spacing

@@ -194,6 +194,19 @@ int vtkMipcastRepresentation::ProcessViewRequest(
     this->MipcastVolume->SetVisibility(false);
     return 0;
   }
+  if (request_type == vtkPVView::REQUEST_UPDATE())
+  {
+    // The maximum (and minimum) projections composite exactly by depth on several ranks
+    // (each rank's fragment depth decreases (increases) with its ray's value; see
+    // mipcast_representation.py's depth_composited):
+    // no ordered (alpha-blended) compositing then, IceT keeps the nearest fragment.
+    vtkPythonInterpreter::Initialize();
+    vtkPythonScopeGilEnsurer gil;
+    if (Call("depth_composited", Py_BuildValue("(s)", this->Key.c_str())))
+    {
+      outInfo->Set(vtkPVRenderView::NEED_ORDERED_COMPOSITING(), 0);
+    }
+  }
   if (request_type == vtkPVView::REQUEST_RENDER())
   {
     // the superclass gave its own (hidden) volume the delivered piece; ours gets it too
@@ -223,9 +236,11 @@ int vtkMipcastRepresentation::ProcessViewRequest(
       vtkRenderWindowInteractor* interactor = view ? view->GetInteractor() : nullptr;
       vtkPythonInterpreter::Initialize();
       vtkPythonScopeGilEnsurer gil;
+      const int* whole = this->WholeExtent; // the whole volume's extent (this rank draws a piece)
       visible = Call("prepare",
-        Py_BuildValue("(sNNNN)", this->Key.c_str(), Wrap(this->MipcastVolume), Wrap(this->Assign),
-          Wrap(renderer), Wrap(interactor)));
+        Py_BuildValue("(sNNNN(iiiiii))", this->Key.c_str(), Wrap(this->MipcastVolume),
+          Wrap(this->Assign), Wrap(renderer), Wrap(interactor), whole[0], whole[1], whole[2],
+          whole[3], whole[4], whole[5]));
     }
     this->MipcastVolume->SetVisibility(visible && this->GetVisibility());
     // ParaView's own volume stays out of the picture

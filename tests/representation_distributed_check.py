@@ -1,0 +1,193 @@
+"""The mipcast representation in a parallel ParaView: every rank draws its piece, IceT composites.
+
+Writes the 64^3 vessel phantom as a ``.pvti`` whose pieces are slabs along
+one axis that share a layer of points (:func:`mipcast.distributed.split_extents`;
+``--axis`` 0, 1, 2, ``--pieces`` N), reads it with ParaView's
+``XMLPImageDataReader`` (each rank its part), each rank taking its own slab (a ProgrammableFilter reading its piece file; `--axis -1`: the reader's own split of the whole extent), shows it with the
+``mipcast`` representation for each method of ``--methods`` and ParaView's
+own Volume representation with BlendMode MIP (``paraview-mip``, for the
+contrast), and saves each picture (``SaveScreenshot``) as
+``<png-dir>/<method>-n<ranks>-axis<a>.png`` (a method listed twice:
+``<method>-again-...``, e.g. to check that switching methods keeps each
+method's compositing). The test
+(tests/test_representation_distributed.py) compares the pictures of N ranks
+with those of one rank.
+
+pvbatch (the script runs on rank 0, every rank renders)::
+
+    mpiexec --oversubscribe -n 2 pvbatch tests/representation_distributed_check.py \\
+        --plugin PLUGIN --axis 0 --pieces 2 --data DIR --png-dir DIR --out /tmp/r.json
+
+pvserver behind a pvpython client::
+
+    mpiexec --oversubscribe -n 2 pvserver --server-port=11111 &
+    pvpython tests/representation_distributed_check.py --connect localhost:11111 ...
+"""
+import argparse
+import json
+import os
+
+ARRAY = "scalars"
+#: MinIP's grey window: the lowest part of the data range (its minima lie there).
+MINIP_WINDOW = 0.25
+#: The ProgrammableFilter's script (--axis 0, 1, 2): this rank's slab, the piece file of its rank.
+SLAB_SCRIPT = """
+from vtkmodules.vtkIOXML import vtkXMLImageDataReader
+from vtkmodules.vtkParallelCore import vtkMultiProcessController
+controller = vtkMultiProcessController.GetGlobalController()
+rank = controller.GetLocalProcessId() if controller is not None else 0
+piece = vtkXMLImageDataReader()
+piece.SetFileName(PIECES + "-%d.vti" % rank)
+piece.Update()
+self.GetOutputDataObject(0).ShallowCopy(piece.GetOutput())
+"""
+
+
+def write_pieces(folder, size, axis, pieces):
+    """The phantom as ``vessels-axis<a>-p<pieces>.pvti`` (pieces sharing a point layer); its path."""
+    from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
+
+    from mipcast.data_fixtures import make_fixture
+    from mipcast.distributed import extract_piece, split_extents
+
+    name = f"vessels{size}-axis{axis}-p{pieces}"
+    path = os.path.join(folder, name + ".pvti")
+    if os.path.exists(path):
+        return path
+    image = make_fixture("vessels", size=size)
+    scalars = image.GetPointData().GetScalars()
+    scalars.SetName(ARRAY)
+    whole = image.GetExtent()
+    lines = []
+    for index, extent in enumerate(split_extents(whole, pieces, axis=axis)):
+        piece_name = f"{name}-{index}.vti"
+        writer = vtkXMLImageDataWriter()
+        writer.SetFileName(os.path.join(folder, piece_name))
+        writer.SetInputData(extract_piece(image, extent))
+        writer.Write()
+        lines.append(f'    <Piece Extent="{" ".join(map(str, extent))}" Source="{piece_name}"/>')
+    kind = scalars.GetDataTypeAsString().replace("unsigned char", "UInt8").replace("float", "Float32") \
+        .replace("double", "Float64").replace("short", "Int16")
+    text = ("<?xml version=\"1.0\"?>\n"
+            '<VTKFile type="PImageData" version="0.1" byte_order="LittleEndian">\n'
+            f'  <PImageData WholeExtent="{" ".join(map(str, whole))}" GhostLevel="0" '
+            f'Origin="{" ".join(map(repr, image.GetOrigin()))}" Spacing="{" ".join(map(repr, image.GetSpacing()))}">\n'
+            f'    <PPointData Scalars="{ARRAY}"><PDataArray type="{kind}" Name="{ARRAY}"/></PPointData>\n'
+            + "\n".join(lines) + "\n  </PImageData>\n</VTKFile>\n")
+    with open(path + ".tmp", "w") as handle:
+        handle.write(text)
+    os.replace(path + ".tmp", path)
+    return path
+
+
+def main():
+    from paraview import simple
+    from vtkmodules.vtkCommonExecutionModel import vtkExtentTranslator
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--plugin", required=True)
+    parser.add_argument("--out", required=True)
+    parser.add_argument("--png-dir", required=True)
+    parser.add_argument("--data", required=True, help="folder for the .pvti and its pieces")
+    parser.add_argument("--connect", default=None, help="host:port of a pvserver")
+    parser.add_argument("--axis", type=int, default=0,
+                        help="0, 1, 2: each rank shows the slab along that axis; -1: the reader's own split")
+    parser.add_argument("--pieces", type=int, default=2, help="slabs in the file (= the ranks, for --axis >= 0)")
+    parser.add_argument("--size", type=int, default=64)
+    parser.add_argument("--image", type=int, nargs=2, default=(96, 96))
+    parser.add_argument("--methods", default="mip,analytic,paraview-mip")
+    parser.add_argument("--outline", action="store_true", help="also show an opaque outline of the volume")
+    args = parser.parse_args()
+    if args.connect:
+        host, port = args.connect.rsplit(":", 1)
+        simple.Connect(host, int(port))
+        simple.LoadPlugin(args.plugin, remote=True, ns=globals())
+    simple.LoadPlugin(args.plugin, remote=False, ns=globals())
+    os.makedirs(args.data, exist_ok=True)
+    os.makedirs(args.png_dir, exist_ok=True)
+    path = write_pieces(args.data, args.size, max(args.axis, 0), args.pieces)
+    reader = simple.OpenDataFile(path)  # XML Partitioned Image Data Reader
+    reader.UpdatePipeline()
+    source = reader
+    if args.axis >= 0:
+        # every rank takes the slab of the file's pieces that is its own (the reader's request
+        # would re-split the whole extent its own way); the whole extent stays the reader's
+        source = simple.ProgrammableFilter(Input=reader)
+        source.OutputDataSetType = "vtkImageData"
+        source.Script = SLAB_SCRIPT.replace("PIECES", repr(path[:-len(".pvti")]))
+        source.UpdatePipeline()
+    ranks = simple.servermanager.ActiveConnection.GetNumberOfDataPartitions()
+    low, high = reader.PointData[ARRAY].GetRange()
+    view = simple.CreateView("RenderView")
+    simple.SetActiveView(view)
+    view.ViewSize = list(args.image)
+    view.OrientationAxesVisibility = 0
+    view.UseColorPaletteForBackground = 0
+    view.BackgroundColorMode = "Single Color"
+    view.Background = [0.0, 0.0, 0.0]
+    view.UseFXAA = 0
+    view.UseToneMapping = 0
+    display = simple.Show(source, view)
+    simple.ColorBy(display, ("POINTS", ARRAY))
+    lut = simple.GetColorTransferFunction(ARRAY)
+    lut.ApplyPreset("Grayscale", True)
+    lut.AutomaticRescaleRangeMode = "Never"
+    lut.RescaleTransferFunction(low, high)
+    pwf = simple.GetOpacityTransferFunction(ARRAY)
+    pwf.Points = [low, 0.0, 0.5, 0.0, high, 1.0, 0.5, 0.0]  # ParaView's default ramp, over the data range
+    translator = vtkExtentTranslator()  # the split the reader's pipeline requests (--axis -1)
+    translator.SetWholeExtent(*reader.GetDataInformation().GetExtent())
+    translator.SetNumberOfPieces(ranks)
+    reader_pieces = []
+    for index in range(ranks):
+        translator.SetPiece(index)
+        translator.PieceToExtent()
+        reader_pieces.append(list(translator.GetExtent()))
+    if args.outline:  # opaque geometry in the same view (the volume's Outline filter, white)
+        outline = simple.Show(simple.Outline(Input=source), view)
+        outline.ColorArrayName = ["POINTS", ""]
+        outline.AmbientColor = outline.DiffuseColor = [1.0, 1.0, 1.0]
+    results = {"ranks": ranks, "reader_pieces": reader_pieces, "session": "client-server" if args.connect else "pvbatch", "axis": args.axis,
+               "pieces": args.pieces, "pngs": {}}
+    first = True
+    for method in args.methods.split(","):
+        if method == "paraview-mip":
+            display.SetRepresentationType("Volume")
+            # 5.11's domain lists Composite, Isosurface, Slice; the value reaches
+            # vtkVolumeMapper::SetBlendMode on every rank: 1 = MAXIMUM_INTENSITY_BLEND
+            display.GetProperty("BlendMode").SetElement(0, 1)
+            display.UpdateVTKObjects()
+        else:
+            display.SetRepresentationType("mipcast")
+            display.MipcastMethod = method
+        if "minip" in method:  # the minimum projections: opaque, a window on the low values
+            lut.RescaleTransferFunction(low, low + MINIP_WINDOW * (high - low))
+            pwf.Points = [low, 1.0, 0.5, 0.0, high, 1.0, 0.5, 0.0]
+        else:
+            lut.RescaleTransferFunction(low, high)
+            pwf.Points = [low, 0.0, 0.5, 0.0, high, 1.0, 0.5, 0.0]
+        if first:
+            simple.Render(view)
+            view.CameraPosition = [0.0, 0.0, 1.0]
+            view.CameraFocalPoint = [0.0, 0.0, 0.0]
+            view.CameraViewUp = [0.0, 1.0, 0.0]
+            view.ResetCamera(False)
+            camera = view.GetActiveCamera()
+            camera.Azimuth(35.0)
+            camera.Elevation(25.0)
+            camera.OrthogonalizeViewUp()
+            view.ResetCamera(False)
+            first = False
+        simple.Render(view)
+        key = method + "-again" if method in results["pngs"] else method  # a method shown twice
+        shot = os.path.join(args.png_dir, f"{key}-n{ranks}-axis{args.axis}.png")
+        simple.SaveScreenshot(shot, view, ImageResolution=list(args.image), TransparentBackground=0)
+        results["pngs"][key] = shot
+        print(json.dumps({"method": method, "png": shot}), flush=True)
+    with open(args.out, "w") as handle:
+        json.dump(results, handle, indent=1)
+    print(json.dumps(results), flush=True)
+
+
+if __name__ == "__main__":
+    main()

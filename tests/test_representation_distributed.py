@@ -1,0 +1,174 @@
+"""The mipcast representation on N ParaView ranks: each rank draws its piece, IceT composites exactly.
+
+``tests/representation_distributed_check.py`` shows the 64^3 vessel phantom,
+written as a ``.pvti`` of slabs along one axis that share a layer of points
+(each rank reads its own), with the ``mipcast`` representation and saves each
+method's picture. Here one rank's picture is the reference, and 2 ranks
+(``mpiexec --oversubscribe -n 2 pvbatch``, split along x), 4 ranks (split
+along z) and ``mpiexec -n 2 pvserver`` behind a pvpython client (split along
+y) must equal it within 1 grey level on >= 99.9 % of the pixels, for ``mip``
+and ``analytic`` (and, on 2 pvbatch ranks, ``minip`` and ``analytic_minip``; IceT's Z-buffer compositing of value-as-depth fragments,
+see plugin/README.md). The vessels cross the brick borders: every piece
+holds lit pixels of the picture (checked).
+"""
+import json
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from installed import ROOT, pvpython_env
+
+CHECK = ROOT / "tests" / "representation_distributed_check.py"
+METHODS = ("mip", "analytic")
+#: Also checked in the 2-rank pvbatch run: the minimum projections (depth increasing with the value).
+MINIP_METHODS = ("minip", "analytic_minip")
+#: Share of pixels within 1 grey level of the one-rank picture.
+MATCH = 0.999
+missing = [tool for tool in ("mpiexec", "pvbatch", "pvserver", "pvpython", "Xvfb", "cmake", "c++")
+           if shutil.which(tool) is None]
+pytestmark = pytest.mark.skipif(bool(missing), reason="needs " + ", ".join(missing) + " (apt-get install "
+                                "openmpi-bin paraview paraview-dev python3-paraview xvfb cmake g++)")
+
+from test_paraview_representation import plugin  # noqa: E402,F401  (the built plugin, or a skip naming paraview-dev)
+
+
+@pytest.fixture(scope="module")
+def display():
+    """A private X server (``-displayfd`` picks a free display; ``-noreset``: no reset between ranks)."""
+    read, write = os.pipe()
+    server = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0", "1280x1024x24", "-nolisten", "tcp",
+                               "-noreset"], pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    os.close(write)
+    with os.fdopen(read) as pipe:
+        number = pipe.readline().strip()
+    if not number:
+        server.kill()
+        pytest.fail("Xvfb did not start")
+    yield f":{number}"
+    server.terminate()
+    server.wait(timeout=30)
+
+
+def _env(display):
+    env = pvpython_env()
+    env.update(DISPLAY=display, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    return env
+
+
+@pytest.fixture(scope="module")
+def work(tmp_path_factory):
+    return tmp_path_factory.mktemp("representation-distributed")
+
+
+def _args(plugin, work, name, axis, pieces, methods=METHODS):
+    return [str(CHECK), "--plugin", str(plugin), "--axis", str(axis), "--pieces", str(pieces),
+            "--data", str(work / "data"), "--png-dir", str(work / "png"), "--out", str(work / f"{name}.json"),
+            "--methods", ",".join(methods)]
+
+
+def _results(done, work, name):
+    out = work / f"{name}.json"
+    assert done.returncode == 0 and out.exists(), done.stdout[-3000:] + done.stderr[-3000:]
+    return json.loads(out.read_text())
+
+
+def pvbatch(plugin, display, work, ranks, axis, methods=METHODS):
+    name = f"pvbatch-n{ranks}-axis{axis}"
+    done = subprocess.run(["mpiexec", "--oversubscribe", "-n", str(ranks), "pvbatch",
+                           *_args(plugin, work, name, axis, ranks, methods)],
+                          env=_env(display), capture_output=True, text=True, timeout=240, cwd="/tmp")
+    return _results(done, work, name)
+
+
+def load_png(path):
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkIOImage import vtkPNGReader
+
+    reader = vtkPNGReader()
+    reader.SetFileName(str(path))
+    reader.Update()
+    output = reader.GetOutput()
+    width, height, _ = output.GetDimensions()
+    return vtk_to_numpy(output.GetPointData().GetScalars()).reshape(height, width, -1)[::-1, :, :3].astype(int)
+
+
+@pytest.fixture(scope="module")
+def one_rank(plugin, display, work):
+    """The reference: one pvbatch rank reads the whole volume."""
+    results = pvbatch(plugin, display, work, 1, 0, METHODS + MINIP_METHODS)
+    assert results["ranks"] == 1
+    return {method: load_png(path) for method, path in results["pngs"].items()}
+
+
+def check_parity(results, one_rank, ranks, session, methods=METHODS):
+    assert results["ranks"] == ranks and results["session"] == session
+    for method in methods:
+        reference = one_rank[method]
+        picture = load_png(results["pngs"][method])
+        lit = reference.max(axis=2) > 8
+        assert lit.mean() > 0.05, (method, "the reference picture is (nearly) black")
+        grey = np.abs(picture - reference).max(axis=2)
+        within = float((grey <= 1).mean())
+        assert within >= MATCH, (method, ranks, session, f"{within:.4%} within 1 grey, max {grey.max()} off")
+
+
+def test_two_pvbatch_ranks_split_along_x(plugin, display, work, one_rank):
+    """Also: DEMIP (still ParaView's ordered compositing) draws the same before and after the depth-composited methods."""
+    methods = METHODS + MINIP_METHODS
+    results = pvbatch(plugin, display, work, 2, 0, ("demip",) + methods + ("demip",))
+    check_parity(results, one_rank, 2, "pvbatch", methods)
+    before, after = load_png(results["pngs"]["demip"]), load_png(results["pngs"]["demip-again"])
+    assert (before.max(axis=2) > 8).mean() > 0.05
+    assert np.array_equal(before, after), "switching to depth-composited methods and back changed DEMIP's picture"
+
+
+def test_four_pvbatch_ranks_split_along_z(plugin, display, work, one_rank):
+    check_parity(pvbatch(plugin, display, work, 4, 2), one_rank, 4, "pvbatch")
+
+
+def test_the_vessels_cross_every_brick_border(work, one_rank):
+    """Each slab of the 4-rank split holds lit pixels: the picture needs every rank's piece."""
+    from mipcast.data_fixtures import make_fixture
+    from mipcast.distributed import split_extents
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    image = make_fixture("vessels", size=64)
+    values = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(64, 64, 64)  # z, y, x
+    top = np.quantile(values, 0.99)
+    for extent in split_extents(image.GetExtent(), 4, axis=2):
+        assert values[extent[4]:extent[5] + 1].max() > top, extent  # a vessel voxel in every slab
+
+
+def test_two_pvserver_ranks_behind_a_pvpython_client(plugin, display, work, one_rank):
+    with socket.socket() as probe:
+        probe.bind(("localhost", 0))
+        port = probe.getsockname()[1]
+    log = work / "pvserver.log"
+    with open(log, "w") as handle:
+        server = subprocess.Popen(["mpiexec", "--oversubscribe", "-n", "2", "pvserver", f"--server-port={port}",
+                                   "--timeout=5"], env=_env(display), stdout=handle, stderr=subprocess.STDOUT,
+                                  cwd="/tmp", start_new_session=True)
+    try:
+        deadline = time.monotonic() + 60
+        while "Accepting connection" not in log.read_text():
+            if server.poll() is not None or time.monotonic() > deadline:
+                pytest.fail(f"pvserver did not start:\n{log.read_text()[-3000:]}")
+            time.sleep(0.2)
+        name = "pvserver-n2-axis1"
+        done = subprocess.run(["pvpython", *_args(plugin, work, name, 1, 2), "--connect", f"localhost:{port}"],
+                              env=_env(display), capture_output=True, text=True, timeout=240, cwd="/tmp")
+        assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-3000:] + log.read_text()[-3000:]
+        check_parity(_results(done, work, name), one_rank, 2, "client-server")
+    finally:
+        try:
+            os.killpg(server.pid, signal.SIGTERM)  # the session this test started: mpiexec and its pvservers
+        except ProcessLookupError:
+            pass
+        server.wait(timeout=30)
