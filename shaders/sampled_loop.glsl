@@ -102,7 +102,12 @@
     mc_seen = true;
 #endif
 #ifdef MC_GLOBAL_PHASE
-    if (!mcSample(mcGlobalSample(mc_i), mc_i))
+    float mc_global = mcGlobalSample(mc_i);
+    if (mc_global < -1.0e29)
+    {
+      continue;  // a sample of a cell in another brick (never a maximum, never a minimum)
+    }
+    if (!mcSample(mc_global, mc_i))
 #else
     if (!mcSample(texture3D(in_volume[0], mc_base + float(mc_i) * g_dirStep).r, mc_i))
 #endif
