@@ -8,7 +8,11 @@
 // skipping, no early end. A ray of zero length (grazing an edge) takes the
 // value at its entry. For average_color: mc_rayShade is the normalised mean
 // (stock VTK's AVERAGE_INTENSITY grey), mc_rayWeight 1 (a ray that hits
-// always has a mean).
+// always has a mean). With u_mc_shadeRemap (input with missing values or a
+// constant volume) the grey is the normalised mean remapped as
+// (s - u_mc_shadeLow) * u_mc_shadeScale: the normalisation over the finite
+// data range (a constant's range widened by 1 each way); the ray's value
+// (mc_rayMax, the float readout) stays the normalised mean.
 // Missing data (u_mc_missingBelow above -1e30, normalised; missing voxels
 // are filled below it, mipcast.core.prepare): the mean over the part of the
 // ray where the (filled) interpolant is at or above it, the limit of the
@@ -22,6 +26,7 @@ float mc_rayShade;
 float mc_rayWeight;
 float mc_cellsLength;
 float mc_cellsEntry;
+vec2 mc_cellsBounds;  // smallest and largest corner of the counted cells (u_mc_shadeRemap only)
 float mc_cellsMissing;
 
 // The cubic's mean over [a, b] (no cancellation for short pieces).
@@ -85,6 +90,7 @@ float mcCellsBegin()
 {
   mc_cellsLength = 0.0;
   mc_cellsEntry = 1.0e30;
+  mc_cellsBounds = vec2(1.0e30, -1.0e30);
   mc_cellsMissing = u_mc_missingBelow > -1.0e29 ? mcRaw(u_mc_missingBelow) : -1.0e30;
   return 0.0;
 }
@@ -101,6 +107,12 @@ void mcCell(vec4 lo, vec4 hi, vec3 u0, vec3 du, float span, inout float value)
   {
     vec4 m = mcCellCubic(lo, hi, u0, du);
     vec2 covered = mcCoveredCell(m, mc_cellsMissing);
+    vec4 tops = max(lo, hi);
+    if (covered.y > 0.0)  // its covered part lies between the threshold and its largest corner
+    {
+      mc_cellsBounds = vec2(min(mc_cellsBounds.x, mc_cellsMissing),
+                            max(mc_cellsBounds.y, max(max(tops.x, tops.y), max(tops.z, tops.w))));
+    }
     mc_cellsSolved += 1.0;
     mc_cellsEntry = mc_cellsEntry == 1.0e30 && m.x >= mc_cellsMissing ? m.x : mc_cellsEntry;
     value += span * covered.x;
@@ -108,6 +120,9 @@ void mcCell(vec4 lo, vec4 hi, vec3 u0, vec3 du, float span, inout float value)
     return;
   }
   vec4 d = mcCellCubic(lo, hi, u0, du);
+  vec4 tops = max(lo, hi);
+  mc_cellsBounds = vec2(min(mc_cellsBounds.x, min(min(corners.x, corners.y), min(corners.z, corners.w))),
+                        max(mc_cellsBounds.y, max(max(tops.x, tops.y), max(tops.z, tops.w))));
   mc_cellsSolved += 1.0;
   mc_cellsEntry = mc_cellsEntry == 1.0e30 ? d.x : mc_cellsEntry;
   value += span * (d.x + 0.5 * d.y + d.z / 3.0 + 0.25 * d.w);
@@ -116,7 +131,15 @@ void mcCell(vec4 lo, vec4 hi, vec3 u0, vec3 du, float span, inout float value)
 
 float mcCellsEnd(float value)
 {
-  mc_rayShade = mcNormalised(mc_cellsLength > 0.0 ? value / mc_cellsLength : mc_cellsEntry);
+  float raw = mc_cellsLength > 0.0 ? value / mc_cellsLength : mc_cellsEntry;
+  if (u_mc_shadeRemap > 0.5 && mc_cellsBounds.x <= mc_cellsBounds.y)
+  {
+    // the mean lies between the counted cells' corners: clamping removes the rounding that VTK's
+    // normalisation of a constant volume (zero range) would amplify
+    raw = clamp(raw, mc_cellsBounds.x, mc_cellsBounds.y);
+  }
+  float mean = mcNormalised(raw);
+  mc_rayShade = u_mc_shadeRemap > 0.5 ? (mean - u_mc_shadeLow) * u_mc_shadeScale : mean;
   mc_rayWeight = mc_cellsLength <= 0.0 && mc_cellsEntry == 1.0e30 && mc_cellsMissing > -1.0e30 ? 0.0 : 1.0;
-  return mc_rayShade;
+  return mean;
 }

@@ -106,6 +106,22 @@ class PreparedScalars:
 MISSING_SIDES = ("below", "above")
 
 
+def shade_range(prepared) -> tuple:
+    """The data range an average's grey is normalised over: the finite range, a constant's widened by 1.
+
+    (The window of a zero-width range, as the catalogue's MIP views use it:
+    a constant volume draws a uniform mid grey.)
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> shade_range(SimpleNamespace(low=2.0, high=5.0)), shade_range(SimpleNamespace(low=7.25, high=7.25))
+    ((2.0, 5.0), (6.25, 8.25))
+    """
+    low, high = float(prepared.low), float(prepared.high)
+    return (low, high) if high > low else (low - 1.0, high + 1.0)
+
+
 def check_component(component: Any) -> Optional[int]:
     """``None``/``"magnitude"``/-1 -> None (the default), or an int >= 0; else raise.
 

@@ -17,7 +17,7 @@ from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.core.errors import InputError, InputWarning
-from mipcast.core.prepare import PreparedScalars, check_component, prepare_scalars
+from mipcast.core.prepare import PreparedScalars, check_component, prepare_scalars, shade_range
 
 
 #: Arrays (address, modification time) already warned about.
@@ -148,6 +148,8 @@ def prepared_image(image: vtkImageData, component=None, missing_allowed: bool = 
 
 #: Where :func:`missing_as_background`'s opacity ramp starts and ends, in data ranges beyond the finite extreme.
 RAMP = (1.0 / 512.0, 1.0 / 128.0)
+#: The average's weights drop to 0 this fraction of (low - fill) below the finite minimum.
+MISSING_RAMP_BELOW = 1.0 / 256.0
 
 
 def missing_as_background(mapper, volume_property, image: vtkImageData, component=None,
@@ -193,13 +195,14 @@ def missing_as_background(mapper, volume_property, image: vtkImageData, componen
         if average:
             mapper.SetAverageIPScalarRange(-3.4028234663852886e38, 3.4028234663852886e38)  # VTK's default
         return volume_property
-    if average:  # the mean over the finite samples (as mipcast's average)
-        mapper.SetAverageIPScalarRange(prepared.missing_below, 3.4028234663852886e38)
-        return volume_property
     span = prepared.high - prepared.low if prepared.high > prepared.low else max(abs(prepared.low), 1.0)
     drawn = vtkVolumeProperty()
     drawn.DeepCopy(volume_property)
     opacity = drawn.GetScalarOpacity()
+    if average:  # the mean over the finite samples, its grey over the finite range (as mipcast's average)
+        mapper.SetAverageIPScalarRange(prepared.missing_below, 3.4028234663852886e38)
+        _average_grey_over_finite_range(opacity, prepared)
+        return drawn
     above = fill_side(projection) == "above"
     edge = prepared.high if above else prepared.low
     kept = opacity.GetValue(edge)
@@ -215,3 +218,28 @@ def missing_as_background(mapper, volume_property, image: vtkImageData, componen
     opacity.AddPoint(edge + direction * span * RAMP[1], 0.0)
     opacity.AddPoint(prepared.fill, 0.0)
     return drawn
+
+
+def _average_grey_over_finite_range(opacity, prepared) -> None:
+    """Make VTK's average grey the normalisation over the finite range, through its opacity weights.
+
+    VTK's AVERAGE_INTENSITY blend draws the mean of ``opacity(s) * s``, ``s``
+    normalised over the texture's range, which the fill widens to
+    ``[fill, high]``; weighting each sample by ``t(v) / s(v)`` (``t`` the
+    normalisation over :func:`~mipcast.core.prepare.shade_range`, in [0, 1])
+    turns it into the mean of ``opacity(v) t(v)``, as mipcast's average draws.
+    ``t / s`` is smooth: 64 linear pieces over the finite range (within
+    1e-4 of it), 0 below.
+    """
+    low, high = prepared.low, prepared.high
+    glow, ghigh = shade_range(prepared)
+    fill = prepared.fill
+    values = np.linspace(low, high, 65) if high > low else np.array([low])
+    kept = [opacity.GetValue(float(v)) for v in values]
+    opacity.RemoveAllPoints()
+    for v, weight in zip(values, kept):
+        s = (v - fill) / (high - fill)
+        t = min(max((v - glow) / (ghigh - glow), 0.0), 1.0)
+        opacity.AddPoint(float(v), float(min(1.0, weight * t / s)))
+    opacity.AddPoint(float(low - MISSING_RAMP_BELOW * (low - fill)), 0.0)
+    opacity.AddPoint(float(fill), 0.0)

@@ -23,9 +23,11 @@ True
 """
 from __future__ import annotations
 
+import numpy as np
 from vtkmodules.vtkCommonCore import vtkFloatArray
 
 from mipcast.core.object_state import object_state
+from mipcast.core.prepare import shade_range
 from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
 from mipcast.mappers.float_readout import from_data_units
 from mipcast.mappers.mip import MIPVolumeMapper, sampled_projection_mapper
@@ -91,6 +93,24 @@ class AverageVolumeMapper(sampled_projection_mapper("average_hooks", color="aver
             bottom = max(bottom, missing)
         uniforms.SetUniformf("u_mc_averageLow", bottom)
         uniforms.SetUniformf("u_mc_averageHigh", _FAR if high >= 3.0e38 else ends[1])
+        _push_shade(self, uniforms)
+
+
+def _push_shade(mapper, uniforms) -> None:
+    """The average's grey: stock's normalised scalar, or (missing values, a constant volume) the
+    normalisation over :func:`shade_range` (shaders/average_hooks.glsl, amip_average_hooks.glsl)."""
+    prepared = mapper.GetInputPreparer().GetPrepared()
+    image = mapper.GetRenderedInput()
+    if prepared is None or image is None or not (prepared.missing or not prepared.high > prepared.low):
+        uniforms.SetUniformf("u_mc_shadeRemap", 0.0)
+        uniforms.SetUniformf("u_mc_shadeLow", 0.0)
+        uniforms.SetUniformf("u_mc_shadeScale", 1.0)
+        return
+    low, high = (float(v) for v in from_data_units(np.array(shade_range(prepared)),
+                                                    image.GetPointData().GetScalars()))
+    uniforms.SetUniformf("u_mc_shadeRemap", 1.0)
+    uniforms.SetUniformf("u_mc_shadeLow", low)
+    uniforms.SetUniformf("u_mc_shadeScale", 1.0 / (high - low))
 
 
 def _exact_pieces(hooks: str, color=None) -> tuple:
@@ -165,6 +185,7 @@ class AnalyticAverageVolumeMapper(_ExactProjection):
     def _push_derived_uniforms(self, uniforms, settings) -> None:
         super()._push_derived_uniforms(uniforms, settings)
         uniforms.SetUniformf("u_mc_missingBelow", -_FAR)  # replaced by the threshold when data is missing
+        _push_shade(self, uniforms)
 
     PIECES = _exact_pieces("amip_average_hooks", color="average_color")
     PACKED = {"amip_corners": "amip_corners_packed"}
