@@ -7,11 +7,35 @@
 // linearly with the eccentricity beyond u_mc_fovStart, by u_mc_fovGain per
 // viewport height, so lam = clamp(log2(1 + gain * max(e - start, 0)), 0, top).
 // Drawn coarsest first with VTK's premultiplied "over" blending, the levels
-// then lerp between the two that bracket lam. The coarsest level has weight 1.
+// then lerp between the two that bracket lam. The coarsest level has weight 1;
+// so has level 0 in the volume's silhouette band (foveated_skip).
   {
     vec2 mc_fovAt = (gl_FragCoord.xy - in_windowLowerLeftCorner) * in_inverseWindowSize;
     float mc_fovEcc = length((mc_fovAt - u_mc_fovGaze) * vec2(u_mc_fovAspect, 1.0));
     float mc_fovSpacing = 1.0 + u_mc_fovGain * max(mc_fovEcc - u_mc_fovStart, 0.0);
     float mc_fovLambda = clamp(log2(mc_fovSpacing), 0.0, u_mc_fovTop);
-    g_fragColor *= clamp(u_mc_fovLevel + 1.0 - mc_fovLambda, 0.0, 1.0);
+    // the volume's silhouette band: where a coarser level's bilinear upsampling would blend rays
+    // that hit with rays that miss, the coarser levels cast no ray (u_mc_fovSilCut: within 1.5
+    // of their ray spacings of the outline) and level 0 casts it instead (u_mc_fovSilOn: within
+    // 3 spacings of the coarser level the pixel wants, weight 1), so that neither a darker rim
+    // inside nor a halo outside is left (mipcast/mappers/foveated.py, _set_silhouette).
+    // u_mc_fovSil0..5 are the edges of the box's projected outline: n.q + c is the distance
+    // inside it in viewport heights (q = the pixel, x scaled by the aspect).
+    bool mc_fovBand = false;
+    bool mc_fovCut = false;
+    if (u_mc_fovSilOn > 0.5 || u_mc_fovSilCut > 0.5)
+    {
+      vec2 mc_fovQ = vec2(mc_fovAt.x * u_mc_fovAspect, mc_fovAt.y);
+      float mc_fovIn = min(min(min(dot(u_mc_fovSil0.xy, mc_fovQ) + u_mc_fovSil0.z,
+                                   dot(u_mc_fovSil1.xy, mc_fovQ) + u_mc_fovSil1.z),
+                               min(dot(u_mc_fovSil2.xy, mc_fovQ) + u_mc_fovSil2.z,
+                                   dot(u_mc_fovSil3.xy, mc_fovQ) + u_mc_fovSil3.z)),
+                           min(dot(u_mc_fovSil4.xy, mc_fovQ) + u_mc_fovSil4.z,
+                               dot(u_mc_fovSil5.xy, mc_fovQ) + u_mc_fovSil5.z));
+      float mc_fovLam = clamp(log2(1.0 + u_mc_fovGain * max(mc_fovEcc - u_mc_fovStart, 0.0)), 0.0, u_mc_fovTop);
+      mc_fovBand = u_mc_fovSilOn > 0.5 && mc_fovLam > 0.0
+                   && mc_fovIn < (3.0 * exp2(ceil(mc_fovLam)) + 1.0) * u_mc_fovSilUnit;
+      mc_fovCut = u_mc_fovSilCut > 0.5 && mc_fovIn < (1.5 * exp2(u_mc_fovLevel) + 1.0) * u_mc_fovSilUnit;
+    }
+    g_fragColor *= mc_fovBand ? 1.0 : clamp(u_mc_fovLevel + 1.0 - mc_fovLambda, 0.0, 1.0);
   }

@@ -318,6 +318,12 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         frame = object_state(self).get("frame")
         return None if frame is None else frame["plan"]
 
+    def GetLastSilhouette(self):
+        """``(edges, unit)`` of the last render's silhouette band (None: no band), see
+        :func:`mipcast.core.foveation.silhouette_masks`."""
+        frame = object_state(self).get("frame")
+        return None if frame is None else frame.get("silhouette")
+
     def GetLastFrameCost(self) -> Optional[dict]:
         """Rays cast and samples taken by the last render, and by the same method at full quality.
 
@@ -467,6 +473,7 @@ def _draw(mapper, state, volume, renderer) -> None:
     gl_state = renderer.GetRenderWindow().GetState()
     depth = _capture_depth(state, renderer)
     masks = {}
+    silhouette = _silhouette(image, volume, camera, viewport, base_isd)
     before = _read_texels(renderer, viewport, plan.layers[0].grid) if adaptive and not readout else None
     for index, layer in enumerate(plan.layers):
         level = layer.level
@@ -498,12 +505,13 @@ def _draw(mapper, state, volume, renderer) -> None:
         _copy_settings(mapper, volume, level_mapper, level_volume, entry["matrix"], distance,
                        layer.image_sample_distance)
         _set_uniforms(level_volume, plan, layer)
+        band = _set_silhouette(level_volume, silhouette if len(plan.layers) > 1 else None, layer.level)
         object_state(level_mapper)["draw_camera"] = camera
         if readout:
             object_state(level_mapper)["exact_readout"] = True
             level_mapper.RenderToImageOn()
             level_mapper.SetDepthImageScalarTypeToFloat()
-        scissor = layer.scissor if not readout else None
+        scissor = layer.scissor if not readout and not band else None  # the band reaches the periphery
         if scissor is not None:
             gl_state.vtkglScissor(*scissor)
         mask_texture = None
@@ -537,7 +545,7 @@ def _draw(mapper, state, volume, renderer) -> None:
     matrix.DeepCopy(volume.GetMatrix())
     snapshot = vtkCamera()
     snapshot.DeepCopy(camera)
-    state["frame"] = {"plan": plan, "camera": snapshot, "matrix": matrix, "image": image,
+    state["frame"] = {"plan": plan, "camera": snapshot, "matrix": matrix, "image": image, "silhouette": silhouette,
                       "layers": layers, "cells": cells, "method": params["method"], "masks": masks,
                       "base_distance": base_distance, "base_isd": base_isd}
 
@@ -719,6 +727,47 @@ def _set_uniforms(level_volume, plan, layer) -> None:
     uniforms.SetUniformf("u_mc_fovLevel", float(layer.level))
 
 
+def _silhouette(image, volume, camera, viewport, base_isd):
+    """The volume box's projected outline for the silhouette band: (edges (6, 3), unit), or None.
+
+    ``unit`` is one level-0 ray spacing in viewport heights.  None when a
+    corner lies behind the camera or the outline is degenerate.
+    """
+    if image is None or image.GetNumberOfPoints() == 0:
+        return None
+    dims = image.GetDimensions()
+    corners = []
+    for i in (0, dims[0] - 1):
+        for j in (0, dims[1] - 1):
+            for k in (0, dims[2] - 1):
+                point = [0.0, 0.0, 0.0]
+                image.TransformIndexToPhysicalPoint(i, j, k, point)
+                corners.append(point + [1.0])
+    aspect = viewport[2] / viewport[3]
+    world = matrix_array(volume.GetMatrix()) @ np.array(corners).T
+    clip = matrix_array(camera.GetCompositeProjectionTransformMatrix(aspect, -1.0, 1.0)) @ world
+    if np.any(clip[3] <= 1e-12):
+        return None
+    points = ((clip[:2] / clip[3]).T + 1.0) / 2.0
+    edges = foveation.silhouette_edges(points, aspect)
+    return None if edges is None else (edges, float(base_isd) / viewport[3])
+
+
+def _set_silhouette(level_volume, silhouette, level: int) -> bool:
+    """Upload the silhouette band's uniforms (shaders/foveated_skip.glsl); True when level 0 casts the band.
+
+    Level 0 casts the band (weight 1), the coarser levels leave it out.
+    """
+    uniforms = level_volume.GetShaderProperty().GetFragmentCustomUniforms()
+    edges, unit = silhouette if silhouette is not None else (np.tile([0.0, 0.0, _FAR], (6, 1)), 0.0)
+    uniforms.SetUniformf("u_mc_fovSilOn", 1.0 if silhouette is not None and level == 0 else 0.0)
+    uniforms.SetUniformf("u_mc_fovSilCut", 1.0 if silhouette is not None and level > 0 else 0.0)
+    uniforms.SetUniformf("u_mc_fovSilUnit", float(unit))
+    for index, edge in enumerate(edges):
+        uniforms.SetUniform3f(f"u_mc_fovSil{index}", [float(v) for v in edge])
+    return silhouette is not None and level == 0
+
+
 def _level_values(level_mapper, grid) -> np.ndarray:
     """A level's float readout in data units, (rows, columns) top row first, NaN = no ray."""
     image = vtkImageData()
@@ -847,6 +896,9 @@ def _frame_cost(frame) -> dict:
         cast = (e >= layer.cast_from) & (e < layer.cast_to)
         if level in frame.get("masks", {}):
             cast &= frame["masks"][level]
+        if len(plan.layers) > 1:  # the silhouette band: level 0 casts it, the coarser levels leave it out
+            added, left_out = foveation.silhouette_masks(plan, frame.get("silhouette"), layer.grid, level)
+            cast = (cast | added) & ~left_out
         kind = {"cells_of": level_input} if frame["cells"] else {"sample_distance": distance}
         rays, samples = grid_cost(image, camera, size, layer.grid, volume_matrix=matrix, cast=cast, **kind)
         rows.append({"level": level, "volume_level": volume_level, "grid": tuple(layer.grid),
