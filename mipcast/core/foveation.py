@@ -452,8 +452,11 @@ def silhouette_edges(points: np.ndarray, aspect: float) -> Optional[np.ndarray]:
     """The outline of projected box corners as :data:`SILHOUETTE_EDGES` lines ``(nx, ny, c)``.
 
     ``points`` (N, 2) are normalised viewport coordinates; with ``q = (x *
-    aspect, y)``, ``nx qx + ny qy + c`` is the distance inside the convex hull
-    in viewport heights (the foveated levels' silhouette band,
+    aspect, y)``, ``nx qx + ny qy + c`` is the distance inside each edge in
+    viewport heights measured along the axes (the Euclidean distance divided
+    by ``|cos| + |sin|`` of the edge normal: a step of ``s`` in x and ``s``
+    in y changes it by at most ``s``), and the minimum over the edges the
+    distance inside the convex hull (the foveated levels' silhouette band,
     shaders/foveated_skip.glsl).  Unused rows are ``(0, 0, 1e30)``.  None if
     the hull is degenerate (fewer than 3 vertices).
 
@@ -464,6 +467,9 @@ def silhouette_edges(points: np.ndarray, aspect: float) -> Optional[np.ndarray]:
     >>> q = np.array([0.5, 0.3])
     >>> round(float(np.min(edges[:, :2] @ q + edges[:, 2])), 6)  # 0.05 from the bottom edge
     0.05
+    >>> diamond = np.array([[0.5, 0.0], [1.0, 0.5], [0.5, 1.0], [0.0, 0.5]])
+    >>> round(float(np.min(silhouette_edges(diamond, 1.0)[:, :2] @ [0.5, 0.5] + silhouette_edges(diamond, 1.0)[:, 2])), 6)
+    0.25
     """
     q = np.unique(np.round(np.asarray(points, dtype=np.float64) * [aspect, 1.0], 12), axis=0)
     if len(q) < 3:
@@ -488,7 +494,8 @@ def silhouette_edges(points: np.ndarray, aspect: float) -> Optional[np.ndarray]:
     for index, start in enumerate(hull):
         stop = hull[(index + 1) % len(hull)]
         direction = stop - start
-        normal = np.array([-direction[1], direction[0]]) / np.hypot(*direction)  # inward (left)
+        normal = np.array([-direction[1], direction[0]])  # inward (left)
+        normal = normal / (abs(normal[0]) + abs(normal[1]))  # distance along the axes
         edges[index] = (normal[0], normal[1], -float(normal @ start))
     return edges
 
@@ -497,10 +504,13 @@ def silhouette_masks(plan: Plan, silhouette, grid: Sequence[int], level: int) ->
     """Where a level's rays are added (level 0) or left out (coarser levels) by the silhouette band.
 
     The shaders' rule (shaders/foveated_skip.glsl) at the texel centres of
-    ``grid``: with ``d`` the distance inside the box's outline and ``lam``
-    the level a pixel wants, level 0 casts where ``0 < lam`` and ``d < (3
-    2^ceil(lam) + 1) unit``; level ``k > 0`` leaves out ``d < (1.5 2^k + 1)
-    unit``.  ``silhouette`` is ``(edges, unit)`` (:func:`silhouette_edges`,
+    ``grid``: with ``d`` the distance inside the box's outline (along the
+    axes: :func:`silhouette_edges`) and ``lam`` the level a pixel wants,
+    level ``k > 0`` leaves out its rays with ``d < (2^k + 1) unit`` (then no
+    pixel outside the outline has a neighbouring coarse ray that hit: no
+    halo), and level 0 casts where ``0 < lam`` and ``d < (2 2^ceil(lam) + 1)
+    unit`` (every pixel one of whose coarse neighbours was left out or
+    missed: no darker rim).  ``silhouette`` is ``(edges, unit)`` (:func:`silhouette_edges`,
     one level-0 ray spacing in heights) or None (no band).
 
     Returns
@@ -519,13 +529,30 @@ def silhouette_masks(plan: Plan, silhouette, grid: Sequence[int], level: int) ->
     none = np.zeros((rows, columns), bool)
     if silhouette is None:
         return none, none
-    edges, unit = silhouette
+    unit = silhouette[1]
+    inside = outline_distance(plan, silhouette, grid)
+    if level > 0:
+        return none, inside < (2.0 ** level + 1.0) * unit
+    lam = desired_level(eccentricity(grid, plan.gaze, plan.aspect), plan)
+    return (lam > 0) & (inside < (2.0 * 2.0 ** np.ceil(lam) + 1.0) * unit), none
+
+
+def outline_distance(plan: Plan, silhouette, grid: Sequence[int]) -> np.ndarray:
+    """Distance (viewport heights, along the axes) of each texel centre of ``grid`` inside the
+    box's outline (:func:`silhouette_edges`; negative outside), top row first.
+
+    Examples
+    --------
+    >>> plan = plan_frame((0, 0, 4, 4), (0.5, 0.5), 0.1, 0.2)
+    >>> square = np.array([[0.0, 0.0], [0.5, 0.0], [0.5, 1.0], [0.0, 1.0]])
+    >>> outline_distance(plan, (silhouette_edges(square, 1.0), 0.25), (4, 1))
+    array([[ 0.125,  0.125, -0.125, -0.375]])
+    """
+    edges = silhouette[0]
+    columns, rows = int(grid[0]), int(grid[1])
     x = (np.arange(columns) + 0.5) / columns * plan.aspect
     y = ((np.arange(rows) + 0.5) / rows)[::-1]
     inside = np.full((rows, columns), np.inf)
     for nx, ny, c in edges:
         inside = np.minimum(inside, nx * x[None, :] + ny * y[:, None] + c)
-    if level > 0:
-        return none, inside < (1.5 * 2.0 ** level + 1.0) * unit
-    lam = desired_level(eccentricity(grid, plan.gaze, plan.aspect), plan)
-    return (lam > 0) & (inside < (3.0 * 2.0 ** np.ceil(lam) + 1.0) * unit), none
+    return inside

@@ -337,7 +337,9 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         -------
         dict or None
             ``rays``, ``samples``, ``full_rays``, ``full_samples``,
-            ``ray_ratio`` and ``sample_ratio`` (full / foveated), ``unit``
+            ``ray_ratio`` and ``sample_ratio`` (full / foveated), ``band_rays``
+            (level-0 rays cast only for the volume's silhouette band, included
+            in ``rays``), ``unit``
             (``"samples"`` or ``"cells"``) and ``levels``: one dict per
             drawn level (``level``, ``volume_level``, ``grid``,
             ``sample_distance``, ``rays``, ``samples``).  None before the
@@ -405,6 +407,9 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         plan, values = readout
         _, _, width, height = plan.viewport
         blended = foveation.composite_values(plan, values)
+        silhouette = self.GetLastSilhouette()
+        if silhouette is not None and len(plan.layers) > 1:  # rays outside the box's outline miss it
+            blended[foveation.outline_distance(plan, silhouette, (width, height)) < 0] = np.nan
         raw = float_readout.encode(float_readout.from_data_units(blended, self.GetRenderedInput().GetPointData().GetScalars()))
         image.SetDimensions(width, height, 1)
         array = numpy_to_vtk(np.ascontiguousarray(raw[::-1], dtype=np.float32).ravel(), deep=True)
@@ -891,15 +896,19 @@ def _frame_cost(frame) -> dict:
     plan, image, camera, matrix = frame["plan"], frame["image"], frame["camera"], frame["matrix"]
     size = plan.viewport[2:]
     rows = []
+    band_rays = 0
     for (level, volume_level, distance, level_input), layer in zip(frame["layers"], plan.layers):
         e = foveation.eccentricity(layer.grid, plan.gaze, plan.aspect)
         cast = (e >= layer.cast_from) & (e < layer.cast_to)
         if level in frame.get("masks", {}):
             cast &= frame["masks"][level]
+        kind = {"cells_of": level_input} if frame["cells"] else {"sample_distance": distance}
         if len(plan.layers) > 1:  # the silhouette band: level 0 casts it, the coarser levels leave it out
             added, left_out = foveation.silhouette_masks(plan, frame.get("silhouette"), layer.grid, level)
+            if added.any():
+                band_rays = grid_cost(image, camera, size, layer.grid, volume_matrix=matrix,
+                                      cast=added & ~cast, **kind)[0]
             cast = (cast | added) & ~left_out
-        kind = {"cells_of": level_input} if frame["cells"] else {"sample_distance": distance}
         rays, samples = grid_cost(image, camera, size, layer.grid, volume_matrix=matrix, cast=cast, **kind)
         rows.append({"level": level, "volume_level": volume_level, "grid": tuple(layer.grid),
                      "sample_distance": None if frame["cells"] else distance,
@@ -911,6 +920,7 @@ def _frame_cost(frame) -> dict:
     samples = sum(r["samples"] for r in rows)
     return {"method": frame["method"], "unit": "cells" if frame["cells"] else "samples",
             "rays": rays, "samples": samples, "full_rays": full_rays, "full_samples": full_samples,
+            "band_rays": band_rays,
             "ray_ratio": full_rays / rays if rays else math.inf,
             "sample_ratio": full_samples / samples if samples else math.inf,
             "levels": rows}
