@@ -279,7 +279,7 @@ def test_non_square_windows_measure_eccentricity_in_heights(vessels48, size, zoo
     assert np.mean(error[inside] <= 1) >= 0.99
     # outside the fovea (and the volume's silhouette band, which level 0 casts) the levels are coarser
     silhouette = fov.mapper.GetLastSilhouette()
-    band, _ = foveation.silhouette_masks(fov.mapper.GetLastPlan(), silhouette, size, 0)
+    band = foveation.silhouette_band(fov.mapper.GetLastPlan(), silhouette, size)
     assert error[~inside & ~band].mean() > 0.1
 
 

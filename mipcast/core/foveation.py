@@ -446,6 +446,8 @@ def composite_values(plan: Plan, values: dict) -> np.ndarray:
 
 #: Edges of a box's projected outline the shaders take (a convex box projects to at most 6).
 SILHOUETTE_EDGES = 6
+#: The silhouette band is as wide as the rim of this level at most (shaders/foveated_skip.glsl).
+SILHOUETTE_LEVEL_CAP = 2
 
 
 def silhouette_edges(points: np.ndarray, aspect: float) -> Optional[np.ndarray]:
@@ -500,41 +502,38 @@ def silhouette_edges(points: np.ndarray, aspect: float) -> Optional[np.ndarray]:
     return edges
 
 
-def silhouette_masks(plan: Plan, silhouette, grid: Sequence[int], level: int) -> tuple:
-    """Where a level's rays are added (level 0) or left out (coarser levels) by the silhouette band.
+def silhouette_band(plan: Plan, silhouette, grid: Sequence[int]) -> np.ndarray:
+    """Where level 0 casts rays for the volume's silhouette band (shaders/foveated_skip.glsl).
 
-    The shaders' rule (shaders/foveated_skip.glsl) at the texel centres of
-    ``grid``: with ``d`` the distance inside the box's outline (along the
-    axes: :func:`silhouette_edges`) and ``lam`` the level a pixel wants,
-    level ``k > 0`` leaves out its rays with ``d < (2^k + 1) unit`` (then no
-    pixel outside the outline has a neighbouring coarse ray that hit: no
-    halo), and level 0 casts where ``0 < lam`` and ``d < (2 2^ceil(lam) + 1)
-    unit`` (every pixel one of whose coarse neighbours was left out or
-    missed: no darker rim).  ``silhouette`` is ``(edges, unit)`` (:func:`silhouette_edges`,
-    one level-0 ray spacing in heights) or None (no band).
+    At the texel centres of ``grid``: with ``d`` the distance inside the box's
+    outline (along the axes: :func:`silhouette_edges`) and ``lam`` the level a
+    pixel wants, ``0 < lam`` and ``d < (2^min(ceil(lam), 2) + 1) unit`` -- the
+    pixels one of whose coarse neighbours (texel centres within one spacing
+    along each axis) lies outside the outline, i.e. missed, for levels up to
+    :data:`SILHOUETTE_LEVEL_CAP` (the default 3 levels: all of them; a 4th
+    level's wider rim is left partly blended, as a band that wide would cost
+    more rays than the level saves).  ``silhouette`` is
+    ``(edges, unit)`` (one level-0 ray spacing in heights) or None (no band).
 
     Returns
     -------
-    (added, left_out) : bool arrays (rows, columns), top row first
+    numpy.ndarray of bool, (rows, columns), top row first
 
     Examples
     --------
     >>> plan = plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.2)
     >>> square = np.array([[0.1, 0.1], [0.9, 0.1], [0.9, 0.9], [0.1, 0.9]])
-    >>> added, left_out = silhouette_masks(plan, (silhouette_edges(square, 1.0), 1 / 64), (64, 64), 0)
-    >>> bool(added[32, 7]), bool(added[32, 32]), bool(left_out.any())
+    >>> band = silhouette_band(plan, (silhouette_edges(square, 1.0), 1 / 64), (64, 64))
+    >>> bool(band[32, 7]), bool(band[32, 32]), bool(band[32, 2])
     (True, False, False)
     """
     columns, rows = int(grid[0]), int(grid[1])
-    none = np.zeros((rows, columns), bool)
     if silhouette is None:
-        return none, none
-    unit = silhouette[1]
+        return np.zeros((rows, columns), bool)
     inside = outline_distance(plan, silhouette, grid)
-    if level > 0:
-        return none, inside < (2.0 ** level + 1.0) * unit
     lam = desired_level(eccentricity(grid, plan.gaze, plan.aspect), plan)
-    return (lam > 0) & (inside < (2.0 * 2.0 ** np.ceil(lam) + 1.0) * unit), none
+    spacing = 2.0 ** np.minimum(np.ceil(lam), SILHOUETTE_LEVEL_CAP)
+    return (lam > 0) & (inside >= 0) & (inside < (spacing + 1.0) * silhouette[1])
 
 
 def outline_distance(plan: Plan, silhouette, grid: Sequence[int]) -> np.ndarray:

@@ -320,7 +320,7 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
 
     def GetLastSilhouette(self):
         """``(edges, unit)`` of the last render's silhouette band (None: no band), see
-        :func:`mipcast.core.foveation.silhouette_masks`."""
+        :func:`mipcast.core.foveation.silhouette_band`."""
         frame = object_state(self).get("frame")
         return None if frame is None else frame.get("silhouette")
 
@@ -759,14 +759,10 @@ def _silhouette(image, volume, camera, viewport, base_isd):
 
 
 def _set_silhouette(level_volume, silhouette, level: int) -> bool:
-    """Upload the silhouette band's uniforms (shaders/foveated_skip.glsl); True when level 0 casts the band.
-
-    Level 0 casts the band (weight 1), the coarser levels leave it out.
-    """
+    """Upload the silhouette band's uniforms (shaders/foveated_skip.glsl); True when level 0 casts the band."""
     uniforms = level_volume.GetShaderProperty().GetFragmentCustomUniforms()
     edges, unit = silhouette if silhouette is not None else (np.tile([0.0, 0.0, _FAR], (6, 1)), 0.0)
     uniforms.SetUniformf("u_mc_fovSilOn", 1.0 if silhouette is not None and level == 0 else 0.0)
-    uniforms.SetUniformf("u_mc_fovSilCut", 1.0 if silhouette is not None and level > 0 else 0.0)
     uniforms.SetUniformf("u_mc_fovSilUnit", float(unit))
     for index, edge in enumerate(edges):
         uniforms.SetUniform3f(f"u_mc_fovSil{index}", [float(v) for v in edge])
@@ -903,12 +899,12 @@ def _frame_cost(frame) -> dict:
         if level in frame.get("masks", {}):
             cast &= frame["masks"][level]
         kind = {"cells_of": level_input} if frame["cells"] else {"sample_distance": distance}
-        if len(plan.layers) > 1:  # the silhouette band: level 0 casts it, the coarser levels leave it out
-            added, left_out = foveation.silhouette_masks(plan, frame.get("silhouette"), layer.grid, level)
+        if len(plan.layers) > 1 and level == 0:  # the silhouette band: level 0 casts it too
+            added = foveation.silhouette_band(plan, frame.get("silhouette"), layer.grid)
             if added.any():
                 band_rays = grid_cost(image, camera, size, layer.grid, volume_matrix=matrix,
                                       cast=added & ~cast, **kind)[0]
-            cast = (cast | added) & ~left_out
+            cast = cast | added
         rays, samples = grid_cost(image, camera, size, layer.grid, volume_matrix=matrix, cast=cast, **kind)
         rows.append({"level": level, "volume_level": volume_level, "grid": tuple(layer.grid),
                      "sample_distance": None if frame["cells"] else distance,
