@@ -14,7 +14,6 @@ from typing import Any
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
-from mipcast.core.errors import InputError
 from mipcast.core.prepare import prepare_scalars
 from mipcast.core.validation import check_choice, check_positive, check_size
 from mipcast.reference.demip import render_demip
