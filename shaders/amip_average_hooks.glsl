@@ -35,6 +35,14 @@ float mcCubicMean(vec4 d, float a, float b)
   return d.x + 0.5 * d.y * (a + b) + d.z * (a * a + a * b + b * b) / 3.0 + 0.25 * d.w * (a + b) * (a * a + b * b);
 }
 
+// One bisection step of the bracket (lo, hi) of the cubic's crossing of level
+// (the cubic at lo is below level exactly when below0).
+vec2 mcHalve(vec4 d, float level, bool below0, vec2 bracket)
+{
+  float m = 0.5 * (bracket.x + bracket.y);
+  return (mcCubic(d, m) < level) == below0 ? vec2(m, bracket.y) : vec2(bracket.x, m);
+}
+
 // The part of [s0, s1] (the cubic monotone there) where it is >= level:
 // adds (its integral, its length) to covered.
 void mcCoveredPiece(vec4 d, float s0, float s1, float level, inout vec2 covered)
@@ -46,28 +54,24 @@ void mcCoveredPiece(vec4 d, float s0, float s1, float level, inout vec2 covered)
     return;
   }
   float a = s0;
-  float b = s1;
+  float e = s1;
   if (below0 != below1)
   {
-    float lo = s0;
-    float hi = s1;
-    for (int k = 0; k < 24; ++k)
-    {
-      float m = 0.5 * (lo + hi);
-      if ((mcCubic(d, m) < level) == below0)
-      {
-        lo = m;
-      }
-      else
-      {
-        hi = m;
-      }
-    }
-    float r = 0.5 * (lo + hi);
+    // 24 halvings, written out (a hook piece has no loop of its own)
+    vec2 b = vec2(s0, s1);
+    b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b);
+    b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b);
+    b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b);
+    b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b);
+    b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b);
+    b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b);
+    b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b);
+    b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b);
+    float r = 0.5 * (b.x + b.y);
     a = below0 ? r : s0;
-    b = below0 ? s1 : r;
+    e = below0 ? s1 : r;
   }
-  covered += vec2((b - a) * mcCubicMean(d, a, b), b - a);
+  covered += vec2((e - a) * mcCubicMean(d, a, e), e - a);
 }
 
 // (integral, length) over s in [0, 1] of the part where the cubic d is >= level.

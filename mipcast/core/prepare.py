@@ -106,20 +106,27 @@ class PreparedScalars:
 MISSING_SIDES = ("below", "above")
 
 
-def shade_range(prepared) -> tuple:
-    """The data range an average's grey is normalised over: the finite range, a constant's widened by 1.
+def shade_range(prepared, window=None) -> tuple:
+    """The data range an average's grey is normalised over: the finite range.
 
-    (The window of a zero-width range, as the catalogue's MIP views use it:
-    a constant volume draws a uniform mid grey.)
+    A constant volume has none: its grey is normalised over ``window`` (the
+    transfer functions' range, as MIP draws a constant through its window),
+    or over the value widened by 1 each way without one.
 
     Examples
     --------
     >>> from types import SimpleNamespace
     >>> shade_range(SimpleNamespace(low=2.0, high=5.0)), shade_range(SimpleNamespace(low=7.25, high=7.25))
     ((2.0, 5.0), (6.25, 8.25))
+    >>> shade_range(SimpleNamespace(low=0.0, high=0.0), window=(0.2, 0.9))
+    (0.2, 0.9)
     """
     low, high = float(prepared.low), float(prepared.high)
-    return (low, high) if high > low else (low - 1.0, high + 1.0)
+    if high > low:
+        return low, high
+    if window is not None and float(window[1]) > float(window[0]):
+        return float(window[0]), float(window[1])
+    return low - 1.0, high + 1.0
 
 
 def check_component(component: Any) -> Optional[int]:

@@ -201,7 +201,7 @@ def missing_as_background(mapper, volume_property, image: vtkImageData, componen
     opacity = drawn.GetScalarOpacity()
     if average:  # the mean over the finite samples, its grey over the finite range (as mipcast's average)
         mapper.SetAverageIPScalarRange(prepared.missing_below, 3.4028234663852886e38)
-        _average_grey_over_finite_range(opacity, prepared)
+        _average_grey_over_finite_range(opacity, prepared, drawn.GetRGBTransferFunction(0).GetRange())
         return drawn
     above = fill_side(projection) == "above"
     edge = prepared.high if above else prepared.low
@@ -220,7 +220,7 @@ def missing_as_background(mapper, volume_property, image: vtkImageData, componen
     return drawn
 
 
-def _average_grey_over_finite_range(opacity, prepared) -> None:
+def _average_grey_over_finite_range(opacity, prepared, window=None) -> None:
     """Make VTK's average grey the normalisation over the finite range, through its opacity weights.
 
     VTK's AVERAGE_INTENSITY blend draws the mean of ``opacity(s) * s``, ``s``
@@ -232,7 +232,7 @@ def _average_grey_over_finite_range(opacity, prepared) -> None:
     1e-4 of it), 0 below.
     """
     low, high = prepared.low, prepared.high
-    glow, ghigh = shade_range(prepared)
+    glow, ghigh = shade_range(prepared, window)
     fill = prepared.fill
     values = np.linspace(low, high, 65) if high > low else np.array([low])
     kept = [opacity.GetValue(float(v)) for v in values]

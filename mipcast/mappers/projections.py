@@ -98,7 +98,8 @@ class AverageVolumeMapper(sampled_projection_mapper("average_hooks", color="aver
 
 def _push_shade(mapper, uniforms) -> None:
     """The average's grey: stock's normalised scalar, or (missing values, a constant volume) the
-    normalisation over :func:`shade_range` (shaders/average_hooks.glsl, amip_average_hooks.glsl)."""
+    normalisation over :func:`~mipcast.core.prepare.shade_range` (a constant's over the colour
+    transfer function's range, as MIP draws it; shaders/average_hooks.glsl, amip_average_hooks.glsl)."""
     prepared = mapper.GetInputPreparer().GetPrepared()
     image = mapper.GetRenderedInput()
     if prepared is None or image is None or not (prepared.missing or not prepared.high > prepared.low):
@@ -106,7 +107,9 @@ def _push_shade(mapper, uniforms) -> None:
         uniforms.SetUniformf("u_mc_shadeLow", 0.0)
         uniforms.SetUniformf("u_mc_shadeScale", 1.0)
         return
-    low, high = (float(v) for v in from_data_units(np.array(shade_range(prepared)),
+    volume = mapper.GetAttachedVolume()
+    window = volume.GetProperty().GetRGBTransferFunction(0).GetRange() if volume is not None else None
+    low, high = (float(v) for v in from_data_units(np.array(shade_range(prepared, window)),
                                                     image.GetPointData().GetScalars()))
     uniforms.SetUniformf("u_mc_shadeRemap", 1.0)
     uniforms.SetUniformf("u_mc_shadeLow", low)
