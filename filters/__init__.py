@@ -22,7 +22,7 @@ from typing import Optional, Sequence, Union
 import numpy as np
 
 from mipcast.io import with_scalars
-from mipcast.mappers.input_preparer import prepared_image
+from mipcast.mappers.input_preparer import missing_as_background, prepared_image
 from mipcast.methods import METHODS, attach, create_mapper
 from mipcast.offscreen import OffscreenView, set_view
 from mipcast.core.windowing import resolve_window
@@ -171,12 +171,15 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
         mapper.SetComponent(component)
         mapper.SetInputData(image)
     else:  # VTK's own mappers draw the prepared copy
-        mapper.SetInputData(prepared_image(image, component))
+        mapper.SetInputData(prepared_image(image, component, projection=projection))
     mapper.SetAutoAdjustSampleDistances(False)
     mapper.SetSampleDistance(check_positive("sample_distance", sample_distance))
     set_parameters(mapper, **params)
     volume = pyvista.Volume()
-    volume.SetProperty(_volume_property(cmap, (low, high), opacity))
+    prop = _volume_property(cmap, (low, high), opacity)
+    if not METHODS[method].float_readout:  # rays through missing data only: background (docs/reliability.md)
+        prop = missing_as_background(mapper, prop, image, component, projection)
+    volume.SetProperty(prop)
     attach(mapper, volume)
     plotter.add_actor(volume, reset_camera=reset_camera, name=name, render=render)
     return volume

@@ -24,7 +24,7 @@ import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL back 
 
 from mipcast import methods
 from mipcast.mappers.float_readout import render_float
-from mipcast.mappers.input_preparer import prepared_image
+from mipcast.mappers.input_preparer import missing_as_background, prepared_image
 from mipcast.core.patient_views import PATIENT_VIEWS, set_patient_view
 from mipcast.core.windowing import resolve_window
 from mipcast.core.validation import check_choice, check_image, check_positive, check_size
@@ -155,7 +155,7 @@ class OffscreenView:
         if hasattr(self.mapper, "SetUseJittering"):  # the CPU peer has no jittering
             self.mapper.SetUseJittering(False)
         self.volume = vtkVolume()
-        self.volume.SetProperty(grey_property(self.window))
+        self.set_window(self.window)
         methods.attach(self.mapper, self.volume)
         self.renderer = vtkRenderer()
         self.renderer.AddVolume(self.volume)
@@ -177,8 +177,23 @@ class OffscreenView:
             self.mapper.SetComponent(component)
             self.mapper.SetInputData(image)
         else:
-            self.mapper.SetInputData(prepared_image(image, component, self.method.projection == "mip"))
+            self.mapper.SetInputData(prepared_image(image, component, projection=self.method.projection))
         self.image, self.component = image, component
+        if getattr(self, "volume", None) is not None:
+            self.set_window(self.window)  # VTK's own mappers: missing data's opacity follows the input
+
+    def set_window(self, window: Sequence[float]) -> None:
+        """Draw with the grey window ``(low, high)`` (data units) from now on: :func:`grey_property`.
+
+        For VTK's own mappers (stock, CPU) and input with missing values the
+        property makes rays that saw only missing data transparent
+        (:func:`~mipcast.mappers.input_preparer.missing_as_background`).
+        """
+        self.window = (float(window[0]), float(window[1]))
+        prop = grey_property(self.window)
+        if not self.method.float_readout:
+            prop = missing_as_background(self.mapper, prop, self.image, self.component, self.method.projection)
+        self.volume.SetProperty(prop)
 
     @property
     def camera(self):

@@ -73,13 +73,16 @@ class _Entry:
         self.outline = outline  # the display show() made an Outline, or None
         self.saved = saved  # (visible, representation, colouring) before that, or None
         self.problem: Optional[str] = None  # why the volume is hidden, if it is
+        self.component: Optional[int] = None  # the drawn component (None: the magnitude)
+        self.preparer = None  # VTK's own mappers: the InputPreparer in front of them
 
     def before_frame(self) -> None:
         """Bring the volume's input up to date at the view's time; hide it while unusable.
 
-        VTK's mappers must never see an input without one-component point
-        scalars (VTK's CPU mapper segfaults), e.g. after the array was
-        renamed upstream: the volume is hidden until the array is back.
+        VTK's mappers must never see an input without point scalars (VTK's
+        CPU mapper segfaults), e.g. after the array was renamed upstream, nor
+        a component the array does not have: the volume is hidden until the
+        array is back.
         """
         from vtkmodules.vtkCommonCore import vtkOutputWindow
         from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
@@ -92,7 +95,7 @@ class _Entry:
         self.assign.GetOutputInformation(0).Set(
             vtkStreamingDemandDrivenPipeline.UPDATE_TIME_STEP(), self.view_object.GetViewTime())
         self.assign.Update()
-        problem = _problem(self.assign.GetOutputDataObject(0), self.shown.array)
+        problem = _problem(self.assign.GetOutputDataObject(0), self.shown.array, self.component)
         self.shown.volume.SetVisibility(problem is None)
         if problem != self.problem:  # reported once per change
             self.problem = problem
@@ -108,7 +111,8 @@ class _Entry:
 
 
 def show(source: Any = None, view: Any = None, method: str = "mip",
-         array: Optional[str] = None, *, outline: bool = True, **settings: Any) -> "vtkVolume":
+         array: Optional[str] = None, *, component: Any = None, outline: bool = True,
+         **settings: Any) -> "vtkVolume":
     """Render a source's volume with a mipcast method in a ParaView render view.
 
     Adds a ``vtkVolume`` with the mipcast mapper for ``method`` to the render
@@ -126,8 +130,13 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
     method : str, default: "mip"
         A name from ``mipcast.METHODS``.
     array : str, optional
-        The point array to render (one component).  Default: the source's
-        active point scalars, else its first point array.
+        The point array to render.  Default: the source's active point
+        scalars, else its first point array.
+    component : int or "magnitude", optional
+        Which component of a multi-component array to draw: as ParaView
+        colours it, the magnitude by default, or component ``k`` (the array's
+        colour map is set to the same vector mode, so the colour legend
+        agrees).  One-component arrays are drawn as they are.
     outline : bool, default: True
         Show the source itself as an Outline coloured by ``array`` (the
         colour map editor and colour legend then show the volume's colours,
@@ -153,9 +162,9 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
         In a remote (client-server) session, or without an active source or
         render view.
     TypeError, ValueError
-        Unusable data (not image data, several components, NaN/Inf, no
-        point array, ...), an unknown method or setting; the message names
-        the fix.
+        Unusable data (not image data, a component the array does not have,
+        every value NaN/Inf, no point array, ...), an unknown method or
+        setting; the message names the fix.
 
     Examples
     --------
@@ -174,9 +183,11 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
     from vtkmodules.vtkFiltersCore import vtkAssignAttribute
     from vtkmodules.vtkRenderingCore import vtkVolume
 
-    from mipcast.methods import attach, create_mapper
+    from mipcast.methods import METHODS, attach, create_mapper
     from mipcast.core.parameters import set_parameters
+    from mipcast.core.prepare import check_component, prepare_scalars
     from mipcast.core.validation import check_image, check_positive
+    from mipcast.mappers.input_preparer import InputPreparer, fill_side
 
     simple = _simple()
     source = _source(source)
@@ -193,16 +204,23 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
     assign.Assign(name, "SCALARS", "POINT_DATA")  # for check_image; _link sets it again
     assign.Update()
     image = assign.GetOutputDataObject(0)
-    problem = _problem(image, name)
-    if problem is not None and "components" in problem:  # the view links one-component arrays only
-        from mipcast.core.errors import InputError
-        raise InputError(f"{problem}: extract a component first (Calculator, Extract Component), "
-                         "or render it with mipcast's mappers, which draw the magnitude (SetComponent)")
-    check_image(image)  # raises naming the problem and the fix
-    low, high = image.GetPointData().GetScalars().GetRange(0)
+    component = check_component(component)
+    check_image(image, component)  # raises naming the problem and the fix
+    prepared = prepare_scalars(image, component)  # the drawn values' finite range (magnitude, component)
+    low, high = prepared.low, prepared.high
+    if not high > low:
+        low, high = low - 1.0, high + 1.0
 
     mapper = create_mapper(method)
-    mapper.SetInputConnection(assign.GetOutputPort())
+    preparer = None
+    if METHODS[method].float_readout:  # a mipcast mapper: its own preparer draws the component
+        mapper.SetComponent(-1 if component is None else component)
+        mapper.SetInputConnection(assign.GetOutputPort())
+    else:  # VTK's own mappers: one component, missing values filled, through a preparer in front
+        preparer = InputPreparer(fill_side(METHODS[method].projection))
+        preparer.SetComponent(component)
+        preparer.SetInputConnection(assign.GetOutputPort())
+        mapper.SetInputConnection(preparer.GetOutputPort())
     mapper.SetAutoAdjustSampleDistances(False)
     mapper.SetSampleDistance(check_positive(
         "sample distance", min(abs(s) for s in image.GetSpacing())))
@@ -212,6 +230,12 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
 
     lut = simple.GetColorTransferFunction(name)
     pwf = simple.GetOpacityTransferFunction(name)
+    if image.GetPointData().GetScalars().GetNumberOfComponents() > 1:  # colour as drawn
+        if component is None:
+            lut.VectorMode = "Magnitude"
+        else:
+            lut.VectorMode = "Component"
+            lut.VectorComponent = component
     _prune_deleted()
     key = _key(view, source)
     previous = _SHOWN.get(key)
@@ -239,8 +263,9 @@ def show(source: Any = None, view: Any = None, method: str = "mip",
     attach(mapper, volume)
     if previous is None:
         view_object.AddPropToRenderer(volume)
-    _SHOWN[key] = _Entry(ShownVolume(source, view, method, name, volume), view_object, assign,
-                         display, saved)
+    entry = _SHOWN[key] = _Entry(ShownVolume(source, view, method, name, volume), view_object, assign,
+                                 display, saved)
+    entry.component, entry.preparer = component, preparer
     _observe(key[0], view_object.GetRenderer(), view.SMProxy.GetSessionProxyManager())
     return volume
 
@@ -469,8 +494,8 @@ def _link(assign, volume, name: str) -> None:
     volume.SetProperty(prop)
 
 
-def _problem(data, name: str) -> Optional[str]:
-    """Why ``data`` cannot be rendered (None if it can): image data, one-component scalars."""
+def _problem(data, name: str, component: Optional[int] = None) -> Optional[str]:
+    """Why ``data`` cannot be rendered (None if it can): image data, point scalars with ``component``."""
     from vtkmodules.vtkCommonDataModel import vtkImageData
 
     if not isinstance(data, vtkImageData):
@@ -479,9 +504,9 @@ def _problem(data, name: str) -> Optional[str]:
     scalars = data.GetPointData().GetScalars()
     if scalars is None:
         return f"the source's output has no point array {name!r} any more (renamed or removed upstream)"
-    if scalars.GetNumberOfComponents() != 1:
-        return (f"point array {name!r} has {scalars.GetNumberOfComponents()} components "
-                "(one is needed)")
+    if component is not None and component >= scalars.GetNumberOfComponents() and component > 0:
+        return (f"point array {name!r} has {scalars.GetNumberOfComponents()} component(s), "
+                f"component {component} was asked for")
     return None
 
 

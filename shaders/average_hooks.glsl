@@ -6,7 +6,11 @@
 // (u_mc_averageLow / u_mc_averageHigh, normalised); the picture is the mean
 // of opacity(s) * s over them (s the normalised scalar, mc_rayShade, for
 // average_color), the float readout the plain mean of their values
-// (mc_rayMax). mc_rayWeight is their number (0: stock draws nothing).
+// (mc_rayMax). mc_rayWeight is their number (0: stock draws nothing). The
+// grey is s itself (stock's), or with u_mc_shadeRemap (input with missing
+// values or a constant volume: mipcast.mappers.projections) s remapped as
+// (s - u_mc_shadeLow) * u_mc_shadeScale: the normalisation over the finite
+// data range (a constant's range widened by 1 each way).
 float mc_rayShade;
 float mc_rayWeight;
 float mc_raySum;
@@ -23,7 +27,7 @@ bool mcSample(float value, int i)
   float s = mcNormalised(value);
   if (u_mc_averageLow <= s && s <= u_mc_averageHigh)
   {
-    mc_rayShade += computeOpacity(vec4(s)) * s;
+    mc_rayShade += computeOpacity(vec4(s)) * (u_mc_shadeRemap > 0.5 ? (s - u_mc_shadeLow) * u_mc_shadeScale : s);
     mc_raySum += value;
     mc_rayWeight += 1.0;
   }

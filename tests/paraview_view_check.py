@@ -155,7 +155,7 @@ def outline_of(image):
     return outline.GetOutput()
 
 
-def reference(image, method, view, lut, pwf, actors=(), peel_volumes=None, **settings):
+def reference(image, method, view, lut, pwf, actors=(), peel_volumes=None, component=None, **settings):
     """mipcast's own offscreen render of ``image`` with ParaView's camera and functions.
 
     ``peel_volumes`` True/False: depth peeling on (VTK's dual depth peeling,
@@ -163,7 +163,7 @@ def reference(image, method, view, lut, pwf, actors=(), peel_volumes=None, **set
     """
     from mipcast.core.parameters import set_parameters
 
-    scene = OffscreenView(image, method, size=(WIDTH, HEIGHT))
+    scene = OffscreenView(image, method, size=(WIDTH, HEIGHT), component=component)
     if peel_volumes is not None:
         scene.renderer.SetUseDepthPeeling(True)
         scene.renderer.SetUseDepthPeelingForVolumes(bool(peel_volumes))
@@ -680,7 +680,7 @@ def errors_report(view):
     spreadsheet = CreateView("SpreadSheetView")
     result = {
         "polydata": message(lambda: show(Sphere(), view)),
-        "three_components": message(lambda: show(calc, view, array="vectors")),
+        "component_out_of_range": message(lambda: show(calc, view, array="vectors", component=5)),
         "nan": message(lambda: show(producer, view)),
         "missing_array": message(lambda: show(calc, view, array="nope")),
         "unknown_method": message(lambda: show(calc, view, method="best")),
@@ -690,6 +690,39 @@ def errors_report(view):
     Delete(spreadsheet)
     result["shown_after_errors"] = [(entry.source is calc, entry.method) for entry in shown(view)]
     return result
+
+
+def vectors_report(png):
+    """A three-component array: show() draws its magnitude or a chosen component, as mipcast does."""
+    from mipcast.plugin.render_view import hide, show
+    from paraview.simple import Calculator, Delete, GetColorTransferFunction, GetDisplayProperties, \
+        GetOpacityTransferFunction, Wavelet
+
+    view = plain_view()  # its own view: nothing else shown
+
+    calc = Calculator(Input=Wavelet(), ResultArrayName="vectors",
+                      Function="RTData*iHat + 2*RTData*jHat + 3*RTData*kHat")
+    calc.UpdatePipeline()
+    image = vtkImageData()
+    image.ShallowCopy(calc.GetClientSideObject().GetOutputDataObject(0))
+    image.GetPointData().SetActiveScalars("vectors")
+    report = {}
+    for method, component in (("mip", None), ("stock", None), ("analytic", 1), ("stock", 2), ("cpu", 0)):
+        show(calc, view, method=method, array="vectors", component=component)
+        flat(GetDisplayProperties(calc, view), (1.0, 1.0, 0.0))
+        set_camera(view)
+        name = f"{method}_{'magnitude' if component is None else component}"
+        pv = screenshot(view, png(f"view_vectors_{name}"))
+        lut = GetColorTransferFunction("vectors")
+        ref, _ = reference(image, method, view, lut, GetOpacityTransferFunction("vectors"),
+                           actors=[flat_actor(outline_of(image), (1.0, 1.0, 0.0))], component=component)
+        result = compare(pv, ref)
+        result.update(vector_mode=str(lut.VectorMode).strip("'"), vector_component=int(lut.VectorComponent),
+                      lut_range=[lut.RGBPoints[0], lut.RGBPoints[-4]])
+        report[name] = result
+    hide(calc, view)
+    Delete(view)
+    return report
 
 
 def passes_report(reader, image, view, png):
@@ -799,6 +832,7 @@ def main(argv):
         report["deletion"] = deletion_report()
         report["macros"] = macros_report(reader, view)
         report["errors"] = errors_report(view)
+        report["vectors"] = vectors_report(png)
         report["time"] = time_report(folder, png)
         report["rename"] = rename_report(png)
         report["recolour"] = recolour_report(png)

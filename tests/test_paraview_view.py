@@ -208,7 +208,7 @@ def test_macros(report):
 
 @pytest.mark.parametrize("case, words", [
     ("polydata", ["TypeError", "vtkImageData", "vtkPolyData", "Resample To Image"]),
-    ("three_components", ["InputError", "'vectors'", "3 components", "extract a component"]),
+    ("component_out_of_range", ["InputError", "component 5", "0 .. 2"]),
     ("nan", ["InputError", "NaN", "nothing to draw"]),
     ("missing_array", ["'nope'", "RTData"]),
     ("unknown_method", ["'best'", "'analytic'"]),
@@ -219,6 +219,16 @@ def test_bad_input_is_refused_with_the_fix(report, case, words):
     message = report["errors"][case]
     for word in words:
         assert word in message, message
+
+
+@pytest.mark.parametrize("case", ["mip_magnitude", "stock_magnitude", "analytic_1", "stock_2", "cpu_0"])
+def test_multi_component_arrays_draw_the_magnitude_or_a_component(report, case):
+    """show() draws a three-component array as mipcast does: the magnitude, or the chosen component."""
+    result = report["vectors"][case]
+    _matches(result)
+    assert result["vector_mode"] == ("Magnitude" if case.endswith("magnitude") else "Component"), result
+    if not case.endswith("magnitude"):
+        assert result["vector_component"] == int(case[-1])
 
 
 def test_refused_input_adds_nothing(report):

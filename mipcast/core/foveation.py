@@ -403,6 +403,8 @@ def composite_values(plan: Plan, values: dict) -> np.ndarray:
     Each level is stretched over the viewport (:func:`upsample_bilinear`)
     and weighted by its :func:`blend_shares`; levels without a value at a
     pixel (a miss) leave their share to the others.  NaN where none has one.
+    Where level 0 has a value outside its share (the silhouette band it
+    casts, shaders/foveated_skip.glsl) the pixel is level 0's value.
 
     Parameters
     ----------
@@ -425,6 +427,7 @@ def composite_values(plan: Plan, values: dict) -> np.ndarray:
     _, _, width, height = plan.viewport
     total = np.zeros((height, width))
     weight = np.zeros((height, width))
+    band = None
     for level, share in blend_shares(plan).items():
         if level not in values:
             continue
@@ -432,5 +435,123 @@ def composite_values(plan: Plan, values: dict) -> np.ndarray:
         use = (share > 0) & ~np.isnan(stretched)
         total[use] += share[use] * stretched[use]
         weight[use] += share[use]
+        if level == 0:  # level 0 also casts in the volume's silhouette band, with weight 1 there
+            band = (share <= 0) & ~np.isnan(stretched), stretched
     with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(weight > 0, total / np.where(weight > 0, weight, 1.0), np.nan)
+        out = np.where(weight > 0, total / np.where(weight > 0, weight, 1.0), np.nan)
+    if band is not None:
+        out[band[0]] = band[1][band[0]]
+    return out
+
+
+#: Edges of a box's projected outline the shaders take (a convex box projects to at most 6).
+SILHOUETTE_EDGES = 6
+#: The silhouette band is as wide as the rim of this level at most (shaders/foveated_skip.glsl).
+SILHOUETTE_LEVEL_CAP = 2
+
+
+def silhouette_edges(points: np.ndarray, aspect: float) -> Optional[np.ndarray]:
+    """The outline of projected box corners as :data:`SILHOUETTE_EDGES` lines ``(nx, ny, c)``.
+
+    ``points`` (N, 2) are normalised viewport coordinates; with ``q = (x *
+    aspect, y)``, ``nx qx + ny qy + c`` is the distance inside each edge in
+    viewport heights measured along the axes (the Euclidean distance divided
+    by ``|cos| + |sin|`` of the edge normal: a step of ``s`` in x and ``s``
+    in y changes it by at most ``s``), and the minimum over the edges the
+    distance inside the convex hull (the foveated levels' silhouette band,
+    shaders/foveated_skip.glsl).  Unused rows are ``(0, 0, 1e30)``.  None if
+    the hull is degenerate (fewer than 3 vertices).
+
+    Examples
+    --------
+    >>> square = np.array([[0.25, 0.25], [0.75, 0.25], [0.75, 0.75], [0.25, 0.75], [0.5, 0.5]])
+    >>> edges = silhouette_edges(square, 1.0)
+    >>> q = np.array([0.5, 0.3])
+    >>> round(float(np.min(edges[:, :2] @ q + edges[:, 2])), 6)  # 0.05 from the bottom edge
+    0.05
+    >>> diamond = np.array([[0.5, 0.0], [1.0, 0.5], [0.5, 1.0], [0.0, 0.5]])
+    >>> round(float(np.min(silhouette_edges(diamond, 1.0)[:, :2] @ [0.5, 0.5] + silhouette_edges(diamond, 1.0)[:, 2])), 6)
+    0.25
+    """
+    q = np.unique(np.round(np.asarray(points, dtype=np.float64) * [aspect, 1.0], 12), axis=0)
+    if len(q) < 3:
+        return None
+
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower, upper = [], []  # Andrew's monotone chain: counter-clockwise hull
+    for point in q:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], point) <= 0:
+            lower.pop()
+        lower.append(point)
+    for point in q[::-1]:
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], point) <= 0:
+            upper.pop()
+        upper.append(point)
+    hull = np.array(lower[:-1] + upper[:-1])
+    if len(hull) < 3 or len(hull) > SILHOUETTE_EDGES:
+        return None
+    edges = np.tile([0.0, 0.0, 1.0e30], (SILHOUETTE_EDGES, 1))
+    for index, start in enumerate(hull):
+        stop = hull[(index + 1) % len(hull)]
+        direction = stop - start
+        normal = np.array([-direction[1], direction[0]])  # inward (left)
+        normal = normal / (abs(normal[0]) + abs(normal[1]))  # distance along the axes
+        edges[index] = (normal[0], normal[1], -float(normal @ start))
+    return edges
+
+
+def silhouette_band(plan: Plan, silhouette, grid: Sequence[int]) -> np.ndarray:
+    """Where level 0 casts rays for the volume's silhouette band (shaders/foveated_skip.glsl).
+
+    At the texel centres of ``grid``: with ``d`` the distance inside the box's
+    outline (along the axes: :func:`silhouette_edges`) and ``lam`` the level a
+    pixel wants, ``0 < lam`` and ``d < (2^min(ceil(lam), 2) + 1) unit`` -- the
+    pixels one of whose coarse neighbours (texel centres within one spacing
+    along each axis) lies outside the outline, i.e. missed, for levels up to
+    :data:`SILHOUETTE_LEVEL_CAP` (the default 3 levels: all of them; a 4th
+    level's wider rim is left partly blended, as a band that wide would cost
+    more rays than the level saves).  ``silhouette`` is
+    ``(edges, unit)`` (one level-0 ray spacing in heights) or None (no band).
+
+    Returns
+    -------
+    numpy.ndarray of bool, (rows, columns), top row first
+
+    Examples
+    --------
+    >>> plan = plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.2)
+    >>> square = np.array([[0.1, 0.1], [0.9, 0.1], [0.9, 0.9], [0.1, 0.9]])
+    >>> band = silhouette_band(plan, (silhouette_edges(square, 1.0), 1 / 64), (64, 64))
+    >>> bool(band[32, 7]), bool(band[32, 32]), bool(band[32, 2])
+    (True, False, False)
+    """
+    columns, rows = int(grid[0]), int(grid[1])
+    if silhouette is None:
+        return np.zeros((rows, columns), bool)
+    inside = outline_distance(plan, silhouette, grid)
+    lam = desired_level(eccentricity(grid, plan.gaze, plan.aspect), plan)
+    spacing = 2.0 ** np.minimum(np.ceil(lam), SILHOUETTE_LEVEL_CAP)
+    return (lam > 0) & (inside >= 0) & (inside < (spacing + 1.0) * silhouette[1])
+
+
+def outline_distance(plan: Plan, silhouette, grid: Sequence[int]) -> np.ndarray:
+    """Distance (viewport heights, along the axes) of each texel centre of ``grid`` inside the
+    box's outline (:func:`silhouette_edges`; negative outside), top row first.
+
+    Examples
+    --------
+    >>> plan = plan_frame((0, 0, 4, 4), (0.5, 0.5), 0.1, 0.2)
+    >>> square = np.array([[0.0, 0.0], [0.5, 0.0], [0.5, 1.0], [0.0, 1.0]])
+    >>> outline_distance(plan, (silhouette_edges(square, 1.0), 0.25), (4, 1))
+    array([[ 0.125,  0.125, -0.125, -0.375]])
+    """
+    edges = silhouette[0]
+    columns, rows = int(grid[0]), int(grid[1])
+    x = (np.arange(columns) + 0.5) / columns * plan.aspect
+    y = ((np.arange(rows) + 0.5) / rows)[::-1]
+    inside = np.full((rows, columns), np.inf)
+    for nx, ny, c in edges:
+        inside = np.minimum(inside, nx * x[None, :] + ny * y[:, None] + c)
+    return inside

@@ -83,6 +83,10 @@ class PreparedScalars:
         Ray results below this saw no finite data (``-inf`` when nothing is missing).
     component : str
         What is drawn: ``"scalars"``, ``"magnitude"`` or ``"component k"``.
+    missing_above : float
+        With ``fill_side="above"`` (minimum projections): ray results above
+        this saw no finite data (``inf`` otherwise, and ``missing_below`` is
+        then ``-inf``).
     """
 
     values: np.ndarray
@@ -94,6 +98,35 @@ class PreparedScalars:
     fill: float
     missing_below: float
     component: str
+    missing_above: float = float("inf")
+
+
+#: Where missing voxels are filled: below every finite value (maximum and
+#: average projections) or above (minimum projections).
+MISSING_SIDES = ("below", "above")
+
+
+def shade_range(prepared, window=None) -> tuple:
+    """The data range an average's grey is normalised over: the finite range.
+
+    A constant volume has none: its grey is normalised over ``window`` (the
+    transfer functions' range, as MIP draws a constant through its window),
+    or over the value widened by 1 each way without one.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> shade_range(SimpleNamespace(low=2.0, high=5.0)), shade_range(SimpleNamespace(low=7.25, high=7.25))
+    ((2.0, 5.0), (6.25, 8.25))
+    >>> shade_range(SimpleNamespace(low=0.0, high=0.0), window=(0.2, 0.9))
+    (0.2, 0.9)
+    """
+    low, high = float(prepared.low), float(prepared.high)
+    if high > low:
+        return low, high
+    if window is not None and float(window[1]) > float(window[0]):
+        return float(window[0]), float(window[1])
+    return low - 1.0, high + 1.0
 
 
 def check_component(component: Any) -> Optional[int]:
@@ -135,7 +168,7 @@ def check_geometry(image: vtkImageData) -> None:
             "(vtkImageReslice) or put the scale into the spacing")
 
 
-def prepare_scalars(image: vtkImageData, component: Any = None) -> PreparedScalars:
+def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str = "below") -> PreparedScalars:
     """The values the GPU draws from ``image`` (validated; ``image`` is not modified).
 
     Parameters
@@ -145,6 +178,9 @@ def prepare_scalars(image: vtkImageData, component: Any = None) -> PreparedScala
         Which component of multi-component scalars; None: the magnitude
         (one-component scalars are drawn as they are either way, unless
         ``component`` is >= 1).
+    fill_side : {"below", "above"}
+        Fill missing voxels below every finite value (``low - span``: maximum
+        and average projections) or above (``high + span``: minimum projections).
 
     Raises
     ------
@@ -161,6 +197,8 @@ def prepare_scalars(image: vtkImageData, component: Any = None) -> PreparedScala
     >>> prepare_scalars(make_fixture("spheres", size=8)).changed
     False
     """
+    if fill_side not in MISSING_SIDES:
+        raise ValueError(f"fill_side must be one of {MISSING_SIDES}, got {fill_side!r}")
     if not isinstance(image, vtkImageData):
         raise TypeError(
             f"expected vtkImageData or pyvista.ImageData, got {type(image).__name__}; "
@@ -213,7 +251,7 @@ def prepare_scalars(image: vtkImageData, component: Any = None) -> PreparedScala
     if values.dtype.type in CONVERTED_DTYPES:
         values, changed = values.astype(np.float64), True
     missing = infinite = 0
-    fill, missing_below = float("nan"), float("-inf")
+    fill, missing_below, missing_above = float("nan"), float("-inf"), float("inf")
     if values.dtype.kind == "f":
         finite = np.isfinite(values)
         missing = int(values.size - np.count_nonzero(finite))
@@ -225,9 +263,13 @@ def prepare_scalars(image: vtkImageData, component: Any = None) -> PreparedScala
                     "nothing to draw; check the data or choose another array")
             low, high = float(values[finite].min()), float(values[finite].max())
             span = high - low if high > low else max(abs(low), 1.0)
-            fill = float(np.asarray(low - span, dtype=values.dtype))
-            values = np.where(finite, values, values.dtype.type(fill))
-            missing_below, changed = low - MISSING_TOLERANCE * span, True
+            if fill_side == "below":
+                fill = float(np.asarray(low - span, dtype=values.dtype))
+                missing_below = low - MISSING_TOLERANCE * span
+            else:
+                fill = float(np.asarray(high + span, dtype=values.dtype))
+                missing_above = high + MISSING_TOLERANCE * span
+            values, changed = np.where(finite, values, values.dtype.type(fill)), True
     low, high = (float(values.min()), float(values.max())) if not missing else (low, high)
     if values.dtype.kind in "iu" and low == high:
         # VTK's normalisation of a constant integer texture divides by zero: draw it as float32
@@ -241,4 +283,4 @@ def prepare_scalars(image: vtkImageData, component: Any = None) -> PreparedScala
                 "flat); subtract the offset first (e.g. values - values.min())")
     view = values.reshape(dims[2], dims[1], dims[0])
     view.flags.writeable = False
-    return PreparedScalars(view, changed, missing, infinite, low, high, fill, missing_below, what)
+    return PreparedScalars(view, changed, missing, infinite, low, high, fill, missing_below, what, missing_above)

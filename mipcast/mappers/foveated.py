@@ -318,6 +318,12 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         frame = object_state(self).get("frame")
         return None if frame is None else frame["plan"]
 
+    def GetLastSilhouette(self):
+        """``(edges, unit)`` of the last render's silhouette band (None: no band), see
+        :func:`mipcast.core.foveation.silhouette_band`."""
+        frame = object_state(self).get("frame")
+        return None if frame is None else frame.get("silhouette")
+
     def GetLastFrameCost(self) -> Optional[dict]:
         """Rays cast and samples taken by the last render, and by the same method at full quality.
 
@@ -331,7 +337,9 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         -------
         dict or None
             ``rays``, ``samples``, ``full_rays``, ``full_samples``,
-            ``ray_ratio`` and ``sample_ratio`` (full / foveated), ``unit``
+            ``ray_ratio`` and ``sample_ratio`` (full / foveated), ``band_rays``
+            (level-0 rays cast only for the volume's silhouette band, included
+            in ``rays``), ``unit``
             (``"samples"`` or ``"cells"``) and ``levels``: one dict per
             drawn level (``level``, ``volume_level``, ``grid``,
             ``sample_distance``, ``rays``, ``samples``).  None before the
@@ -399,6 +407,9 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         plan, values = readout
         _, _, width, height = plan.viewport
         blended = foveation.composite_values(plan, values)
+        silhouette = self.GetLastSilhouette()
+        if silhouette is not None and len(plan.layers) > 1:  # rays outside the box's outline miss it
+            blended[foveation.outline_distance(plan, silhouette, (width, height)) < 0] = np.nan
         raw = float_readout.encode(float_readout.from_data_units(blended, self.GetRenderedInput().GetPointData().GetScalars()))
         image.SetDimensions(width, height, 1)
         array = numpy_to_vtk(np.ascontiguousarray(raw[::-1], dtype=np.float32).ravel(), deep=True)
@@ -467,6 +478,7 @@ def _draw(mapper, state, volume, renderer) -> None:
     gl_state = renderer.GetRenderWindow().GetState()
     depth = _capture_depth(state, renderer)
     masks = {}
+    silhouette = _silhouette(image, volume, camera, viewport, base_isd)
     before = _read_texels(renderer, viewport, plan.layers[0].grid) if adaptive and not readout else None
     for index, layer in enumerate(plan.layers):
         level = layer.level
@@ -498,12 +510,13 @@ def _draw(mapper, state, volume, renderer) -> None:
         _copy_settings(mapper, volume, level_mapper, level_volume, entry["matrix"], distance,
                        layer.image_sample_distance)
         _set_uniforms(level_volume, plan, layer)
+        band = _set_silhouette(level_volume, silhouette if len(plan.layers) > 1 else None, layer.level)
         object_state(level_mapper)["draw_camera"] = camera
         if readout:
             object_state(level_mapper)["exact_readout"] = True
             level_mapper.RenderToImageOn()
             level_mapper.SetDepthImageScalarTypeToFloat()
-        scissor = layer.scissor if not readout else None
+        scissor = layer.scissor if not readout and not band else None  # the band reaches the periphery
         if scissor is not None:
             gl_state.vtkglScissor(*scissor)
         mask_texture = None
@@ -537,7 +550,7 @@ def _draw(mapper, state, volume, renderer) -> None:
     matrix.DeepCopy(volume.GetMatrix())
     snapshot = vtkCamera()
     snapshot.DeepCopy(camera)
-    state["frame"] = {"plan": plan, "camera": snapshot, "matrix": matrix, "image": image,
+    state["frame"] = {"plan": plan, "camera": snapshot, "matrix": matrix, "image": image, "silhouette": silhouette,
                       "layers": layers, "cells": cells, "method": params["method"], "masks": masks,
                       "base_distance": base_distance, "base_isd": base_isd}
 
@@ -719,6 +732,43 @@ def _set_uniforms(level_volume, plan, layer) -> None:
     uniforms.SetUniformf("u_mc_fovLevel", float(layer.level))
 
 
+def _silhouette(image, volume, camera, viewport, base_isd):
+    """The volume box's projected outline for the silhouette band: (edges (6, 3), unit), or None.
+
+    ``unit`` is one level-0 ray spacing in viewport heights.  None when a
+    corner lies behind the camera or the outline is degenerate.
+    """
+    if image is None or image.GetNumberOfPoints() == 0:
+        return None
+    dims = image.GetDimensions()
+    corners = []
+    for i in (0, dims[0] - 1):
+        for j in (0, dims[1] - 1):
+            for k in (0, dims[2] - 1):
+                point = [0.0, 0.0, 0.0]
+                image.TransformIndexToPhysicalPoint(i, j, k, point)
+                corners.append(point + [1.0])
+    aspect = viewport[2] / viewport[3]
+    world = matrix_array(volume.GetMatrix()) @ np.array(corners).T
+    clip = matrix_array(camera.GetCompositeProjectionTransformMatrix(aspect, -1.0, 1.0)) @ world
+    if np.any(clip[3] <= 1e-12):
+        return None
+    points = ((clip[:2] / clip[3]).T + 1.0) / 2.0
+    edges = foveation.silhouette_edges(points, aspect)
+    return None if edges is None else (edges, float(base_isd) / viewport[3])
+
+
+def _set_silhouette(level_volume, silhouette, level: int) -> bool:
+    """Upload the silhouette band's uniforms (shaders/foveated_skip.glsl); True when level 0 casts the band."""
+    uniforms = level_volume.GetShaderProperty().GetFragmentCustomUniforms()
+    edges, unit = silhouette if silhouette is not None else (np.tile([0.0, 0.0, _FAR], (6, 1)), 0.0)
+    uniforms.SetUniformf("u_mc_fovSilOn", 1.0 if silhouette is not None and level == 0 else 0.0)
+    uniforms.SetUniformf("u_mc_fovSilUnit", float(unit))
+    for index, edge in enumerate(edges):
+        uniforms.SetUniform3f(f"u_mc_fovSil{index}", [float(v) for v in edge])
+    return silhouette is not None and level == 0
+
+
 def _level_values(level_mapper, grid) -> np.ndarray:
     """A level's float readout in data units, (rows, columns) top row first, NaN = no ray."""
     image = vtkImageData()
@@ -842,12 +892,19 @@ def _frame_cost(frame) -> dict:
     plan, image, camera, matrix = frame["plan"], frame["image"], frame["camera"], frame["matrix"]
     size = plan.viewport[2:]
     rows = []
+    band_rays = 0
     for (level, volume_level, distance, level_input), layer in zip(frame["layers"], plan.layers):
         e = foveation.eccentricity(layer.grid, plan.gaze, plan.aspect)
         cast = (e >= layer.cast_from) & (e < layer.cast_to)
         if level in frame.get("masks", {}):
             cast &= frame["masks"][level]
         kind = {"cells_of": level_input} if frame["cells"] else {"sample_distance": distance}
+        if len(plan.layers) > 1 and level == 0:  # the silhouette band: level 0 casts it too
+            added = foveation.silhouette_band(plan, frame.get("silhouette"), layer.grid)
+            if added.any():
+                band_rays = grid_cost(image, camera, size, layer.grid, volume_matrix=matrix,
+                                      cast=added & ~cast, **kind)[0]
+            cast = cast | added
         rays, samples = grid_cost(image, camera, size, layer.grid, volume_matrix=matrix, cast=cast, **kind)
         rows.append({"level": level, "volume_level": volume_level, "grid": tuple(layer.grid),
                      "sample_distance": None if frame["cells"] else distance,
@@ -859,6 +916,7 @@ def _frame_cost(frame) -> dict:
     samples = sum(r["samples"] for r in rows)
     return {"method": frame["method"], "unit": "cells" if frame["cells"] else "samples",
             "rays": rays, "samples": samples, "full_rays": full_rays, "full_samples": full_samples,
+            "band_rays": band_rays,
             "ray_ratio": full_rays / rays if rays else math.inf,
             "sample_ratio": full_samples / samples if samples else math.inf,
             "levels": rows}

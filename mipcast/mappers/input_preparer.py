@@ -17,7 +17,7 @@ from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.core.errors import InputError, InputWarning
-from mipcast.core.prepare import PreparedScalars, check_component, prepare_scalars
+from mipcast.core.prepare import PreparedScalars, check_component, prepare_scalars, shade_range
 
 
 #: Arrays (address, modification time) already warned about.
@@ -44,8 +44,9 @@ class InputPreparer(VTKPythonAlgorithmBase):
     (True, None)
     """
 
-    def __init__(self) -> None:
+    def __init__(self, fill_side: str = "below") -> None:
         super().__init__(nInputPorts=1, inputType="vtkImageData", nOutputPorts=1, outputType="vtkImageData")
+        self._fill_side = fill_side  # missing voxels below (MIP, average) or above (MinIP) the data
         self._component: Optional[int] = None
         self._problem: Optional[str] = None
         self._prepared: Optional[PreparedScalars] = None
@@ -73,7 +74,7 @@ class InputPreparer(VTKPythonAlgorithmBase):
         source = vtkImageData.GetData(in_info[0])
         target = vtkImageData.GetData(out_info)
         try:
-            prepared = prepare_scalars(source, self._component)
+            prepared = prepare_scalars(source, self._component, self._fill_side)
         except (TypeError, InputError) as error:
             self._problem, self._prepared = str(error), None
             target.SetDimensions(2, 2, 2)
@@ -98,12 +99,26 @@ class InputPreparer(VTKPythonAlgorithmBase):
         return 1
 
 
-def prepared_image(image: vtkImageData, component=None, missing_allowed: bool = True) -> vtkImageData:
+def fill_side(projection: str) -> str:
+    """Where a projection's missing voxels are filled: ``"above"`` for ``"minip"``, else ``"below"``.
+
+    Examples
+    --------
+    >>> fill_side("minip"), fill_side("average")
+    ('above', 'below')
+    """
+    return "above" if projection == "minip" else "below"
+
+
+def prepared_image(image: vtkImageData, component=None, missing_allowed: bool = True,
+                   projection: str = "mip") -> vtkImageData:
     """A new image holding what the GPU draws from ``image`` (``image`` itself if nothing changes).
 
     For VTK's own mappers (stock, CPU), which have no preparer inside.
-    ``missing_allowed=False``: refuse missing values (the fill below every
-    finite value is right for maximum projections only).
+    ``missing_allowed=False``: refuse missing values.  ``projection``
+    (``"mip"``, ``"minip"``, ``"average"``): missing voxels are filled above
+    the data for MinIP, below it otherwise (:func:`fill_side`); see
+    :func:`missing_as_background` for the rest of what VTK's mappers need.
 
     Raises
     ------
@@ -117,10 +132,10 @@ def prepared_image(image: vtkImageData, component=None, missing_allowed: bool = 
     >>> prepared_image(image) is image
     True
     """
-    prepared = prepare_scalars(image, component)
+    prepared = prepare_scalars(image, component, fill_side(projection))
     if prepared.missing and not missing_allowed:
-        raise InputError(f"{prepared.missing} NaN/Inf voxels: missing data is defined for maximum projections "
-                         "only; replace them first (e.g. numpy.nan_to_num) or use a MIP method")
+        raise InputError(f"{prepared.missing} NaN/Inf voxels: missing data cannot be drawn here; "
+                         "replace them first (e.g. numpy.nan_to_num)")
     if not prepared.changed:
         return image
     out = vtkImageData()
@@ -129,3 +144,102 @@ def prepared_image(image: vtkImageData, component=None, missing_allowed: bool = 
     array.SetName(image.GetPointData().GetScalars().GetName() or "scalars")
     out.GetPointData().SetScalars(array)
     return out
+
+
+#: Where :func:`missing_as_background`'s opacity ramp starts and ends, in data ranges beyond the finite extreme.
+RAMP = (1.0 / 512.0, 1.0 / 128.0)
+#: The average's weights drop to 0 this fraction of (low - fill) below the finite minimum.
+MISSING_RAMP_BELOW = 1.0 / 256.0
+
+
+def missing_as_background(mapper, volume_property, image: vtkImageData, component=None,
+                          projection: str = "mip"):
+    """What a VTK mapper (stock, CPU) needs to draw a ray that saw only missing data as background.
+
+    VTK's own mappers have no per-ray missing test: they draw the prepared
+    copy (:func:`prepared_image`) and a ray that crossed only missing voxels
+    takes the fill's colour.  For input with missing values this returns a
+    copy of ``volume_property`` whose scalar opacity is 0 on the fill's side
+    of the data, from :data:`RAMP`\ [1] of the data range beyond the finite
+    extreme to the fill, ramping to the original opacity at :data:`RAMP`\ [0]
+    (VTK samples the transfer functions into tables and interpolates between
+    entries: every finite value keeps its opacity; a ray whose extreme lies
+    within the ramp, pulled there by missing neighbours, is partly
+    transparent), and for the average sets the mapper's
+    ``AverageIPScalarRange`` to start at the finite floor (samples pulled
+    below it do not count; a ray with none draws nothing, as stock does).
+    Without missing values it returns ``volume_property`` itself and resets
+    the average's range to VTK's default.  ``volume_property`` is not modified.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from vtkmodules.util.numpy_support import numpy_to_vtk
+    >>> from vtkmodules.vtkRenderingCore import vtkVolumeProperty
+    >>> from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
+    >>> image = vtkImageData()
+    >>> image.SetDimensions(2, 2, 2)
+    >>> _ = image.GetPointData().SetScalars(numpy_to_vtk(np.array([0, 1, 2, 3, 4, 5, 6, np.nan]), deep=True))
+    >>> prop = vtkVolumeProperty()
+    >>> prop.GetScalarOpacity().AddPoint(0.0, 1.0)
+    0
+    >>> drawn = missing_as_background(vtkOpenGLGPUVolumeRayCastMapper(), prop, image)
+    >>> drawn is prop, drawn.GetScalarOpacity().GetValue(-6.0), drawn.GetScalarOpacity().GetValue(0.0)
+    (False, 0.0, 1.0)
+    """
+    from vtkmodules.vtkRenderingCore import vtkVolumeProperty
+
+    prepared = prepare_scalars(image, component, fill_side(projection))
+    average = projection == "average" and hasattr(mapper, "SetAverageIPScalarRange")
+    if not prepared.missing:
+        if average:
+            mapper.SetAverageIPScalarRange(-3.4028234663852886e38, 3.4028234663852886e38)  # VTK's default
+        return volume_property
+    span = prepared.high - prepared.low if prepared.high > prepared.low else max(abs(prepared.low), 1.0)
+    drawn = vtkVolumeProperty()
+    drawn.DeepCopy(volume_property)
+    opacity = drawn.GetScalarOpacity()
+    if average:  # the mean over the finite samples, its grey over the finite range (as mipcast's average)
+        mapper.SetAverageIPScalarRange(prepared.missing_below, 3.4028234663852886e38)
+        _average_grey_over_finite_range(opacity, prepared, drawn.GetRGBTransferFunction(0).GetRange())
+        return drawn
+    above = fill_side(projection) == "above"
+    edge = prepared.high if above else prepared.low
+    kept = opacity.GetValue(edge)
+    nodes = [[0.0] * 4 for _ in range(opacity.GetSize())]
+    for index, node in enumerate(nodes):
+        opacity.GetNodeValue(index, node)
+    for x, *_ in nodes:  # no finite value lies beyond the extreme: only fill and values it pulled
+        if (x > edge) if above else (x < edge):
+            opacity.RemovePoint(x)
+    direction = 1.0 if above else -1.0
+    opacity.AddPoint(edge, kept)
+    opacity.AddPoint(edge + direction * span * RAMP[0], kept)  # VTK's tables interpolate between entries
+    opacity.AddPoint(edge + direction * span * RAMP[1], 0.0)
+    opacity.AddPoint(prepared.fill, 0.0)
+    return drawn
+
+
+def _average_grey_over_finite_range(opacity, prepared, window=None) -> None:
+    """Make VTK's average grey the normalisation over the finite range, through its opacity weights.
+
+    VTK's AVERAGE_INTENSITY blend draws the mean of ``opacity(s) * s``, ``s``
+    normalised over the texture's range, which the fill widens to
+    ``[fill, high]``; weighting each sample by ``t(v) / s(v)`` (``t`` the
+    normalisation over :func:`~mipcast.core.prepare.shade_range`, in [0, 1])
+    turns it into the mean of ``opacity(v) t(v)``, as mipcast's average draws.
+    ``t / s`` is smooth: 64 linear pieces over the finite range (within
+    1e-4 of it), 0 below.
+    """
+    low, high = prepared.low, prepared.high
+    glow, ghigh = shade_range(prepared, window)
+    fill = prepared.fill
+    values = np.linspace(low, high, 65) if high > low else np.array([low])
+    kept = [opacity.GetValue(float(v)) for v in values]
+    opacity.RemoveAllPoints()
+    for v, weight in zip(values, kept):
+        s = (v - fill) / (high - fill)
+        t = min(max((v - glow) / (ghigh - glow), 0.0), 1.0)
+        opacity.AddPoint(float(v), float(min(1.0, weight * t / s)))
+    opacity.AddPoint(float(low - MISSING_RAMP_BELOW * (low - fill)), 0.0)
+    opacity.AddPoint(float(fill), 0.0)

@@ -58,10 +58,15 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     #: The method's parameter table (:mod:`mipcast.core.parameter_tables`):
     #: subclasses get a ``SetX``/``GetX`` per entry (:func:`parameter_accessors`).
     PARAMETERS = parameter_tables.MIP
-    #: Missing voxels (NaN/Inf) are filled below every finite value, which is
-    #: right for maximum projections; projections for which it is not (MinIP,
-    #: average) set this False and refuse such input.
+    #: Missing voxels (NaN/Inf) are drawn as missing data (docs/reliability.md);
+    #: a projection that cannot draw them sets this False and refuses such input.
     DRAWS_MISSING = True
+    #: Where the preparer fills missing voxels: ``"below"`` every finite value
+    #: (maximum and average projections) or ``"above"`` (minimum projections).
+    MISSING_FILL = "below"
+    #: The piece that discards a ray which saw no finite data (installed only
+    #: for input with missing values), or None where the hooks do it themselves.
+    MISSING_PIECE = "missing_exit"
 
     def __init__(self) -> None:
         super().__init__()
@@ -109,7 +114,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         """The filter between your input and VTK (:class:`~mipcast.mappers.input_preparer.InputPreparer`)."""
         state = object_state(self)  # made on first use: a mapper never given input keeps no state
         if "preparer" not in state:
-            state["preparer"] = InputPreparer()
+            state["preparer"] = InputPreparer(type(self).MISSING_FILL)
         return state["preparer"]
 
     def GetRenderedInput(self):
@@ -181,13 +186,17 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         self._route_input()
 
     def _missing_below(self):
-        """Normalised threshold below which a ray saw only missing data, or None (nothing missing)."""
+        """Normalised threshold beyond which a ray saw only missing data, or None (nothing missing).
+
+        Below it for fills below the data (``MISSING_FILL = "below"``), above it for fills above.
+        """
         preparer = self.GetInputPreparer()
         prepared = preparer.GetPrepared()
         if prepared is None or not prepared.missing:
             return None
         scalars = preparer.GetOutputDataObject(0).GetPointData().GetScalars()
-        return float(from_data_units(prepared.missing_below, scalars))
+        threshold = prepared.missing_below if type(self).MISSING_FILL == "below" else prepared.missing_above
+        return float(from_data_units(threshold, scalars))
 
     def GetLastProblem(self):
         """Why the last render drew nothing (the message of its VTK error event), or None."""
@@ -233,10 +242,10 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         return self._with_missing(self._with_readout(self.PIECES))
 
     def _with_missing(self, names) -> tuple:
-        """``names`` plus ``missing_exit`` while the input holds missing values."""
-        if self._missing_below() is None:
+        """``names`` plus :attr:`MISSING_PIECE` while the input holds missing values."""
+        if self._missing_below() is None or type(self).MISSING_PIECE is None:
             return tuple(names)
-        return tuple(names) + ("missing_exit",)
+        return tuple(names) + (type(self).MISSING_PIECE,)
 
     def _with_readout(self, names) -> tuple:
         """``names``, adapted for a float readout while one renders (else unchanged).
@@ -372,8 +381,9 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
                 uniforms.SetUniformf(name, float(value))
         self._push_derived_uniforms(uniforms, settings)
         missing = self._missing_below()
-        if missing is not None:  # shaders/missing_exit.glsl
-            uniforms.SetUniformf("u_mc_missingBelow", missing)
+        if missing is not None:  # shaders/missing_exit.glsl (missing_exit_above.glsl: MISSING_FILL "above")
+            uniforms.SetUniformf("u_mc_missingBelow" if type(self).MISSING_FILL == "below" else "u_mc_missingAbove",
+                                 missing)
 
     def _slab_settings(self) -> tuple:
         """``(thickness, centre, normal)`` of the slab (the ``SLAB`` parameters; 0: none)."""

@@ -23,9 +23,11 @@ True
 """
 from __future__ import annotations
 
+import numpy as np
 from vtkmodules.vtkCommonCore import vtkFloatArray
 
 from mipcast.core.object_state import object_state
+from mipcast.core.prepare import shade_range
 from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
 from mipcast.mappers.float_readout import from_data_units
 from mipcast.mappers.mip import MIPVolumeMapper, sampled_projection_mapper
@@ -51,7 +53,8 @@ class MinIPVolumeMapper(sampled_projection_mapper("minip_hooks")):
     True
     """
 
-    DRAWS_MISSING = False
+    MISSING_FILL = "above"  # a missing voxel is never the minimum
+    MISSING_PIECE = "missing_exit_above"
 
 
 class AverageVolumeMapper(sampled_projection_mapper("average_hooks", color="average_color")):
@@ -71,18 +74,46 @@ class AverageVolumeMapper(sampled_projection_mapper("average_hooks", color="aver
     'average_color'
     """
 
-    DRAWS_MISSING = False
+    #: Missing voxels: filled below the data; samples the fill pulled below
+    #: the finite minimum do not count (the average's scalar range starts
+    #: there), a ray with no sample left draws nothing (average_color).
+    MISSING_PIECE = None
 
     def _push_derived_uniforms(self, uniforms, settings) -> None:
         super()._push_derived_uniforms(uniforms, settings)
-        image = self.GetInput()
+        image = self.GetRenderedInput()  # the drawn values: missing ones filled, one component
         scalars = image.GetPointData().GetScalars() if image is not None else None
         low, high = self.GetAverageIPScalarRange()
         if scalars is None:
             scalars = vtkFloatArray()
         ends = [max(-_FAR, min(_FAR, float(v))) for v in from_data_units([low, high], scalars)]
-        uniforms.SetUniformf("u_mc_averageLow", -_FAR if low <= -3.0e38 else ends[0])
+        bottom = -_FAR if low <= -3.0e38 else ends[0]
+        missing = self._missing_below()
+        if missing is not None:  # the mean over the finite part of the ray (docs/methods.md)
+            bottom = max(bottom, missing)
+        uniforms.SetUniformf("u_mc_averageLow", bottom)
         uniforms.SetUniformf("u_mc_averageHigh", _FAR if high >= 3.0e38 else ends[1])
+        _push_shade(self, uniforms)
+
+
+def _push_shade(mapper, uniforms) -> None:
+    """The average's grey: stock's normalised scalar, or (missing values, a constant volume) the
+    normalisation over :func:`~mipcast.core.prepare.shade_range` (a constant's over the colour
+    transfer function's range, as MIP draws it; shaders/average_hooks.glsl, amip_average_hooks.glsl)."""
+    prepared = mapper.GetInputPreparer().GetPrepared()
+    image = mapper.GetRenderedInput()
+    if prepared is None or image is None or not (prepared.missing or not prepared.high > prepared.low):
+        uniforms.SetUniformf("u_mc_shadeRemap", 0.0)
+        uniforms.SetUniformf("u_mc_shadeLow", 0.0)
+        uniforms.SetUniformf("u_mc_shadeScale", 1.0)
+        return
+    volume = mapper.GetAttachedVolume()
+    window = volume.GetProperty().GetRGBTransferFunction(0).GetRange() if volume is not None else None
+    low, high = (float(v) for v in from_data_units(np.array(shade_range(prepared, window)),
+                                                    image.GetPointData().GetScalars()))
+    uniforms.SetUniformf("u_mc_shadeRemap", 1.0)
+    uniforms.SetUniformf("u_mc_shadeLow", low)
+    uniforms.SetUniformf("u_mc_shadeScale", 1.0 / (high - low))
 
 
 def _exact_pieces(hooks: str, color=None) -> tuple:
@@ -128,7 +159,8 @@ class AnalyticMinIPVolumeMapper(_ExactProjection):
     True
     """
 
-    DRAWS_MISSING = False
+    MISSING_FILL = "above"  # a missing voxel is never the minimum
+    MISSING_PIECE = "missing_exit_above"
 
     PIECES = _exact_pieces("amip_min_hooks")
 
@@ -148,7 +180,15 @@ class AnalyticAverageVolumeMapper(_ExactProjection):
     'average_color'
     """
 
-    DRAWS_MISSING = False
+    #: Missing voxels: filled below the data; only the part of the ray where
+    #: the interpolant is at or above the finite minimum counts
+    #: (amip_average_hooks, u_mc_missingBelow); a ray with none draws nothing.
+    MISSING_PIECE = None
+
+    def _push_derived_uniforms(self, uniforms, settings) -> None:
+        super()._push_derived_uniforms(uniforms, settings)
+        uniforms.SetUniformf("u_mc_missingBelow", -_FAR)  # replaced by the threshold when data is missing
+        _push_shade(self, uniforms)
 
     PIECES = _exact_pieces("amip_average_hooks", color="average_color")
     PACKED = {"amip_corners": "amip_corners_packed"}

@@ -8,12 +8,12 @@ See docs/methods.md, section Reference (``docs/methods.md#reference``).
 """
 from __future__ import annotations
 
+import functools
 from typing import Any
 
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
-from mipcast.core.errors import InputError
 from mipcast.core.prepare import prepare_scalars
 from mipcast.core.validation import check_choice, check_positive, check_size
 from mipcast.reference.demip import render_demip
@@ -42,7 +42,9 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
         (:func:`mipcast.core.prepare.prepare_scalars`): several components as
         their magnitude or ``component=k``; NaN/Inf voxels are missing (filled
         below the finite minimum; rays whose result lies below the finite
-        minimum are NaN, like misses).
+        minimum are NaN, like misses; minimum projections fill them above the
+        finite maximum instead; the average is the mean over the ray's finite
+        part: docs/methods.md, "Missing values").
     camera : vtkCamera
         The view (not modified); orthographic or perspective.
     size : tuple of int
@@ -135,7 +137,8 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
      [0. 1. 2.]]
     """
     component = params.pop("component", None)
-    prepared = prepare_scalars(image, component)
+    minimum = method in ("minip", "analytic_minip")
+    prepared = prepare_scalars(image, component, "above" if minimum else "below")
     width, height = check_size(size)
     method = check_choice("method", method, tuple(METHODS))
     if method == "demip":  # depth, colour or maximum: see mipcast.reference.demip
@@ -153,15 +156,16 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     if sampled:
         step = check_positive("sample_distance", params["sample_distance"])
 
-    if prepared.missing and method not in ("mip", "analytic"):
-        raise InputError(f"method {method!r} cannot take missing values yet ({prepared.missing} NaN/Inf "
-                         "voxels; missing data is defined for maximum projections only): replace them first")
     clip_planes, crop = cropping_setup(image, cropping, clip_planes)
     hit, entry, direction, length = hit_rays(image, camera, (width, height))
     values = np.array(prepared.values, dtype=np.float64)
     lo, hi = clip_interval(image, entry, direction, length, clip_planes, within_box=not sampled)
 
     kernel = _KERNELS[method]
+    if method in ("average", "analytic_average") and prepared.missing:
+        # the mean over the finite part of the ray: samples below the finite floor (sampled), cells
+        # with a missing corner (exact) do not count (docs/methods.md, "Missing values")
+        kernel = functools.partial(kernel, floor=prepared.missing_below)
     if sampled:
         chunk = RAY_CHUNK
     else:
@@ -178,6 +182,6 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
         else:
             found[part] = kernel(values, entry[part], direction[part], length[part], crop=crop)
     # clipped away, or rays that saw no finite data (below the finite minimum): background
-    found[(lo > hi) | ~np.isfinite(found) | (found < prepared.missing_below)] = np.nan
+    found[(lo > hi) | ~np.isfinite(found) | (found < prepared.missing_below) | (found > prepared.missing_above)] = np.nan
     return scatter(found, hit, height, width)
 

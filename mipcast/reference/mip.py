@@ -19,12 +19,13 @@ def _sample_count(length: np.ndarray, step: float) -> np.ndarray:
 
 
 def _sampled_reduce(values: np.ndarray, entry: np.ndarray, direction: np.ndarray, length: np.ndarray,
-                    step: float, reduce: np.ufunc, empty: float, keep=None, crop=None) -> tuple:
+                    step: float, reduce: np.ufunc, empty: float, keep=None, crop=None,
+                    floor: float = -np.inf) -> tuple:
     """``reduce`` (np.maximum, np.minimum, np.add) over the samples ``entry + k * step``, k = 1..K.
 
     ``keep = (lo, hi)`` (N,): only samples with ``lo <= k * step <= hi`` count.
     ``crop = (low, high, flags)`` (index space, :func:`mipcast.core.clipping.crop_visible`):
-    only samples in a visible cropping region count.
+    only samples in a visible cropping region count.  Only samples ``>= floor`` count.
     Returns the reduction (``empty`` where no sample counted) and the number of
     samples that counted.
     """
@@ -43,6 +44,8 @@ def _sampled_reduce(values: np.ndarray, entry: np.ndarray, direction: np.ndarray
             valid &= (at >= keep[0][rows, None]) & (at <= keep[1][rows, None])
         if crop is not None:  # a sample in a hidden cropping region does not count
             valid &= crop_visible(position, *crop)
+        if floor > -np.inf:
+            valid &= sample >= floor
         sample[~valid] = empty
         best[rows] = reduce(best[rows], reduce.reduce(sample, axis=1))
         used[rows] += valid.sum(axis=1)
@@ -63,9 +66,13 @@ def sampled_minimum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray
 
 
 def sampled_mean(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-                 length: np.ndarray, step: float, keep=None, crop=None) -> np.ndarray:
-    """Mean of the same samples (VTK's AVERAGE_INTENSITY blend, every sample in range, opaque)."""
-    total, used = _sampled_reduce(values, entry, direction, length, step, np.add, 0.0, keep, crop)
+                 length: np.ndarray, step: float, keep=None, crop=None, floor: float = -np.inf) -> np.ndarray:
+    """Mean of the same samples (VTK's AVERAGE_INTENSITY blend, every sample in range, opaque).
+
+    ``floor``: only samples ``>= floor`` count (missing data: the samples
+    the fill pulled below the finite minimum are missing); NaN where none counts.
+    """
+    total, used = _sampled_reduce(values, entry, direction, length, step, np.add, 0.0, keep, crop, floor)
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(used > 0, total / np.maximum(used, 1), np.nan)
 
@@ -109,7 +116,7 @@ def _lerp_poly(low: list, high: list, w0: np.ndarray, dw: np.ndarray) -> list:
 
 
 def _cell_cubics(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-                 length: np.ndarray, crop=None) -> tuple:
+                 length: np.ndarray, crop=None, corner_minimum: bool = False) -> tuple:
     """Per crossed cell segment, the cubic ``((a s + b) s + c) s + d`` (s in [0, 1]) of the interpolant.
 
     Returns ``(a, b, c, d, span, starts, visible)``: coefficients and length
@@ -117,7 +124,8 @@ def _cell_cubics(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
     segments of ray r are ``starts[r]`` up to ``starts[r + 1]``), and whether
     each segment counts: with ``crop = (low, high, flags)`` the segments are
     also split at the cropping planes and a segment counts where its
-    midpoint's cropping region is visible (all count without ``crop``).
+    midpoint's cropping region is visible (all count without ``crop``); with
+    ``corner_minimum`` also the smallest of each cell's 8 corners.
     """
     bounds = _crossings(entry, direction, length, crop)
     valid = np.isfinite(bounds[:, 1:])
@@ -131,12 +139,15 @@ def _cell_cubics(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
     u0 = np.clip(start - cell, 0.0, 1.0)
     du = np.clip(stop - cell, 0.0, 1.0) - u0
 
-    poly = [gather(values, cell)]
+    corners = gather(values, cell)
+    poly = [corners]
     for axis in range(3):
         poly = _lerp_poly([p[:, 0::2] for p in poly], [p[:, 1::2] for p in poly],
                           u0[:, axis, None], du[:, axis, None])
     d, c, b, a = (p[:, 0] for p in poly)
     starts = np.concatenate([[0], np.cumsum(valid.sum(axis=1))[:-1]])
+    if corner_minimum:
+        return a, b, c, d, t1 - t0, starts, visible, corners.min(axis=1)
     return a, b, c, d, t1 - t0, starts, visible
 
 
@@ -165,7 +176,7 @@ def exact_minimum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
 
 
 def exact_mean(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-               length: np.ndarray, crop=None) -> np.ndarray:
+               length: np.ndarray, crop=None, floor: float = -np.inf) -> np.ndarray:
     """Exact mean of the trilinear interpolant along each ray inside the volume.
 
     The integral of each cell's cubic over its segment is
@@ -173,14 +184,70 @@ def exact_mean(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
     ray's cells divided by its length.  A ray of zero length (touching an
     edge) gets the value at its entry.  With ``crop``: the integral over the
     visible pieces divided by their length (the entry of the first visible
-    piece if that length is 0; NaN where no piece is visible).
+    piece if that length is 0; NaN where no piece is visible).  ``floor``
+    (missing data, filled below it): only the part of the ray where the
+    interpolant is ``>= floor`` counts (its integral and its length;
+    :func:`_covered_part`), the limit of :func:`sampled_mean`'s rule; NaN for
+    a ray with no such part.
     """
-    a, b, c, d, span, starts, visible = _cell_cubics(values, entry, direction, length, crop)
-    integral = np.add.reduceat(np.where(visible, (d + c / 2.0 + b / 3.0 + a / 4.0) * span, 0.0), starts)
-    total = np.add.reduceat(np.where(visible, span, 0.0), starts)
-    # the first visible segment of each ray (its first segment without cropping)
+    a, b, c, d, span, starts, visible, lowest = _cell_cubics(values, entry, direction, length, crop,
+                                                             corner_minimum=True)
+    part, covered = d + c / 2.0 + b / 3.0 + a / 4.0, np.ones_like(span)
+    counts = visible.copy()
+    if floor > -np.inf:
+        cut = lowest < floor  # a missing corner: only the part where the interpolant is >= floor counts
+        part[cut], covered[cut] = _covered_part(a[cut], b[cut], c[cut], d[cut], floor)
+        counts &= d >= floor
+    integral = np.add.reduceat(np.where(visible, part * span, 0.0), starts)
+    total = np.add.reduceat(np.where(visible, covered * span, 0.0), starts)
+    # the first counted segment's entry value (a ray of zero length)
     index = np.arange(len(d))
-    first = np.minimum.reduceat(np.where(visible, index, len(d)), starts)
+    first = np.minimum.reduceat(np.where(counts, index, len(d)), starts)
     entry_value = np.where(first < len(d), d[np.minimum(first, len(d) - 1)], np.nan)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(total > 0, integral / np.where(total > 0, total, 1.0), entry_value)
+
+
+def _covered_part(a, b, c, d, floor: float, halvings: int = 40) -> tuple:
+    """Integral and length over s in [0, 1] of the part where ``((a s + b) s + c) s + d >= floor``.
+
+    As the GPU does it (shaders/amip_average_hooks.glsl): the cubic split at
+    its derivative's roots (the same cancellation-free formula, clamped into
+    [0, 1]) into monotone pieces; a piece crossing ``floor`` is cut at the
+    crossing, found by bisection.
+
+    Examples
+    --------
+    >>> one = np.ones(1)
+    >>> [round(float(v[0]), 6) for v in _covered_part(0 * one, 0 * one, one, 0 * one, 0.5)]  # f = s
+    [0.375, 0.5]
+    """
+    def at(s):
+        return ((a * s + b) * s + c) * s + d
+
+    def mean(s, t):  # over [s, t], without cancellation for short pieces
+        return d + 0.5 * c * (s + t) + b * (s * s + s * t + t * t) / 3.0 + 0.25 * a * (s + t) * (s * s + t * t)
+
+    qa, qb = 3.0 * a, 2.0 * b
+    disc = np.maximum(qb * qb - 4.0 * qa * c, 0.0)
+    qq = -0.5 * (qb + np.where(qb < 0.0, -1.0, 1.0) * np.sqrt(disc))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r1 = np.clip(np.where(np.abs(qa) > 1e-20, qq / qa, 0.0), 0.0, 1.0)
+        r2 = np.clip(np.where(np.abs(qq) > 1e-20, c / qq, 0.0), 0.0, 1.0)
+    ends = [np.zeros_like(a), np.minimum(r1, r2), np.maximum(r1, r2), np.ones_like(a)]
+    integral, length = np.zeros_like(a), np.zeros_like(a)
+    for s0, s1 in zip(ends[:-1], ends[1:]):
+        below0, below1 = at(s0) < floor, at(s1) < floor
+        lo, hi = s0.copy(), s1.copy()
+        for _ in range(halvings):
+            m = 0.5 * (lo + hi)
+            same = (at(m) < floor) == below0
+            lo, hi = np.where(same, m, lo), np.where(same, hi, m)
+        r = 0.5 * (lo + hi)
+        crossing = below0 != below1
+        start = np.where(crossing & below0, r, s0)
+        stop = np.where(crossing & ~below0, r, s1)
+        keep = (s1 > s0) & ~(below0 & below1)
+        integral += np.where(keep, (stop - start) * mean(start, stop), 0.0)
+        length += np.where(keep, stop - start, 0.0)
+    return integral, length
