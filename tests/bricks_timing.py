@@ -41,7 +41,7 @@ def main() -> dict:
             gpu_limits.max_texture_size_3d = real
         rgb = np.abs(whole.screenshot().astype(int) - bricked.screenshot().astype(int)).max()
         out[f"{size}^3 limit {limit}"] = {
-            "bricks": len(bricked.bricks().volumes),
+            "bricks": bricked.mapper.GetNumberOfBricks(),
             "max_err_vs_float64_of_range": err_ref, "max_err_vs_unbricked_of_range": err_one,
             "unbricked_err_vs_float64_of_range": err_one_ref,
             "readout_ms_unbricked": round(1000 * statistics.median(tw), 1),

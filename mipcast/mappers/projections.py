@@ -52,6 +52,8 @@ class MinIPVolumeMapper(sampled_projection_mapper("minip_hooks")):
     """
 
     DRAWS_MISSING = False
+    #: The minimum over bricks is the minimum (:mod:`mipcast.mappers.bricked_draw`).
+    BRICKS = "min"
 
 
 class AverageVolumeMapper(sampled_projection_mapper("average_hooks", color="average_color")):
@@ -96,6 +98,9 @@ def _exact_pieces(hooks: str, color=None) -> tuple:
 class _ExactProjection(AnalyticMIPVolumeMapper):
     """Analytic MIP's cell walk with other cell hooks, never block skipping (its coarse level holds maxima)."""
 
+    #: Over bricks: none by default (the average's sum of integrals over the ray's length is not
+    #: a maximum); the exact MinIP takes the minimum.
+    BRICKS = None
     #: Replacements of the packed-corner pieces (the average's colour needs no component index).
     PACKED = {"amip_corners": "amip_corners_packed", "mip_color": "mip_color_packed"}
 
@@ -129,6 +134,7 @@ class AnalyticMinIPVolumeMapper(_ExactProjection):
     """
 
     DRAWS_MISSING = False
+    BRICKS = "min"
 
     PIECES = _exact_pieces("amip_min_hooks")
 
