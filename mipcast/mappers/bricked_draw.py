@@ -148,7 +148,12 @@ def draw_bricks(mapper, event) -> None:
     volume = mapper.GetAttachedVolume()
     renderer = rendering_renderer(mapper, volume)
     if renderer is not None:
-        values = compose(mapper, volume, renderer, limit)
+        gl = renderer.GetRenderWindow().GetState()
+        gl.Push()  # the bricks' render-to-image passes set their own viewport and framebuffer
+        try:
+            values = compose(mapper, volume, renderer, limit)
+        finally:
+            gl.Pop()
         if state.get("exact_readout"):
             state["brick_readout"] = values
         else:
@@ -356,9 +361,13 @@ def _draw_picture(state, renderer, volume, values) -> None:
         state["brick_texture"] = texture
     data = np.ascontiguousarray(rgba[::-1], dtype=np.float32)  # bottom row first
     texture.Create2DFromRaw(width, height, 4, VTK_FLOAT, data)
+    width_, height_, x0, y0 = [0], [0], [0], [0]
+    renderer.GetTiledSizeAndOrigin(width_, height_, x0, y0)
     gl = window.GetState()
     gl.Push()
     try:
+        gl.vtkglViewport(x0[0], y0[0], width, height)
+        gl.vtkglScissor(x0[0], y0[0], width, height)
         gl.vtkglEnable(_GL_BLEND)
         gl.vtkglBlendFuncSeparate(_GL_ONE, _GL_ONE_MINUS_SRC_ALPHA, _GL_ONE, _GL_ONE_MINUS_SRC_ALPHA)
         gl.vtkglDisable(_GL_DEPTH_TEST)
