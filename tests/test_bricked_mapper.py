@@ -123,6 +123,59 @@ def test_a_renderer_off_the_window_corner_gets_its_bricks_in_its_viewport(image,
     assert rgb.max() > 100 and np.abs(rgb - one).max() <= 1
 
 
+def _crop_and_clip(mapper, image):
+    from vtkmodules.vtkCommonDataModel import vtkPlane, vtkPlaneCollection
+
+    b = image.GetBounds()
+    mapper.SetCropping(True)
+    mapper.SetCroppingRegionPlanes(b[0] + 5, b[1] - 9, b[2], b[3] - 6, b[4] + 3, b[5])
+    plane = vtkPlane()
+    plane.SetOrigin(*image.GetCenter())
+    plane.SetNormal(0.3, 0.2, 1.0)
+    planes = vtkPlaneCollection()
+    planes.AddItem(plane)
+    mapper.SetClippingPlanes(planes)
+
+
+def _opaque_sphere(renderer, image):
+    from vtkmodules.vtkFiltersSources import vtkSphereSource
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
+
+    sphere = vtkSphereSource()
+    sphere.SetCenter(*image.GetCenter())
+    sphere.SetRadius(12.0)
+    sphere.SetThetaResolution(32)
+    sphere.SetPhiResolution(32)
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputConnection(sphere.GetOutputPort())
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetColor(0.2, 0.6, 0.2)
+    renderer.AddActor(actor)
+
+
+@pytest.mark.parametrize("name, scene", [("mip", "cropped and clipped"), ("analytic", "opaque sphere")])
+def test_bricks_follow_the_users_cropping_clipping_and_opaque_geometry(image, name, scene, monkeypatch):
+    def build():
+        mapper, renderer, window = pipeline(image, name)
+        if scene == "opaque sphere":  # rays stop at it, in every brick
+            _opaque_sphere(renderer, image)
+        else:
+            _crop_and_clip(mapper, image)
+        return mapper, window
+
+    one_mapper, one_window = build()
+    one, one_values = picture(one_window), render_float(one_window, one_mapper)
+    lowered(monkeypatch)
+    mapper, window = build()
+    rgb, values = picture(window), render_float(window, mapper)
+    assert mapper.GetNumberOfBricks() == 27
+    assert 0.1 < np.isfinite(values).mean() < 0.45  # cut away, or stopped at the sphere
+    assert (np.isnan(values) == np.isnan(one_values)).mean() >= 0.999
+    difference = np.abs(rgb - one).max(axis=-1)
+    assert (difference <= 1).mean() >= 0.999, (difference.max(), (difference > 1).sum())
+
+
 def test_the_pyvista_route_draws_it_in_bricks(image, monkeypatch):
     pyvista = pytest.importorskip("pyvista")
     import mipcast.filters  # noqa: F401  (registers grid.mip)
