@@ -91,11 +91,14 @@ def texture_limit(mapper) -> int:
 
 def exceeds_limit(mapper) -> int:
     """The texture limit when ``mapper``'s input exceeds it along some axis, else 0."""
-    image = mapper.GetInput() if mapper.GetInputPreparer().GetNumberOfInputConnections(0) else None
-    if image is None or image.GetNumberOfPoints() == 0:
-        return 0
     limit = texture_limit(mapper)
-    return limit if limit and max(image.GetDimensions()) > limit else 0
+    if not limit:
+        return 0
+    preparer = mapper.GetInputPreparer()  # not mapper.GetInput(): this is asked while the input is routed
+    image = preparer.GetInputDataObject(0, 0) if preparer.GetNumberOfInputConnections(0) else None
+    if image is None or not image.IsA("vtkImageData") or image.GetNumberOfPoints() == 0:
+        return 0
+    return limit if max(image.GetDimensions()) > limit else 0
 
 
 def bricking_limit(mapper) -> int:
@@ -126,7 +129,7 @@ def refusal(mapper) -> Optional[str]:
     limit = exceeds_limit(mapper)
     if not limit:
         return None
-    dims = mapper.GetInput().GetDimensions()
+    dims = mapper.GetInputPreparer().GetInputDataObject(0, 0).GetDimensions()
     return (f"the volume's dimensions {dims} exceed this GPU's 3D texture limit of {limit} points per "
             f"axis, and {type(mapper).__name__} cannot draw it in bricks exactly (its ray value over "
             "several bricks is not their maximum or minimum): resample the volume to at most "
