@@ -17,6 +17,8 @@ from mipcast.mappers import gpu_limits
 from mipcast.mappers.float_readout import render_float
 from mipcast.methods import METHODS
 from mipcast.offscreen import grey_property
+from test_paraview_representation import ROOT, _env, _report, plugin  # noqa: F401  (the built plugin)
+from xvfb import run_under_xvfb
 
 LIMIT = 20
 SIZE = (80, 72)
@@ -212,3 +214,16 @@ def test_a_method_that_cannot_brick_exactly_refuses_naming_the_limit_and_the_fix
     assert "3D texture limit of 20" in problem and "(48, 48, 48)" in problem
     assert "resample" in problem and "mip, analytic" in problem
     assert rgb.max() <= 51  # the background (0.1, 0.1, 0.2) only: nothing drawn
+
+
+def test_paraview_draws_it_in_bricks_too(plugin):
+    """The render-view route and the "mipcast" representation (built by test_paraview_representation's fixture)."""
+    completed = run_under_xvfb(["pvpython", str(ROOT / "tests" / "paraview_bricks_check.py"), "--plugin", str(plugin)],
+                               cwd=ROOT, env=_env(), timeout=300)
+    report = _report(completed)
+    for route in ("render_view", "representation"):
+        analytic, average = report[f"{route} analytic"], report[f"{route} average"]
+        assert analytic["max_bricked"] > 100 and analytic["within_1"] >= 0.999, (route, analytic)
+        assert not analytic["refused"] and analytic["messages_one"] == ""
+        assert average["refused"] and average["max_one"] > 30 and average["within_1"] < 0.95, (route, average)
+    assert report["representation average"]["max_bricked"] == 0  # nothing drawn (no outline in that route)
