@@ -295,8 +295,8 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         exact = exact or self._missing_below() is not None
         uniforms.SetUniformf("u_mc_floor", -1.0e30 if exact else floor)
         uniforms.SetUniformf("u_mc_ceiling", 1.0e30 if exact else ceiling)
-        if image is not None and image.GetNumberOfPoints() > 0:
-            self._update_block_maxima(image)
+        if image is not None and image.GetNumberOfPoints() > 0 and not bricked_draw.bricking_limit(self):
+            self._update_block_maxima(image)  # (drawn in bricks: each brick has its own)
 
     def _update_block_maxima(self, image) -> None:
         """(Re)build the block-maximum level when the input changed; it rides in the mask slot."""
