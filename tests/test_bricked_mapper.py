@@ -156,12 +156,17 @@ def _opaque_sphere(renderer, image):
     renderer.AddActor(actor)
 
 
-@pytest.mark.parametrize("name, scene", [("mip", "cropped and clipped"), ("analytic", "opaque sphere")])
-def test_bricks_follow_the_users_cropping_clipping_and_opaque_geometry(image, name, scene, monkeypatch):
+@pytest.mark.parametrize("name, scene", [("mip", "cropped and clipped"), ("analytic", "opaque sphere"),
+                                         ("mip", "zoomed in")])
+def test_bricks_follow_the_users_cropping_clipping_opaque_geometry_and_camera(image, name, scene, monkeypatch):
     def build():
         mapper, renderer, window = pipeline(image, name)
         if scene == "opaque sphere":  # rays stop at it, in every brick
             _opaque_sphere(renderer, image)
+        elif scene == "zoomed in":  # bricks out of the view are not drawn
+            renderer.GetActiveCamera().Zoom(2.5)
+            renderer.GetActiveCamera().Yaw(8.0)
+            renderer.ResetCameraClippingRange()
         else:
             _crop_and_clip(mapper, image)
         return mapper, window
@@ -171,8 +176,11 @@ def test_bricks_follow_the_users_cropping_clipping_and_opaque_geometry(image, na
     lowered(monkeypatch)
     mapper, window = build()
     rgb, values = picture(window), render_float(window, mapper)
-    assert mapper.GetNumberOfBricks() == 27
-    assert 0.1 < np.isfinite(values).mean() < 0.45  # cut away, or stopped at the sphere
+    if scene == "zoomed in":
+        assert 0 < mapper.GetNumberOfBricks() < 27 and np.isfinite(values).mean() > 0.9
+    else:
+        assert mapper.GetNumberOfBricks() == 27
+        assert 0.1 < np.isfinite(values).mean() < 0.45  # cut away, or stopped at the sphere
     assert (np.isnan(values) == np.isnan(one_values)).mean() >= 0.999
     difference = np.abs(rgb - one).max(axis=-1)
     assert (difference <= 1).mean() >= 0.999, (difference.max(), (difference > 1).sum())

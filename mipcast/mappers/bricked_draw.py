@@ -30,8 +30,9 @@ the ParaView representation all see the bricked volume as one.
 
 Methods whose composite is not a maximum or minimum (average, DEMIP,
 foveated) refuse such a volume with a message naming the limit and the fix
-(:func:`refusal`).  Cost: one render per brick per frame plus one readback
-each (docs/reliability.md, "GPU limits and memory").
+(:func:`refusal`).  Cost: one render per brick in view per frame plus one
+readback each (docs/reliability.md, "GPU limits and memory"); bricks whose box
+lies outside the view are skipped.
 
 Examples
 --------
@@ -275,9 +276,13 @@ def compose(mapper, volume, renderer, limit: int) -> np.ndarray:
     shape = (max(height[0], 1), max(width[0], 1))
     result = np.full(shape, np.nan)
     camera = renderer.GetActiveCamera()
+    drawn = 0
     for entry in bricks_of(mapper, limit):
         brick_mapper, brick_volume = entry["mapper"], entry["volume"]
         _follow(mapper, volume, entry)
+        if not _in_view(brick_volume, renderer, shape):
+            continue  # its box covers no pixel: nothing to draw, nothing to combine
+        drawn += 1
         object_state(brick_mapper)["draw_camera"] = camera
         object_state(brick_mapper)["exact_readout"] = True
         brick_mapper.RenderToImageOn()
@@ -289,8 +294,33 @@ def compose(mapper, volume, renderer, limit: int) -> np.ndarray:
             object_state(brick_mapper).pop("exact_readout", None)
             brick_mapper.RenderToImageOff()
         result = combine(result, values)
-    object_state(mapper)["bricks_drawn"] = len(bricks_of(mapper, limit))
+    object_state(mapper)["bricks_drawn"] = drawn
     return result
+
+
+def _in_view(brick_volume, renderer, shape) -> bool:
+    """Whether the brick's box may cover a pixel of the viewport (False only when it surely does not).
+
+    The box's 8 corners (through the volume's matrix) in the camera's clip
+    coordinates: a box wholly behind the camera, or wholly beyond one side of
+    the viewport (with two pixels to spare), covers no pixel.
+    """
+    bounds = brick_volume.GetMapper().GetInput().GetBounds()
+    corners = np.array([[x, y, z, 1.0] for x in bounds[0:2] for y in bounds[2:4] for z in bounds[4:6]])
+    matrix = brick_volume.GetMatrix()
+    model = np.array([[matrix.GetElement(r, c) for c in range(4)] for r in range(4)])
+    camera = renderer.GetActiveCamera()
+    projection = camera.GetCompositeProjectionTransformMatrix(renderer.GetTiledAspectRatio(), -1.0, 1.0)
+    view = np.array([[projection.GetElement(r, c) for c in range(4)] for r in range(4)])
+    clip = corners @ (view @ model).T
+    w = clip[:, 3]
+    if np.all(w <= 0.0):
+        return False
+    if np.any(w <= 0.0):
+        return True  # the box reaches behind the camera: its projection is unbounded
+    ndc = clip[:, :2] / w[:, None]
+    spare = 2.0 * 2.0 / np.array([shape[1], shape[0]], dtype=float)
+    return not (np.any(np.all(ndc < -1.0 - spare, axis=0)) or np.any(np.all(ndc > 1.0 + spare, axis=0)))
 
 
 def _readout(brick_mapper, shape) -> np.ndarray:
