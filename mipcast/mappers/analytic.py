@@ -248,8 +248,8 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
             return problem
         if object_state(self).get("partitions", (1, 1, 1)) != (1, 1, 1):
             return ("analytic MIP walks the whole volume in one 3D texture, so partitioned "
-                    "rendering (SetPartitions) would not be exact: call SetPartitions(1, 1, 1), "
-                    "or use the 'mip' method for volumes beyond one texture")
+                    "rendering (SetPartitions) would not be exact: call SetPartitions(1, 1, 1) "
+                    "(a volume beyond the 3D texture limit is drawn in bricks by the mapper itself)")
         return None
 
     def GetShaderPieces(self) -> tuple:

@@ -75,7 +75,8 @@ def texture_limit(mapper) -> int:
     Asked once per mapper (cached in its state as ``texture_limit``, which
     tests may set to pretend a smaller GPU) through
     :func:`mipcast.mappers.gpu_limits.max_texture_size_3d`, once the window
-    has a context.
+    has a context (an answer below 2, e.g. VTK's -1 outside the current
+    context, is not kept: 0, unknown).
     """
     from mipcast.mappers import gpu_limits
 
@@ -85,7 +86,9 @@ def texture_limit(mapper) -> int:
         for index in range(volume.GetNumberOfConsumers() if volume is not None else 0):
             window = getattr(volume.GetConsumer(index), "GetRenderWindow", lambda: None)()
             if window is not None and window.GetNeverRendered() == 0:
-                state["texture_limit"] = gpu_limits.max_texture_size_3d(window)
+                limit = gpu_limits.max_texture_size_3d(window)
+                if limit >= 2:  # -1 (VTK) when asked outside the window's current context: ask again later
+                    state["texture_limit"] = limit
                 break
     return state.get("texture_limit", 0)
 
@@ -93,7 +96,7 @@ def texture_limit(mapper) -> int:
 def exceeds_limit(mapper) -> int:
     """The texture limit when ``mapper``'s input exceeds it along some axis, else 0."""
     limit = texture_limit(mapper)
-    if not limit:
+    if limit < 2:
         return 0
     preparer = mapper.GetInputPreparer()  # not mapper.GetInput(): this is asked while the input is routed
     image = preparer.GetInputDataObject(0, 0) if preparer.GetNumberOfInputConnections(0) else None
@@ -151,19 +154,28 @@ def draw_bricks(mapper, event) -> None:
         return
     volume = mapper.GetAttachedVolume()
     renderer = rendering_renderer(mapper, volume)
-    if renderer is not None:
-        gl = renderer.GetRenderWindow().GetState()
-        gl.Push()  # the bricks' render-to-image passes set their own viewport and framebuffer
-        try:
-            values = compose(mapper, volume, renderer, limit)
-        finally:
-            gl.Pop()
-        if state.get("exact_readout"):
-            state["brick_readout"] = values
-        else:
-            _draw_picture(state, renderer, volume, values)
     state["brick_own_draw"] = (mapper.GetCropping(), mapper.GetCroppingRegionPlanes())
-    # invalid cropping planes make VTK skip the render silently (no texture upload)
+    try:
+        if renderer is not None:
+            gl = renderer.GetRenderWindow().GetState()
+            gl.Push()  # the bricks' render-to-image passes set their own viewport and framebuffer
+            try:
+                values = compose(mapper, volume, renderer, limit)
+            finally:
+                gl.Pop()
+            if state.get("exact_readout"):
+                state["brick_readout"] = values
+            else:
+                _draw_picture(state, renderer, volume, values)
+    except Exception as error:  # noqa: BLE001  (an observer: reported as mipcast's refusals are)
+        from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
+
+        problem = f"drawing the volume in bricks of {limit} points per axis failed: {error!r}"
+        state["render_problem"] = problem
+        vtkOutputWindow.GetInstance().DisplayErrorText(f"{type(mapper).__name__}: {problem}\n")
+        mapper.InvokeEvent(vtkCommand.ErrorEvent)
+    # never the own draw (the volume is beyond one texture): invalid cropping planes make VTK
+    # skip the render silently (no texture upload)
     mapper.SetCropping(True)
     mapper.SetCroppingRegionPlanes(1.0, 0.0, 1.0, 0.0, 1.0, 0.0)
 
