@@ -87,6 +87,12 @@ class Method:
         MAX of the bricks' sampled MIP, then the MIN of the whole-ray index of
         the first sample of the global maximum's material (depth, Eq. 1 and
         sphere on the CPU); None: not distributed yet.
+    bricks : str, optional
+        How its mapper draws a volume beyond the GPU's 3D texture limit inside
+        one render (:mod:`mipcast.mappers.bricked_draw`; the mapper class's
+        ``BRICKS``): ``"max"`` / ``"min"``, bricks combined by the maximum /
+        minimum of their float readouts (exact); None: such a volume is
+        refused with a message naming the limit and the fix.
     bench : tuple of (label, samples_per_voxel, settings), optional
         Its rows in ``mipcast bench``: ``settings`` are ``(Name, value)``
         pairs for its setters; default one row, the method's own name at one
@@ -111,6 +117,7 @@ class Method:
     in_view: bool = True
     readout_by: Optional[str] = None
     distributed: Optional[str] = None
+    bricks: Optional[str] = None
     bench: Optional[Tuple[Tuple[str, Any, tuple], ...]] = None
     projection: str = "mip"
 
@@ -260,11 +267,12 @@ for _method in (
            bench=(("stock 1x", 1, ()), ("stock 2x", 2, ()), ("stock 4x", 4, ()), ("stock 8x", 8, ()))),
     Method("mip", "MIP", "sampled MIP through mipcast's own loop (samples at entry + k * step)",
            MIPVolumeMapper, reference=sampled_mip_reference, reference_tolerance=1e-4,
-           parameters=parameter_tables.MIP, foveation_layer=True, distributed="max",
+           parameters=parameter_tables.MIP, foveation_layer=True, distributed="max", bricks="max",
            bench=(("mip 1x", 1, ()), ("auto", "auto", ()))),
     Method("analytic", "Analytic MIP", "the exact maximum of the trilinear interpolant, cell by cell",
            AnalyticMIPVolumeMapper, reference=exact_mip_reference, reference_tolerance=1e-4,
            parameters=parameter_tables.ANALYTIC, foveation_layer=True, walks_cells=True, distributed="max",
+           bricks="max",
            bench=(("analytic", None, ()), ("analytic, no skipping", None, (("Skipping", False),)))),
     Method("demip", "DEMIP", "MIP brightened where its material is near (depth-enhanced MIP, colour sphere)",
            DEMIPVolumeMapper, reference=demip_reference, reference_tolerance=1e-4,
@@ -283,11 +291,11 @@ for _method in (
            bench=tuple((f"stock minip {n}x", n, ()) for n in (1, 2, 4, 8))),
     Method("minip", "MinIP", "sampled minimum intensity projection (stock's samples, mipcast's loop)",
            MinIPVolumeMapper, reference=sampled_minip_reference, reference_tolerance=1e-4,
-           parameters=parameter_tables.MIP, projection="minip",
+           parameters=parameter_tables.MIP, projection="minip", bricks="min",
            bench=tuple((f"minip {n}x", n, ()) for n in (1, 2, 4, 8))),
     Method("analytic_minip", "Analytic MinIP", "the exact minimum of the trilinear interpolant, cell by cell",
            AnalyticMinIPVolumeMapper, reference=exact_minip_reference, reference_tolerance=1e-4,
-           parameters=parameter_tables.ANALYTIC, walks_cells=True, projection="minip",
+           parameters=parameter_tables.ANALYTIC, walks_cells=True, projection="minip", bricks="min",
            bench=(("analytic minip", None, ()),)),
     Method("stock_average", "Stock VTK average", "VTK's own sampled GPU average (AVERAGE_INTENSITY blend)",
            _stock_average, reference=sampled_average_reference, float_readout=False, readout_by="average",

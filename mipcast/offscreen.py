@@ -200,49 +200,12 @@ class OffscreenView:
         """The renderer's active vtkCamera."""
         return self.renderer.GetActiveCamera()
 
-    def bricks(self):
-        """The :class:`mipcast.mappers.bricks.BrickedVolume` drawing the volume, or None (one texture).
-
-        A cell-walking method (the table's ``walks_cells``) needs the volume
-        in one 3D texture; beyond the window's 3D texture limit the view draws
-        it in bricks instead (exact: see :mod:`mipcast.mappers.bricks`).  The
-        limit is read from the window, which renders once (with the volume
-        hidden) if it has not yet.
-        """
-        if not self.method.walks_cells:
-            return None
-        from mipcast.mappers import bricks, gpu_limits
-
-        if getattr(self, "_texture_limit", None) is None:
-            if self.render_window.GetNeverRendered():
-                self.volume.VisibilityOff()
-                self.render_window.Render()
-                self.volume.VisibilityOn()
-            self._texture_limit = gpu_limits.max_texture_size_3d(self.render_window)
-        limit = self._texture_limit
-        if not limit or max(self.image.GetDimensions()) <= limit:
-            return None
-        settings = tuple((p.setter, getattr(self.mapper, p.getter)()) for p in self.method.parameters)
-        cached = getattr(self, "_bricks", None)
-        if cached is None or cached.limit != limit:
-            if cached is not None:
-                cached.remove()
-            cached = self._bricks = bricks.BrickedVolume(
-                self.image, self.renderer, self.volume.GetProperty(), self.method.factory, limit)
-        for setter, value in settings:  # follow the view's mapper
-            cached.for_each_mapper(setter, value)
-        self.volume.VisibilityOff()
-        return cached
-
     def screenshot(self) -> np.ndarray:
         """Render and return the 8-bit RGB image, shape (height, width, 3), top row first.
 
-        Bricked volumes (:meth:`bricks`) are composed from the bricks' float
-        readouts and coloured through the volume property on the CPU.
+        A volume beyond the 3D texture limit is drawn in bricks by the
+        mapper itself (:mod:`mipcast.mappers.bricked_draw`), as in any window.
         """
-        bricked = self.bricks()
-        if bricked is not None:
-            return bricked.screenshot(self.render_window)
         self.render_window.Render()
         grab = vtkWindowToImageFilter()
         grab.SetInput(self.render_window)
@@ -256,9 +219,6 @@ class OffscreenView:
 
     def float_image(self) -> np.ndarray:
         """Render and return each pixel's maximum in data units (float32, NaN = miss)."""
-        bricked = self.bricks()
-        if bricked is not None:
-            return bricked.float_image(self.render_window)
         return render_float(self.render_window, self.mapper)
 
     def frame_times(self, frames: int = 10, warmup: int = 3) -> list:

@@ -23,5 +23,10 @@ bool mcSample(float value, int i)
 void mcEndRay(int count)
 {
   mc_noSample = mc_rayMax > 1.0e29;
+#ifdef MC_GLOBAL_PHASE
+  // a brick holding none of the ray's samples has no value (mipcast.mappers.bricked_draw)
+  mc_rayMax = mc_noSample ? 1.0e30 : mcNormalised(mc_rayMax);
+#else
   mc_rayMax = count > 0 ? mcNormalised(mc_rayMax) : 1.0;
+#endif
 }

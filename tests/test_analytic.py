@@ -151,22 +151,25 @@ def test_windowed_display_skips_blocks_and_stays_exact(window, background_black)
     assert np.mean(grey_error <= 1) >= 0.995
 
 
-def test_volumes_beyond_one_texture_are_refused_with_the_limit():
+def test_volumes_beyond_one_texture_are_drawn_in_bricks_and_partitions_refused():
     from mipcast.core.object_state import object_state
 
     view = OffscreenView(make_fixture("spheres", size=40), "analytic", size=(48, 48))
-    assert view.screenshot().max() > 100
+    one = view.screenshot()
+    assert one.max() > 100
     assert view.mapper._texture_limit() >= 256  # queried from the real GL context
-    object_state(view.mapper)["texture_limit"] = 32  # pretend a small GPU
-    problem = view.mapper.GetRenderProblem()
-    assert "3D texture limit of 32" in problem and "(40, 40, 40)" in problem
-    assert view.screenshot().max() == 0
+    object_state(view.mapper)["texture_limit"] = 32  # pretend a small GPU: 2 x 2 x 2 bricks
+    assert view.mapper.GetRenderProblem() is None
+    bricked = view.screenshot()
+    assert view.mapper.GetNumberOfBricks() == 8
+    assert np.abs(bricked.astype(int) - one).max() <= 1
     object_state(view.mapper)["texture_limit"] = 2048
     view.mapper.SetPartitions(2, 1, 1)
     assert "SetPartitions" in view.mapper.GetRenderProblem()
     assert view.screenshot().max() == 0
     view.mapper.SetPartitions(1, 1, 1)
     assert view.screenshot().max() > 100
+    assert view.mapper.GetNumberOfBricks() == 0
 
 
 @pytest.mark.parametrize("window", [None, (0.3, 0.9)])

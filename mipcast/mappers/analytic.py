@@ -10,6 +10,7 @@ from vtkmodules.vtkCommonCore import vtkCommand
 from mipcast.core import parameter_tables
 from mipcast.core.object_state import object_state
 from mipcast.core.parameters import parameter_accessors
+from mipcast.mappers import bricked_draw
 from mipcast.mappers.corner_packing import CornerPacker, packable
 from mipcast.mappers.input_preparer import InputPreparer
 from mipcast.mappers.max_blocks import block_maxima_image
@@ -28,10 +29,9 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     derivative's roots (``shaders/amip_cell.glsl``).  Work that cannot change
     the answer is skipped.  The sample distance setting is ignored; colour and
     opacity come from the volume property exactly as in stock MIP;
-    interpolation is always trilinear.  Partitioned rendering, and volumes
-    larger than one 3D texture, are refused by one mapper with a message;
-    :class:`mipcast.mappers.bricks.BrickedVolume` draws the latter
-    exactly in bricks.  :meth:`GetTextureBytes` says what the method uploads;
+    interpolation is always trilinear.  Partitioned rendering is refused
+    with a message; a volume larger than one 3D texture is drawn exactly in
+    bricks inside the render (:mod:`mipcast.mappers.bricked_draw`).  :meth:`GetTextureBytes` says what the method uploads;
     :meth:`SetTextureBudget` caps the packed copy (beyond it: unpacked, warned once).
 
     Settings: :meth:`SetPackedCorners` (default True: two fetches per cell from
@@ -132,6 +132,8 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         volume = self.GetAttachedVolume()
         if not self.GetPackedCorners() or (volume is not None and not volume.GetProperty().GetIndependentComponents()):
             return False
+        if bricked_draw.bricking_limit(self):
+            return False  # drawn in bricks (each packs its own): no packed copy of the whole volume
         image = self.GetRenderedInput()
         scalars = image.GetPointData().GetScalars() if image is not None else None
         if scalars is None or scalars.GetNumberOfComponents() != 1:
@@ -235,41 +237,20 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     def GetRenderProblem(self):
         """As :meth:`MIPVolumeMapper.GetRenderProblem`, plus the one-texture rule.
 
-        The cell walk needs the whole volume in one 3D texture: a volume
-        larger than the GPU's 3D texture limit, or VTK's partitioned
-        rendering (``SetPartitions``), is refused with a message naming the
-        limit, instead of drawing each partition as if it were the volume.
+        The cell walk needs its volume in one 3D texture: VTK's partitioned
+        rendering (``SetPartitions``) is refused with a message, instead of
+        drawing each partition as if it were the volume.  A volume beyond
+        the GPU's 3D texture limit is drawn in bricks inside the render
+        (:mod:`mipcast.mappers.bricked_draw`, exact).
         """
         problem = super().GetRenderProblem()
         if problem is not None:
             return problem
         if object_state(self).get("partitions", (1, 1, 1)) != (1, 1, 1):
             return ("analytic MIP walks the whole volume in one 3D texture, so partitioned "
-                    "rendering (SetPartitions) would not be exact: call SetPartitions(1, 1, 1), "
-                    "or use the 'mip' method for volumes beyond one texture")
-        dims = self.GetRenderedInput().GetDimensions()
-        limit = self._texture_limit()
-        if limit and max(dims) > limit:
-            return (f"the volume's dimensions {dims} exceed this GPU's 3D texture limit of "
-                    f"{limit} points per axis, and one analytic mapper needs the volume in one texture: "
-                    "draw it in bricks (mipcast.mappers.bricks.BrickedVolume, exact; "
-                    "OffscreenView does so by itself), resample it (e.g. vtkImageResample) or use "
-                    "the 'mip' method with SetPartitions")
+                    "rendering (SetPartitions) would not be exact: call SetPartitions(1, 1, 1) "
+                    "(a volume beyond the 3D texture limit is drawn in bricks by the mapper itself)")
         return None
-
-    def _texture_limit(self) -> int:
-        """GL_MAX_3D_TEXTURE_SIZE of the window drawing the attached volume (0 if unknown)."""
-        from mipcast.mappers import gpu_limits
-
-        state = object_state(self)
-        if "texture_limit" not in state:
-            volume = self.GetAttachedVolume()
-            for index in range(volume.GetNumberOfConsumers() if volume is not None else 0):
-                window = getattr(volume.GetConsumer(index), "GetRenderWindow", lambda: None)()
-                if window is not None and window.GetNeverRendered() == 0:
-                    state["texture_limit"] = gpu_limits.max_texture_size_3d(window)
-                    break
-        return state.get("texture_limit", 0)
 
     def GetShaderPieces(self) -> tuple:
         """:data:`PIECES`, with the block-skipping loop when the transfer functions have a floor.
@@ -315,8 +296,8 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         exact = exact or self._missing_below() is not None
         uniforms.SetUniformf("u_mc_floor", -1.0e30 if exact else floor)
         uniforms.SetUniformf("u_mc_ceiling", 1.0e30 if exact else ceiling)
-        if image is not None and image.GetNumberOfPoints() > 0:
-            self._update_block_maxima(image)
+        if image is not None and image.GetNumberOfPoints() > 0 and not bricked_draw.bricking_limit(self):
+            self._update_block_maxima(image)  # (drawn in bricks: each brick has its own)
 
     def _update_block_maxima(self, image) -> None:
         """(Re)build the block-maximum level when the input changed; it rides in the mask slot."""

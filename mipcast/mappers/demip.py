@@ -59,6 +59,8 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
     attenuated MIP and MIDA): ``docs/methods.md#demip``.
     """
 
+    #: Not drawn in bricks: the brightening needs the depth of the ray's maximum over the whole ray.
+    BRICKS = None
     PIECES = ("mip_globals", "refusal", "demip_helpers", "sampled_loop", "demip_hooks", "no_stock_sample",
               "demip_color")
 

@@ -43,6 +43,7 @@ class DEMIPFirstPassMapper(MIPVolumeMapper):
     two-pass mapper; not meant to be used on its own.
     """
 
+    BRICKS = None
     PIECES = ("mip_globals", "demip_two_pass_globals", "image_terminate", "demip_helpers",
               "sampled_loop", "demip_two_pass_first_hooks", "no_stock_sample", "mip_color",
               "demip_two_pass_store")

@@ -105,6 +105,8 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     """
 
     #: The mapper's own (skipped) draw only needs the refusal piece (and its helper).
+    #: Not drawn in bricks (its levels blend over the picture): refused beyond one texture.
+    BRICKS = None
     PIECES = ("mip_globals", "refusal")
     #: Pieces every level adds to its method's own.
     LEVEL_PIECES = ("foveated_skip", "foveated_weight")

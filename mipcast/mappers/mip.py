@@ -8,7 +8,7 @@ from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 from mipcast.core import parameter_tables
 from mipcast.core.object_state import object_state
 from mipcast.core.parameters import defaults, parameter_accessors, uniform_values
-from mipcast.mappers import clip_uniforms, shader_pieces
+from mipcast.mappers import bricked_draw, clip_uniforms, shader_pieces
 from mipcast.mappers.float_readout import from_data_units
 from mipcast.mappers.input_preparer import InputPreparer
 from mipcast.mappers.private_draw import rendering_renderer
@@ -67,12 +67,20 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     #: The piece that discards a ray which saw no finite data (installed only
     #: for input with missing values), or None where the hooks do it themselves.
     MISSING_PIECE = "missing_exit"
+    #: How this method's ray values over bricks of one volume combine exactly: ``"max"``,
+    #: ``"min"``, or None (it cannot). A volume beyond the 3D texture limit is drawn in
+    #: bricks inside the render by methods that can, refused by the others
+    #: (:mod:`mipcast.mappers.bricked_draw`).
+    BRICKS = "max"
 
     def __init__(self) -> None:
         super().__init__()
         self.SetBlendModeToMaximumIntensity()
         self.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, _check_before_render)
         self.AddObserver(vtkCommand.VolumeMapperRenderEndEvent, _restore_after_refused_render)
+        # after the check (priority 0), before the foveated levels (-1)
+        self.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, bricked_draw.draw_bricks, -0.5)
+        self.AddObserver(vtkCommand.VolumeMapperRenderEndEvent, bricked_draw.restore_own_draw, -0.5)
 
     # -- input: the user's image goes through the preparer -----------------
     def SetInputData(self, *args) -> None:
@@ -197,6 +205,21 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         scalars = preparer.GetOutputDataObject(0).GetPointData().GetScalars()
         threshold = prepared.missing_below if type(self).MISSING_FILL == "below" else prepared.missing_above
         return float(from_data_units(threshold, scalars))
+
+    def GetDepthImage(self, image) -> None:
+        """VTK's depth image; during a float readout of a bricked volume, the bricks' combined values."""
+        if not bricked_draw.fill_depth_image(self, image):
+            super().GetDepthImage(image)
+
+    def GetNumberOfBricks(self) -> int:
+        """Bricks the last frame drew (0: the volume fits one 3D texture; see :mod:`mipcast.mappers.bricked_draw`)."""
+        if not bricked_draw.bricking_limit(self):
+            return 0
+        return object_state(self).get("bricks_drawn", 0)
+
+    def _texture_limit(self) -> int:
+        """GL_MAX_3D_TEXTURE_SIZE of the window drawing the attached volume (0 if unknown)."""
+        return bricked_draw.texture_limit(self)
 
     def GetLastProblem(self):
         """Why the last render drew nothing (the message of its VTK error event), or None."""
@@ -343,6 +366,9 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         problem = self.GetInputPreparer().GetProblem()
         if problem is not None:
             return f"input refused, nothing is drawn: {problem}"
+        too_large = bricked_draw.refusal(self)
+        if too_large is not None:
+            return too_large
         prepared = self.GetInputPreparer().GetPrepared()
         if not self.DRAWS_MISSING and prepared is not None and prepared.missing:
             return (f"input refused, nothing is drawn: {type(self).__name__} cannot draw missing values "
@@ -537,4 +563,5 @@ def sampled_projection_mapper(hooks: str, color: str = "mip_color") -> type:
     swap = {"mip_hooks": hooks, "mip_color": color}
     return type(f"SampledProjectionMapper_{hooks}", (MIPVolumeMapper,), {
         "__doc__": f"Sampled projection through the hook piece {hooks!r} (see sampled_projection_mapper).",
-        "PIECES": tuple(swap.get(name, name) for name in MIPVolumeMapper.PIECES)})
+        "PIECES": tuple(swap.get(name, name) for name in MIPVolumeMapper.PIECES),
+        "BRICKS": None})  # a new projection's composite over bricks is unknown: refused beyond one texture

@@ -55,6 +55,8 @@ class MinIPVolumeMapper(sampled_projection_mapper("minip_hooks")):
 
     MISSING_FILL = "above"  # a missing voxel is never the minimum
     MISSING_PIECE = "missing_exit_above"
+    #: The minimum over bricks is the minimum (:mod:`mipcast.mappers.bricked_draw`).
+    BRICKS = "min"
 
 
 class AverageVolumeMapper(sampled_projection_mapper("average_hooks", color="average_color")):
@@ -127,6 +129,9 @@ def _exact_pieces(hooks: str, color=None) -> tuple:
 class _ExactProjection(AnalyticMIPVolumeMapper):
     """Analytic MIP's cell walk with other cell hooks, never block skipping (its coarse level holds maxima)."""
 
+    #: Over bricks: none by default (the average's sum of integrals over the ray's length is not
+    #: a maximum); the exact MinIP takes the minimum.
+    BRICKS = None
     #: Replacements of the packed-corner pieces (the average's colour needs no component index).
     PACKED = {"amip_corners": "amip_corners_packed", "mip_color": "mip_color_packed"}
 
@@ -161,6 +166,7 @@ class AnalyticMinIPVolumeMapper(_ExactProjection):
 
     MISSING_FILL = "above"  # a missing voxel is never the minimum
     MISSING_PIECE = "missing_exit_above"
+    BRICKS = "min"
 
     PIECES = _exact_pieces("amip_min_hooks")
 

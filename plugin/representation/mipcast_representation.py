@@ -567,7 +567,7 @@ def _ray_pusher(entry):
     """
     def push(mapper, event, entry=entry):
         from mipcast.core.object_state import object_state
-        from mipcast.distributed import ray_uniforms, set_ray_uniforms
+        from mipcast.mappers.brick_rays import ray_uniforms, set_ray_uniforms
         from vtkmodules.vtkCommonDataModel import vtkImageData
 
         renderer, volume = entry.renderer.Get(), mapper.GetAttachedVolume()
@@ -589,7 +589,7 @@ def _ray_pusher(entry):
 def _set_composite(entry, volume, image, whole):
     """This rank's piece in the whole volume: global sample positions, depth compositing in parallel."""
     from mipcast.core.object_state import object_state
-    from mipcast.distributed import global_texture_box, set_brick_uniforms
+    from mipcast.mappers.brick_rays import global_texture_box, set_brick_uniforms
 
     mapper = entry.mapper
     state = object_state(mapper)

@@ -1,0 +1,119 @@
+"""A brick's view of the whole volume's rays: the uniforms of the ``global_phase`` and ``global_cells`` pieces.
+
+A brick of a volume (a distributed rank's piece, a brick beyond the 3D
+texture limit, a ParaView rank's piece) casts the WHOLE volume's rays:
+every brick computes them from the same uniforms (the camera's rays in the
+whole volume's point-index space, :func:`ray_uniforms`), so that the
+bricks together take exactly the single-volume samples and cells.
+"""
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+
+from mipcast.core.camera_rays import matrix_array
+
+
+def global_texture_box(piece_extent: Sequence[int], whole: Sequence[int]):
+    """The whole volume's point bounds in the brick's texture coordinates (min, max).
+
+    VTK's 3D texture of a brick with ``d`` points along an axis puts point
+    ``i`` (of the brick's extent starting at ``e0``) at ``(i - e0 + 0.5) / d``.
+
+    Examples
+    --------
+    >>> global_texture_box((0, 3, 0, 3, 2, 3), (0, 3, 0, 3, 0, 3))
+    ([0.125, 0.125, -0.75], [0.875, 0.875, 0.75])
+    """
+    low, high = [], []
+    for a in range(3):
+        e0, e1 = piece_extent[2 * a], piece_extent[2 * a + 1]
+        d = e1 - e0 + 1
+        low.append((whole[2 * a] - e0 + 0.5) / d)
+        high.append((whole[2 * a + 1] - e0 + 0.5) / d)
+    return low, high
+
+
+def set_brick_uniforms(uniforms, whole: Sequence[int], piece: Sequence[int], spacing: Sequence[float],
+                       sample_distance: float) -> None:
+    """A brick's static ``global_phase`` / ``global_cells`` uniforms on a vtkUniforms.
+
+    The whole volume's and the brick's point-index boxes, the spacing, the
+    sample distance; VTK's own normalisation (``u_mc_globalNorm`` (0, 1, 0):
+    :class:`DistributedView` then sets the whole range's) and no rays yet
+    (:func:`ray_uniforms` each frame, :func:`set_ray_uniforms`).
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkVolume
+    >>> uniforms = vtkVolume().GetShaderProperty().GetFragmentCustomUniforms()
+    >>> set_brick_uniforms(uniforms, (0, 9, 0, 9, 0, 9), (0, 9, 0, 9, 4, 9), (1.0, 1.0, 2.0), 0.5)
+    >>> uniforms.GetUniformNames().count("u_mc_brickLo")
+    1
+    """
+    uniforms.SetUniform3f("u_mc_wholeLo", [float(v) for v in whole[0::2]])
+    uniforms.SetUniform3f("u_mc_wholeHi", [float(v) for v in whole[1::2]])
+    uniforms.SetUniform3f("u_mc_brickLo", [float(v) for v in piece[0::2]])
+    uniforms.SetUniform3f("u_mc_brickHi", [float(v) for v in piece[1::2]])
+    uniforms.SetUniform3f("u_mc_raySpacing", [abs(float(v)) for v in spacing])
+    uniforms.SetUniformf("u_mc_rayStep", float(sample_distance))
+    uniforms.SetUniform3f("u_mc_globalNorm", [0.0, 1.0, 0.0])
+    set_ray_uniforms(uniforms, {name: [0.0, 0.0, 0.0] for name in
+                                ("u_mc_rayPoint0", "u_mc_rayPointX", "u_mc_rayPointY", "u_mc_rayDirection")})
+    uniforms.SetUniform4f("u_mc_rayEye", [0.0, 0.0, 0.0, 0.0])
+
+
+def set_ray_uniforms(uniforms, values: dict) -> None:
+    """Put :func:`ray_uniforms`' values on a vtkUniforms (vec3 and vec4)."""
+    for name, value in values.items():
+        (uniforms.SetUniform4f if len(value) == 4 else uniforms.SetUniform3f)(name, value)
+
+
+def ray_uniforms(image, camera, size) -> dict:
+    """The global_phase piece's per-pixel ray, in the absolute point-index space of ``image``.
+
+    A pixel at NDC (x, y) casts the ray through ``u_mc_rayPoint0 + x *
+    u_mc_rayPointX + y * u_mc_rayPointY`` (the points at the NDC depth of
+    the box's centre) along ``u_mc_rayDirection`` (parallel projection,
+    ``u_mc_rayEye.w`` 0) or away from the eye ``u_mc_rayEye.xyz``
+    (perspective, w 1).  float64 here, the same float32 uniforms on every
+    rank, so every rank casts the same rays bit for bit.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkCommonDataModel import vtkImageData
+    >>> from vtkmodules.vtkRenderingCore import vtkCamera
+    >>> image = vtkImageData()
+    >>> image.SetExtent(0, 10, 0, 10, 0, 10)
+    >>> camera = vtkCamera()
+    >>> camera.SetFocalPoint(5, 5, 5); camera.SetPosition(5, 5, 40); camera.ParallelProjectionOn()
+    >>> camera.SetParallelScale(8.0)
+    >>> rays = ray_uniforms(image, camera, (16, 16))
+    >>> [round(v, 6) for v in rays["u_mc_rayPoint0"]], rays["u_mc_rayEye"][3]
+    ([5.0, 5.0, 5.0], 0.0)
+    """
+    width, height = size
+    to_ndc = matrix_array(camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
+    from_ndc = np.linalg.inv(to_ndc)
+    to_index = matrix_array(image.GetPhysicalToIndexMatrix())
+    bounds = image.GetBounds()
+    centre = np.array([0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]), 0.5 * (bounds[4] + bounds[5]),
+                       1.0])
+    centre_ndc = to_ndc @ centre
+    depth = centre_ndc[2] / centre_ndc[3]
+
+    def index_at(x, y, z):
+        world = from_ndc @ np.array([x, y, z, 1.0])
+        return (to_index @ np.append(world[:3] / world[3], 1.0))[:3]
+
+    point = index_at(0.0, 0.0, depth)
+    out = {"u_mc_rayPoint0": point, "u_mc_rayPointX": index_at(1.0, 0.0, depth) - point,
+           "u_mc_rayPointY": index_at(0.0, 1.0, depth) - point}
+    if camera.GetParallelProjection():
+        out["u_mc_rayDirection"] = index_at(0.0, 0.0, 1.0) - index_at(0.0, 0.0, -1.0)
+        out["u_mc_rayEye"] = np.zeros(4)
+    else:
+        out["u_mc_rayDirection"] = np.zeros(3)
+        out["u_mc_rayEye"] = np.append((to_index @ np.append(camera.GetPosition(), 1.0))[:3], 1.0)
+    return {name: [float(v) for v in value] for name, value in out.items()}

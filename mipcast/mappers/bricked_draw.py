@@ -1,0 +1,428 @@
+"""A mipcast mapper drawing a volume beyond the 3D texture limit in bricks, inside the user's render.
+
+When a mapper's input has more points along an axis than the GPU's 3D
+texture limit (:func:`texture_limit`), one texture cannot hold it.  Methods
+whose composite over disjoint parts of a ray is exact (the mapper class's
+``BRICKS``: ``"max"`` for MIP and analytic MIP, ``"min"`` for MinIP and
+analytic MinIP) then draw it in bricks inside the same ``Render()``:
+
+1. the volume is split into bricks of at most ``limit`` points per axis that
+   share one layer of points (:func:`mipcast.mappers.bricks.brick_extents`),
+   every cell lying whole in one brick;
+2. each brick is drawn by a private mapper of the same class (the user's
+   parameters, sample distance, cropping, clipping, matrix and property:
+   :func:`mipcast.mappers.private_draw.follow_volume`) with the renderer's
+   camera into a float readout (data units); sampled bricks take the whole
+   volume's sample positions (the ``global_phase`` piece, as
+   :mod:`mipcast.distributed` does), cell-walking bricks need nothing more;
+3. the readouts are combined by ``fmax`` / ``fmin`` (exact: the maximum over
+   disjoint sample or cell sets is the maximum over their union), coloured
+   through the volume property (colour x opacity, premultiplied, as
+   ``shaders/mip_color.glsl``), and the picture is drawn into the window's
+   current framebuffer over the renderer's viewport with premultiplied
+   blending, where the mapper's own draw would have gone (its own draw is
+   skipped, so no texture beyond the limit is ever uploaded).
+
+During a float readout (:func:`mipcast.mappers.float_readout.render_float`)
+the combined values are what the mapper's ``GetDepthImage`` returns, so
+readouts, :class:`mipcast.offscreen.OffscreenView`, the pyvista filters and
+the ParaView representation all see the bricked volume as one.
+
+Methods whose composite is not a maximum or minimum (average, DEMIP,
+foveated) refuse such a volume with a message naming the limit and the fix
+(:func:`refusal`).  Cost: one render per brick in view per frame plus one
+readback each (docs/reliability.md, "GPU limits and memory"); bricks whose box
+lies outside the view are skipped.
+
+Examples
+--------
+>>> from mipcast.mappers.mip import MIPVolumeMapper
+>>> mapper = MIPVolumeMapper()
+>>> bricking_limit(mapper)   # no input, no window: nothing to brick
+0
+"""
+from __future__ import annotations
+
+from typing import Optional
+
+import numpy as np
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkCommonCore import VTK_FLOAT
+from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkCommonMath import vtkMatrix4x4
+from vtkmodules.vtkRenderingCore import vtkVolume
+
+from mipcast.core.object_state import object_state
+from mipcast.mappers import clip_uniforms, float_readout
+from mipcast.mappers.brick_rays import global_texture_box, ray_uniforms, set_brick_uniforms, set_ray_uniforms
+from mipcast.mappers.bricks import brick_extents, extract_brick
+from mipcast.mappers.private_draw import follow_volume, rendering_renderer
+
+#: How the bricks' values combine, per ``BRICKS`` value of a mapper class.
+COMPOSITES = {"max": np.fmax, "min": np.fmin}
+
+#: Normalised readout values beyond this are a brick's empty ray (no sample, no cell): no value.
+_EMPTY = 1.0e3
+
+_GL_BLEND, _GL_DEPTH_TEST, _GL_SCISSOR_TEST = 0x0BE2, 0x0B71, 0x0C11
+_GL_ONE, _GL_ONE_MINUS_SRC_ALPHA = 1, 0x0303
+#: Samples of the transfer functions for colouring on the CPU (linear between them).
+_TABLE = 8192
+
+
+def texture_limit(mapper) -> int:
+    """``GL_MAX_3D_TEXTURE_SIZE`` of the window drawing ``mapper``'s volume (0 while unknown).
+
+    Asked once per mapper (cached in its state as ``texture_limit``, which
+    tests may set to pretend a smaller GPU) through
+    :func:`mipcast.mappers.gpu_limits.max_texture_size_3d`, once the window
+    has a context (an answer below 2, e.g. VTK's -1 outside the current
+    context, is not kept: 0, unknown).
+    """
+    from mipcast.mappers import gpu_limits
+
+    state = object_state(mapper)
+    if "texture_limit" not in state:
+        volume = mapper.GetAttachedVolume()
+        for index in range(volume.GetNumberOfConsumers() if volume is not None else 0):
+            window = getattr(volume.GetConsumer(index), "GetRenderWindow", lambda: None)()
+            if window is not None and window.GetNeverRendered() == 0:
+                limit = gpu_limits.max_texture_size_3d(window)
+                if limit >= 2:  # -1 (VTK) when asked outside the window's current context: ask again later
+                    state["texture_limit"] = limit
+                break
+    return state.get("texture_limit", 0)
+
+
+def exceeds_limit(mapper) -> int:
+    """The texture limit when ``mapper``'s input exceeds it along some axis, else 0."""
+    limit = texture_limit(mapper)
+    if limit < 2:
+        return 0
+    preparer = mapper.GetInputPreparer()  # not mapper.GetInput(): this is asked while the input is routed
+    image = preparer.GetInputDataObject(0, 0) if preparer.GetNumberOfInputConnections(0) else None
+    if image is None or not image.IsA("vtkImageData") or image.GetNumberOfPoints() == 0:
+        return 0
+    return limit if max(image.GetDimensions()) > limit else 0
+
+
+def bricking_limit(mapper) -> int:
+    """The limit ``mapper`` draws its input in bricks of, or 0 (one texture, or a method that cannot).
+
+    Examples
+    --------
+    >>> from mipcast.mappers.projections import AverageVolumeMapper
+    >>> bricking_limit(AverageVolumeMapper())
+    0
+    """
+    if getattr(type(mapper), "BRICKS", None) not in COMPOSITES:
+        return 0
+    return exceeds_limit(mapper)
+
+
+def refusal(mapper) -> Optional[str]:
+    """The message refusing an input beyond the texture limit for a method that cannot brick it, or None.
+
+    Examples
+    --------
+    >>> from mipcast.mappers.demip import DEMIPVolumeMapper
+    >>> refusal(DEMIPVolumeMapper()) is None   # no input yet
+    True
+    """
+    if getattr(type(mapper), "BRICKS", None) in COMPOSITES:
+        return None
+    limit = exceeds_limit(mapper)
+    if not limit:
+        return None
+    dims = mapper.GetInputPreparer().GetInputDataObject(0, 0).GetDimensions()
+    return (f"the volume's dimensions {dims} exceed this GPU's 3D texture limit of {limit} points per "
+            f"axis, and {type(mapper).__name__} cannot draw it in bricks exactly (its ray value over "
+            "several bricks is not their maximum or minimum): resample the volume to at most "
+            f"{limit} points per axis (e.g. vtkImageResample), crop it (vtkExtractVOI), or use a method "
+            "that draws it in bricks (mip, analytic, minip, analytic_minip)")
+
+
+# -- the observers (module functions: no reference cycles) --------------------------
+def draw_bricks(mapper, event) -> None:
+    """VolumeMapperRenderStartEvent: draw the bricks and skip the mapper's own draw (if bricked)."""
+    state = object_state(mapper)
+    if state.get("render_problem") is not None:
+        return
+    limit = bricking_limit(mapper)
+    if not limit:
+        if "bricks" in state:
+            _release(state)
+        return
+    volume = mapper.GetAttachedVolume()
+    renderer = rendering_renderer(mapper, volume)
+    state["brick_own_draw"] = (mapper.GetCropping(), mapper.GetCroppingRegionPlanes())
+    try:
+        if renderer is not None:
+            gl = renderer.GetRenderWindow().GetState()
+            gl.Push()  # the bricks' render-to-image passes set their own viewport and framebuffer
+            try:
+                values = compose(mapper, volume, renderer, limit)
+            finally:
+                gl.Pop()
+            if state.get("exact_readout"):
+                state["brick_readout"] = values
+            else:
+                _draw_picture(state, renderer, volume, values)
+    except Exception as error:  # noqa: BLE001  (an observer: reported as mipcast's refusals are)
+        from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
+
+        problem = f"drawing the volume in bricks of {limit} points per axis failed: {error!r}"
+        state["render_problem"] = problem
+        vtkOutputWindow.GetInstance().DisplayErrorText(f"{type(mapper).__name__}: {problem}\n")
+        mapper.InvokeEvent(vtkCommand.ErrorEvent)
+    # never the own draw (the volume is beyond one texture): invalid cropping planes make VTK
+    # skip the render silently (no texture upload)
+    mapper.SetCropping(True)
+    mapper.SetCroppingRegionPlanes(1.0, 0.0, 1.0, 0.0, 1.0, 0.0)
+
+
+def restore_own_draw(mapper, event) -> None:
+    """VolumeMapperRenderEndEvent: the user's cropping back after a bricked frame."""
+    saved = object_state(mapper).pop("brick_own_draw", None)
+    if saved is not None:
+        mapper.SetCropping(saved[0])
+        mapper.SetCroppingRegionPlanes(*saved[1])
+
+
+def fill_depth_image(mapper, image) -> bool:
+    """During a bricked float readout, put the combined values into ``image``; False otherwise."""
+    values = object_state(mapper).pop("brick_readout", None)
+    if values is None:
+        return False
+    height, width = values.shape
+    scalars = mapper.GetRenderedInput().GetPointData().GetScalars()
+    raw = float_readout.encode(float_readout.from_data_units(values, scalars))
+    image.SetDimensions(width, height, 1)
+    array = numpy_to_vtk(np.ascontiguousarray(raw[::-1], dtype=np.float32).ravel(), deep=True)
+    image.GetPointData().SetScalars(array)
+    return True
+
+
+# -- the bricks -------------------------------------------------------------------
+def bricks_of(mapper, limit: int) -> list:
+    """The private (mapper, volume, matrix) of each brick, made when the input or the limit changed."""
+    state = object_state(mapper)
+    image = mapper.GetInput()
+    key = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime(), int(limit), type(mapper))
+    cached = state.get("bricks")
+    if cached is not None and cached["key"] == key:
+        return cached["entries"]
+    dims = image.GetDimensions()
+    whole = (0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)
+    entries = []
+    for extent in brick_extents(dims, limit):
+        brick_mapper = type(mapper)()
+        brick_mapper.SetInputData(extract_brick(image, extent))
+        brick_volume = vtkVolume()
+        brick_mapper.Attach(brick_volume)
+        low, high = global_texture_box(extent, whole)
+        object_state(brick_mapper)["global_box"] = (low, high)  # the whole volume's samples and cells
+        uniforms = brick_volume.GetShaderProperty().GetFragmentCustomUniforms()
+        uniforms.SetUniform3f("u_mc_globalTexMin", low)
+        uniforms.SetUniform3f("u_mc_globalTexMax", high)
+        set_brick_uniforms(uniforms, whole, extent, image.GetSpacing(), mapper.GetSampleDistance())
+        entries.append({"mapper": brick_mapper, "volume": brick_volume, "matrix": vtkMatrix4x4(),
+                        "extent": extent})
+    state["bricks"] = {"key": key, "entries": entries}
+    return entries
+
+
+def _release(state) -> None:
+    state.pop("bricks", None)
+
+
+def _follow(mapper, volume, entry) -> None:
+    """The brick's mapper and volume as the user's: parameters, sampling, cropping, clipping, matrix."""
+    brick_mapper, brick_volume = entry["mapper"], entry["volume"]
+    for parameter in type(mapper).PARAMETERS:
+        value = getattr(mapper, parameter.getter)()
+        if getattr(brick_mapper, parameter.getter)() != value:
+            getattr(brick_mapper, parameter.setter)(value)
+    if brick_mapper.GetComponent() != mapper.GetComponent():
+        brick_mapper.SetComponent(mapper.GetComponent())
+    brick_mapper.SetAutoAdjustSampleDistances(False)
+    distance = mapper.GetSampleDistance()
+    if mapper.GetAutoAdjustSampleDistances():  # VTK's automatic distance without time-based reduction
+        distance = _auto_sample_distance(mapper.GetInput(), volume)
+    if brick_mapper.GetSampleDistance() != distance:
+        brick_mapper.SetSampleDistance(distance)
+    if brick_mapper.GetImageSampleDistance() != 1.0:
+        brick_mapper.SetImageSampleDistance(1.0)  # the readouts are combined pixel by pixel
+    follow_volume(mapper, volume, brick_mapper, brick_volume, entry["matrix"])
+    clip_uniforms.copy_clipping(mapper, brick_mapper)
+
+
+def _push_rays(mapper, entry, camera, shape) -> None:
+    """This frame's whole-volume rays and sample distance on a brick (``global_phase``, ``global_cells``)."""
+    image = mapper.GetInput()
+    dims = image.GetDimensions()
+    whole = vtkImageData()
+    whole.SetExtent(0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)
+    whole.SetOrigin(image.GetOrigin())
+    whole.SetSpacing(image.GetSpacing())
+    whole.SetDirectionMatrix(image.GetDirectionMatrix())
+    uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
+    uniforms.SetUniformf("u_mc_rayStep", float(entry["mapper"].GetSampleDistance()))
+    set_ray_uniforms(uniforms, ray_uniforms(whole, camera, (shape[1], shape[0])))
+
+
+def _auto_sample_distance(image, volume) -> float:
+    """The smallest world spacing of ``image`` drawn by ``volume`` (VTK's auto-adjusted distance at full time)."""
+    matrix = np.array([[volume.GetMatrix().GetElement(r, c) for c in range(3)] for r in range(3)])
+    direction = np.array([[image.GetDirectionMatrix().GetElement(r, c) for c in range(3)] for r in range(3)])
+    columns = matrix @ direction
+    return min(abs(s) * float(np.linalg.norm(columns[:, i])) for i, s in enumerate(image.GetSpacing()))
+
+
+def compose(mapper, volume, renderer, limit: int) -> np.ndarray:
+    """Render every brick's float readout with ``renderer``'s camera and combine them.
+
+    Returns
+    -------
+    numpy.ndarray, shape (height, width) of the renderer's viewport, float64
+        Data units, NaN where no brick's ray had a value.  Top row first.
+    """
+    combine = COMPOSITES[type(mapper).BRICKS]
+    width, height, x0, y0 = [0], [0], [0], [0]
+    renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
+    shape = (max(height[0], 1), max(width[0], 1))
+    result = np.full(shape, np.nan)
+    camera = renderer.GetActiveCamera()
+    drawn = 0
+    for entry in bricks_of(mapper, limit):
+        brick_mapper, brick_volume = entry["mapper"], entry["volume"]
+        _follow(mapper, volume, entry)
+        if not _in_view(brick_volume, renderer, shape):
+            continue  # its box covers no pixel: nothing to draw, nothing to combine
+        drawn += 1
+        object_state(brick_mapper)["draw_camera"] = camera
+        _push_rays(mapper, entry, camera, shape)
+        object_state(brick_mapper)["exact_readout"] = True
+        brick_mapper.RenderToImageOn()
+        brick_mapper.SetDepthImageScalarTypeToFloat()
+        try:
+            brick_volume.RenderVolumetricGeometry(renderer)
+            values = _readout(brick_mapper, shape)
+        finally:
+            object_state(brick_mapper).pop("exact_readout", None)
+            brick_mapper.RenderToImageOff()
+        result = combine(result, values)
+    object_state(mapper)["bricks_drawn"] = drawn
+    return result
+
+
+def _in_view(brick_volume, renderer, shape) -> bool:
+    """Whether the brick's box may cover a pixel of the viewport (False only when it surely does not).
+
+    The box's 8 corners (through the volume's matrix) in the camera's clip
+    coordinates: a box wholly behind the camera, or wholly beyond one side of
+    the viewport (with two pixels to spare), covers no pixel.
+    """
+    bounds = brick_volume.GetMapper().GetInput().GetBounds()
+    corners = np.array([[x, y, z, 1.0] for x in bounds[0:2] for y in bounds[2:4] for z in bounds[4:6]])
+    matrix = brick_volume.GetMatrix()
+    model = np.array([[matrix.GetElement(r, c) for c in range(4)] for r in range(4)])
+    camera = renderer.GetActiveCamera()
+    projection = camera.GetCompositeProjectionTransformMatrix(renderer.GetTiledAspectRatio(), -1.0, 1.0)
+    view = np.array([[projection.GetElement(r, c) for c in range(4)] for r in range(4)])
+    clip = corners @ (view @ model).T
+    w = clip[:, 3]
+    if np.all(w <= 0.0):
+        return False
+    if np.any(w <= 0.0):
+        return True  # the box reaches behind the camera: its projection is unbounded
+    ndc = clip[:, :2] / w[:, None]
+    spare = 2.0 * 2.0 / np.array([shape[1], shape[0]], dtype=float)
+    return not (np.any(np.all(ndc < -1.0 - spare, axis=0)) or np.any(np.all(ndc > 1.0 + spare, axis=0)))
+
+
+def _readout(brick_mapper, shape) -> np.ndarray:
+    """One brick's readout in data units (top row first), NaN where its ray had no value."""
+    image = vtkImageData()
+    brick_mapper.GetDepthImage(image)
+    scalars = image.GetPointData().GetScalars()
+    if scalars is None:
+        return np.full(shape, np.nan)
+    columns, rows, _ = image.GetDimensions()
+    normalised = float_readout.decode(vtk_to_numpy(scalars).reshape(rows, columns)[::-1])
+    normalised = np.where(np.abs(normalised) > _EMPTY, np.nan, normalised)
+    values = float_readout.to_data_units(normalised, brick_mapper.GetRenderedInput().GetPointData().GetScalars())
+    if values.shape != shape:
+        raise RuntimeError(f"a brick's readout is {values.shape}, the viewport {shape}")
+    return values
+
+
+# -- the picture ----------------------------------------------------------------
+def colour(values: np.ndarray, volume_property) -> np.ndarray:
+    """Data values -> premultiplied RGBA float32 (colour x opacity, alpha = opacity); NaN: transparent.
+
+    The volume property's colour and scalar-opacity transfer functions of
+    component 0, tabulated at 8192 points over the values' range and
+    interpolated linearly (what ``shaders/mip_color.glsl`` writes).
+
+    Examples
+    --------
+    >>> from mipcast.offscreen import grey_property
+    >>> colour(np.array([[0.0, 0.5, np.nan]]), grey_property((0.0, 1.0)))[0, :, 0].round(3).tolist()
+    [0.0, 0.5, 0.0]
+    """
+    values = np.asarray(values, dtype=np.float64)
+    hit = ~np.isnan(values)
+    out = np.zeros(values.shape + (4,), dtype=np.float32)
+    if not hit.any():
+        return out
+    low, high = float(values[hit].min()), float(values[hit].max())
+    if high <= low:
+        high = low + 1.0
+    samples = np.linspace(low, high, _TABLE)
+    rgb_function = volume_property.GetRGBTransferFunction(0)
+    opacity_function = volume_property.GetScalarOpacity(0)
+    rgb_table = np.zeros(_TABLE * 3)
+    rgb_function.GetTable(low, high, _TABLE, rgb_table)
+    opacity_table = np.zeros(_TABLE)
+    opacity_function.GetTable(low, high, _TABLE, opacity_table)
+    flat = values[hit]
+    alpha = np.interp(flat, samples, opacity_table)
+    rgb = np.stack([np.interp(flat, samples, rgb_table[c::3]) for c in range(3)], axis=-1)
+    out[hit, :3] = rgb * alpha[:, None]
+    out[hit, 3] = alpha
+    return out
+
+
+def _draw_picture(state, renderer, volume, values) -> None:
+    """Draw the coloured values over the renderer's viewport, premultiplied-blended, no depth test."""
+    from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
+
+    window = renderer.GetRenderWindow()
+    rgba = colour(values, volume.GetProperty())
+    height, width = values.shape
+    texture = state.get("brick_texture")  # kept: its copy program compiles once
+    if texture is None or texture.GetContext() is not window:
+        texture = vtkTextureObject()
+        texture.SetContext(window)
+        texture.SetMinificationFilter(vtkTextureObject.Nearest)
+        texture.SetMagnificationFilter(vtkTextureObject.Nearest)
+        texture.SetWrapS(vtkTextureObject.ClampToEdge)
+        texture.SetWrapT(vtkTextureObject.ClampToEdge)
+        state["brick_texture"] = texture
+    data = np.ascontiguousarray(rgba[::-1], dtype=np.float32)  # bottom row first
+    texture.Create2DFromRaw(width, height, 4, VTK_FLOAT, data)
+    width_, height_, x0, y0 = [0], [0], [0], [0]
+    renderer.GetTiledSizeAndOrigin(width_, height_, x0, y0)
+    gl = window.GetState()
+    gl.Push()
+    try:
+        gl.vtkglViewport(x0[0], y0[0], width, height)
+        gl.vtkglScissor(x0[0], y0[0], width, height)
+        gl.vtkglEnable(_GL_BLEND)
+        gl.vtkglBlendFuncSeparate(_GL_ONE, _GL_ONE_MINUS_SRC_ALPHA, _GL_ONE, _GL_ONE_MINUS_SRC_ALPHA)
+        gl.vtkglDisable(_GL_DEPTH_TEST)
+        gl.vtkglDepthMask(False)
+        texture.CopyToFrameBuffer(None, None)
+    finally:
+        gl.Pop()

@@ -1,0 +1,237 @@
+"""A volume beyond the 3D texture limit, drawn in bricks by the mapper itself inside the user's render
+(issue #13, item 7): plain VTK pipelines, pyvista, and the refusal of methods that cannot brick exactly.
+
+The limit is lowered to 20 points per axis (``gpu_limits.max_texture_size_3d``), so the 48^3
+fixture is drawn in 3 x 3 x 3 bricks sharing a layer of points.
+"""
+import numpy as np
+import pytest
+from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow, vtkStringOutputWindow
+from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkVolume, vtkWindowToImageFilter
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401
+
+from mipcast.data_fixtures import make_fixture
+from mipcast.mappers import gpu_limits
+from mipcast.mappers.float_readout import render_float
+from mipcast.methods import METHODS
+from mipcast.offscreen import grey_property
+from test_paraview_representation import ROOT, _env, _report, plugin  # noqa: F401  (the built plugin)
+from xvfb import run_under_xvfb
+
+LIMIT = 20
+SIZE = (80, 72)
+DISTANCE = 0.7
+BRICKED = [name for name, m in METHODS.items() if m.bricks is not None]
+REFUSED = [name for name, m in METHODS.items() if m.float_readout and m.bricks is None]
+
+
+@pytest.fixture(scope="module")
+def image():
+    image = make_fixture("vessels", size=48)
+    image.SetSpacing(1.0, 0.8, 1.2)  # bricks are placed in world space, not in index space
+    return image
+
+
+def pipeline(image, name, viewport=(0.0, 0.0, 1.0, 1.0)):
+    """What a user writes: renderer, volume, a mipcast mapper, an offscreen render window."""
+    mapper = METHODS[name].create()
+    mapper.SetInputData(image)
+    mapper.SetAutoAdjustSampleDistances(False)
+    mapper.SetSampleDistance(DISTANCE)
+    mapper.SetUseJittering(False)
+    volume = vtkVolume()
+    volume.SetProperty(grey_property(image.GetPointData().GetScalars().GetRange(0)))
+    mapper.Attach(volume)
+    renderer = vtkRenderer()
+    renderer.SetViewport(*viewport)
+    renderer.SetBackground(0.1, 0.1, 0.2)
+    renderer.AddVolume(volume)
+    window = vtkRenderWindow()
+    window.SetOffScreenRendering(True)
+    window.SetMultiSamples(0)
+    window.AddRenderer(renderer)
+    window.SetSize(*SIZE)
+    renderer.ResetCamera()
+    renderer.GetActiveCamera().Azimuth(30.0)
+    renderer.GetActiveCamera().Elevation(20.0)
+    return mapper, renderer, window
+
+
+def picture(window):
+    window.Render()
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(window)
+    grab.SetInputBufferTypeToRGB()
+    grab.ReadFrontBufferOff()
+    grab.Update()
+    output = grab.GetOutput()
+    width, height, _ = output.GetDimensions()
+    return vtk_to_numpy(output.GetPointData().GetScalars()).reshape(height, width, 3)[::-1].astype(int)
+
+
+def lowered(monkeypatch):
+    monkeypatch.setattr(gpu_limits, "max_texture_size_3d", lambda window: LIMIT)
+
+
+def test_the_table_says_what_each_mapper_does():
+    for name, method in METHODS.items():
+        if method.float_readout:
+            assert method.bricks == type(method.create()).BRICKS, name
+    assert set(BRICKED) == {"mip", "analytic", "minip", "analytic_minip"}
+
+
+@pytest.mark.parametrize("name", BRICKED)
+def test_a_plain_vtk_pipeline_draws_a_bricked_volume_as_one_texture(image, name, monkeypatch):
+    one_mapper, one_renderer, one_window = pipeline(image, name)
+    one_rgb = picture(one_window)
+    one = render_float(one_window, one_mapper)
+
+    lowered(monkeypatch)
+    mapper, renderer, window = pipeline(image, name)
+    rgb = picture(window)
+    assert mapper.GetNumberOfBricks() == 27 and mapper.GetLastProblem() is None
+    got = render_float(window, mapper)
+    low, high = image.GetPointData().GetScalars().GetRange(0)
+
+    # the picture: within one grey level of the single texture's on >= 99.9 % of the pixels
+    difference = np.abs(rgb - one_rgb).max(axis=-1)
+    background = np.array([26, 26, 51])
+    assert (np.abs(rgb - background).max(axis=-1) > 10).mean() > 0.3  # the volume is drawn, not blank
+    assert (difference <= 1).mean() >= 0.999, (difference.max(), (difference > 1).sum())
+    # the float readout: the same rays hit, the same values within float rounding
+    same_hits = np.isnan(got) == np.isnan(one)
+    assert same_hits.mean() >= 0.999 and np.isfinite(got).mean() > 0.3
+    both = np.isfinite(got) & np.isfinite(one)
+    assert np.max(np.abs(got[both] - one[both])) / (high - low) <= 1e-4
+    if METHODS[name].walks_cells:  # the cell walk: exactly the same pixels, one level at most
+        assert same_hits.all() and difference.max() <= 1
+    # against the float64 reference on the same rays, within the method's table tolerance
+    expected = METHODS[name].reference(image, renderer.GetActiveCamera(), SIZE, sample_distance=DISTANCE,
+                                       window=(low, high))
+    assert (np.isnan(got) == np.isnan(expected)).mean() >= 0.999
+    both = np.isfinite(got) & np.isfinite(expected)
+    assert np.max(np.abs(got[both] - expected[both])) / (high - low) <= METHODS[name].reference_tolerance
+
+
+def test_a_renderer_off_the_window_corner_gets_its_bricks_in_its_viewport(image, monkeypatch):
+    viewport = (0.3, 0.1, 1.0, 1.0)
+    one = picture(pipeline(image, "analytic", viewport)[2])
+    lowered(monkeypatch)
+    mapper, _, window = pipeline(image, "analytic", viewport)
+    rgb = picture(window)
+    assert mapper.GetNumberOfBricks() == 27
+    assert rgb.max() > 100 and np.abs(rgb - one).max() <= 1
+
+
+def _crop_and_clip(mapper, image):
+    from vtkmodules.vtkCommonDataModel import vtkPlane, vtkPlaneCollection
+
+    b = image.GetBounds()
+    mapper.SetCropping(True)
+    mapper.SetCroppingRegionPlanes(b[0] + 5, b[1] - 9, b[2], b[3] - 6, b[4] + 3, b[5])
+    plane = vtkPlane()
+    plane.SetOrigin(*image.GetCenter())
+    plane.SetNormal(0.3, 0.2, 1.0)
+    planes = vtkPlaneCollection()
+    planes.AddItem(plane)
+    mapper.SetClippingPlanes(planes)
+
+
+def _opaque_sphere(renderer, image):
+    from vtkmodules.vtkFiltersSources import vtkSphereSource
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
+
+    sphere = vtkSphereSource()
+    sphere.SetCenter(*image.GetCenter())
+    sphere.SetRadius(12.0)
+    sphere.SetThetaResolution(32)
+    sphere.SetPhiResolution(32)
+    mapper = vtkPolyDataMapper()
+    mapper.SetInputConnection(sphere.GetOutputPort())
+    actor = vtkActor()
+    actor.SetMapper(mapper)
+    actor.GetProperty().SetColor(0.2, 0.6, 0.2)
+    renderer.AddActor(actor)
+
+
+@pytest.mark.parametrize("name, scene", [("mip", "cropped and clipped"), ("analytic", "opaque sphere"),
+                                         ("mip", "zoomed in")])
+def test_bricks_follow_the_users_cropping_clipping_opaque_geometry_and_camera(image, name, scene, monkeypatch):
+    def build():
+        mapper, renderer, window = pipeline(image, name)
+        if scene == "opaque sphere":  # rays stop at it, in every brick
+            _opaque_sphere(renderer, image)
+        elif scene == "zoomed in":  # bricks out of the view are not drawn
+            renderer.GetActiveCamera().Zoom(2.5)
+            renderer.GetActiveCamera().Yaw(8.0)
+            renderer.ResetCameraClippingRange()
+        else:
+            _crop_and_clip(mapper, image)
+        return mapper, window
+
+    one_mapper, one_window = build()
+    one, one_values = picture(one_window), render_float(one_window, one_mapper)
+    lowered(monkeypatch)
+    mapper, window = build()
+    rgb, values = picture(window), render_float(window, mapper)
+    if scene == "zoomed in":
+        assert 0 < mapper.GetNumberOfBricks() < 27 and np.isfinite(values).mean() > 0.9
+    else:
+        assert mapper.GetNumberOfBricks() == 27
+        assert 0.1 < np.isfinite(values).mean() < 0.45  # cut away, or stopped at the sphere
+    assert (np.isnan(values) == np.isnan(one_values)).mean() >= 0.999
+    difference = np.abs(rgb - one).max(axis=-1)
+    assert (difference <= 1).mean() >= 0.999, (difference.max(), (difference > 1).sum())
+
+
+def test_the_pyvista_route_draws_it_in_bricks(image, monkeypatch):
+    pyvista = pytest.importorskip("pyvista")
+    import mipcast.filters  # noqa: F401  (registers grid.mip)
+
+    # pyvista's default 8x MSAA blends the single texture's silhouette pixels by their coverage;
+    # the bricked picture is drawn whole pixels (docs/reliability.md), so compare without MSAA
+    monkeypatch.setattr(pyvista.global_theme, "anti_aliasing", None)
+    grid = pyvista.wrap(image)
+    one = grid.mip.plot("analytic", off_screen=True, window_size=SIZE, screenshot=True).astype(int)
+    lowered(monkeypatch)
+    plotter = pyvista.Plotter(off_screen=True, window_size=SIZE)
+    volume = plotter.mip.add_volume(grid, "analytic")
+    got = plotter.show(screenshot=True).astype(int)
+    assert volume.GetMapper().GetNumberOfBricks() == 27
+    bricked = grid.mip.plot("analytic", off_screen=True, window_size=SIZE, screenshot=True).astype(int)
+    for rgb in (got, bricked):
+        assert rgb.max() > 100 and (np.abs(rgb - one).max(axis=-1) <= 1).mean() >= 0.999
+
+
+@pytest.mark.parametrize("name", REFUSED)
+def test_a_method_that_cannot_brick_exactly_refuses_naming_the_limit_and_the_fix(image, name, monkeypatch):
+    lowered(monkeypatch)
+    mapper, renderer, window = pipeline(image, name)
+    events = []
+    mapper.AddObserver(vtkCommand.ErrorEvent, lambda caller, event: events.append(event))
+    captured, previous = vtkStringOutputWindow(), vtkOutputWindow.GetInstance()
+    vtkOutputWindow.SetInstance(captured)
+    try:
+        rgb = picture(window)
+    finally:
+        vtkOutputWindow.SetInstance(previous)
+    problem = mapper.GetLastProblem()
+    assert events and problem is not None and problem in captured.GetOutput()
+    assert "3D texture limit of 20" in problem and "(48, 48, 48)" in problem
+    assert "resample" in problem and "mip, analytic" in problem
+    assert rgb.max() <= 51  # the background (0.1, 0.1, 0.2) only: nothing drawn
+
+
+def test_paraview_draws_it_in_bricks_too(plugin):
+    """The render-view route and the "mipcast" representation (built by test_paraview_representation's fixture)."""
+    completed = run_under_xvfb(["pvpython", str(ROOT / "tests" / "paraview_bricks_check.py"), "--plugin", str(plugin)],
+                               cwd=ROOT, env=_env(), timeout=300)
+    report = _report(completed)
+    for route in ("render_view", "representation"):
+        analytic, average = report[f"{route} analytic"], report[f"{route} average"]
+        assert analytic["max_bricked"] > 100 and analytic["within_1"] >= 0.999, (route, analytic)
+        assert not analytic["refused"] and analytic["messages_one"] == ""
+        assert average["refused"] and average["max_one"] > 30 and average["within_1"] < 0.95, (route, average)
+    assert report["representation average"]["max_bricked"] == 0  # nothing drawn (no outline in that route)
