@@ -265,7 +265,9 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         if self._packing_active():
             packed = {"amip_corners": "amip_corners_packed", "mip_color": "mip_color_packed"}
             names = tuple(packed.get(n, n) for n in names)
-        distributed = object_state(self).get("global_box") is not None  # a brick: plain walk (global_cells)
+        state = object_state(self)
+        # a brick walking the whole volume's ray (global_cells): the plain walk
+        distributed = state.get("global_box") is not None and state.get("global_cells", True)
         if self.GetSkipping() and self._transfer_floor_ceiling()[0] > 0.0 and not distributed:
             names = tuple("amip_loop_blocks" if n == "amip_loop" else n for n in names)
         if object_state(self).get("stat") is not None:  # mipcast.mappers.amip_stats reads work counters

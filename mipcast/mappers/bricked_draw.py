@@ -221,7 +221,9 @@ def bricks_of(mapper, limit: int) -> list:
         brick_volume = vtkVolume()
         brick_mapper.Attach(brick_volume)
         low, high = global_texture_box(extent, whole)
-        object_state(brick_mapper)["global_box"] = (low, high)  # the whole volume's samples and cells
+        object_state(brick_mapper)["global_box"] = (low, high)  # sampled loops: the whole volume's samples
+        # cells lie whole in a brick: the plain walk is exact, and it ends at opaque geometry
+        object_state(brick_mapper)["global_cells"] = False
         uniforms = brick_volume.GetShaderProperty().GetFragmentCustomUniforms()
         uniforms.SetUniform3f("u_mc_globalTexMin", low)
         uniforms.SetUniform3f("u_mc_globalTexMax", high)

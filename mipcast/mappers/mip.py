@@ -277,7 +277,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         set by :mod:`mipcast.distributed`) also gets ``global_phase``: the
         sampled loop then takes the whole volume's sample positions; the
         exact projections' cell walk gets ``global_cells`` (the whole
-        volume's ray, walked over the brick's cells).  Both read the
+        volume's ray, walked over the brick's cells; ``global_cells`` False
+        in the state keeps the plain walk, which ends at opaque geometry).  Both read the
         whole volume's rays from uniforms (:func:`mipcast.distributed.set_brick_uniforms`,
         :func:`mipcast.distributed.ray_uniforms`).
         ``depth_composite`` in the state (``"max"`` or ``"min"``, set by
@@ -288,7 +289,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         state = object_state(self)
         if state.get("global_box") is not None and "sampled_loop" in names:
             names = tuple(names) + ("global_phase",)
-        elif state.get("global_box") is not None and "amip_cell" in names:
+        elif state.get("global_box") is not None and state.get("global_cells", True) and "amip_cell" in names:
             names = tuple(names) + ("global_cells",)
         if not state.get("exact_readout"):
             composite = state.get("depth_composite")  # a rank's piece in a parallel render view (plugin/representation)
