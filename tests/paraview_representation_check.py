@@ -170,7 +170,26 @@ def lit(pixels):
 
 
 # -- parts --------------------------------------------------------------------------------------
+def projection_range(display, image, method):
+    """Colour the array over the data range, the average projection over its default window
+    (its picture is dark over the data range); returns the range set."""
+    import mipcast
+    from mipcast.core.windowing import default_window
+    from paraview.simple import GetColorTransferFunction, GetOpacityTransferFunction
+
+    projection = mipcast.METHODS[method].projection
+    if projection == "average":
+        low, high = default_window(image, projection)
+    else:
+        low, high = image.GetPointData().GetScalars().GetRange()
+    GetColorTransferFunction(ARRAY).RescaleTransferFunction(low, high)
+    GetOpacityTransferFunction(ARRAY).RescaleTransferFunction(low, high)
+    return low, high
+
+
 def methods_part(reader, image, view, png, methods, stats=True):
+    """Every method's screenshot against the offscreen view (the view is the screenshot's size:
+    a bigger screenshot makes ParaView render tiles, see ``tiled_part``)."""
     import mipcast
 
     report = {}
@@ -178,6 +197,7 @@ def methods_part(reader, image, view, png, methods, stats=True):
     set_camera(view)
     for method in methods:
         display.MipcastMethod = method
+        projection_range(display, image, method)
         pv = screenshot(view, png(f"rep_{method}"))
         ref, _ = reference(image, method, view)
         write_png(png(f"ref_{method}"), ref)
@@ -407,12 +427,13 @@ def main():
     def fresh():
         reader = OpenDataFile(path)
         reader.PointArrayStatus = [ARRAY]
-        return reader, plain_view()
+        return reader, plain_view((WIDTH, HEIGHT))
 
     import mipcast
     if "methods" in parts:
         reader, view = fresh()
-        report["methods"] = methods_part(reader, image, view, png, args.methods.split(",") if args.methods else list(mipcast.METHODS),
+        report["methods"] = methods_part(reader, image, view, png, args.methods.split(",") if args.methods
+                                         else [n for n, m in mipcast.METHODS.items() if m.in_view],
                                          stats=not args.server)
         Delete(view)
     for name, part in (("parameter", parameter_part), ("eye", eye_part), ("trace", trace_part)):
@@ -421,7 +442,7 @@ def main():
             report[name] = part(reader, image, view, png)
             Delete(view)
     if "bad" in parts:
-        report["bad"] = bad_part(directory, plain_view(), png)
+        report["bad"] = bad_part(directory, plain_view((WIDTH, HEIGHT)), png)
     if "bench" in parts:
         reader, _ = fresh()
         report["bench"] = bench_part(reader, image, png)
