@@ -354,13 +354,19 @@ def bad_part(directory, view, png):
     return report
 
 
-def bench_part(reader, image, png, method="mip", size=(512, 512), frames=8):
-    """Median frame times: ParaView's StillRender vs the offscreen view's Render, and the
-    volume renderer's own time (``GetLastRenderTimeInSeconds``) in each, same size and camera."""
+def bench_part(reader, image, png, methods, size=(512, 512), frames=6, warmup=2):
+    """Frame times, per method: ParaView's StillRender against the offscreen view's Render
+    (each + WaitForCompletion), same size and camera, interleaved frame by frame (this
+    machine's load changes from second to second: each ParaView frame is divided by the
+    offscreen frame right after it and the median of those ratios is reported), and the
+    renderers' own ``GetLastRenderTimeInSeconds``.  Then ParaView's fixed cost: the same view
+    with nothing shown against an empty offscreen window of the same size."""
+    from paraview.simple import Hide
+    from vtkmodules.vtkRenderingCore import vtkRenderWindow, vtkRenderer
+
     view = plain_view(size)
-    show_mipcast(reader, view, method)
+    display = show_mipcast(reader, view, methods[0])
     set_camera(view)
-    screenshot(view, png("bench_view"), size)
     window = view.GetRenderWindow()
     renderer = view.GetRenderer()
 
@@ -368,27 +374,56 @@ def bench_part(reader, image, png, method="mip", size=(512, 512), frames=8):
         view.StillRender()
         window.WaitForCompletion()
 
-    for _ in range(3):
-        paraview_frame()
-    times, renderer_times = [], []
-    for _ in range(frames):
+    def timed(frame):
         start = time.perf_counter()
+        frame()
+        return time.perf_counter() - start
+
+    report = dict(size=list(size), frames=frames, offscreen_paraview=bool(window.GetOffScreenRendering()),
+                  methods={})
+    for method in methods:
+        display.MipcastMethod = method
+        screenshot(view, png(f"bench_{method}"), size)
+        _, scene = reference(image, method, view, size=size)
+        for _ in range(warmup):
+            paraview_frame()
+            scene._render_and_wait()
+        pv, off, pv_r, off_r = [], [], [], []
+        for _ in range(frames):
+            pv.append(timed(paraview_frame))
+            pv_r.append(renderer.GetLastRenderTimeInSeconds())
+            off.append(timed(scene._render_and_wait))
+            off_r.append(scene.renderer.GetLastRenderTimeInSeconds())
+        ratios = np.array(pv) / np.array(off)
+        report["methods"][method] = dict(
+            paraview_s=float(np.median(pv)), offscreen_s=float(np.median(off)),
+            ratio=float(np.median(ratios)), ratio_of_minima=float(min(pv) / min(off)),
+            renderer_ratio=float(np.median(np.array(pv_r) / np.array(off_r))))
+        scene.render_window.Finalize()
+        del scene
+    Hide(reader, view)
+    empty = vtkRenderWindow()
+    empty.SetOffScreenRendering(1)
+    empty.SetSize(*size)
+    empty.AddRenderer(vtkRenderer())
+
+    def empty_frame():
+        empty.Render()
+        empty.WaitForCompletion()
+
+    for _ in range(warmup):
         paraview_frame()
-        times.append(time.perf_counter() - start)
-        renderer_times.append(renderer.GetLastRenderTimeInSeconds())
-    _, scene = reference(image, method, view, size=size)
-    offscreen, offscreen_renderer = [], []
-    for _ in range(3):
-        scene._render_and_wait()
+        empty_frame()
+    pv, off = [], []
     for _ in range(frames):
-        start = time.perf_counter()
-        scene._render_and_wait()
-        offscreen.append(time.perf_counter() - start)
-        offscreen_renderer.append(scene.renderer.GetLastRenderTimeInSeconds())
-    pv, off = float(np.median(times)), float(np.median(offscreen))
-    pv_r, off_r = float(np.median(renderer_times)), float(np.median(offscreen_renderer))
-    return dict(method=method, size=list(size), paraview_s=pv, offscreen_s=off, ratio=pv / off,
-                paraview_renderer_s=pv_r, offscreen_renderer_s=off_r, renderer_ratio=pv_r / off_r)
+        pv.append(timed(paraview_frame))
+        off.append(timed(empty_frame))
+    report["empty"] = dict(paraview_s=float(np.median(pv)), offscreen_s=float(np.median(off)))
+    empty.Finalize()
+    first = report["methods"][methods[0]]
+    report.update(method=methods[0], paraview_s=first["paraview_s"], offscreen_s=first["offscreen_s"],
+                  ratio=first["ratio"], renderer_ratio=first["renderer_ratio"])
+    return report
 
 
 def main():
@@ -398,6 +433,8 @@ def main():
     parser.add_argument("--server", help="HOST:PORT of a running pvserver")
     parser.add_argument("--methods", help="comma-separated methods (default: all of mipcast.METHODS)")
     parser.add_argument("--parts", default="methods,parameter,eye,trace,state,bad,bench")
+    parser.add_argument("--bench-methods", help="comma-separated methods to time (default: every in-view method)")
+    parser.add_argument("--bench-size", type=int, default=512, help="square view size of the bench")
     args = parser.parse_args()
     import inspect
     if not hasattr(inspect, "getargspec"):  # ParaView 5.11's plugin loader on Python 3.11
@@ -445,7 +482,9 @@ def main():
         report["bad"] = bad_part(directory, plain_view((WIDTH, HEIGHT)), png)
     if "bench" in parts:
         reader, _ = fresh()
-        report["bench"] = bench_part(reader, image, png)
+        report["bench"] = bench_part(reader, image, png, args.bench_methods.split(",") if args.bench_methods
+                                     else [n for n, m in mipcast.METHODS.items() if m.in_view],
+                                     size=(args.bench_size, args.bench_size))
     if "state" in parts:  # last: it resets the session
         report["state"] = state_part(path, (WIDTH, HEIGHT), png, args.plugin)
     report["png_dir"] = png_dir
