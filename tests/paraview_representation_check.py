@@ -228,6 +228,47 @@ def parameter_part(reader, image, view, png):
                 parity=compare(after, ref))
 
 
+def slab_part(reader, image, view, png, methods=("mip", "analytic")):
+    """The slab from the panel: thickness with centre and normal following the camera (the
+    default), then a fixed centre, then a fixed normal; each picture against the offscreen view
+    with the same settings, and each change must move the picture."""
+    display = show_mipcast(reader, view, methods[0])
+    set_camera(view)
+    bounds = image.GetBounds()
+    centre = [0.5 * (bounds[2 * i] + bounds[2 * i + 1]) for i in range(3)]
+    thickness = 0.25 * (bounds[1] - bounds[0])
+    moved = [centre[0] + 0.25 * (bounds[1] - bounds[0]), centre[1], centre[2]]
+    normal = [1.0, 0.0, 0.0]
+    report = {}
+    for method in methods:
+        display.MipcastMethod = method
+        whole = screenshot(view, png(f"slab_{method}_whole"))
+        steps = {}
+        setattr(display, f"{method}_slab_thickness", thickness)
+        steps["camera"] = (screenshot(view, png(f"rep_slab_{method}_camera")), dict(slab_thickness=thickness))
+        setattr(display, f"{method}_slab_centre", moved)
+        setattr(display, f"{method}_slab_centre_follows_camera", 0)
+        steps["centre"] = (screenshot(view, png(f"rep_slab_{method}_centre")),
+                           dict(slab_thickness=thickness, slab_centre=tuple(moved)))
+        setattr(display, f"{method}_slab_normal", normal)
+        setattr(display, f"{method}_slab_normal_follows_camera", 0)
+        steps["normal"] = (screenshot(view, png(f"rep_slab_{method}_normal")),
+                           dict(slab_thickness=thickness, slab_centre=tuple(moved), slab_normal=tuple(normal)))
+        result, previous = {}, whole
+        for name, (pixels, settings) in steps.items():
+            ref, _ = reference(image, method, view, **settings)
+            write_png(png(f"ref_slab_{method}_{name}"), ref)
+            result[name] = dict(compare(pixels, ref), changed_share=changed_share(previous, pixels))
+            previous = pixels
+        setattr(display, f"{method}_slab_normal_follows_camera", 1)
+        setattr(display, f"{method}_slab_centre_follows_camera", 1)
+        back = screenshot(view, png(f"slab_{method}_back"))
+        result["follows_again"] = compare(back, steps["camera"][0])
+        setattr(display, f"{method}_slab_thickness", 0.0)
+        report[method] = result
+    return report
+
+
 def eye_part(reader, image, view, png):
     from paraview.simple import Hide, Show
 
@@ -432,7 +473,7 @@ def main():
     parser.add_argument("--png-dir")
     parser.add_argument("--server", help="HOST:PORT of a running pvserver")
     parser.add_argument("--methods", help="comma-separated methods (default: all of mipcast.METHODS)")
-    parser.add_argument("--parts", default="methods,parameter,eye,trace,state,bad,bench")
+    parser.add_argument("--parts", default="methods,parameter,slab,eye,trace,state,bad,bench")
     parser.add_argument("--bench-methods", help="comma-separated methods to time (default: every in-view method)")
     parser.add_argument("--bench-size", type=int, default=512, help="square view size of the bench")
     args = parser.parse_args()
@@ -473,7 +514,8 @@ def main():
                                          else [n for n, m in mipcast.METHODS.items() if m.in_view],
                                          stats=not args.server)
         Delete(view)
-    for name, part in (("parameter", parameter_part), ("eye", eye_part), ("trace", trace_part)):
+    for name, part in (("parameter", parameter_part), ("slab", slab_part), ("eye", eye_part),
+                       ("trace", trace_part)):
         if name in parts:
             reader, view = fresh()
             report[name] = part(reader, image, view, png)

@@ -53,6 +53,13 @@ def test_plugin_methods_lists_every_method_with_getter_defaults():
                 continue
             assert parameter in listed, (name, parameter)
         for p in method["parameters"]:
+            if p["name"].endswith(mipcast_representation.FOLLOWS):  # on = the mapper's None
+                getter = getattr(mapper, "Get" + setter_name(p["name"][:-len(mipcast_representation.FOLLOWS)])[3:])
+                assert p["default"] is True and getter() is None, (name, p["name"])
+                continue
+            if p["name"] in mipcast_representation.FOLLOWING:
+                assert p["size"] == 3 and len(p["default"]) == 3, (name, p["name"])
+                continue
             getter = getattr(mapper, "Get" + setter_name(p["name"])[3:], None)
             if getter is not None and p["name"] != "region_of_interest":
                 value = getter()
@@ -202,6 +209,17 @@ def test_parameter_change_changes_the_picture_without_a_new_shader(builtin):
     assert result["changed_share"] > 0.1, result
     assert result["programs_after"] == result["programs_before"] == 1, result
     _matches(result["parity"])
+
+
+@pytest.mark.parametrize("method", ("mip", "analytic"))
+def test_slab_centre_and_normal_from_the_panel_move_the_slab(builtin, method):
+    """Thickness with centre/normal following the camera, then a fixed centre, then a fixed
+    normal: each picture moves and equals the offscreen view with the same slab."""
+    result = builtin["slab"][method]
+    for step in ("camera", "centre", "normal"):
+        _matches(result[step])
+        assert result[step]["changed_share"] > 0.05, (step, result)
+    assert result["follows_again"]["within_1_share"] == 1.0, result
 
 
 def test_eye_toggle_hides_and_shows(builtin):
