@@ -269,6 +269,47 @@ def slab_part(reader, image, view, png, methods=("mip", "analytic")):
     return report
 
 
+def gaze_part(reader, image, view, png):
+    """The foveated method's gaze in the view: the panel's fixed point, a region of interest,
+    and (where the view has an interactor: builtin sessions) the mouse, each against the
+    offscreen view with that gaze."""
+    display = show_mipcast(reader, view, "foveated")
+    set_camera(view)
+    report = {}
+    centre = screenshot(view, png("gaze_centre"))
+    display.foveated_gaze_point = [0.2, 0.3]
+    fixed = screenshot(view, png("rep_gaze_point"))
+    ref, _ = reference(image, "foveated", view, gaze_point=(0.2, 0.3))
+    write_png(png("ref_gaze_point"), ref)
+    report["point"] = dict(compare(fixed, ref), changed_share=changed_share(centre, fixed))
+    bounds = image.GetBounds()
+    region = (bounds[0], 0.5 * (bounds[0] + bounds[1]), bounds[2], 0.5 * (bounds[2] + bounds[3]),
+              bounds[4], 0.5 * (bounds[4] + bounds[5]))
+    display.foveated_region_of_interest = list(region)
+    roi = screenshot(view, png("rep_gaze_region"))
+    ref, _ = reference(image, "foveated", view, region_of_interest=region)
+    write_png(png("ref_gaze_region"), ref)
+    report["region"] = dict(compare(roi, ref), changed_share=changed_share(fixed, roi))
+    display.foveated_region_of_interest = [1.0, 0.0, 1.0, 0.0, 1.0, 0.0]
+    back = screenshot(view, png("gaze_point_again"))  # the gaze point until the mouse moves
+    report["region_cleared"] = compare(back, fixed)
+    interactor = view.GetInteractor() if hasattr(view, "GetInteractor") else None
+    report["interactor"] = interactor is not None
+    if interactor is not None:
+        x, y = 120, 40  # display pixels, origin bottom left
+        interactor.SetEventPosition(x, y)
+        interactor.InvokeEvent("MouseMoveEvent")
+        mouse = screenshot(view, png("rep_gaze_mouse"))
+        gaze = ((x + 0.5) / WIDTH, (y + 0.5) / HEIGHT)
+        ref, _ = reference(image, "foveated", view, gaze_point=gaze)
+        write_png(png("ref_gaze_mouse"), ref)
+        report["mouse"] = dict(compare(mouse, ref), changed_share=changed_share(fixed, mouse))
+        display.foveated_follow_mouse = 0
+        back = screenshot(view, png("gaze_mouse_off"))
+        report["mouse_off"] = compare(back, fixed)
+    return report
+
+
 def eye_part(reader, image, view, png):
     from paraview.simple import Hide, Show
 
@@ -395,7 +436,7 @@ def bad_part(directory, view, png):
     return report
 
 
-def bench_part(reader, image, png, methods, size=(512, 512), frames=6, warmup=2):
+def bench_part(reader, image, png, methods, size=(512, 512), frames=5, warmup=1):
     """Frame times, per method: ParaView's StillRender against the offscreen view's Render
     (each + WaitForCompletion), same size and camera, interleaved frame by frame (this
     machine's load changes from second to second: each ParaView frame is divided by the
@@ -473,7 +514,7 @@ def main():
     parser.add_argument("--png-dir")
     parser.add_argument("--server", help="HOST:PORT of a running pvserver")
     parser.add_argument("--methods", help="comma-separated methods (default: all of mipcast.METHODS)")
-    parser.add_argument("--parts", default="methods,parameter,slab,eye,trace,state,bad,bench")
+    parser.add_argument("--parts", default="methods,parameter,slab,gaze,eye,trace,state,bad,bench")
     parser.add_argument("--bench-methods", help="comma-separated methods to time (default: every in-view method)")
     parser.add_argument("--bench-size", type=int, default=512, help="square view size of the bench")
     args = parser.parse_args()
@@ -514,7 +555,7 @@ def main():
                                          else [n for n, m in mipcast.METHODS.items() if m.in_view],
                                          stats=not args.server)
         Delete(view)
-    for name, part in (("parameter", parameter_part), ("slab", slab_part), ("eye", eye_part),
+    for name, part in (("parameter", parameter_part), ("slab", slab_part), ("gaze", gaze_part), ("eye", eye_part),
                        ("trace", trace_part)):
         if name in parts:
             reader, view = fresh()

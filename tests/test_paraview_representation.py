@@ -172,11 +172,12 @@ def client_server(plugin, tmp_path_factory):
     return report
 
 
-def _matches(result, projection="mip"):
+def _matches(result, projection="mip", lit=0.25):
     assert result["within_1_share"] >= MATCH, result
     # a black picture would match a black reference; the vessel phantom's MinIP (over the data
-    # range) and average (over its default window) light less of the box than its MIP
-    assert result["lit_share"] > (0.25 if projection == "mip" else 0.05), result
+    # range) and average (over its default window) light less of the box than its MIP, and so
+    # does a slab seen edge-on
+    assert result["lit_share"] > (lit if projection == "mip" else 0.05), result
     assert abs(result["lit_share"] - result["ref_lit_share"]) < 0.002, result
 
 
@@ -217,7 +218,7 @@ def test_slab_centre_and_normal_from_the_panel_move_the_slab(builtin, method):
     normal: each picture moves and equals the offscreen view with the same slab."""
     result = builtin["slab"][method]
     for step in ("camera", "centre", "normal"):
-        _matches(result[step])
+        _matches(result[step], lit=0.15)
         assert result[step]["changed_share"] > 0.05, (step, result)
     assert result["follows_again"]["within_1_share"] == 1.0, result
 

@@ -493,15 +493,29 @@ def prepare(key, volume, assign, renderer, interactor):
         if mapper.GetImageSampleDistance() != isd:
             mapper.SetImageSampleDistance(isd)
     if hasattr(mapper, "FollowMouse"):
-        follow = common.get("follow_mouse", True) and interactor is not None
-        if follow != bool(getattr(entry, "following", False)):
-            mapper.FollowMouse(interactor if follow else None)
-            entry.following = follow
-            if not follow:  # back to the panel's gaze point
-                gaze = entry.values.get(entry.method, {}).get("gaze_point")
-                if gaze is not None:
-                    mapper.SetGazePoint(*gaze)
+        _gaze_source(entry, mapper, interactor, common)
     return True
+
+
+def _gaze_source(entry, mapper, interactor, common):
+    """The foveated gaze: the region of interest when one is set, else the mouse (follow_mouse
+    on and an interactor: builtin sessions; the gaze point until the mouse first moves), else
+    the gaze point.  Setting the gaze point or clearing the region makes the mapper's source
+    "point": with follow_mouse on the mouse takes over again here."""
+    if common.get("region_of_interest") is not None:
+        return  # SetRegionOfInterest made it the source
+    follow = bool(common.get("follow_mouse", True)) and interactor is not None
+    source = mapper.GetGazeSource()
+    address = interactor.GetAddressAsString("vtkObjectBase") if follow else None
+    if follow and (source != "mouse" or getattr(entry, "interactor", None) != address):
+        mapper.FollowMouse(interactor)  # the mapper holds it weakly; so does the entry (its address)
+        entry.interactor = address
+    elif not follow and source == "mouse":
+        mapper.FollowMouse(None)  # back to the panel's gaze point
+        entry.interactor = None
+        gaze = common.get("gaze_point")
+        if gaze is not None:
+            mapper.SetGazePoint(*gaze)
 
 
 @_guarded
