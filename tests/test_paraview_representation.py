@@ -223,6 +223,21 @@ def test_slab_centre_and_normal_from_the_panel_move_the_slab(builtin, method):
     assert result["follows_again"]["within_1_share"] == 1.0, result
 
 
+def test_foveated_gaze_from_the_panel_and_the_mouse(builtin):
+    """The panel's gaze point and region of interest move the fovea (each equal to the offscreen
+    view with that gaze); in a builtin session a mouse move over the view takes the gaze
+    (foveated_follow_mouse, default on), and switching that off goes back to the gaze point."""
+    result = builtin["gaze"]
+    for step in ("point", "region"):
+        _matches(result[step])
+        assert result[step]["changed_share"] > 0.05, (step, result)
+    assert result["region_cleared"]["within_1_share"] == 1.0, result
+    assert result["interactor"], result
+    _matches(result["mouse"])
+    assert result["mouse"]["changed_share"] > 0.05, result
+    assert result["mouse_off"]["within_1_share"] == 1.0, result
+
+
 def test_eye_toggle_hides_and_shows(builtin):
     result = builtin["eye"]
     assert result["shown_lit"] > 0.25 and result["hidden_lit"] == 0.0, result
