@@ -212,6 +212,26 @@ def methods_part(reader, image, view, png, methods, stats=True):
     return report
 
 
+def tiled_part(reader, image, png, methods):
+    """A screenshot bigger than the view: ParaView renders it in tiles (the window at a divisor
+    of the size, VTK's TileScale/TileViewport); each method against the offscreen view at the
+    screenshot's size."""
+    view = plain_view((WIDTH // 2 + 32, HEIGHT // 2 + 32))  # 112 x 96: 2 x 2 tiles of 80 x 64
+    display = show_mipcast(reader, view)
+    set_camera(view)
+    report = {}
+    for method in methods:
+        display.MipcastMethod = method
+        projection_range(display, image, method)
+        pv = screenshot(view, png(f"rep_tiled_{method}"))
+        ref, _ = reference(image, method, view)
+        write_png(png(f"ref_tiled_{method}"), ref)
+        report[method] = compare(pv, ref)
+    from paraview.simple import Delete
+    Delete(view)
+    return report
+
+
 def parameter_part(reader, image, view, png):
     display = show_mipcast(reader, view, "demip")
     set_camera(view)
@@ -514,7 +534,7 @@ def main():
     parser.add_argument("--png-dir")
     parser.add_argument("--server", help="HOST:PORT of a running pvserver")
     parser.add_argument("--methods", help="comma-separated methods (default: all of mipcast.METHODS)")
-    parser.add_argument("--parts", default="methods,parameter,slab,gaze,eye,trace,state,bad,bench")
+    parser.add_argument("--parts", default="methods,tiled,parameter,slab,gaze,eye,trace,state,bad,bench")
     parser.add_argument("--bench-methods", help="comma-separated methods to time (default: every in-view method)")
     parser.add_argument("--bench-size", type=int, default=512, help="square view size of the bench")
     args = parser.parse_args()
@@ -555,6 +575,10 @@ def main():
                                          else [n for n, m in mipcast.METHODS.items() if m.in_view],
                                          stats=not args.server)
         Delete(view)
+    if "tiled" in parts:
+        reader, _ = fresh()
+        report["tiled"] = tiled_part(reader, image, png, args.methods.split(",") if args.methods
+                                     else [n for n, m in mipcast.METHODS.items() if m.in_view])
     for name, part in (("parameter", parameter_part), ("slab", slab_part), ("gaze", gaze_part), ("eye", eye_part),
                        ("trace", trace_part)):
         if name in parts:

@@ -197,6 +197,22 @@ def test_representation_matches_offscreen_render(builtin, method):
     _matches(builtin["methods"][method], _projection(method))
 
 
+#: Methods not at parity in a tiled screenshot, and why (measured, see plugin/README.md).
+TILED_GAPS = {
+    "cpu": "VTK's CPU ray caster leaves dark seams between the tiles",
+    "foveated": "the fovea and rings are placed for the whole picture, but the peripheral levels "
+                "differ from the untiled render",
+}
+
+
+@pytest.mark.parametrize("method", PARITY)
+def test_tiled_screenshot_matches_offscreen_render(builtin, method):
+    """SaveScreenshot bigger than the view: ParaView renders 2 x 2 tiles."""
+    if method in TILED_GAPS:
+        pytest.xfail(TILED_GAPS[method])
+    _matches(builtin["tiled"][method], _projection(method))
+
+
 def test_each_method_draws_with_its_mipcast_mapper(builtin):
     mappers = {m: r["mapper"] for m, r in builtin["methods"].items() if not m.startswith("_")}
     assert mappers["mip"] == "MIPVolumeMapper"
