@@ -442,7 +442,8 @@ def _draw(mapper, state, volume, renderer) -> None:
     viewport = (x0[0], y0[0], max(width[0], 1), max(height[0], 1))
     camera = renderer.GetActiveCamera()
     whole, to_tile, tile_scale = _whole_viewport(renderer, viewport)
-    gaze, radius = _current_gaze(state, renderer, camera, whole)
+    whole_camera = _whole_camera(camera, renderer) if tile_scale != 1.0 else camera
+    gaze, radius = _current_gaze(state, renderer, whole_camera, whole)
     state["gaze"] = gaze
     foveate = params["foveation"]
     if params["progressive"]:
@@ -455,7 +456,7 @@ def _draw(mapper, state, volume, renderer) -> None:
     # a tile of a bigger picture (SaveScreenshot beyond the window's size): the plan is made in
     # this tile's viewport, with the gaze, radius and falloff of the whole picture carried over
     plan = foveation.plan_frame(viewport, to_tile(gaze), radius * tile_scale, params["falloff"] * tile_scale,
-                                params["number_of_levels"], foveate, _level_cap(image, volume, camera, whole),
+                                params["number_of_levels"], foveate, _level_cap(image, volume, whole_camera, whole),
                                 base_isd)
     tolerance = float(params["content_tolerance"])
     adaptive = tolerance > 0 and len(plan.layers) > 1
@@ -463,7 +464,7 @@ def _draw(mapper, state, volume, renderer) -> None:
         plan = content_adaptive.adaptive_plan(plan)
     cells = _walks_cells(params["method"])
     spacings = volume_pyramid.pyramid_voxel_sizes(image, params["number_of_levels"])
-    world_per_pixel = _world_per_pixel(camera, volume, whole)
+    world_per_pixel = _world_per_pixel(whole_camera, volume, whole)
     readout = bool(state.get("exact_readout"))
     drawn = state.setdefault("levels_drawn", {})
     layers, values = [], {}
@@ -762,6 +763,23 @@ def _whole_viewport(renderer, viewport):
 
     whole = (int(round(rx0)), int(round(ry0)), int(round(rw)), int(round(rh)))
     return whole, to_tile, rh / height
+
+
+def _whole_camera(camera, renderer):
+    """The camera of the whole picture while a tile renders: vtkWindowToImageFilter narrows the
+    view angle (``2 atan(tan(a / 2) / scale)``) or the parallel scale by the tile scale and moves
+    the window centre for each tile; undone here (the whole picture's window centre taken as
+    the middle)."""
+    scale = float(renderer.GetRenderWindow().GetTileScale()[1])
+    whole = vtkCamera()
+    whole.DeepCopy(camera)
+    whole.SetWindowCenter(0.0, 0.0)
+    if camera.GetParallelProjection():
+        whole.SetParallelScale(camera.GetParallelScale() * scale)
+    else:
+        half = math.tan(math.radians(camera.GetViewAngle()) / 2.0) * scale
+        whole.SetViewAngle(math.degrees(2.0 * math.atan(half)))
+    return whole
 
 
 def _current_gaze(state, renderer, camera, viewport):
