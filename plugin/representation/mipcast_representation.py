@@ -482,7 +482,9 @@ def prepare(key, volume, assign, renderer, interactor):
         from mipcast.methods import attach
         attach(entry.mapper, volume)
     mapper = entry.mapper
-    _apply(entry, entry.values.get(entry.method, {}))
+    # no per-frame _apply: set_value applies a value of the drawing method at once and
+    # _new_mapper applies all of a method's values (a refused value is reported once, not
+    # at every frame)
     common = entry.applied
     spacing = min(abs(s) for s in image.GetSpacing()) or 1.0
     distance = common.get("common_sample_distance", 0.0) or spacing
