@@ -170,7 +170,26 @@ def lit(pixels):
 
 
 # -- parts --------------------------------------------------------------------------------------
+def projection_range(display, image, method):
+    """Colour the array over the data range, the average projection over its default window
+    (its picture is dark over the data range); returns the range set."""
+    import mipcast
+    from mipcast.core.windowing import default_window
+    from paraview.simple import GetColorTransferFunction, GetOpacityTransferFunction
+
+    projection = mipcast.METHODS[method].projection
+    if projection == "average":
+        low, high = default_window(image, projection)
+    else:
+        low, high = image.GetPointData().GetScalars().GetRange()
+    GetColorTransferFunction(ARRAY).RescaleTransferFunction(low, high)
+    GetOpacityTransferFunction(ARRAY).RescaleTransferFunction(low, high)
+    return low, high
+
+
 def methods_part(reader, image, view, png, methods, stats=True):
+    """Every method's screenshot against the offscreen view (the view is the screenshot's size:
+    a bigger screenshot makes ParaView render tiles, see ``tiled_part``)."""
     import mipcast
 
     report = {}
@@ -178,6 +197,7 @@ def methods_part(reader, image, view, png, methods, stats=True):
     set_camera(view)
     for method in methods:
         display.MipcastMethod = method
+        projection_range(display, image, method)
         pv = screenshot(view, png(f"rep_{method}"))
         ref, _ = reference(image, method, view)
         write_png(png(f"ref_{method}"), ref)
@@ -189,6 +209,26 @@ def methods_part(reader, image, view, png, methods, stats=True):
                                .GetString(i) for i in range(
         display.GetProperty("MipcastMethod").SMProperty.GetDomain("list").GetNumberOfStrings()))
     report["_methods"] = sorted(mipcast.METHODS)
+    return report
+
+
+def tiled_part(reader, image, png, methods):
+    """A screenshot bigger than the view: ParaView renders it in tiles (the window at a divisor
+    of the size, VTK's TileScale/TileViewport); each method against the offscreen view at the
+    screenshot's size."""
+    view = plain_view((WIDTH // 2 + 32, HEIGHT // 2 + 32))  # 112 x 96: 2 x 2 tiles of 80 x 64
+    display = show_mipcast(reader, view)
+    set_camera(view)
+    report = {}
+    for method in methods:
+        display.MipcastMethod = method
+        projection_range(display, image, method)
+        pv = screenshot(view, png(f"rep_tiled_{method}"))
+        ref, _ = reference(image, method, view)
+        write_png(png(f"ref_tiled_{method}"), ref)
+        report[method] = compare(pv, ref)
+    from paraview.simple import Delete
+    Delete(view)
     return report
 
 
@@ -206,6 +246,88 @@ def parameter_part(reader, image, view, png):
     return dict(changed_share=changed_share(before, after), programs_before=programs,
                 programs_after=stats["programs"], renders=stats["renders"],
                 parity=compare(after, ref))
+
+
+def slab_part(reader, image, view, png, methods=("mip", "analytic")):
+    """The slab from the panel: thickness with centre and normal following the camera (the
+    default), then a fixed centre, then a fixed normal; each picture against the offscreen view
+    with the same settings, and each change must move the picture."""
+    display = show_mipcast(reader, view, methods[0])
+    set_camera(view)
+    bounds = image.GetBounds()
+    centre = [0.5 * (bounds[2 * i] + bounds[2 * i + 1]) for i in range(3)]
+    thickness = 0.25 * (bounds[1] - bounds[0])
+    moved = [centre[0] + 0.25 * (bounds[1] - bounds[0]), centre[1], centre[2]]
+    normal = [1.0, 0.0, 0.0]
+    report = {}
+    for method in methods:
+        display.MipcastMethod = method
+        whole = screenshot(view, png(f"slab_{method}_whole"))
+        steps = {}
+        setattr(display, f"{method}_slab_thickness", thickness)
+        steps["camera"] = (screenshot(view, png(f"rep_slab_{method}_camera")), dict(slab_thickness=thickness))
+        setattr(display, f"{method}_slab_centre", moved)
+        setattr(display, f"{method}_slab_centre_follows_camera", 0)
+        steps["centre"] = (screenshot(view, png(f"rep_slab_{method}_centre")),
+                           dict(slab_thickness=thickness, slab_centre=tuple(moved)))
+        setattr(display, f"{method}_slab_normal", normal)
+        setattr(display, f"{method}_slab_normal_follows_camera", 0)
+        steps["normal"] = (screenshot(view, png(f"rep_slab_{method}_normal")),
+                           dict(slab_thickness=thickness, slab_centre=tuple(moved), slab_normal=tuple(normal)))
+        result, previous = {}, whole
+        for name, (pixels, settings) in steps.items():
+            ref, _ = reference(image, method, view, **settings)
+            write_png(png(f"ref_slab_{method}_{name}"), ref)
+            result[name] = dict(compare(pixels, ref), changed_share=changed_share(previous, pixels))
+            previous = pixels
+        setattr(display, f"{method}_slab_normal_follows_camera", 1)
+        setattr(display, f"{method}_slab_centre_follows_camera", 1)
+        back = screenshot(view, png(f"slab_{method}_back"))
+        result["follows_again"] = compare(back, steps["camera"][0])
+        setattr(display, f"{method}_slab_thickness", 0.0)
+        report[method] = result
+    return report
+
+
+def gaze_part(reader, image, view, png):
+    """The foveated method's gaze in the view: the panel's fixed point, a region of interest,
+    and (where the view has an interactor: builtin sessions) the mouse, each against the
+    offscreen view with that gaze."""
+    display = show_mipcast(reader, view, "foveated")
+    set_camera(view)
+    report = {}
+    centre = screenshot(view, png("gaze_centre"))
+    display.foveated_gaze_point = [0.2, 0.3]
+    fixed = screenshot(view, png("rep_gaze_point"))
+    ref, _ = reference(image, "foveated", view, gaze_point=(0.2, 0.3))
+    write_png(png("ref_gaze_point"), ref)
+    report["point"] = dict(compare(fixed, ref), changed_share=changed_share(centre, fixed))
+    bounds = image.GetBounds()
+    region = (bounds[0], 0.5 * (bounds[0] + bounds[1]), bounds[2], 0.5 * (bounds[2] + bounds[3]),
+              bounds[4], 0.5 * (bounds[4] + bounds[5]))
+    display.foveated_region_of_interest = list(region)
+    roi = screenshot(view, png("rep_gaze_region"))
+    ref, _ = reference(image, "foveated", view, region_of_interest=region)
+    write_png(png("ref_gaze_region"), ref)
+    report["region"] = dict(compare(roi, ref), changed_share=changed_share(fixed, roi))
+    display.foveated_region_of_interest = [1.0, 0.0, 1.0, 0.0, 1.0, 0.0]
+    back = screenshot(view, png("gaze_point_again"))  # the gaze point until the mouse moves
+    report["region_cleared"] = compare(back, fixed)
+    interactor = view.GetInteractor() if hasattr(view, "GetInteractor") else None
+    report["interactor"] = interactor is not None
+    if interactor is not None:
+        x, y = 120, 40  # display pixels, origin bottom left
+        interactor.SetEventPosition(x, y)
+        interactor.InvokeEvent("MouseMoveEvent")
+        mouse = screenshot(view, png("rep_gaze_mouse"))
+        gaze = ((x + 0.5) / WIDTH, (y + 0.5) / HEIGHT)
+        ref, _ = reference(image, "foveated", view, gaze_point=gaze)
+        write_png(png("ref_gaze_mouse"), ref)
+        report["mouse"] = dict(compare(mouse, ref), changed_share=changed_share(fixed, mouse))
+        display.foveated_follow_mouse = 0
+        back = screenshot(view, png("gaze_mouse_off"))
+        report["mouse_off"] = compare(back, fixed)
+    return report
 
 
 def eye_part(reader, image, view, png):
@@ -334,13 +456,19 @@ def bad_part(directory, view, png):
     return report
 
 
-def bench_part(reader, image, png, method="mip", size=(512, 512), frames=8):
-    """Median frame times: ParaView's StillRender vs the offscreen view's Render, and the
-    volume renderer's own time (``GetLastRenderTimeInSeconds``) in each, same size and camera."""
+def bench_part(reader, image, png, methods, size=(512, 512), frames=5, warmup=1):
+    """Frame times, per method: ParaView's StillRender against the offscreen view's Render
+    (each + WaitForCompletion), same size and camera, interleaved frame by frame (this
+    machine's load changes from second to second: each ParaView frame is divided by the
+    offscreen frame right after it and the median of those ratios is reported), and the
+    renderers' own ``GetLastRenderTimeInSeconds``.  Then ParaView's fixed cost: the same view
+    with nothing shown against an empty offscreen window of the same size."""
+    from paraview.simple import Hide
+    from vtkmodules.vtkRenderingCore import vtkRenderWindow, vtkRenderer
+
     view = plain_view(size)
-    show_mipcast(reader, view, method)
+    display = show_mipcast(reader, view, methods[0])
     set_camera(view)
-    screenshot(view, png("bench_view"), size)
     window = view.GetRenderWindow()
     renderer = view.GetRenderer()
 
@@ -348,27 +476,56 @@ def bench_part(reader, image, png, method="mip", size=(512, 512), frames=8):
         view.StillRender()
         window.WaitForCompletion()
 
-    for _ in range(3):
-        paraview_frame()
-    times, renderer_times = [], []
-    for _ in range(frames):
+    def timed(frame):
         start = time.perf_counter()
+        frame()
+        return time.perf_counter() - start
+
+    report = dict(size=list(size), frames=frames, offscreen_paraview=bool(window.GetOffScreenRendering()),
+                  methods={})
+    for method in methods:
+        display.MipcastMethod = method
+        screenshot(view, png(f"bench_{method}"), size)
+        _, scene = reference(image, method, view, size=size)
+        for _ in range(warmup):
+            paraview_frame()
+            scene._render_and_wait()
+        pv, off, pv_r, off_r = [], [], [], []
+        for _ in range(frames):
+            pv.append(timed(paraview_frame))
+            pv_r.append(renderer.GetLastRenderTimeInSeconds())
+            off.append(timed(scene._render_and_wait))
+            off_r.append(scene.renderer.GetLastRenderTimeInSeconds())
+        ratios = np.array(pv) / np.array(off)
+        report["methods"][method] = dict(
+            paraview_s=float(np.median(pv)), offscreen_s=float(np.median(off)),
+            ratio=float(np.median(ratios)), ratio_of_minima=float(min(pv) / min(off)),
+            renderer_ratio=float(np.median(np.array(pv_r) / np.array(off_r))))
+        scene.render_window.Finalize()
+        del scene
+    Hide(reader, view)
+    empty = vtkRenderWindow()
+    empty.SetOffScreenRendering(1)
+    empty.SetSize(*size)
+    empty.AddRenderer(vtkRenderer())
+
+    def empty_frame():
+        empty.Render()
+        empty.WaitForCompletion()
+
+    for _ in range(warmup):
         paraview_frame()
-        times.append(time.perf_counter() - start)
-        renderer_times.append(renderer.GetLastRenderTimeInSeconds())
-    _, scene = reference(image, method, view, size=size)
-    offscreen, offscreen_renderer = [], []
-    for _ in range(3):
-        scene._render_and_wait()
+        empty_frame()
+    pv, off = [], []
     for _ in range(frames):
-        start = time.perf_counter()
-        scene._render_and_wait()
-        offscreen.append(time.perf_counter() - start)
-        offscreen_renderer.append(scene.renderer.GetLastRenderTimeInSeconds())
-    pv, off = float(np.median(times)), float(np.median(offscreen))
-    pv_r, off_r = float(np.median(renderer_times)), float(np.median(offscreen_renderer))
-    return dict(method=method, size=list(size), paraview_s=pv, offscreen_s=off, ratio=pv / off,
-                paraview_renderer_s=pv_r, offscreen_renderer_s=off_r, renderer_ratio=pv_r / off_r)
+        pv.append(timed(paraview_frame))
+        off.append(timed(empty_frame))
+    report["empty"] = dict(paraview_s=float(np.median(pv)), offscreen_s=float(np.median(off)))
+    empty.Finalize()
+    first = report["methods"][methods[0]]
+    report.update(method=methods[0], paraview_s=first["paraview_s"], offscreen_s=first["offscreen_s"],
+                  ratio=first["ratio"], renderer_ratio=first["renderer_ratio"])
+    return report
 
 
 def main():
@@ -377,7 +534,9 @@ def main():
     parser.add_argument("--png-dir")
     parser.add_argument("--server", help="HOST:PORT of a running pvserver")
     parser.add_argument("--methods", help="comma-separated methods (default: all of mipcast.METHODS)")
-    parser.add_argument("--parts", default="methods,parameter,eye,trace,state,bad,bench")
+    parser.add_argument("--parts", default="methods,tiled,parameter,slab,gaze,eye,trace,state,bad,bench")
+    parser.add_argument("--bench-methods", help="comma-separated methods to time (default: every in-view method)")
+    parser.add_argument("--bench-size", type=int, default=512, help="square view size of the bench")
     args = parser.parse_args()
     import inspect
     if not hasattr(inspect, "getargspec"):  # ParaView 5.11's plugin loader on Python 3.11
@@ -407,24 +566,32 @@ def main():
     def fresh():
         reader = OpenDataFile(path)
         reader.PointArrayStatus = [ARRAY]
-        return reader, plain_view()
+        return reader, plain_view((WIDTH, HEIGHT))
 
     import mipcast
     if "methods" in parts:
         reader, view = fresh()
-        report["methods"] = methods_part(reader, image, view, png, args.methods.split(",") if args.methods else list(mipcast.METHODS),
+        report["methods"] = methods_part(reader, image, view, png, args.methods.split(",") if args.methods
+                                         else [n for n, m in mipcast.METHODS.items() if m.in_view],
                                          stats=not args.server)
         Delete(view)
-    for name, part in (("parameter", parameter_part), ("eye", eye_part), ("trace", trace_part)):
+    if "tiled" in parts:
+        reader, _ = fresh()
+        report["tiled"] = tiled_part(reader, image, png, args.methods.split(",") if args.methods
+                                     else [n for n, m in mipcast.METHODS.items() if m.in_view])
+    for name, part in (("parameter", parameter_part), ("slab", slab_part), ("gaze", gaze_part), ("eye", eye_part),
+                       ("trace", trace_part)):
         if name in parts:
             reader, view = fresh()
             report[name] = part(reader, image, view, png)
             Delete(view)
     if "bad" in parts:
-        report["bad"] = bad_part(directory, plain_view(), png)
+        report["bad"] = bad_part(directory, plain_view((WIDTH, HEIGHT)), png)
     if "bench" in parts:
         reader, _ = fresh()
-        report["bench"] = bench_part(reader, image, png)
+        report["bench"] = bench_part(reader, image, png, args.bench_methods.split(",") if args.bench_methods
+                                     else [n for n, m in mipcast.METHODS.items() if m.in_view],
+                                     size=(args.bench_size, args.bench_size))
     if "state" in parts:  # last: it resets the session
         report["state"] = state_part(path, (WIDTH, HEIGHT), png, args.plugin)
     report["png_dir"] = png_dir

@@ -30,8 +30,9 @@ CHECK = ROOT / "tests" / "paraview_representation_check.py"
 GUI = ROOT / "tests" / "paraview_representation_gui.py"
 #: Share of pixels within 1 grey level of the offscreen render.
 MATCH = 0.999
-#: Methods whose picture must equal mipcast's offscreen render.
-PARITY = ("mip", "analytic", "demip", "demip_two_pass", "stock")
+#: Methods whose picture must equal mipcast's offscreen render: every method of the table that
+#: renders in a view.
+PARITY = tuple(name for name, method in __import__("mipcast").METHODS.items() if method.in_view)
 
 sys.path.insert(0, str(GLUE_DIR))
 import mipcast_representation  # noqa: E402  (build-time half: no ParaView needed)
@@ -52,6 +53,13 @@ def test_plugin_methods_lists_every_method_with_getter_defaults():
                 continue
             assert parameter in listed, (name, parameter)
         for p in method["parameters"]:
+            if p["name"].endswith(mipcast_representation.FOLLOWS):  # on = the mapper's None
+                getter = getattr(mapper, "Get" + setter_name(p["name"][:-len(mipcast_representation.FOLLOWS)])[3:])
+                assert p["default"] is True and getter() is None, (name, p["name"])
+                continue
+            if p["name"] in mipcast_representation.FOLLOWING:
+                assert p["size"] == 3 and len(p["default"]) == 3, (name, p["name"])
+                continue
             getter = getattr(mapper, "Get" + setter_name(p["name"])[3:], None)
             if getter is not None and p["name"] != "region_of_interest":
                 value = getter()
@@ -164,9 +172,19 @@ def client_server(plugin, tmp_path_factory):
     return report
 
 
-def _matches(result):
+def _matches(result, projection="mip", lit=0.25):
     assert result["within_1_share"] >= MATCH, result
-    assert result["lit_share"] > 0.25, result  # a black picture would match a black reference
+    # a black picture would match a black reference; the vessel phantom's MinIP (over the data
+    # range) and average (over its default window) light less of the box than its MIP, and so
+    # does a slab seen edge-on
+    assert result["lit_share"] > (lit if projection == "mip" else 0.05), result
+    assert abs(result["lit_share"] - result["ref_lit_share"]) < 0.002, result
+
+
+def _projection(method):
+    import mipcast
+
+    return mipcast.METHODS[method].projection
 
 
 # -- pvpython, builtin session ------------------------------------------------------------------
@@ -176,7 +194,23 @@ def test_every_method_is_in_the_method_list(builtin):
 
 @pytest.mark.parametrize("method", PARITY)
 def test_representation_matches_offscreen_render(builtin, method):
-    _matches(builtin["methods"][method])
+    _matches(builtin["methods"][method], _projection(method))
+
+
+#: Methods not at parity in a tiled screenshot, and why (measured, see plugin/README.md).
+TILED_GAPS = {
+    "cpu": "VTK's CPU ray caster leaves dark seams between the tiles",
+    "foveated": "99.6 %: each tile stretches its own coarse levels, so pixels along the seams "
+                "differ from the untiled render",
+}
+
+
+@pytest.mark.parametrize("method", PARITY)
+def test_tiled_screenshot_matches_offscreen_render(builtin, method):
+    """SaveScreenshot bigger than the view: ParaView renders 2 x 2 tiles."""
+    if method in TILED_GAPS:
+        pytest.xfail(TILED_GAPS[method])
+    _matches(builtin["tiled"][method], _projection(method))
 
 
 def test_each_method_draws_with_its_mipcast_mapper(builtin):
@@ -192,6 +226,32 @@ def test_parameter_change_changes_the_picture_without_a_new_shader(builtin):
     assert result["changed_share"] > 0.1, result
     assert result["programs_after"] == result["programs_before"] == 1, result
     _matches(result["parity"])
+
+
+@pytest.mark.parametrize("method", ("mip", "analytic"))
+def test_slab_centre_and_normal_from_the_panel_move_the_slab(builtin, method):
+    """Thickness with centre/normal following the camera, then a fixed centre, then a fixed
+    normal: each picture moves and equals the offscreen view with the same slab."""
+    result = builtin["slab"][method]
+    for step in ("camera", "centre", "normal"):
+        _matches(result[step], lit=0.15)
+        assert result[step]["changed_share"] > 0.05, (step, result)
+    assert result["follows_again"]["within_1_share"] == 1.0, result
+
+
+def test_foveated_gaze_from_the_panel_and_the_mouse(builtin):
+    """The panel's gaze point and region of interest move the fovea (each equal to the offscreen
+    view with that gaze); in a builtin session a mouse move over the view takes the gaze
+    (foveated_follow_mouse, default on), and switching that off goes back to the gaze point."""
+    result = builtin["gaze"]
+    for step in ("point", "region"):
+        _matches(result[step])
+        assert result[step]["changed_share"] > 0.05, (step, result)
+    assert result["region_cleared"]["within_1_share"] == 1.0, result
+    assert result["interactor"], result
+    _matches(result["mouse"])
+    assert result["mouse"]["changed_share"] > 0.05, result
+    assert result["mouse_off"]["within_1_share"] == 1.0, result
 
 
 def test_eye_toggle_hides_and_shows(builtin):
@@ -258,7 +318,7 @@ def test_frame_time_close_to_offscreen_view(builtin):
 def test_client_server_picture_equals_builtin(client_server, builtin, method):
     assert client_server["session"] == "client-server"
     assert "Client connected" in client_server["server_log"]
-    _matches(client_server["methods"][method])
+    _matches(client_server["methods"][method], _projection(method))
     import numpy as np
     from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.vtkIOImage import vtkPNGReader

@@ -103,7 +103,7 @@ class Layer(NamedTuple):
     #: GL scissor box (x, y, width, height) around the rays this level casts,
     #: or None.  A level with a reduced grid is drawn into its own buffer
     #: (grid pixels) and then stretched over the window, both under the one
-    #: scissor box: it holds the disc in both pixel spaces.
+    #: scissor box: it holds the disc in both pixel spaces, and the origin.
     scissor: Optional[Tuple[int, int, int, int]]
 
 
@@ -164,7 +164,7 @@ def plan_frame(viewport: Sequence[int], gaze: Sequence[float], radius: float, fa
     >>> [(l.level, l.grid) for l in plan.layers]
     [(2, (128, 128)), (1, (256, 256)), (0, (512, 512))]
     >>> plan.layers[-1].scissor, plan.layers[1].scissor  # level 1: its buffer and the window
-    ((179, 179, 154, 154), (70, 70, 300, 300))
+    ((179, 179, 154, 154), (0, 0, 370, 370))
     >>> round(plan.layers[-1].cast_to - plan.start, 4)  # level 0 stops where lam reaches 1
     0.0333
     >>> [l.level for l in plan_frame((0, 0, 512, 512), (0.5, 0.5), 2.0, 0.1).layers]
@@ -204,6 +204,11 @@ def plan_frame(viewport: Sequence[int], gaze: Sequence[float], radius: float, fa
                 continue
             if grid != (width, height):  # drawn into a reduced buffer, then stretched over the window
                 scissor = _union(scissor, _disc_box(0, 0, grid[0], grid[1], gx, gy, cast_to, aspect))
+                # from the origin: VTK clears the reduced buffer under this box only, and stretches
+                # buffer texel p / 2**level onto window pixel p; a box holding the origin holds
+                # p / 2**level for each of its p, so no texel of an earlier frame (another gaze)
+                # is stretched into the picture
+                scissor = _union(scissor, (0, 0, 1, 1))
         layers.append(Layer(level, base_sample_distance * 2 ** level, grid, cast_from, cast_to, scissor))
     return Plan((x0, y0, width, height), (gx, gy), aspect, start, gain, top, tuple(layers))
 

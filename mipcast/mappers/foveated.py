@@ -454,18 +454,22 @@ def _draw(mapper, state, volume, renderer) -> None:
     renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
     viewport = (x0[0], y0[0], max(width[0], 1), max(height[0], 1))
     camera = renderer.GetActiveCamera()
-    gaze, radius = _current_gaze(state, renderer, camera, viewport)
+    whole, to_tile, tile_scale = _whole_viewport(renderer, viewport)
+    whole_camera = _whole_camera(camera, renderer) if tile_scale != 1.0 else camera
+    gaze, radius = _current_gaze(state, renderer, whole_camera, whole)
     state["gaze"] = gaze
     foveate = params["foveation"]
     if params["progressive"]:
-        radius, foveate = _refine(state, params, image, volume, camera, viewport, gaze, radius)
+        radius, foveate = _refine(state, params, image, volume, camera, whole, gaze, radius)
     else:
         state.pop("refine_step", None)
     auto = bool(mapper.GetAutoAdjustSampleDistances())
     base_isd = 1.0 if auto else float(mapper.GetImageSampleDistance())
     base_distance = _auto_sample_distance(image, volume) if auto else float(mapper.GetSampleDistance())
-    plan = foveation.plan_frame(viewport, gaze, radius, params["falloff"], params["number_of_levels"],
-                                foveate, _level_cap(image, volume, camera, viewport),
+    # a tile of a bigger picture (SaveScreenshot beyond the window's size): the plan is made in
+    # this tile's viewport, with the gaze, radius and falloff of the whole picture carried over
+    plan = foveation.plan_frame(viewport, to_tile(gaze), radius * tile_scale, params["falloff"] * tile_scale,
+                                params["number_of_levels"], foveate, _level_cap(image, volume, whole_camera, whole),
                                 base_isd)
     tolerance = float(params["content_tolerance"])
     adaptive = tolerance > 0 and len(plan.layers) > 1
@@ -473,7 +477,7 @@ def _draw(mapper, state, volume, renderer) -> None:
         plan = content_adaptive.adaptive_plan(plan)
     cells = _walks_cells(params["method"])
     spacings = volume_pyramid.pyramid_voxel_sizes(image, params["number_of_levels"])
-    world_per_pixel = _world_per_pixel(camera, volume, viewport)
+    world_per_pixel = _world_per_pixel(whole_camera, volume, whole)
     readout = bool(state.get("exact_readout"))
     drawn = state.setdefault("levels_drawn", {})
     layers, values = [], {}
@@ -782,6 +786,52 @@ def _level_values(level_mapper, grid) -> np.ndarray:
     columns, rows, _ = image.GetDimensions()
     normalised = float_readout.decode(vtk_to_numpy(scalars).reshape(rows, columns)[::-1])
     return float_readout.to_data_units(normalised, level_mapper.GetRenderedInput().GetPointData().GetScalars())
+
+
+def _whole_viewport(renderer, viewport):
+    """(whole, to_tile, scale): the renderer's viewport in the whole picture's pixels, a function
+    taking a gaze in its normalised coordinates to this tile's, and the whole viewport's height
+    in tile viewport heights.  Without tiles (a window's TileScale of 1): ``viewport``, the
+    identity and 1.
+
+    A tile's pixels are the whole picture's pixels (VTK's tiles: TileScale, TileViewport), so
+    eccentricities measured in the tile's viewport heights are ``scale`` times the whole
+    picture's, across and up alike (the tile's aspect ratio is its own).
+    """
+    window = renderer.GetRenderWindow()
+    sx, sy = window.GetTileScale()
+    if (sx, sy) == (1, 1):
+        return viewport, (lambda gaze: gaze), 1.0
+    columns, rows = window.GetSize()  # the whole picture (the window's size times the tile scale)
+    tile = window.GetTileViewport()
+    vp = renderer.GetViewport()
+    rx0, ry0 = vp[0] * columns, vp[1] * rows
+    rw, rh = max((vp[2] - vp[0]) * columns, 1.0), max((vp[3] - vp[1]) * rows, 1.0)
+    tx0, ty0 = tile[0] * columns, tile[1] * rows
+    x0, y0, width, height = viewport
+
+    def to_tile(gaze):
+        return ((gaze[0] * rw + rx0 - tx0 - x0) / width, (gaze[1] * rh + ry0 - ty0 - y0) / height)
+
+    whole = (int(round(rx0)), int(round(ry0)), int(round(rw)), int(round(rh)))
+    return whole, to_tile, rh / height
+
+
+def _whole_camera(camera, renderer):
+    """The camera of the whole picture while a tile renders: vtkWindowToImageFilter narrows the
+    view angle (``2 atan(tan(a / 2) / scale)``) or the parallel scale by the tile scale and moves
+    the window centre for each tile; undone here (the whole picture's window centre taken as
+    the middle)."""
+    scale = float(renderer.GetRenderWindow().GetTileScale()[1])
+    whole = vtkCamera()
+    whole.DeepCopy(camera)
+    whole.SetWindowCenter(0.0, 0.0)
+    if camera.GetParallelProjection():
+        whole.SetParallelScale(camera.GetParallelScale() * scale)
+    else:
+        half = math.tan(math.radians(camera.GetViewAngle()) / 2.0) * scale
+        whole.SetViewAngle(math.degrees(2.0 * math.atan(half)))
+    return whole
 
 
 def _current_gaze(state, renderer, camera, viewport):

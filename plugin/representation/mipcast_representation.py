@@ -49,11 +49,20 @@ _EXTRA = {
         type="double", size=6, default=(1.0, 0.0, 1.0, 0.0, 1.0, 0.0),
         doc="World-space bounds (x0 x1 y0 y1 z0 z1) kept sharp; x0 > x1 (the default) means none."),
 }
-#: Parameters not in the panel: the slab's centre and normal (None: they follow
-#: the camera's focal point and view direction, as a ParaView slab should).
-#: As optional four-value properties (x y z use) they crashed pvpython when a
-#: session with several views was reset; set them from Python on the mapper.
-NOT_IN_PANEL = frozenset({"slab_centre", "slab_normal"})
+#: Parameters not in the panel (none today; kept for the tests and other front ends).
+NOT_IN_PANEL = frozenset()
+#: Optional point/vector parameters (None: follow the camera) -> the panel's three values
+#: shown when the "follows camera" switch is off.  Two properties each: ``<name>`` (x y z, a
+#: 3-element double vector with a real default) and ``<name>_follows_camera`` (bool, default
+#: on = None for the mapper, which then follows the camera's focal point / view direction).
+FOLLOWING = {
+    "slab_centre": dict(default=(0.0, 0.0, 0.0), follows="the slab's mid-plane goes through the camera's "
+                        "focal point (as the mapper's None); off: through Slab Centre"),
+    "slab_normal": dict(default=(0.0, 0.0, 1.0), follows="the slab faces the camera (the view direction, "
+                        "as the mapper's None); off: Slab Normal"),
+}
+#: Suffix of the switch property of a :data:`FOLLOWING` parameter.
+FOLLOWS = "_follows_camera"
 #: Parameters every method gets (VTK's sampling), prefixed "common".
 _COMMON = [
     dict(name="sample_distance", type="double", size=1, default=0.0, range=(0.0, None),
@@ -100,7 +109,16 @@ def plugin_methods():
             if parameter.name in NOT_IN_PANEL:
                 continue
             extra = _EXTRA.get((name, parameter.name))
-            if extra is not None:
+            following = FOLLOWING.get(parameter.name)
+            if following is not None:
+                parameters.append(dict(name=parameter.name + FOLLOWS, type="bool", size=1, default=True,
+                                       shape=None, range=None, choices=None,
+                                       doc=f"On: {following['follows']}."))
+                parameters.append(dict(name=parameter.name, type="double", size=3,
+                                       default=following["default"], shape=None, range=None, choices=None,
+                                       doc=parameter.doc.split("; None")[0] + f" (used when "
+                                       f"{_label(name, parameter.name + FOLLOWS)} is off)."))
+            elif extra is not None:
                 parameters.append(dict(extra, name=parameter.name, shape=None, range=None, choices=None))
             else:
                 parameters.append(_describe(parameter))
@@ -386,11 +404,18 @@ def _apply(entry, values):
 
     table = _table()[entry.mapper_method]
     settings = {}
+    every = entry.values.get(entry.mapper_method, {})
+    for name in list(values):
+        if name.endswith(FOLLOWS) and name[:-len(FOLLOWS)] in FOLLOWING:
+            values = dict(values)
+            values[name[:-len(FOLLOWS)]] = every.get(name[:-len(FOLLOWS)], FOLLOWING[name[:-len(FOLLOWS)]]["default"])
     for name, raw in values.items():
         description = table.get(name)
-        if description is None:
+        if description is None or name.endswith(FOLLOWS):
             continue
         value = _value(description, raw)
+        if name in FOLLOWING and bool((every.get(name + FOLLOWS) or (1,))[0]):
+            value = None  # follows the camera
         if entry.applied.get(name, object()) == value:
             continue
         entry.applied[name] = value
@@ -664,7 +689,9 @@ def prepare(key, volume, assign, renderer, interactor, whole=None):
         from mipcast.methods import attach
         attach(entry.mapper, volume)
     mapper = entry.mapper
-    _apply(entry, entry.values.get(entry.method, {}))
+    # no per-frame _apply: set_value applies a value of the drawing method at once and
+    # _new_mapper applies all of a method's values (a refused value is reported once, not
+    # at every frame)
     _set_composite(entry, volume, image, whole)
     common = entry.applied
     spacing = min(abs(s) for s in image.GetSpacing()) or 1.0
@@ -676,15 +703,29 @@ def prepare(key, volume, assign, renderer, interactor, whole=None):
         if mapper.GetImageSampleDistance() != isd:
             mapper.SetImageSampleDistance(isd)
     if hasattr(mapper, "FollowMouse"):
-        follow = common.get("follow_mouse", True) and interactor is not None
-        if follow != bool(getattr(entry, "following", False)):
-            mapper.FollowMouse(interactor if follow else None)
-            entry.following = follow
-            if not follow:  # back to the panel's gaze point
-                gaze = entry.values.get(entry.method, {}).get("gaze_point")
-                if gaze is not None:
-                    mapper.SetGazePoint(*gaze)
+        _gaze_source(entry, mapper, interactor, common)
     return True
+
+
+def _gaze_source(entry, mapper, interactor, common):
+    """The foveated gaze: the region of interest when one is set, else the mouse (follow_mouse
+    on and an interactor: builtin sessions; the gaze point until the mouse first moves), else
+    the gaze point.  Setting the gaze point or clearing the region makes the mapper's source
+    "point": with follow_mouse on the mouse takes over again here."""
+    if common.get("region_of_interest") is not None:
+        return  # SetRegionOfInterest made it the source
+    follow = bool(common.get("follow_mouse", True)) and interactor is not None
+    source = mapper.GetGazeSource()
+    address = interactor.GetAddressAsString("vtkObjectBase") if follow else None
+    if follow and (source != "mouse" or getattr(entry, "interactor", None) != address):
+        mapper.FollowMouse(interactor)  # the mapper holds it weakly; so does the entry (its address)
+        entry.interactor = address
+    elif not follow and source == "mouse":
+        mapper.FollowMouse(None)  # back to the panel's gaze point
+        entry.interactor = None
+        gaze = common.get("gaze_point")
+        if gaze is not None:
+            mapper.SetGazePoint(*gaze)
 
 
 @_guarded

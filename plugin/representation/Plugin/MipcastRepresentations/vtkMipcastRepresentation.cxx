@@ -223,9 +223,17 @@ int vtkMipcastRepresentation::ProcessViewRequest(
     bool visible = name != nullptr && name[0] != 0;
     if (visible)
     {
-      this->Assign->Assign(name, vtkDataSetAttributes::SCALARS,
-        association == vtkDataObject::FIELD_ASSOCIATION_CELLS ? vtkAssignAttribute::CELL_DATA
-                                                              : vtkAssignAttribute::POINT_DATA);
+      // vtkAssignAttribute::Assign() always calls Modified(): at every frame that re-ran it and
+      // gave the mapper a "new" input, whose texture (and the analytic corner packing) the
+      // mapper then rebuilt each frame. Only when the array changes.
+      if (this->AssignedName != name || this->AssignedAssociation != association)
+      {
+        this->Assign->Assign(name, vtkDataSetAttributes::SCALARS,
+          association == vtkDataObject::FIELD_ASSOCIATION_CELLS ? vtkAssignAttribute::CELL_DATA
+                                                                : vtkAssignAttribute::POINT_DATA);
+        this->AssignedName = name;
+        this->AssignedAssociation = association;
+      }
       this->MipcastVolume->SetProperty(this->Property);
       this->MipcastVolume->SetPosition(this->Actor->GetPosition());
       this->MipcastVolume->SetOrientation(this->Actor->GetOrientation());
