@@ -30,6 +30,8 @@ from mipcast.core.validation import check_choice
 
 #: Stand-in for an unbounded eccentricity in the shader's uniforms.
 _FAR = 1.0e30
+#: OpenGL's GL_READ_FRAMEBUFFER target.
+_GL_READ_FRAMEBUFFER = 0x8CA8
 #: State besides the parameters: the gaze of the last render (from the current source) and its source.
 _GAZE = {"gaze": (0.5, 0.5), "gaze_source": "point"}
 
@@ -110,6 +112,8 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     LEVEL_PIECES = ("foveated_skip", "foveated_weight")
     #: Pieces of the finer levels with content-adaptive ray density (ContentTolerance > 0).
     MASKED_LEVEL_PIECES = ("foveated_skip_masked", "foveated_mask_dec", "foveated_weight")
+    #: The same with the refinement mask built on the GPU from the coarsest level's picture (no readback).
+    COARSE_LEVEL_PIECES = ("foveated_skip_coarse", "foveated_coarse_dec", "foveated_weight")
     PARAMETERS = parameter_tables.FOVEATED
 
     def __init__(self) -> None:
@@ -379,7 +383,7 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         With content-adaptive density on, the finer levels' masked mappers.
         """
         drawn = object_state(self).get("levels_drawn", {})
-        entry = drawn.get((int(level), "masked")) or drawn.get(int(level))
+        entry = drawn.get((int(level), "coarse")) or drawn.get((int(level), "masked")) or drawn.get(int(level))
         return None if entry is None else entry["mapper"]
 
     # -- rendering ------------------------------------------------------------
@@ -467,13 +471,20 @@ def _draw(mapper, state, volume, renderer) -> None:
     gl_state = renderer.GetRenderWindow().GetState()
     depth = _capture_depth(state, renderer)
     masks = {}
-    before = _read_texels(renderer, viewport, plan.layers[0].grid) if adaptive and not readout else None
+    # masks on the GPU: the finer levels' shader reads the coarse picture as a texture (no readback)
+    on_gpu = adaptive and not readout and _gpu_masks_possible(state, renderer)
+    coarse = _coarse_textures(state, renderer, viewport) if on_gpu else None
+    if on_gpu:
+        _copy_drawn(renderer, viewport, coarse["before"])
+    before = _read_texels(renderer, viewport, plan.layers[0].grid) if adaptive and not readout and not on_gpu else None
     for index, layer in enumerate(plan.layers):
         level = layer.level
         if adaptive and index == 1:
             if readout:
                 after = _grey_texels(volume, values[plan.layers[0].level])
                 masks = content_adaptive.refinement_masks(after, np.zeros_like(after), plan, tolerance)
+            elif on_gpu:
+                _copy_drawn(renderer, viewport, coarse["after"])
             else:
                 after = _read_texels(renderer, viewport, plan.layers[0].grid)
                 masks = content_adaptive.refinement_masks(after, before, plan, tolerance)
@@ -481,8 +492,9 @@ def _draw(mapper, state, volume, renderer) -> None:
         volume_level, distance = volume_pyramid.level_sampling(
             level, footprint, base_distance, spacings, cells, params["peripheral_sampling"])
         masked = adaptive and index > 0
-        key = level if not masked else (level, "masked")
-        entry = drawn.get(key) or _new_level(params["method"], masked)
+        kind = ("coarse" if on_gpu else "masked") if masked else None
+        key = level if not masked else (level, kind)
+        entry = drawn.get(key) or _new_level(params["method"], kind)
         drawn[key] = entry
         level_mapper, level_volume = entry["mapper"], entry["volume"]
         if depth is not None and level_mapper.GetDepthTexture() is not depth:
@@ -507,7 +519,12 @@ def _draw(mapper, state, volume, renderer) -> None:
         if scissor is not None:
             gl_state.vtkglScissor(*scissor)
         mask_texture = None
-        if level in masks and not readout:
+        bound = ()
+        if kind == "coarse":
+            bound = (coarse["after"], coarse["before"])
+            _bind_coarse(level_mapper, level_volume, bound)
+            _set_coarse_uniforms(level_volume, plan, layer, viewport, tolerance)
+        elif level in masks and not readout:
             mask_texture = _mask_texture(state, renderer, level, masks[level])
             mask_texture.Activate()
             level_state = object_state(level_mapper)
@@ -520,6 +537,8 @@ def _draw(mapper, state, volume, renderer) -> None:
         finally:
             if mask_texture is not None:
                 mask_texture.Deactivate()
+            for texture in bound:
+                texture.Deactivate()
             if scissor is not None:
                 gl_state.vtkglScissor(*viewport)
             if readout:
@@ -540,6 +559,9 @@ def _draw(mapper, state, volume, renderer) -> None:
     state["frame"] = {"plan": plan, "camera": snapshot, "matrix": matrix, "image": image,
                       "layers": layers, "cells": cells, "method": params["method"], "masks": masks,
                       "base_distance": base_distance, "base_isd": base_isd}
+    if on_gpu:  # the masks for GetLastFrameCost: read back only when asked, after the frame
+        state["frame"]["coarse"] = {"textures": coarse, "window": renderer.GetRenderWindow(),
+                                    "viewport": viewport, "tolerance": tolerance}
 
 
 def _refine(state, params, image, volume, camera, viewport, gaze, radius):
@@ -613,13 +635,128 @@ def _capture_depth(state, renderer):
     return depth
 
 
-def _new_level(method: str, masked: bool = False) -> dict:
-    level_mapper = _level_class(FOVEATION_LAYERS[method].factory, masked)()
+def _new_level(method: str, kind: Optional[str] = None) -> dict:
+    """A private level mapper and volume; ``kind``: None, ``"masked"`` (CPU mask) or ``"coarse"`` (GPU mask)."""
+    level_mapper = _level_class(FOVEATION_LAYERS[method].factory, kind)()
     level_volume = vtkVolume()
     level_mapper.Attach(level_volume)
-    if masked:
+    if kind == "masked":
         level_mapper.AddObserver(vtkCommand.UpdateShaderEvent, _bind_mask_sampler)
+    elif kind == "coarse":
+        level_mapper.AddObserver(vtkCommand.UpdateShaderEvent, _bind_coarse_samplers)
     return {"mapper": level_mapper, "volume": level_volume, "matrix": vtkMatrix4x4()}
+
+
+@calldata_type(VTK_OBJECT)
+def _bind_coarse_samplers(level_mapper, event, program) -> None:
+    """Point a GPU-masked level's ``u_mc_fovAfter``/``u_mc_fovBefore`` at their textures' units."""
+    units = object_state(level_mapper).get("coarse_units")
+    if program is not None and units is not None and min(units) >= 0:
+        program.SetUniformi("u_mc_fovAfter", int(units[0]))
+        program.SetUniformi("u_mc_fovBefore", int(units[1]))
+        object_state(level_mapper)["coarse_units_built"] = units
+
+
+def _bind_coarse(level_mapper, level_volume, textures) -> None:
+    """Activate the coarse pictures for a GPU-masked level; rebuild its shader if their units moved.
+
+    Levels with the same shader source share one program (VTK's shader
+    cache), whose samplers are set when it is built: activated in the same
+    order each time, the textures take the same units for every level.
+    """
+    for texture in textures:
+        texture.Activate()
+    level_state = object_state(level_mapper)
+    level_state["coarse_units"] = tuple(texture.GetTextureUnit() for texture in textures)
+    if level_state.get("coarse_units_built") not in (None, level_state["coarse_units"]):
+        # VTK sets our samplers only when it builds the shader: rebuild it for the new units
+        level_mapper._install_pieces(level_volume)
+
+
+def _set_coarse_uniforms(level_volume, plan, layer, viewport, tolerance) -> None:
+    """The grids, viewport and tolerance ``foveated_coarse_dec``'s mask needs (integers where exact)."""
+    uniforms = level_volume.GetShaderProperty().GetFragmentCustomUniforms()
+    coarse = plan.layers[0].grid
+    for name, value in (("u_mc_fovCoarseW", coarse[0]), ("u_mc_fovCoarseH", coarse[1]),
+                        ("u_mc_fovLevelW", layer.grid[0]), ("u_mc_fovLevelH", layer.grid[1]),
+                        ("u_mc_fovViewW", viewport[2]), ("u_mc_fovViewH", viewport[3])):
+        uniforms.SetUniformi(name, int(value))
+    # grey ranges are integers: range > tolerance  <=>  range >= floor(tolerance) + 1 (exact in float32)
+    uniforms.SetUniformf("u_mc_fovEdgeMin", float(math.floor(tolerance) + 1))
+
+
+def _gpu_masks_possible(state, renderer) -> bool:
+    """Whether the refinement masks can be built on the GPU (else the CPU path reads the picture back).
+
+    Not with a multisampled framebuffer (it cannot be copied into a texture
+    directly), not with VTK before 9.3 (no draw framebuffer query), and not
+    when ``object_state(mapper)["masks_on_cpu"]`` asks for the CPU reference path.
+    """
+    if state.get("masks_on_cpu"):
+        return False
+    window = renderer.GetRenderWindow()
+    return window.GetMultiSamples() == 0 and hasattr(window.GetState(), "GetCurrentDrawFramebufferState")
+
+
+def _coarse_textures(state, renderer, viewport) -> dict:
+    """The two viewport-sized RGBA8 textures the coarsest level's picture is copied into (after, before)."""
+    from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
+
+    window = renderer.GetRenderWindow()
+    entry = state.get("coarse_textures")
+    size = (viewport[2], viewport[3])
+    if entry is None or entry["window"] is not window or entry["size"] != size:
+        entry = {"window": window, "size": size}
+        for name in ("after", "before"):
+            texture = vtkTextureObject()
+            texture.SetContext(window)
+            texture.SetMinificationFilter(vtkTextureObject.Nearest)
+            texture.SetMagnificationFilter(vtkTextureObject.Nearest)
+            texture.SetWrapS(vtkTextureObject.ClampToEdge)
+            texture.SetWrapT(vtkTextureObject.ClampToEdge)
+            texture.Allocate2D(size[0], size[1], 4, VTK_UNSIGNED_CHAR)
+            entry[name] = texture
+        state["coarse_textures"] = entry
+    return entry
+
+
+def _copy_drawn(renderer, viewport, texture) -> None:
+    """Copy the viewport of the framebuffer being drawn into ``texture`` on the GPU (no readback)."""
+    from vtkmodules.vtkCommonCore import reference
+
+    gl_state = renderer.GetRenderWindow().GetState()
+    binding, buffer = reference(0), reference(0)
+    gl_state.GetCurrentDrawFramebufferState(binding, buffer)
+    gl_state.PushReadFramebufferBinding()
+    try:
+        gl_state.vtkglBindFramebuffer(_GL_READ_FRAMEBUFFER, int(binding))
+        gl_state.vtkglReadBuffer(int(buffer))
+        x0, y0, width, height = viewport
+        texture.CopyFromFrameBuffer(x0, y0, 0, 0, width, height)
+        texture.Deactivate()  # (the copy activates it) every level then activates both in the same order
+    finally:
+        gl_state.PopReadFramebufferBinding()
+
+
+def _download_texels(window, texture, grid) -> np.ndarray:
+    """A coarse-picture texture (RGB, uint8) at the texel centres of ``grid``, top row first.
+
+    A readback: only :meth:`FoveatedVolumeMapper.GetLastFrameCost` calls it, after the frame.
+    """
+    window.MakeCurrent()
+    width, height = texture.GetWidth(), texture.GetHeight()
+    data = np.zeros((height, width, 4), np.uint8)
+    texture.Download().Download2D(VTK_UNSIGNED_CHAR, data, [width, height], 4, [0, 0])
+    return content_adaptive.coarse_texels(data[::-1, :, :3], grid)
+
+
+def _gpu_masks(frame) -> dict:
+    """The refinement masks of a frame whose masks the GPU built: its definition on the read-back picture."""
+    coarse, plan = frame["coarse"], frame["plan"]
+    grid = plan.layers[0].grid
+    after = _download_texels(coarse["window"], coarse["textures"]["after"], grid)
+    before = _download_texels(coarse["window"], coarse["textures"]["before"], grid)
+    return content_adaptive.refinement_masks(after, before, plan, coarse["tolerance"])
 
 
 @calldata_type(VTK_OBJECT)
@@ -680,20 +817,25 @@ def _mask_texture(state, renderer, level, mask):
 _LEVEL_CLASSES: dict = {}
 
 
-def _level_class(base, masked: bool = False):
-    """``base`` (a mipcast mapper class) plus the foveation pieces (with a refinement mask if ``masked``)."""
-    cls = _LEVEL_CLASSES.get((base, masked))
+def _level_class(base, kind: Optional[str] = None):
+    """``base`` (a mipcast mapper class) plus the foveation pieces.
+
+    ``kind``: None, ``"masked"`` (refinement mask uploaded from the CPU) or
+    ``"coarse"`` (mask built in the shader from the coarse picture).
+    """
+    cls = _LEVEL_CLASSES.get((base, kind))
     if cls is None:
-        extra = FoveatedVolumeMapper.MASKED_LEVEL_PIECES if masked else FoveatedVolumeMapper.LEVEL_PIECES
+        extra = {None: FoveatedVolumeMapper.LEVEL_PIECES, "masked": FoveatedVolumeMapper.MASKED_LEVEL_PIECES,
+                 "coarse": FoveatedVolumeMapper.COARSE_LEVEL_PIECES}[kind]
 
         def GetShaderPieces(self):
             return tuple(base.GetShaderPieces(self)) + extra
 
-        name = f"Foveated{base.__name__}{'Masked' if masked else ''}Level"
+        name = f"Foveated{base.__name__}{(kind or '').capitalize()}Level"
         cls = type(name, (base,), {
             "__doc__": f"One pyramid level of a FoveatedVolumeMapper rendering with {base.__name__}.",
             "GetShaderPieces": GetShaderPieces})
-        _LEVEL_CLASSES[(base, masked)] = cls
+        _LEVEL_CLASSES[(base, kind)] = cls
     return cls
 
 
@@ -841,12 +983,15 @@ def _pyramid(state, image) -> list:
 def _frame_cost(frame) -> dict:
     plan, image, camera, matrix = frame["plan"], frame["image"], frame["camera"], frame["matrix"]
     size = plan.viewport[2:]
+    if "coarse" in frame and not frame.get("masks"):
+        frame["masks"] = _gpu_masks(frame)
+    masks = frame.get("masks", {})
     rows = []
     for (level, volume_level, distance, level_input), layer in zip(frame["layers"], plan.layers):
         e = foveation.eccentricity(layer.grid, plan.gaze, plan.aspect)
         cast = (e >= layer.cast_from) & (e < layer.cast_to)
-        if level in frame.get("masks", {}):
-            cast &= frame["masks"][level]
+        if level in masks:
+            cast &= masks[level]
         kind = {"cells_of": level_input} if frame["cells"] else {"sample_distance": distance}
         rays, samples = grid_cost(image, camera, size, layer.grid, volume_matrix=matrix, cast=cast, **kind)
         rows.append({"level": level, "volume_level": volume_level, "grid": tuple(layer.grid),
