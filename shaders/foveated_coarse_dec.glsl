@@ -7,6 +7,18 @@
 // viewport's size (bottom row first, RGBA8). Bound by the foveated mapper.
 uniform sampler2D u_mc_fovAfter;
 uniform sampler2D u_mc_fovBefore;
+// The fovea on this level's grid, as the CPU definition decides it (float64
+// eccentricity of the texel centre below the acuity schedule's start):
+// texel (row, 0), top row first, holds the row's columns [first, end)
+// inside it (mipcast.core.content_adaptive.fovea_spans).
+uniform sampler2D u_mc_fovFovea;
+
+// Whether this level's ray (column, top-first row) lies in the fovea.
+bool mcFovInFovea(int column, int row)
+{
+  vec2 span = texelFetch(u_mc_fovFovea, ivec2(row, 0), 0).rg;
+  return float(column) >= span.x && float(column) < span.y;
+}
 
 // The viewport pixel (bottom row first) the CPU definition
 // (mipcast.core.content_adaptive.coarse_texels) reads for coarse texel
@@ -30,7 +42,7 @@ vec3 mcFovGrey(vec4 texel)
 // true when the coarse grey (largest channel) of the nearest coarse
 // texel's 3 x 3 neighbourhood (edges clamped) spans more than the
 // tolerance (at least u_mc_fovEdgeMin grey levels), or, inside the fovea
-// (inFovea), when a texel of that neighbourhood differs from the picture
+// (inFovea: mcFovInFovea), when a texel of that neighbourhood differs from the picture
 // before the coarsest level was drawn (structure above the floor).
 bool mcFovRefine(int column, int row, bool inFovea)
 {

@@ -7,9 +7,9 @@
 // (foveated_coarse_dec) asks for a ray, from the coarsest level's picture
 // read here as a texture -- no readback to the CPU. The ray's index in
 // this level's grid is the texel a nearest-filtered mask of the grid's
-// size would give; its eccentricity (the fovea test) is that of the
-// texel's centre, as in mipcast.core.foveation.eccentricity. Elsewhere
-// the coarser levels show through.
+// size would give; whether it lies in the fovea comes from the CPU's
+// float64 spans (mcFovInFovea), which depend on the gaze, not on the
+// picture. Elsewhere the coarser levels show through.
   {
     vec2 mc_fovAt = (gl_FragCoord.xy - in_windowLowerLeftCorner) * in_inverseWindowSize;
     float mc_fovEcc = length((mc_fovAt - u_mc_fovGaze) * vec2(u_mc_fovAspect, 1.0));
@@ -19,9 +19,8 @@
     }
     int mc_fovColumn = clamp(int(floor(mc_fovAt.x * float(u_mc_fovLevelW))), 0, u_mc_fovLevelW - 1);
     int mc_fovRowUp = clamp(int(floor(mc_fovAt.y * float(u_mc_fovLevelH))), 0, u_mc_fovLevelH - 1);
-    vec2 mc_fovCentre = (vec2(mc_fovColumn, mc_fovRowUp) + 0.5) / vec2(u_mc_fovLevelW, u_mc_fovLevelH);
-    float mc_fovTexelEcc = length((mc_fovCentre - u_mc_fovGaze) * vec2(u_mc_fovAspect, 1.0));
-    if (!mcFovRefine(mc_fovColumn, u_mc_fovLevelH - 1 - mc_fovRowUp, mc_fovTexelEcc < u_mc_fovStart))
+    int mc_fovRow = u_mc_fovLevelH - 1 - mc_fovRowUp;
+    if (!mcFovRefine(mc_fovColumn, mc_fovRow, mcFovInFovea(mc_fovColumn, mc_fovRow)))
     {
       discard;
     }

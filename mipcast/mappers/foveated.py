@@ -515,13 +515,17 @@ def _draw(mapper, state, volume, renderer) -> None:
             object_state(level_mapper)["exact_readout"] = True
             level_mapper.RenderToImageOn()
             level_mapper.SetDepthImageScalarTypeToFloat()
-        scissor = layer.scissor if not readout else None
+        scissor = layer.scissor if not readout and kind != "coarse" else None
+        # no scissor for the GPU-masked levels: a reduced level draws into VTK's own smaller
+        # framebuffer, which the window-pixel box would clip (and clear) only in part, leaving
+        # earlier frames' rays in it, and the box can cut a boundary ray. The CPU mask path drew
+        # them unclipped too (its glReadPixels turns the scissor test off): the same picture.
         if scissor is not None:
             gl_state.vtkglScissor(*scissor)
         mask_texture = None
         bound = ()
         if kind == "coarse":
-            bound = (coarse["after"], coarse["before"])
+            bound = (coarse["after"], coarse["before"], _fovea_texture(state, renderer, plan, layer))
             _bind_coarse(level_mapper, level_volume, bound)
             _set_coarse_uniforms(level_volume, plan, layer, viewport, tolerance)
         elif level in masks and not readout:
@@ -533,7 +537,10 @@ def _draw(mapper, state, volume, renderer) -> None:
                 # VTK sets our sampler only when it builds the shader: rebuild it for the new unit
                 level_mapper._install_pieces(level_volume)
         try:
-            level_volume.RenderVolumetricGeometry(renderer)
+            if kind == "coarse":
+                _render_coarse_level(level_mapper, level_volume, renderer, plan, layer)
+            else:
+                level_volume.RenderVolumetricGeometry(renderer)
         finally:
             if mask_texture is not None:
                 mask_texture.Deactivate()
@@ -650,11 +657,46 @@ def _new_level(method: str, kind: Optional[str] = None) -> dict:
 @calldata_type(VTK_OBJECT)
 def _bind_coarse_samplers(level_mapper, event, program) -> None:
     """Point a GPU-masked level's ``u_mc_fovAfter``/``u_mc_fovBefore`` at their textures' units."""
-    units = object_state(level_mapper).get("coarse_units")
+    level_state = object_state(level_mapper)
+    units = level_state.get("coarse_units")
     if program is not None and units is not None and min(units) >= 0:
-        program.SetUniformi("u_mc_fovAfter", int(units[0]))
-        program.SetUniformi("u_mc_fovBefore", int(units[1]))
-        object_state(level_mapper)["coarse_units_built"] = units
+        for name, unit in zip(("u_mc_fovAfter", "u_mc_fovBefore", "u_mc_fovFovea"), units):
+            program.SetUniformi(name, int(unit))
+        level_state["coarse_units_built"] = units
+        level_state["samplers_set"] = True
+
+
+def _render_coarse_level(level_mapper, level_volume, renderer, plan, layer) -> None:
+    """Draw a GPU-masked level, its samplers pointing at the coarse pictures.
+
+    VTK invokes UpdateShaderEvent (where :func:`_bind_coarse_samplers` sets
+    the samplers) on every draw except one that (re)builds the shader, whose
+    samplers would all read unit 0.  So when the level may need a build (its
+    first draw, or anything VTK's rebuild test watches changed since the last
+    draw that set the samplers), it is first drawn with every ray discarded
+    (the cast range emptied: the picture does not change), which builds the
+    shader; the real draw then sets them.
+    """
+    level_state = object_state(level_mapper)
+    stamp = (level_mapper.GetMTime(), level_volume.GetShaderProperty().GetShaderMTime(),
+             level_volume.GetProperty().GetMTime(), renderer.GetLights().GetMTime(),
+             renderer.GetRenderWindow().GetAddressAsString("vtkObjectBase"))
+    if level_state.get("sampler_stamp") != stamp:
+        level_state["sampler_probes"] = level_state.get("sampler_probes", 0) + 1
+        uniforms = level_volume.GetShaderProperty().GetFragmentCustomUniforms()
+        uniforms.SetUniformf("u_mc_fovCastFrom", _FAR)
+        uniforms.SetUniformf("u_mc_fovCastTo", _FAR)
+        try:
+            level_volume.RenderVolumetricGeometry(renderer)
+        finally:
+            _set_uniforms(level_volume, plan, layer)
+    level_state["samplers_set"] = False
+    level_volume.RenderVolumetricGeometry(renderer)
+    if level_state["samplers_set"]:
+        level_state["sampler_stamp"] = stamp
+    else:  # built again by the real draw: this frame's masks read the wrong textures; probe next frame
+        level_state.pop("sampler_stamp", None)
+        level_state["sampler_misses"] = level_state.get("sampler_misses", 0) + 1
 
 
 def _bind_coarse(level_mapper, level_volume, textures) -> None:
@@ -718,6 +760,31 @@ def _coarse_textures(state, renderer, viewport) -> dict:
             entry[name] = texture
         state["coarse_textures"] = entry
     return entry
+
+
+def _fovea_texture(state, renderer, plan, layer):
+    """A level's fovea spans (:func:`mipcast.core.content_adaptive.fovea_spans`) as a float texture, one texel a row.
+
+    Made again only when the grid, gaze, aspect or fovea change: it does not depend on the picture.
+    """
+    from vtkmodules.vtkCommonCore import VTK_FLOAT
+    from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
+
+    window = renderer.GetRenderWindow()
+    key = (window.GetAddressAsString("vtkObjectBase"), tuple(layer.grid), tuple(plan.gaze), plan.aspect, plan.start)
+    cache = state.setdefault("fovea_textures", {})
+    cached = cache.get(layer.level)
+    if cached is not None and cached[0] == key and cached[1].GetContext() is window:
+        return cached[1]
+    texture = cached[1] if cached is not None and cached[1].GetContext() is window else vtkTextureObject()
+    texture.SetContext(window)
+    texture.SetMinificationFilter(vtkTextureObject.Nearest)
+    texture.SetMagnificationFilter(vtkTextureObject.Nearest)
+    spans = np.ascontiguousarray(content_adaptive.fovea_spans(layer.grid, plan), dtype=np.float32)
+    texture.Create2DFromRaw(spans.shape[0], 1, 2, VTK_FLOAT, spans)
+    texture.Deactivate()
+    cache[layer.level] = (key, texture)
+    return texture
 
 
 def _copy_drawn(renderer, viewport, texture) -> None:
