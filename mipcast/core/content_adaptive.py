@@ -15,9 +15,12 @@ picture then decides, texel by texel, where the finer levels cast rays:
 Elsewhere the finer ray is not cast and the coarser picture (bilinearly
 stretched) shows through: background inside the sweet spot needs no
 full-density rays, and smooth regions of the periphery keep the coarse
-level.  Pure numpy: the mapper (:mod:`mipcast.mappers.foveated`) reads the
-coarse picture back and uploads the masks as textures; the cost accounting
-uses the same masks.
+level.  Pure numpy, the float64 definition: the mapper
+(:mod:`mipcast.mappers.foveated`) evaluates it per ray in the finer levels'
+shader from the coarse picture copied into textures on the GPU
+(``shaders/foveated_coarse_dec.glsl``, the fovea from :func:`fovea_spans`),
+or, on its CPU path, reads the coarse picture back and uploads these masks;
+the cost accounting uses these masks.
 """
 from __future__ import annotations
 
