@@ -13,8 +13,9 @@ def vessels():
     return make_fixture("vessels", size=32)
 
 
-def _view(image, size, window, gaze, tolerance, on_cpu, method="mip"):
+def _view(image, size, window, gaze, tolerance, on_cpu, method="mip", multisamples=0):
     view = OffscreenView(image, "foveated", size=size, window=window)
+    view.render_window.SetMultiSamples(multisamples)
     view.mapper.SetMethod(method)
     view.camera.Zoom(1.6)
     view.renderer.ResetCameraClippingRange()
@@ -60,22 +61,24 @@ def _first_frame(view) -> np.ndarray:
     return vtk_to_numpy(grab.GetOutput().GetPointData().GetScalars()).reshape(height, width, 3)[::-1].copy()
 
 
-# (fixture, viewport, window, gaze, tolerance, method, skipping changes the picture):
+# (fixture, viewport, window, gaze, tolerance, method, skipping changes the picture, MSAA samples):
 # windowed vessels (black background: the structure rule decides in the fovea) at the centre;
 # spheres off-centre (a fovea edge close to texel centres); noise on an odd, non-square viewport
-# (uneven grid mappings) with a coarse tolerance; analytic MIP at a corner gaze
-CASES = [("vessels", (96, 96), (0.25, 1.0), (0.5, 0.5), 2.0, "mip", False),
-         ("spheres", (96, 96), None, (0.4, 0.55), 20.0, "mip", True),
-         ("noise", (101, 87), None, (0.3, 0.6), 60.0, "mip", True),
-         ("vessels", (96, 96), (0.25, 1.0), (0.1, 0.1), 2.5, "analytic", False)]
+# (uneven grid mappings) with a coarse tolerance; analytic MIP at a corner gaze; a multisampled
+# window (the copy resolves it as the CPU path's glReadPixels does)
+CASES = [("vessels", (96, 96), (0.25, 1.0), (0.5, 0.5), 2.0, "mip", False, 0),
+         ("spheres", (96, 96), None, (0.4, 0.55), 20.0, "mip", True, 0),
+         ("noise", (101, 87), None, (0.3, 0.6), 60.0, "mip", True, 0),
+         ("vessels", (96, 96), (0.25, 1.0), (0.1, 0.1), 2.5, "analytic", False, 0),
+         ("spheres", (80, 80), None, (0.6, 0.4), 20.0, "mip", True, 4)]
 
 
-@pytest.mark.parametrize("fixture, size, window, gaze, tolerance, method, lossy", CASES)
+@pytest.mark.parametrize("fixture, size, window, gaze, tolerance, method, lossy, multisamples", CASES)
 def test_gpu_masks_give_the_cpu_mask_picture_without_a_readback(readbacks, fixture, size, window, gaze,
-                                                               tolerance, method, lossy):
+                                                               tolerance, method, lossy, multisamples):
     image = make_fixture(fixture, size=32)
-    cpu = _view(image, size, window, gaze, tolerance, True, method)
-    gpu = _view(image, size, window, gaze, tolerance, False, method)
+    cpu = _view(image, size, window, gaze, tolerance, True, method, multisamples)
+    gpu = _view(image, size, window, gaze, tolerance, False, method, multisamples)
     cpu_first, gpu_first = _first_frame(cpu), _first_frame(gpu)  # the frames that build the shaders
     assert readbacks["read"] > 0  # the reference path reads the coarse picture back
     readbacks["read"] = 0
@@ -88,7 +91,7 @@ def test_gpu_masks_give_the_cpu_mask_picture_without_a_readback(readbacks, fixtu
     assert np.array_equal(gpu_first, cpu_first)
     assert np.array_equal(gpu_picture, cpu_picture)
     if lossy:  # skipping shows here: casting wherever the coarse picture varies at all changes it
-        everywhere = _view(image, size, window, gaze, 0.01, False, method)
+        everywhere = _view(image, size, window, gaze, 0.01, False, method, multisamples)
         assert not np.array_equal(everywhere.screenshot(), gpu_picture)
     # the cost reads the masks back only when asked, after the frame, and counts the same rays
     cost, reference = gpu.mapper.GetLastFrameCost(), cpu.mapper.GetLastFrameCost()

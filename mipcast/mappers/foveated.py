@@ -30,8 +30,9 @@ from mipcast.core.validation import check_choice
 
 #: Stand-in for an unbounded eccentricity in the shader's uniforms.
 _FAR = 1.0e30
-#: OpenGL's GL_READ_FRAMEBUFFER target.
-_GL_READ_FRAMEBUFFER = 0x8CA8
+#: OpenGL enums the coarse-picture copy uses.
+_GL_READ_FRAMEBUFFER, _GL_DRAW_FRAMEBUFFER = 0x8CA8, 0x8CA9
+_GL_SCISSOR_TEST, _GL_COLOR_BUFFER_BIT, _GL_NEAREST = 0x0C11, 0x4000, 0x2600
 #: State besides the parameters: the gaze of the last render (from the current source) and its source.
 _GAZE = {"gaze": (0.5, 0.5), "gaze_source": "point"}
 
@@ -475,7 +476,7 @@ def _draw(mapper, state, volume, renderer) -> None:
     on_gpu = adaptive and not readout and _gpu_masks_possible(state, renderer)
     coarse = _coarse_textures(state, renderer, viewport) if on_gpu else None
     if on_gpu:
-        _copy_drawn(renderer, viewport, coarse["before"])
+        _copy_drawn(renderer, viewport, coarse, "before")
     before = _read_texels(renderer, viewport, plan.layers[0].grid) if adaptive and not readout and not on_gpu else None
     for index, layer in enumerate(plan.layers):
         level = layer.level
@@ -484,7 +485,7 @@ def _draw(mapper, state, volume, renderer) -> None:
                 after = _grey_texels(volume, values[plan.layers[0].level])
                 masks = content_adaptive.refinement_masks(after, np.zeros_like(after), plan, tolerance)
             elif on_gpu:
-                _copy_drawn(renderer, viewport, coarse["after"])
+                _copy_drawn(renderer, viewport, coarse, "after")
             else:
                 after = _read_texels(renderer, viewport, plan.layers[0].grid)
                 masks = content_adaptive.refinement_masks(after, before, plan, tolerance)
@@ -730,19 +731,18 @@ def _set_coarse_uniforms(level_volume, plan, layer, viewport, tolerance) -> None
 def _gpu_masks_possible(state, renderer) -> bool:
     """Whether the refinement masks can be built on the GPU (else the CPU path reads the picture back).
 
-    Not with a multisampled framebuffer (it cannot be copied into a texture
-    directly), not with VTK before 9.3 (no draw framebuffer query), and not
-    when ``object_state(mapper)["masks_on_cpu"]`` asks for the CPU reference path.
+    Not with a VTK that cannot say which framebuffer is being drawn, and
+    not when ``object_state(mapper)["masks_on_cpu"]`` asks for the CPU
+    reference path.
     """
     if state.get("masks_on_cpu"):
         return False
-    window = renderer.GetRenderWindow()
-    return window.GetMultiSamples() == 0 and hasattr(window.GetState(), "GetCurrentDrawFramebufferState")
+    return hasattr(renderer.GetRenderWindow().GetState(), "GetCurrentDrawFramebufferState")
 
 
 def _coarse_textures(state, renderer, viewport) -> dict:
     """The two viewport-sized RGBA8 textures the coarsest level's picture is copied into (after, before)."""
-    from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
+    from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLFramebufferObject, vtkTextureObject
 
     window = renderer.GetRenderWindow()
     entry = state.get("coarse_textures")
@@ -758,6 +758,13 @@ def _coarse_textures(state, renderer, viewport) -> dict:
             texture.SetWrapT(vtkTextureObject.ClampToEdge)
             texture.Allocate2D(size[0], size[1], 4, VTK_UNSIGNED_CHAR)
             entry[name] = texture
+            target = vtkOpenGLFramebufferObject()
+            target.SetContext(window)
+            window.GetState().PushFramebufferBindings()
+            target.Bind()  # creates it: attachments go only to an existing framebuffer
+            target.AddColorAttachment(0, texture)
+            window.GetState().PopFramebufferBindings()
+            entry.setdefault("framebuffers", {})[name] = target
         state["coarse_textures"] = entry
     return entry
 
@@ -787,22 +794,33 @@ def _fovea_texture(state, renderer, plan, layer):
     return texture
 
 
-def _copy_drawn(renderer, viewport, texture) -> None:
-    """Copy the viewport of the framebuffer being drawn into ``texture`` on the GPU (no readback)."""
+def _copy_drawn(renderer, viewport, coarse, name) -> None:
+    """Copy the viewport of the framebuffer being drawn into ``coarse[name]`` on the GPU (no readback).
+
+    A framebuffer blit (resolving a multisampled framebuffer as the CPU
+    path's ``glReadPixels`` does), the scissor test off while it runs.
+    """
     from vtkmodules.vtkCommonCore import reference
 
     gl_state = renderer.GetRenderWindow().GetState()
     binding, buffer = reference(0), reference(0)
     gl_state.GetCurrentDrawFramebufferState(binding, buffer)
-    gl_state.PushReadFramebufferBinding()
+    scissor = gl_state.GetEnumState(_GL_SCISSOR_TEST)
+    gl_state.PushFramebufferBindings()
     try:
         gl_state.vtkglBindFramebuffer(_GL_READ_FRAMEBUFFER, int(binding))
         gl_state.vtkglReadBuffer(int(buffer))
+        target = coarse["framebuffers"][name]
+        target.Bind(_GL_DRAW_FRAMEBUFFER)
+        target.ActivateDrawBuffer(0)
+        gl_state.vtkglDisable(_GL_SCISSOR_TEST)
         x0, y0, width, height = viewport
-        texture.CopyFromFrameBuffer(x0, y0, 0, 0, width, height)
-        texture.Deactivate()  # (the copy activates it) every level then activates both in the same order
+        gl_state.vtkglBlitFramebuffer(x0, y0, x0 + width, y0 + height, 0, 0, width, height,
+                                      _GL_COLOR_BUFFER_BIT, _GL_NEAREST)
     finally:
-        gl_state.PopReadFramebufferBinding()
+        if scissor:
+            gl_state.vtkglEnable(_GL_SCISSOR_TEST)
+        gl_state.PopFramebufferBindings()
 
 
 def _download_texels(window, texture, grid) -> np.ndarray:
