@@ -657,13 +657,12 @@ def _new_level(method: str, kind: Optional[str] = None) -> dict:
 
 @calldata_type(VTK_OBJECT)
 def _bind_coarse_samplers(level_mapper, event, program) -> None:
-    """Point a GPU-masked level's ``u_mc_fovAfter``/``u_mc_fovBefore`` at their textures' units."""
+    """Point a GPU-masked level's samplers (coarse pictures, fovea spans) at their textures' units."""
     level_state = object_state(level_mapper)
     units = level_state.get("coarse_units")
     if program is not None and units is not None and min(units) >= 0:
         for name, unit in zip(("u_mc_fovAfter", "u_mc_fovBefore", "u_mc_fovFovea"), units):
             program.SetUniformi(name, int(unit))
-        level_state["coarse_units_built"] = units
         level_state["samplers_set"] = True
 
 
@@ -701,19 +700,15 @@ def _render_coarse_level(level_mapper, level_volume, renderer, plan, layer) -> N
 
 
 def _bind_coarse(level_mapper, level_volume, textures) -> None:
-    """Activate the coarse pictures for a GPU-masked level; rebuild its shader if their units moved.
+    """Activate the coarse pictures and the fovea spans for a GPU-masked level; note their units.
 
-    Levels with the same shader source share one program (VTK's shader
-    cache), whose samplers are set when it is built: activated in the same
-    order each time, the textures take the same units for every level.
+    :func:`_bind_coarse_samplers` points the samplers at these units on
+    every draw (see :func:`_render_coarse_level` for the draw that builds
+    the shader).
     """
     for texture in textures:
         texture.Activate()
-    level_state = object_state(level_mapper)
-    level_state["coarse_units"] = tuple(texture.GetTextureUnit() for texture in textures)
-    if level_state.get("coarse_units_built") not in (None, level_state["coarse_units"]):
-        # VTK sets our samplers only when it builds the shader: rebuild it for the new units
-        level_mapper._install_pieces(level_volume)
+    object_state(level_mapper)["coarse_units"] = tuple(texture.GetTextureUnit() for texture in textures)
 
 
 def _set_coarse_uniforms(level_volume, plan, layer, viewport, tolerance) -> None:
