@@ -20,15 +20,20 @@ bool mcFovInFovea(int column, int row)
   return float(column) >= span.x && float(column) < span.y;
 }
 
-// The viewport pixel (bottom row first) the CPU definition
+// The viewport pixel column / row (bottom row first) the CPU definition
 // (mipcast.core.content_adaptive.coarse_texels) reads for coarse texel
-// (column, top-first row): min(floor((i + 0.5) * size / grid), size - 1),
-// in integers, exact.
-ivec2 mcFovCoarsePixel(int column, int row)
+// column / top-first row i (clamped to the grid first):
+// min(floor((i + 0.5) * size / grid), size - 1), in integers, exact.
+int mcFovCoarseX(int column)
 {
-  int x = min(((2 * column + 1) * u_mc_fovViewW) / (2 * u_mc_fovCoarseW), u_mc_fovViewW - 1);
-  int y = min(((2 * row + 1) * u_mc_fovViewH) / (2 * u_mc_fovCoarseH), u_mc_fovViewH - 1);
-  return ivec2(x, u_mc_fovViewH - 1 - y);
+  column = clamp(column, 0, u_mc_fovCoarseW - 1);
+  return min(((2 * column + 1) * u_mc_fovViewW) / (2 * u_mc_fovCoarseW), u_mc_fovViewW - 1);
+}
+
+int mcFovCoarseY(int row)
+{
+  row = clamp(row, 0, u_mc_fovCoarseH - 1);
+  return u_mc_fovViewH - 1 - min(((2 * row + 1) * u_mc_fovViewH) / (2 * u_mc_fovCoarseH), u_mc_fovViewH - 1);
 }
 
 // Grey levels 0..255 of an RGBA8 texel's channels.
@@ -48,25 +53,38 @@ bool mcFovRefine(int column, int row, bool inFovea)
 {
   int cx = min(((2 * column + 1) * u_mc_fovCoarseW) / (2 * u_mc_fovLevelW), u_mc_fovCoarseW - 1);
   int cy = min(((2 * row + 1) * u_mc_fovCoarseH) / (2 * u_mc_fovLevelH), u_mc_fovCoarseH - 1);
-  float high = -1.0;
-  float low = 256.0;
-  bool structure = false;
-  for (int dy = -1; dy <= 1; ++dy)
+  ivec3 xs = ivec3(mcFovCoarseX(cx - 1), mcFovCoarseX(cx), mcFovCoarseX(cx + 1));
+  ivec3 ys = ivec3(mcFovCoarseY(cy - 1), mcFovCoarseY(cy), mcFovCoarseY(cy + 1));
+  if (inFovea)  // structure anywhere in the neighbourhood: cast (whatever the edges say)
   {
-    for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = 0; dy < 3; ++dy)
     {
-      ivec2 at = mcFovCoarsePixel(clamp(cx + dx, 0, u_mc_fovCoarseW - 1),
-                                  clamp(cy + dy, 0, u_mc_fovCoarseH - 1));
-      vec3 after = mcFovGrey(texelFetch(u_mc_fovAfter, at, 0));
-      float grey = max(after.r, max(after.g, after.b));
-      high = max(high, grey);
-      low = min(low, grey);
-      if (inFovea)
+      for (int dx = 0; dx < 3; ++dx)
       {
-        vec3 before = mcFovGrey(texelFetch(u_mc_fovBefore, at, 0));
-        structure = structure || any(notEqual(after, before));
+        ivec2 at = ivec2(xs[dx], ys[dy]);
+        if (any(notEqual(mcFovGrey(texelFetch(u_mc_fovAfter, at, 0)),
+                         mcFovGrey(texelFetch(u_mc_fovBefore, at, 0)))))
+        {
+          return true;
+        }
       }
     }
   }
-  return (high - low) >= u_mc_fovEdgeMin || structure;
+  float high = -1.0;
+  float low = 256.0;
+  for (int dy = 0; dy < 3; ++dy)
+  {
+    for (int dx = 0; dx < 3; ++dx)
+    {
+      vec3 after = mcFovGrey(texelFetch(u_mc_fovAfter, ivec2(xs[dx], ys[dy]), 0));
+      float grey = max(after.r, max(after.g, after.b));
+      high = max(high, grey);
+      low = min(low, grey);
+      if (high - low >= u_mc_fovEdgeMin)
+      {
+        return true;
+      }
+    }
+  }
+  return false;
 }

@@ -516,11 +516,13 @@ def _draw(mapper, state, volume, renderer) -> None:
             object_state(level_mapper)["exact_readout"] = True
             level_mapper.RenderToImageOn()
             level_mapper.SetDepthImageScalarTypeToFloat()
-        scissor = layer.scissor if not readout and kind != "coarse" else None
-        # no scissor for the GPU-masked levels: a reduced level draws into VTK's own smaller
-        # framebuffer, which the window-pixel box would clip (and clear) only in part, leaving
-        # earlier frames' rays in it, and the box can cut a boundary ray. The CPU mask path drew
-        # them unclipped too (its glReadPixels turns the scissor test off): the same picture.
+        scissor = layer.scissor if not readout else None
+        if kind == "coarse" and layer.image_sample_distance != 1.0:
+            # no scissor for a reduced GPU-masked level: it draws into VTK's own smaller
+            # framebuffer, which the window-pixel box would clip (and clear) only in part, leaving
+            # earlier frames' rays in it. (The CPU mask path's glReadPixels turned the scissor
+            # test off for every finer level; the full-resolution level keeps it here.)
+            scissor = None
         if scissor is not None:
             gl_state.vtkglScissor(*scissor)
         mask_texture = None
