@@ -49,42 +49,40 @@ vec3 mcFovGrey(vec4 texel)
 // tolerance (at least u_mc_fovEdgeMin grey levels), or, inside the fovea
 // (inFovea: mcFovInFovea), when a texel of that neighbourhood differs from the picture
 // before the coarsest level was drawn (structure above the floor).
+// Whether the coarse texel at viewport pixel ``at`` differs from the picture before the coarsest level.
+bool mcFovStructure(ivec2 at)
+{
+  return any(notEqual(mcFovGrey(texelFetch(u_mc_fovAfter, at, 0)), mcFovGrey(texelFetch(u_mc_fovBefore, at, 0))));
+}
+
+// The coarse grey (largest channel) at viewport pixel ``at``.
+float mcFovValue(ivec2 at)
+{
+  vec3 after = mcFovGrey(texelFetch(u_mc_fovAfter, at, 0));
+  return max(after.r, max(after.g, after.b));
+}
+
 bool mcFovRefine(int column, int row, bool inFovea)
 {
   int cx = min(((2 * column + 1) * u_mc_fovCoarseW) / (2 * u_mc_fovLevelW), u_mc_fovCoarseW - 1);
   int cy = min(((2 * row + 1) * u_mc_fovCoarseH) / (2 * u_mc_fovLevelH), u_mc_fovCoarseH - 1);
   ivec3 xs = ivec3(mcFovCoarseX(cx - 1), mcFovCoarseX(cx), mcFovCoarseX(cx + 1));
   ivec3 ys = ivec3(mcFovCoarseY(cy - 1), mcFovCoarseY(cy), mcFovCoarseY(cy + 1));
-  if (inFovea)  // structure anywhere in the neighbourhood: cast (whatever the edges say)
+  // structure anywhere in the neighbourhood (fovea only): cast, whatever the edges say
+  // (the 3 x 3 neighbourhood written out: || stops at the first texel with structure)
+  if (inFovea
+      && (mcFovStructure(ivec2(xs.y, ys.y)) || mcFovStructure(ivec2(xs.x, ys.y))
+          || mcFovStructure(ivec2(xs.z, ys.y)) || mcFovStructure(ivec2(xs.y, ys.x))
+          || mcFovStructure(ivec2(xs.y, ys.z)) || mcFovStructure(ivec2(xs.x, ys.x))
+          || mcFovStructure(ivec2(xs.z, ys.x)) || mcFovStructure(ivec2(xs.x, ys.z))
+          || mcFovStructure(ivec2(xs.z, ys.z))))
   {
-    for (int dy = 0; dy < 3; ++dy)
-    {
-      for (int dx = 0; dx < 3; ++dx)
-      {
-        ivec2 at = ivec2(xs[dx], ys[dy]);
-        if (any(notEqual(mcFovGrey(texelFetch(u_mc_fovAfter, at, 0)),
-                         mcFovGrey(texelFetch(u_mc_fovBefore, at, 0)))))
-        {
-          return true;
-        }
-      }
-    }
+    return true;
   }
-  float high = -1.0;
-  float low = 256.0;
-  for (int dy = 0; dy < 3; ++dy)
-  {
-    for (int dx = 0; dx < 3; ++dx)
-    {
-      vec3 after = mcFovGrey(texelFetch(u_mc_fovAfter, ivec2(xs[dx], ys[dy]), 0));
-      float grey = max(after.r, max(after.g, after.b));
-      high = max(high, grey);
-      low = min(low, grey);
-      if (high - low >= u_mc_fovEdgeMin)
-      {
-        return true;
-      }
-    }
-  }
-  return false;
+  vec3 top = vec3(mcFovValue(ivec2(xs.x, ys.x)), mcFovValue(ivec2(xs.y, ys.x)), mcFovValue(ivec2(xs.z, ys.x)));
+  vec3 middle = vec3(mcFovValue(ivec2(xs.x, ys.y)), mcFovValue(ivec2(xs.y, ys.y)), mcFovValue(ivec2(xs.z, ys.y)));
+  vec3 bottom = vec3(mcFovValue(ivec2(xs.x, ys.z)), mcFovValue(ivec2(xs.y, ys.z)), mcFovValue(ivec2(xs.z, ys.z)));
+  vec3 high = max(top, max(middle, bottom));
+  vec3 low = min(top, min(middle, bottom));
+  return max(high.x, max(high.y, high.z)) - min(low.x, min(low.y, low.z)) >= u_mc_fovEdgeMin;
 }
