@@ -28,11 +28,15 @@ import numpy as np
 
 from mipcast.bench.benchmark import apply_settings, interleaved_frame_times
 from mipcast.core.foveation import eccentricity
+from mipcast.core.object_state import object_state
 from mipcast.offscreen import OffscreenView
 from mipcast.core.ray_cost import grid_cost
 
 #: Camera zoom after the whole volume is framed.
 FRAMINGS = {"fill": 2.0, "whole": 1.0}
+#: Variant key (not a mapper setting): build the content-adaptive masks on the CPU
+#: (:func:`mipcast.mappers.foveated` reads the coarse picture back), as before they moved to the GPU.
+MASKS_ON_CPU = "masks on CPU"
 #: Gaze points, normalised viewport coordinates.
 GAZES = {"centre": (0.5, 0.5), "corner": (0.1, 0.1)}
 #: Foveated mapper settings compared with full quality ({} = the defaults).
@@ -44,6 +48,8 @@ VARIANTS = {
     "default, 4 levels": {"NumberOfLevels": 4},
     "content-adaptive 2 grey": {"ContentTolerance": 2.0},
     "content-adaptive 8 grey": {"ContentTolerance": 8.0},
+    # the same masks built on the CPU from the coarse picture read back mid-frame (the path before the GPU masks)
+    "content-adaptive 2 grey, CPU mask": {"ContentTolerance": 2.0, MASKS_ON_CPU: True},
 }
 #: A gaze far outside the viewport: every pixel at the coarsest level.  Its
 #: row times the periphery alone, a floor under any gaze's frame time where
@@ -216,7 +222,10 @@ def measure_foveation(image, scene: str, method: str = "mip", sizes: Sequence[in
             for variant, settings in variants.items():
                 for gaze_name, gaze in gazes.items():
                     view = views[f"{variant} | {gaze_name}"] = framed_view(image, "foveated", size, framing, window)
-                    apply_settings(view.mapper, (("Method", method), *settings.items(), ("GazePoint", gaze)))
+                    pairs = [(name, value) for name, value in settings.items() if name != MASKS_ON_CPU]
+                    if settings.get(MASKS_ON_CPU):
+                        object_state(view.mapper)["masks_on_cpu"] = True
+                    apply_settings(view.mapper, (("Method", method), *pairs, ("GazePoint", gaze)))
             floor = views[PERIPHERY_ONLY] = framed_view(image, "foveated", size, framing, window)
             apply_settings(floor.mapper, (("Method", method), ("GazePoint", OFF_SCREEN)))
             times = interleaved_frame_times(views, rounds, frames, warmup,

@@ -15,9 +15,12 @@ picture then decides, texel by texel, where the finer levels cast rays:
 Elsewhere the finer ray is not cast and the coarser picture (bilinearly
 stretched) shows through: background inside the sweet spot needs no
 full-density rays, and smooth regions of the periphery keep the coarse
-level.  Pure numpy: the mapper (:mod:`mipcast.mappers.foveated`) reads the
-coarse picture back and uploads the masks as textures; the cost accounting
-uses the same masks.
+level.  Pure numpy, the float64 definition: the mapper
+(:mod:`mipcast.mappers.foveated`) evaluates it per ray in the finer levels'
+shader from the coarse picture copied into textures on the GPU
+(``shaders/foveated_coarse_dec.glsl``, the fovea from :func:`fovea_spans`),
+or, on its CPU path, reads the coarse picture back and uploads these masks;
+the cost accounting uses these masks.
 """
 from __future__ import annotations
 
@@ -110,6 +113,30 @@ def refinement_masks(after: np.ndarray, before: np.ndarray, plan: Plan, toleranc
         fovea = eccentricity(layer.grid, plan.gaze, plan.aspect) < plan.start
         masks[layer.level] = edges[y][:, x] | (fovea & near_structure[y][:, x])
     return masks
+
+
+def fovea_spans(grid, plan: Plan) -> np.ndarray:
+    """Per row of ``grid`` (top row first), the columns ``[first, end)`` of its texels inside the fovea.
+
+    Inside: the texel centre's eccentricity (float64,
+    :func:`mipcast.core.foveation.eccentricity`) below the plan's ``start``,
+    exactly as :func:`refinement_masks` decides; a disc, so one span per
+    row (``first == end`` when the row misses it).  The GPU-built masks
+    read these spans instead of recomputing the eccentricity in float32.
+
+    Examples
+    --------
+    >>> from mipcast.core.foveation import plan_frame
+    >>> plan = plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.1)
+    >>> spans = fovea_spans((8, 8), plan)
+    >>> spans.shape, spans[0].tolist(), spans[4].tolist()
+    ((8, 2), [0, 0], [3, 5])
+    """
+    inside = eccentricity(grid, plan.gaze, plan.aspect) < plan.start
+    any_inside = inside.any(axis=1)
+    first = np.where(any_inside, np.argmax(inside, axis=1), 0)
+    end = np.where(any_inside, inside.shape[1] - np.argmax(inside[:, ::-1], axis=1), 0)
+    return np.stack([first, end], axis=1)
 
 
 def adaptive_plan(plan: Plan) -> Plan:

@@ -30,6 +30,9 @@ from mipcast.core.validation import check_choice
 
 #: Stand-in for an unbounded eccentricity in the shader's uniforms.
 _FAR = 1.0e30
+#: OpenGL enums the coarse-picture copy uses.
+_GL_READ_FRAMEBUFFER, _GL_DRAW_FRAMEBUFFER = 0x8CA8, 0x8CA9
+_GL_SCISSOR_TEST, _GL_COLOR_BUFFER_BIT, _GL_NEAREST = 0x0C11, 0x4000, 0x2600
 #: State besides the parameters: the gaze of the last render (from the current source) and its source.
 _GAZE = {"gaze": (0.5, 0.5), "gaze_source": "point"}
 
@@ -112,6 +115,8 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     LEVEL_PIECES = ("foveated_skip", "foveated_weight")
     #: Pieces of the finer levels with content-adaptive ray density (ContentTolerance > 0).
     MASKED_LEVEL_PIECES = ("foveated_skip_masked", "foveated_mask_dec", "foveated_weight")
+    #: The same with the refinement mask built on the GPU from the coarsest level's picture (no readback).
+    COARSE_LEVEL_PIECES = ("foveated_skip_coarse", "foveated_coarse_dec", "foveated_weight")
     PARAMETERS = parameter_tables.FOVEATED
 
     def __init__(self) -> None:
@@ -389,7 +394,7 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         With content-adaptive density on, the finer levels' masked mappers.
         """
         drawn = object_state(self).get("levels_drawn", {})
-        entry = drawn.get((int(level), "masked")) or drawn.get(int(level))
+        entry = drawn.get((int(level), "coarse")) or drawn.get((int(level), "masked")) or drawn.get(int(level))
         return None if entry is None else entry["mapper"]
 
     # -- rendering ------------------------------------------------------------
@@ -485,13 +490,20 @@ def _draw(mapper, state, volume, renderer) -> None:
     depth = _capture_depth(state, renderer)
     masks = {}
     silhouette = _silhouette(image, volume, camera, viewport, base_isd)
-    before = _read_texels(renderer, viewport, plan.layers[0].grid) if adaptive and not readout else None
+    # masks on the GPU: the finer levels' shader reads the coarse picture as a texture (no readback)
+    on_gpu = adaptive and not readout and _gpu_masks_possible(state, renderer)
+    coarse = _coarse_textures(state, renderer, viewport) if on_gpu else None
+    if on_gpu:
+        _copy_drawn(renderer, viewport, coarse, "before")
+    before = _read_texels(renderer, viewport, plan.layers[0].grid) if adaptive and not readout and not on_gpu else None
     for index, layer in enumerate(plan.layers):
         level = layer.level
         if adaptive and index == 1:
             if readout:
                 after = _grey_texels(volume, values[plan.layers[0].level])
                 masks = content_adaptive.refinement_masks(after, np.zeros_like(after), plan, tolerance)
+            elif on_gpu:
+                _copy_drawn(renderer, viewport, coarse, "after")
             else:
                 after = _read_texels(renderer, viewport, plan.layers[0].grid)
                 masks = content_adaptive.refinement_masks(after, before, plan, tolerance)
@@ -499,8 +511,9 @@ def _draw(mapper, state, volume, renderer) -> None:
         volume_level, distance = volume_pyramid.level_sampling(
             level, footprint, base_distance, spacings, cells, params["peripheral_sampling"])
         masked = adaptive and index > 0
-        key = level if not masked else (level, "masked")
-        entry = drawn.get(key) or _new_level(params["method"], masked)
+        kind = ("coarse" if on_gpu else "masked") if masked else None
+        key = level if not masked else (level, kind)
+        entry = drawn.get(key) or _new_level(params["method"], kind)
         drawn[key] = entry
         level_mapper, level_volume = entry["mapper"], entry["volume"]
         if depth is not None and level_mapper.GetDepthTexture() is not depth:
@@ -523,10 +536,21 @@ def _draw(mapper, state, volume, renderer) -> None:
             level_mapper.RenderToImageOn()
             level_mapper.SetDepthImageScalarTypeToFloat()
         scissor = layer.scissor if not readout and not band else None  # the band reaches the periphery
+        if kind == "coarse" and layer.image_sample_distance != 1.0:
+            # no scissor for a reduced GPU-masked level: it draws into VTK's own smaller
+            # framebuffer, which the window-pixel box would clip (and clear) only in part, leaving
+            # earlier frames' rays in it. (The CPU mask path's glReadPixels turned the scissor
+            # test off for every finer level; the full-resolution level keeps it here.)
+            scissor = None
         if scissor is not None:
             gl_state.vtkglScissor(*scissor)
         mask_texture = None
-        if level in masks and not readout:
+        bound = ()
+        if kind == "coarse":
+            bound = (coarse["after"], coarse["before"], _fovea_texture(state, renderer, plan, layer))
+            _bind_coarse(level_mapper, level_volume, bound)
+            _set_coarse_uniforms(level_volume, plan, layer, viewport, tolerance)
+        elif level in masks and not readout:
             mask_texture = _mask_texture(state, renderer, level, masks[level])
             mask_texture.Activate()
             level_state = object_state(level_mapper)
@@ -535,10 +559,15 @@ def _draw(mapper, state, volume, renderer) -> None:
                 # VTK sets our sampler only when it builds the shader: rebuild it for the new unit
                 level_mapper._install_pieces(level_volume)
         try:
-            level_volume.RenderVolumetricGeometry(renderer)
+            if kind == "coarse":
+                _render_coarse_level(level_mapper, level_volume, renderer, plan, layer)
+            else:
+                level_volume.RenderVolumetricGeometry(renderer)
         finally:
             if mask_texture is not None:
                 mask_texture.Deactivate()
+            for texture in bound:
+                texture.Deactivate()
             if scissor is not None:
                 gl_state.vtkglScissor(*viewport)
             if readout:
@@ -559,6 +588,9 @@ def _draw(mapper, state, volume, renderer) -> None:
     state["frame"] = {"plan": plan, "camera": snapshot, "matrix": matrix, "image": image, "silhouette": silhouette,
                       "layers": layers, "cells": cells, "method": params["method"], "masks": masks,
                       "base_distance": base_distance, "base_isd": base_isd}
+    if on_gpu:  # the masks for GetLastFrameCost: read back only when asked, after the frame
+        state["frame"]["coarse"] = {"textures": coarse, "window": renderer.GetRenderWindow(),
+                                    "viewport": viewport, "tolerance": tolerance}
 
 
 def _refine(state, params, image, volume, camera, viewport, gaze, radius):
@@ -632,13 +664,200 @@ def _capture_depth(state, renderer):
     return depth
 
 
-def _new_level(method: str, masked: bool = False) -> dict:
-    level_mapper = _level_class(FOVEATION_LAYERS[method].factory, masked)()
+def _new_level(method: str, kind: Optional[str] = None) -> dict:
+    """A private level mapper and volume; ``kind``: None, ``"masked"`` (CPU mask) or ``"coarse"`` (GPU mask)."""
+    level_mapper = _level_class(FOVEATION_LAYERS[method].factory, kind)()
     level_volume = vtkVolume()
     level_mapper.Attach(level_volume)
-    if masked:
+    if kind == "masked":
         level_mapper.AddObserver(vtkCommand.UpdateShaderEvent, _bind_mask_sampler)
+    elif kind == "coarse":
+        level_mapper.AddObserver(vtkCommand.UpdateShaderEvent, _bind_coarse_samplers)
     return {"mapper": level_mapper, "volume": level_volume, "matrix": vtkMatrix4x4()}
+
+
+@calldata_type(VTK_OBJECT)
+def _bind_coarse_samplers(level_mapper, event, program) -> None:
+    """Point a GPU-masked level's samplers (coarse pictures, fovea spans) at their textures' units."""
+    level_state = object_state(level_mapper)
+    units = level_state.get("coarse_units")
+    if program is not None and units is not None and min(units) >= 0:
+        for name, unit in zip(("u_mc_fovAfter", "u_mc_fovBefore", "u_mc_fovFovea"), units):
+            program.SetUniformi(name, int(unit))
+        level_state["samplers_set"] = True
+
+
+def _render_coarse_level(level_mapper, level_volume, renderer, plan, layer) -> None:
+    """Draw a GPU-masked level, its samplers pointing at the coarse pictures.
+
+    VTK invokes UpdateShaderEvent (where :func:`_bind_coarse_samplers` sets
+    the samplers) on every draw except one that (re)builds the shader, whose
+    samplers would all read unit 0.  So when the level may need a build (its
+    first draw, or anything VTK's rebuild test watches changed since the last
+    draw that set the samplers), it is first drawn with every ray discarded
+    (the cast range emptied: the picture does not change), which builds the
+    shader; the real draw then sets them.
+    """
+    level_state = object_state(level_mapper)
+    stamp = (level_mapper.GetMTime(), level_volume.GetShaderProperty().GetShaderMTime(),
+             level_volume.GetProperty().GetMTime(), renderer.GetLights().GetMTime(),
+             renderer.GetRenderWindow().GetAddressAsString("vtkObjectBase"))
+    if level_state.get("sampler_stamp") != stamp:
+        level_state["sampler_probes"] = level_state.get("sampler_probes", 0) + 1
+        uniforms = level_volume.GetShaderProperty().GetFragmentCustomUniforms()
+        uniforms.SetUniformf("u_mc_fovCastFrom", _FAR)
+        uniforms.SetUniformf("u_mc_fovCastTo", _FAR)
+        try:
+            level_volume.RenderVolumetricGeometry(renderer)
+        finally:
+            _set_uniforms(level_volume, plan, layer)
+    level_state["samplers_set"] = False
+    level_volume.RenderVolumetricGeometry(renderer)
+    if level_state["samplers_set"]:
+        level_state["sampler_stamp"] = stamp
+    else:  # built again by the real draw: this frame's masks read the wrong textures; probe next frame
+        level_state.pop("sampler_stamp", None)
+        level_state["sampler_misses"] = level_state.get("sampler_misses", 0) + 1
+
+
+def _bind_coarse(level_mapper, level_volume, textures) -> None:
+    """Activate the coarse pictures and the fovea spans for a GPU-masked level; note their units.
+
+    :func:`_bind_coarse_samplers` points the samplers at these units on
+    every draw (see :func:`_render_coarse_level` for the draw that builds
+    the shader).
+    """
+    for texture in textures:
+        texture.Activate()
+    object_state(level_mapper)["coarse_units"] = tuple(texture.GetTextureUnit() for texture in textures)
+
+
+def _set_coarse_uniforms(level_volume, plan, layer, viewport, tolerance) -> None:
+    """The grids, viewport and tolerance ``foveated_coarse_dec``'s mask needs (integers where exact)."""
+    uniforms = level_volume.GetShaderProperty().GetFragmentCustomUniforms()
+    coarse = plan.layers[0].grid
+    for name, value in (("u_mc_fovCoarseW", coarse[0]), ("u_mc_fovCoarseH", coarse[1]),
+                        ("u_mc_fovLevelW", layer.grid[0]), ("u_mc_fovLevelH", layer.grid[1]),
+                        ("u_mc_fovViewW", viewport[2]), ("u_mc_fovViewH", viewport[3])):
+        uniforms.SetUniformi(name, int(value))
+    # grey ranges are integers: range > tolerance  <=>  range >= floor(tolerance) + 1 (exact in float32)
+    uniforms.SetUniformf("u_mc_fovEdgeMin", float(math.floor(tolerance) + 1))
+
+
+def _gpu_masks_possible(state, renderer) -> bool:
+    """Whether the refinement masks can be built on the GPU (else the CPU path reads the picture back).
+
+    Not with a VTK that cannot say which framebuffer is being drawn, and
+    not when ``object_state(mapper)["masks_on_cpu"]`` asks for the CPU
+    reference path.
+    """
+    if state.get("masks_on_cpu"):
+        return False
+    return hasattr(renderer.GetRenderWindow().GetState(), "GetCurrentDrawFramebufferState")
+
+
+def _coarse_textures(state, renderer, viewport) -> dict:
+    """The two viewport-sized RGBA8 textures the coarsest level's picture is copied into (after, before)."""
+    from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLFramebufferObject, vtkTextureObject
+
+    window = renderer.GetRenderWindow()
+    entry = state.get("coarse_textures")
+    size = (viewport[2], viewport[3])
+    if entry is None or entry["window"] is not window or entry["size"] != size:
+        entry = {"window": window, "size": size}
+        for name in ("after", "before"):
+            texture = vtkTextureObject()
+            texture.SetContext(window)
+            texture.SetMinificationFilter(vtkTextureObject.Nearest)
+            texture.SetMagnificationFilter(vtkTextureObject.Nearest)
+            texture.SetWrapS(vtkTextureObject.ClampToEdge)
+            texture.SetWrapT(vtkTextureObject.ClampToEdge)
+            texture.Allocate2D(size[0], size[1], 4, VTK_UNSIGNED_CHAR)
+            entry[name] = texture
+            target = vtkOpenGLFramebufferObject()
+            target.SetContext(window)
+            window.GetState().PushFramebufferBindings()
+            target.Bind()  # creates it: attachments go only to an existing framebuffer
+            target.AddColorAttachment(0, texture)
+            window.GetState().PopFramebufferBindings()
+            entry.setdefault("framebuffers", {})[name] = target
+        state["coarse_textures"] = entry
+    return entry
+
+
+def _fovea_texture(state, renderer, plan, layer):
+    """A level's fovea spans (:func:`mipcast.core.content_adaptive.fovea_spans`) as a float texture, one texel a row.
+
+    Made again only when the grid, gaze, aspect or fovea change: it does not depend on the picture.
+    """
+    from vtkmodules.vtkCommonCore import VTK_FLOAT
+    from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
+
+    window = renderer.GetRenderWindow()
+    key = (window.GetAddressAsString("vtkObjectBase"), tuple(layer.grid), tuple(plan.gaze), plan.aspect, plan.start)
+    cache = state.setdefault("fovea_textures", {})
+    cached = cache.get(layer.level)
+    if cached is not None and cached[0] == key and cached[1].GetContext() is window:
+        return cached[1]
+    texture = cached[1] if cached is not None and cached[1].GetContext() is window else vtkTextureObject()
+    texture.SetContext(window)
+    texture.SetMinificationFilter(vtkTextureObject.Nearest)
+    texture.SetMagnificationFilter(vtkTextureObject.Nearest)
+    spans = np.ascontiguousarray(content_adaptive.fovea_spans(layer.grid, plan), dtype=np.float32)
+    texture.Create2DFromRaw(spans.shape[0], 1, 2, VTK_FLOAT, spans)
+    texture.Deactivate()
+    cache[layer.level] = (key, texture)
+    return texture
+
+
+def _copy_drawn(renderer, viewport, coarse, name) -> None:
+    """Copy the viewport of the framebuffer being drawn into ``coarse[name]`` on the GPU (no readback).
+
+    A framebuffer blit (resolving a multisampled framebuffer as the CPU
+    path's ``glReadPixels`` does), the scissor test off while it runs.
+    """
+    from vtkmodules.vtkCommonCore import reference
+
+    gl_state = renderer.GetRenderWindow().GetState()
+    binding, buffer = reference(0), reference(0)
+    gl_state.GetCurrentDrawFramebufferState(binding, buffer)
+    scissor = gl_state.GetEnumState(_GL_SCISSOR_TEST)
+    gl_state.PushFramebufferBindings()
+    try:
+        gl_state.vtkglBindFramebuffer(_GL_READ_FRAMEBUFFER, int(binding))
+        gl_state.vtkglReadBuffer(int(buffer))
+        target = coarse["framebuffers"][name]
+        target.Bind(_GL_DRAW_FRAMEBUFFER)
+        target.ActivateDrawBuffer(0)
+        gl_state.vtkglDisable(_GL_SCISSOR_TEST)
+        x0, y0, width, height = viewport
+        gl_state.vtkglBlitFramebuffer(x0, y0, x0 + width, y0 + height, 0, 0, width, height,
+                                      _GL_COLOR_BUFFER_BIT, _GL_NEAREST)
+    finally:
+        if scissor:
+            gl_state.vtkglEnable(_GL_SCISSOR_TEST)
+        gl_state.PopFramebufferBindings()
+
+
+def _download_texels(window, texture, grid) -> np.ndarray:
+    """A coarse-picture texture (RGB, uint8) at the texel centres of ``grid``, top row first.
+
+    A readback: only :meth:`FoveatedVolumeMapper.GetLastFrameCost` calls it, after the frame.
+    """
+    window.MakeCurrent()
+    width, height = texture.GetWidth(), texture.GetHeight()
+    data = np.zeros((height, width, 4), np.uint8)
+    texture.Download().Download2D(VTK_UNSIGNED_CHAR, data, [width, height], 4, [0, 0])
+    return content_adaptive.coarse_texels(data[::-1, :, :3], grid)
+
+
+def _gpu_masks(frame) -> dict:
+    """The refinement masks of a frame whose masks the GPU built: its definition on the read-back picture."""
+    coarse, plan = frame["coarse"], frame["plan"]
+    grid = plan.layers[0].grid
+    after = _download_texels(coarse["window"], coarse["textures"]["after"], grid)
+    before = _download_texels(coarse["window"], coarse["textures"]["before"], grid)
+    return content_adaptive.refinement_masks(after, before, plan, coarse["tolerance"])
 
 
 @calldata_type(VTK_OBJECT)
@@ -699,20 +918,25 @@ def _mask_texture(state, renderer, level, mask):
 _LEVEL_CLASSES: dict = {}
 
 
-def _level_class(base, masked: bool = False):
-    """``base`` (a mipcast mapper class) plus the foveation pieces (with a refinement mask if ``masked``)."""
-    cls = _LEVEL_CLASSES.get((base, masked))
+def _level_class(base, kind: Optional[str] = None):
+    """``base`` (a mipcast mapper class) plus the foveation pieces.
+
+    ``kind``: None, ``"masked"`` (refinement mask uploaded from the CPU) or
+    ``"coarse"`` (mask built in the shader from the coarse picture).
+    """
+    cls = _LEVEL_CLASSES.get((base, kind))
     if cls is None:
-        extra = FoveatedVolumeMapper.MASKED_LEVEL_PIECES if masked else FoveatedVolumeMapper.LEVEL_PIECES
+        extra = {None: FoveatedVolumeMapper.LEVEL_PIECES, "masked": FoveatedVolumeMapper.MASKED_LEVEL_PIECES,
+                 "coarse": FoveatedVolumeMapper.COARSE_LEVEL_PIECES}[kind]
 
         def GetShaderPieces(self):
             return tuple(base.GetShaderPieces(self)) + extra
 
-        name = f"Foveated{base.__name__}{'Masked' if masked else ''}Level"
+        name = f"Foveated{base.__name__}{(kind or '').capitalize()}Level"
         cls = type(name, (base,), {
             "__doc__": f"One pyramid level of a FoveatedVolumeMapper rendering with {base.__name__}.",
             "GetShaderPieces": GetShaderPieces})
-        _LEVEL_CLASSES[(base, masked)] = cls
+        _LEVEL_CLASSES[(base, kind)] = cls
     return cls
 
 
@@ -943,13 +1167,16 @@ def _pyramid(state, image) -> list:
 def _frame_cost(frame) -> dict:
     plan, image, camera, matrix = frame["plan"], frame["image"], frame["camera"], frame["matrix"]
     size = plan.viewport[2:]
+    if "coarse" in frame and not frame.get("masks"):
+        frame["masks"] = _gpu_masks(frame)
+    masks = frame.get("masks", {})
     rows = []
     band_rays = 0
     for (level, volume_level, distance, level_input), layer in zip(frame["layers"], plan.layers):
         e = foveation.eccentricity(layer.grid, plan.gaze, plan.aspect)
         cast = (e >= layer.cast_from) & (e < layer.cast_to)
-        if level in frame.get("masks", {}):
-            cast &= frame["masks"][level]
+        if level in masks:
+            cast &= masks[level]
         kind = {"cells_of": level_input} if frame["cells"] else {"sample_distance": distance}
         if len(plan.layers) > 1 and level == 0:  # the silhouette band: level 0 casts it too
             added = foveation.silhouette_band(plan, frame.get("silhouette"), layer.grid)
