@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from mipcast.core.content_adaptive import adaptive_plan, refinement_masks
-from mipcast.core.foveation import eccentricity, plan_frame
+from mipcast.core.foveation import eccentricity, plan_frame, silhouette_band
 from mipcast.data_fixtures import make_fixture
 from mipcast.offscreen import OffscreenView
 
@@ -72,6 +72,11 @@ def test_analytic_fovea_is_exact_on_structure_in_the_float_readout(vessels):
     structure = (e <= fov.mapper.GetFovealRadius()) & (np.nan_to_num(reference, nan=-1.0) > WINDOW[0])
     assert structure.sum() > 100
     assert np.allclose(values[structure], reference[structure], rtol=1e-5, atol=1e-6)
+    # level 0 casts the volume's silhouette band whatever the refinement mask says: exact there too
+    band = silhouette_band(fov.mapper.GetLastPlan(), fov.mapper.GetLastSilhouette(), SIZE)
+    band &= ~np.isnan(reference)
+    assert band.sum() > 100
+    assert np.allclose(values[band], reference[band], rtol=1e-5, atol=1e-6)
 
 
 def test_tolerance_zero_is_the_acuity_only_picture(vessels):

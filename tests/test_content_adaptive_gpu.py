@@ -120,3 +120,24 @@ def test_gpu_masks_follow_the_picture_beneath_and_a_moving_gaze():
         assert np.array_equal(_first_frame(gpu), _first_frame(cpu)), (gaze, tolerance, opacity)
     level = gpu.mapper.GetLevelMapper(0)
     assert object_state(level).get("sampler_misses", 0) == 0
+
+
+def test_every_level_kind_casts_the_same_silhouette_band():
+    """The band rule is one text in the plain, CPU-mask and GPU-mask skip pieces and the weight piece."""
+    import re
+
+    from mipcast import FoveatedVolumeMapper
+    from mipcast.mappers.shader_pieces import load_piece
+
+    def band_rule(name):
+        found = re.search(r"bool mc_fovBand = false;.*?\n    }\n", load_piece(name).text, re.S)
+        assert found, f"{name} does not test the silhouette band"
+        return found.group(0)
+
+    kinds = (FoveatedVolumeMapper.LEVEL_PIECES, FoveatedVolumeMapper.MASKED_LEVEL_PIECES,
+             FoveatedVolumeMapper.COARSE_LEVEL_PIECES)
+    names = sorted({name for pieces in kinds for name in pieces if name.startswith(("foveated_skip", "foveated_weight"))})
+    assert len(names) == 4, names
+    assert len({band_rule(name) for name in names}) == 1
+    coarse = load_piece("foveated_skip_coarse").text
+    assert coarse.index("mc_fovBand = false") < coarse.index("mcFovRefine(")  # the band before the mask

@@ -572,8 +572,9 @@ def _draw(mapper, state, volume, renderer) -> None:
                 gl_state.vtkglScissor(*viewport)
             if readout:
                 values[level] = _level_values(level_mapper, layer.grid)
-                if level in masks:
-                    values[level][~masks[level]] = np.nan
+                if level in masks:  # rays the mask left out, but level 0's silhouette band (cast whatever the mask)
+                    cast = masks[level] | (foveation.silhouette_band(plan, silhouette, layer.grid) if band else False)
+                    values[level][~cast] = np.nan
                 object_state(level_mapper).pop("exact_readout", None)
                 level_mapper.RenderToImageOff()
         layers.append((level, volume_level, distance, level_input))
