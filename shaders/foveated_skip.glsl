@@ -13,26 +13,7 @@
   {
     vec2 mc_fovAt = (gl_FragCoord.xy - in_windowLowerLeftCorner) * in_inverseWindowSize;
     float mc_fovEcc = length((mc_fovAt - u_mc_fovGaze) * vec2(u_mc_fovAspect, 1.0));
-    // the volume's silhouette band (level 0 only, u_mc_fovSilOn): where a coarser level's
-    // bilinear upsampling would blend a ray that hit with one that missed (a darker rim inside
-    // the outline: within one ray spacing of the coarser level the pixel wants, + 1 pixel;
-    // levels above 2 are counted as 2, SILHOUETTE_LEVEL_CAP), level 0 casts the pixel itself,
-    // with weight 1 (mipcast.core.foveation.silhouette_band).
-    // u_mc_fovSil0..5 are the edges of the box's projected outline: n.q + c is the distance
-    // inside each, along the axes, in viewport heights (q = the pixel, x scaled by the aspect).
-    bool mc_fovBand = false;
-    if (u_mc_fovSilOn > 0.5)
-    {
-      vec2 mc_fovQ = vec2(mc_fovAt.x * u_mc_fovAspect, mc_fovAt.y);
-      float mc_fovIn = min(min(min(dot(u_mc_fovSil0.xy, mc_fovQ) + u_mc_fovSil0.z,
-                                   dot(u_mc_fovSil1.xy, mc_fovQ) + u_mc_fovSil1.z),
-                               min(dot(u_mc_fovSil2.xy, mc_fovQ) + u_mc_fovSil2.z,
-                                   dot(u_mc_fovSil3.xy, mc_fovQ) + u_mc_fovSil3.z)),
-                           min(dot(u_mc_fovSil4.xy, mc_fovQ) + u_mc_fovSil4.z,
-                               dot(u_mc_fovSil5.xy, mc_fovQ) + u_mc_fovSil5.z));
-      float mc_fovLam = clamp(log2(1.0 + u_mc_fovGain * max(mc_fovEcc - u_mc_fovStart, 0.0)), 0.0, u_mc_fovTop);
-      mc_fovBand = mc_fovLam > 0.0 && mc_fovIn < (exp2(min(ceil(mc_fovLam), 2.0)) + 1.0) * u_mc_fovSilUnit;
-    }
+    bool mc_fovBand = mcFovBand(mc_fovAt, mc_fovEcc);  // foveated_band_dec
     if ((mc_fovEcc < u_mc_fovCastFrom || mc_fovEcc >= u_mc_fovCastTo) && !mc_fovBand)
     {
       discard;

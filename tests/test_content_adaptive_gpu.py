@@ -123,21 +123,20 @@ def test_gpu_masks_follow_the_picture_beneath_and_a_moving_gaze():
 
 
 def test_every_level_kind_casts_the_same_silhouette_band():
-    """The band rule is one text in the plain, CPU-mask and GPU-mask skip pieces and the weight piece."""
-    import re
-
+    """The band rule is one function (foveated_band_dec), used by the plain, CPU-mask and GPU-mask
+    skip pieces and the weight piece; the GPU-mask piece tests it before the mask."""
     from mipcast import FoveatedVolumeMapper
     from mipcast.mappers.shader_pieces import load_piece
 
-    def band_rule(name):
-        found = re.search(r"bool mc_fovBand = false;.*?\n    }\n", load_piece(name).text, re.S)
-        assert found, f"{name} does not test the silhouette band"
-        return found.group(0)
-
     kinds = (FoveatedVolumeMapper.LEVEL_PIECES, FoveatedVolumeMapper.MASKED_LEVEL_PIECES,
              FoveatedVolumeMapper.COARSE_LEVEL_PIECES)
-    names = sorted({name for pieces in kinds for name in pieces if name.startswith(("foveated_skip", "foveated_weight"))})
-    assert len(names) == 4, names
-    assert len({band_rule(name) for name in names}) == 1
+    for pieces in kinds:
+        assert "foveated_band_dec" in pieces, pieces
+        users = [name for name in pieces if name.startswith(("foveated_skip", "foveated_weight"))]
+        assert len(users) == 2, pieces
+        for name in users:
+            text = load_piece(name).text
+            assert "bool mc_fovBand = mcFovBand(mc_fovAt, mc_fovEcc);" in text, name
+            assert "u_mc_fovSil0" not in text, f"{name} writes the band rule out again"
     coarse = load_piece("foveated_skip_coarse").text
-    assert coarse.index("mc_fovBand = false") < coarse.index("mcFovRefine(")  # the band before the mask
+    assert coarse.index("mcFovBand(") < coarse.index("mcFovRefine(")  # the band before the mask

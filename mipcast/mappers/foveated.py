@@ -112,11 +112,11 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     BRICKS = None
     PIECES = ("mip_globals", "refusal")
     #: Pieces every level adds to its method's own.
-    LEVEL_PIECES = ("foveated_skip", "foveated_weight")
+    LEVEL_PIECES = ("foveated_band_dec", "foveated_skip", "foveated_weight")
     #: Pieces of the finer levels with content-adaptive ray density (ContentTolerance > 0).
-    MASKED_LEVEL_PIECES = ("foveated_skip_masked", "foveated_mask_dec", "foveated_weight")
+    MASKED_LEVEL_PIECES = ("foveated_band_dec", "foveated_skip_masked", "foveated_mask_dec", "foveated_weight")
     #: The same with the refinement mask built on the GPU from the coarsest level's picture (no readback).
-    COARSE_LEVEL_PIECES = ("foveated_skip_coarse", "foveated_coarse_dec", "foveated_weight")
+    COARSE_LEVEL_PIECES = ("foveated_band_dec", "foveated_skip_coarse", "foveated_coarse_dec", "foveated_weight")
     PARAMETERS = parameter_tables.FOVEATED
 
     def __init__(self) -> None:
