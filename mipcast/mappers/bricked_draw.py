@@ -56,7 +56,7 @@ from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms, float_readout
 from mipcast.mappers.brick_rays import global_texture_box, ray_uniforms, set_brick_uniforms, set_ray_uniforms
 from mipcast.mappers.bricks import brick_extents, extract_brick
-from mipcast.mappers.private_draw import follow_volume, rendering_renderer
+from mipcast.mappers.private_draw import follow_volume, pixel_texture, rendering_renderer
 
 #: How the bricks' values combine, per ``BRICKS`` value of a mapper class.
 COMPOSITES = {"max": np.fmax, "min": np.fmin}
@@ -398,19 +398,12 @@ def colour(values: np.ndarray, volume_property) -> np.ndarray:
 
 def _draw_picture(state, renderer, volume, values) -> None:
     """Draw the coloured values over the renderer's viewport, premultiplied-blended, no depth test."""
-    from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
-
     window = renderer.GetRenderWindow()
     rgba = colour(values, volume.GetProperty())
     height, width = values.shape
     texture = state.get("brick_texture")  # kept: its copy program compiles once
     if texture is None or texture.GetContext() is not window:
-        texture = vtkTextureObject()
-        texture.SetContext(window)
-        texture.SetMinificationFilter(vtkTextureObject.Nearest)
-        texture.SetMagnificationFilter(vtkTextureObject.Nearest)
-        texture.SetWrapS(vtkTextureObject.ClampToEdge)
-        texture.SetWrapT(vtkTextureObject.ClampToEdge)
+        texture = pixel_texture(window)
         state["brick_texture"] = texture
     data = np.ascontiguousarray(rgba[::-1], dtype=np.float32)  # bottom row first
     texture.Create2DFromRaw(width, height, 4, VTK_FLOAT, data)

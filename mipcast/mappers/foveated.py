@@ -24,7 +24,7 @@ from mipcast.mappers.corner_packing import CornerPacker
 from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms
-from mipcast.mappers.private_draw import follow_volume, rendering_renderer
+from mipcast.mappers.private_draw import follow_volume, pixel_texture, rendering_renderer
 from mipcast.core.ray_cost import grid_cost
 from mipcast.core.validation import check_choice
 
@@ -759,7 +759,7 @@ def _gpu_masks_possible(state, renderer) -> bool:
 
 def _coarse_textures(state, renderer, viewport) -> dict:
     """The two viewport-sized RGBA8 textures the coarsest level's picture is copied into (after, before)."""
-    from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLFramebufferObject, vtkTextureObject
+    from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLFramebufferObject
 
     window = renderer.GetRenderWindow()
     entry = state.get("coarse_textures")
@@ -767,12 +767,7 @@ def _coarse_textures(state, renderer, viewport) -> dict:
     if entry is None or entry["window"] is not window or entry["size"] != size:
         entry = {"window": window, "size": size}
         for name in ("after", "before"):
-            texture = vtkTextureObject()
-            texture.SetContext(window)
-            texture.SetMinificationFilter(vtkTextureObject.Nearest)
-            texture.SetMagnificationFilter(vtkTextureObject.Nearest)
-            texture.SetWrapS(vtkTextureObject.ClampToEdge)
-            texture.SetWrapT(vtkTextureObject.ClampToEdge)
+            texture = pixel_texture(window)
             texture.Allocate2D(size[0], size[1], 4, VTK_UNSIGNED_CHAR)
             entry[name] = texture
             target = vtkOpenGLFramebufferObject()
@@ -897,18 +892,11 @@ def _grey_texels(volume, values) -> np.ndarray:
 
 def _mask_texture(state, renderer, level, mask):
     """A level's refinement mask as a nearest-filtered 2D texture (bottom row first)."""
-    from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
-
     textures = state.setdefault("mask_textures", {})
     window = renderer.GetRenderWindow()
     texture = textures.get(level)
     if texture is None or texture.GetContext() is not window:
-        texture = vtkTextureObject()
-        texture.SetContext(window)
-        texture.SetMinificationFilter(vtkTextureObject.Nearest)
-        texture.SetMagnificationFilter(vtkTextureObject.Nearest)
-        texture.SetWrapS(vtkTextureObject.ClampToEdge)
-        texture.SetWrapT(vtkTextureObject.ClampToEdge)
+        texture = pixel_texture(window)
         textures[level] = texture
     data = np.ascontiguousarray(mask[::-1], dtype=np.uint8) * np.uint8(255)
     rows, columns = data.shape

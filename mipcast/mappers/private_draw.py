@@ -85,3 +85,20 @@ def follow_volume(mapper, volume, private_mapper, private_volume, matrix) -> Non
         private_volume.SetUserMatrix(matrix)
     elif private_volume.GetUserMatrix() is not matrix:
         private_volume.SetUserMatrix(matrix)
+
+
+def pixel_texture(window):
+    """A new 2D ``vtkTextureObject`` on ``window`` read texel for texel: nearest filtering, clamped edges.
+
+    For the pictures and masks the private draws hand to a shader or draw
+    over a viewport (one texel per pixel or per ray).
+    """
+    from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
+
+    texture = vtkTextureObject()
+    texture.SetContext(window)
+    texture.SetMinificationFilter(vtkTextureObject.Nearest)
+    texture.SetMagnificationFilter(vtkTextureObject.Nearest)
+    texture.SetWrapS(vtkTextureObject.ClampToEdge)
+    texture.SetWrapT(vtkTextureObject.ClampToEdge)
+    return texture
