@@ -91,7 +91,8 @@ class Method:
         How its mapper draws a volume beyond the GPU's 3D texture limit inside
         one render (:mod:`mipcast.mappers.bricked_draw`; the mapper class's
         ``BRICKS``): ``"max"`` / ``"min"``, bricks combined by the maximum /
-        minimum of their float readouts (exact); None: such a volume is
+        minimum of their float readouts (exact), ``"mean"``, by their means
+        weighted by the samples / ray length each brick counted (exact); None: such a volume is
         refused with a message naming the limit and the fix.
     bench : tuple of (label, samples_per_voxel, settings), optional
         Its rows in ``mipcast bench``: ``settings`` are ``(Name, value)``
@@ -302,12 +303,12 @@ for _method in (
            projection="average", bench=tuple((f"stock average {n}x", n, ()) for n in (1, 2, 4, 8))),
     Method("average", "Average", "sampled average intensity projection (stock's samples and weighting)",
            AverageVolumeMapper, reference=sampled_average_reference, reference_tolerance=1e-4,
-           parameters=parameter_tables.MIP, projection="average",
+           parameters=parameter_tables.MIP, projection="average", bricks="mean",
            bench=tuple((f"average {n}x", n, ()) for n in (1, 2, 4, 8))),
     Method("analytic_average", "Analytic average",
            "the exact mean of the trilinear interpolant along the ray (each cell's cubic integrated)",
            AnalyticAverageVolumeMapper, reference=exact_average_reference, reference_tolerance=1e-4,
-           parameters=parameter_tables.ANALYTIC, walks_cells=True, projection="average",
+           parameters=parameter_tables.ANALYTIC, walks_cells=True, projection="average", bricks="mean",
            bench=(("analytic average", None, ()),)),
 ):
     register(_method)

@@ -14,12 +14,16 @@
 float mc_rayShade;
 float mc_rayWeight;
 float mc_raySum;
+float mc_rayOpacity;  // sum of the counted samples' opacity (average_brick_readout)
+float mc_rayOpShade;  // sum of their opacity * s (average_brick_readout)
 
 void mcBeginRay(inout int first, inout int count)
 {
   mc_rayShade = 0.0;
   mc_rayWeight = 0.0;
   mc_raySum = 0.0;
+  mc_rayOpacity = 0.0;
+  mc_rayOpShade = 0.0;
 }
 
 bool mcSample(float value, int i)
@@ -27,7 +31,10 @@ bool mcSample(float value, int i)
   float s = mcNormalised(value);
   if (u_mc_averageLow <= s && s <= u_mc_averageHigh)
   {
-    mc_rayShade += computeOpacity(vec4(s)) * (u_mc_shadeRemap > 0.5 ? (s - u_mc_shadeLow) * u_mc_shadeScale : s);
+    float mc_opacity = computeOpacity(vec4(s));
+    mc_rayShade += mc_opacity * (u_mc_shadeRemap > 0.5 ? (s - u_mc_shadeLow) * u_mc_shadeScale : s);
+    mc_rayOpacity += mc_opacity;
+    mc_rayOpShade += mc_opacity * s;
     mc_raySum += value;
     mc_rayWeight += 1.0;
   }

@@ -47,7 +47,7 @@ from typing import Optional
 
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import VTK_FLOAT
+from vtkmodules.vtkCommonCore import VTK_FLOAT, reference
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkCommonMath import vtkMatrix4x4
 from vtkmodules.vtkRenderingCore import vtkVolume
@@ -58,8 +58,33 @@ from mipcast.mappers.brick_rays import global_texture_box, ray_uniforms, set_bri
 from mipcast.mappers.bricks import brick_extents, extract_brick
 from mipcast.mappers.private_draw import follow_volume, pixel_texture, rendering_renderer
 
-#: How the bricks' values combine, per ``BRICKS`` value of a mapper class.
-COMPOSITES = {"max": np.fmax, "min": np.fmin}
+def _weighted_mean(values: list, weights: list) -> np.ndarray:
+    """The bricks' means weighted by what each counted (NaN where none had a value).
+
+    Where every brick's weight is 0 but some had a value (a ray grazing an
+    edge: its entry value), the mean of those values.
+
+    Examples
+    --------
+    >>> nan = np.nan
+    >>> _weighted_mean([np.array([1.0, nan, 2.0]), np.array([4.0, nan, nan])],
+    ...                [np.array([1.0, 0.0, 0.0]), np.array([2.0, 0.0, 0.0])]).tolist()
+    [3.0, nan, 2.0]
+    """
+    stack = np.array(values, dtype=np.float64)
+    weight = np.where(np.isfinite(stack), np.array(weights, dtype=np.float64), 0.0)
+    total = weight.sum(axis=0)
+    weighted = np.where(weight > 0.0, np.nan_to_num(stack) * weight, 0.0).sum(axis=0)
+    hit = np.isfinite(stack).any(axis=0)
+    plain = np.nanmean(np.where(hit[None], stack, 0.0), axis=0)
+    mean = np.where(total > 0.0, weighted / np.where(total > 0.0, total, 1.0), plain)
+    return np.where(hit, mean, np.nan)
+
+
+#: How the bricks' values combine, per ``BRICKS`` value of a mapper class: ``"mean"`` (average,
+#: analytic average) weights each brick's mean by the samples / ray length it counted, read from
+#: the GPU by further passes of the brick (its ``BRICK_READOUT`` piece, ``u_mc_brickChannel``).
+COMPOSITES = {"max": np.fmax, "min": np.fmin, "mean": _weighted_mean}
 
 #: Normalised readout values beyond this are a brick's empty ray (no sample, no cell): no value.
 _EMPTY = 1.0e3
@@ -137,9 +162,9 @@ def refusal(mapper) -> Optional[str]:
     dims = mapper.GetInputPreparer().GetInputDataObject(0, 0).GetDimensions()
     return (f"the volume's dimensions {dims} exceed this GPU's 3D texture limit of {limit} points per "
             f"axis, and {type(mapper).__name__} cannot draw it in bricks exactly (its ray value over "
-            "several bricks is not their maximum or minimum): resample the volume to at most "
+            "several bricks is not their maximum, minimum or weighted mean): resample the volume to at most "
             f"{limit} points per axis (e.g. vtkImageResample), crop it (vtkExtractVOI), or use a method "
-            "that draws it in bricks (mip, analytic, minip, analytic_minip)")
+            "that draws it in bricks (mip, analytic, minip, analytic_minip, average, analytic_average)")
 
 
 # -- the observers (module functions: no reference cycles) --------------------------
@@ -161,13 +186,13 @@ def draw_bricks(mapper, event) -> None:
             gl = renderer.GetRenderWindow().GetState()
             gl.Push()  # the bricks' render-to-image passes set their own viewport and framebuffer
             try:
-                values = compose(mapper, volume, renderer, limit)
+                values = compose(mapper, volume, renderer, limit, readout=bool(state.get("exact_readout")))
             finally:
                 gl.Pop()
             if state.get("exact_readout"):
                 state["brick_readout"] = values
             else:
-                _draw_picture(state, renderer, volume, values)
+                _draw_picture(state, renderer, volume, values, grey=type(mapper).BRICKS == "mean")
     except Exception as error:  # noqa: BLE001  (an observer: reported as mipcast's refusals are)
         from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 
@@ -224,10 +249,12 @@ def bricks_of(mapper, limit: int) -> list:
         object_state(brick_mapper)["global_box"] = (low, high)  # sampled loops: the whole volume's samples
         # cells lie whole in a brick: the plain walk is exact, and it ends at opaque geometry
         object_state(brick_mapper)["global_cells"] = False
+        object_state(brick_mapper)["brick_mean"] = type(mapper).BRICKS == "mean"  # its BRICK_READOUT piece
         uniforms = brick_volume.GetShaderProperty().GetFragmentCustomUniforms()
         uniforms.SetUniform3f("u_mc_globalTexMin", low)
         uniforms.SetUniform3f("u_mc_globalTexMax", high)
         set_brick_uniforms(uniforms, whole, extent, image.GetSpacing(), mapper.GetSampleDistance())
+        uniforms.SetUniformf("u_mc_brickChannel", 0.0)
         entries.append({"mapper": brick_mapper, "volume": brick_volume, "matrix": vtkMatrix4x4(),
                         "extent": extent})
     state["bricks"] = {"key": key, "entries": entries}
@@ -281,15 +308,27 @@ def _auto_sample_distance(image, volume) -> float:
     return min(abs(s) * float(np.linalg.norm(columns[:, i])) for i, s in enumerate(image.GetSpacing()))
 
 
-def compose(mapper, volume, renderer, limit: int) -> np.ndarray:
+def compose(mapper, volume, renderer, limit: int, readout: bool = True) -> np.ndarray:
     """Render every brick's float readout with ``renderer``'s camera and combine them.
+
+    Bricks combined by their mean (``BRICKS`` "mean") render more passes,
+    one per channel of their ``BRICK_READOUT`` piece: for the readout the mean
+    and its weight; for the picture (``readout`` False) the grey the whole
+    volume's draw writes (:func:`_mean_grey`).
 
     Returns
     -------
     numpy.ndarray, shape (height, width) of the renderer's viewport, float64
-        Data units, NaN where no brick's ray had a value.  Top row first.
+        Data units (the picture of a mean: its grey in [0, 1]), NaN where no
+        brick's ray had a value.  Top row first.
     """
-    combine = COMPOSITES[type(mapper).BRICKS]
+    rule = type(mapper).BRICKS
+    combine = COMPOSITES[rule]
+    channels = (0,)
+    if rule == "mean":
+        sampled = type(mapper).BRICK_READOUT == "average_brick_readout"
+        channels = (0, 1) if readout or not sampled else (1, 2, 3)
+    passes = []
     width, height, x0, y0 = [0], [0], [0], [0]
     renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
     shape = (max(height[0], 1), max(width[0], 1))
@@ -307,15 +346,78 @@ def compose(mapper, volume, renderer, limit: int) -> np.ndarray:
         object_state(brick_mapper)["exact_readout"] = True
         brick_mapper.RenderToImageOn()
         brick_mapper.SetDepthImageScalarTypeToFloat()
+        uniforms = brick_volume.GetShaderProperty().GetFragmentCustomUniforms()
+        read = []
         try:
-            brick_volume.RenderVolumetricGeometry(renderer)
-            values = _readout(brick_mapper, shape)
+            for channel in channels:
+                if rule == "mean":
+                    uniforms.SetUniformf("u_mc_brickChannel", float(channel))
+                brick_volume.RenderVolumetricGeometry(renderer)
+                read.append(_readout(brick_mapper, shape, raw=channel > 0))
         finally:
             object_state(brick_mapper).pop("exact_readout", None)
             brick_mapper.RenderToImageOff()
-        result = combine(result, values)
+            if rule == "mean":
+                uniforms.SetUniformf("u_mc_brickChannel", 0.0)
+        if rule == "mean":
+            passes.append((read, brick_mapper.GetRenderedInput().GetPointData().GetScalars()))
+        else:
+            result = combine(result, read[0])
     object_state(mapper)["bricks_drawn"] = drawn
-    return result
+    if rule != "mean":
+        return result
+    if not passes:
+        return result
+    if channels == (1, 2, 3):
+        return _mean_grey(mapper, volume, passes)
+    mean = combine([read[0] for read, _ in passes], [np.nan_to_num(-read[1]) for read, _ in passes])
+    if readout:
+        return mean
+    return _grey_of(mapper, volume, mean)
+
+
+def _shade_map(mapper, volume) -> tuple:
+    """(g0, g1): the whole volume's grey of data value v is g0 + g1 v (VTK's normalisation, and the
+    remap of ``u_mc_shadeRemap`` when the mapper pushed one: missing values, a constant volume)."""
+    image = mapper.GetRenderedInput() or mapper.GetInput()
+    scalars = image.GetPointData().GetScalars()
+    g0 = float(float_readout.from_data_units(np.array([0.0]), scalars)[0])
+    g1 = float(float_readout.from_data_units(np.array([1.0]), scalars)[0]) - g0
+    uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+    remap, low, scale = reference(0.0), reference(0.0), reference(1.0)
+    if uniforms.GetUniformf("u_mc_shadeRemap", remap) and float(remap) > 0.5:
+        uniforms.GetUniformf("u_mc_shadeLow", low)
+        uniforms.GetUniformf("u_mc_shadeScale", scale)
+        g0, g1 = (g0 - float(low)) * float(scale), g1 * float(scale)
+    return g0, g1
+
+
+def _grey_of(mapper, volume, mean: np.ndarray) -> np.ndarray:
+    """The analytic average's grey of its mean (data units): the whole volume's normalised mean."""
+    g0, g1 = _shade_map(mapper, volume)
+    return g0 + g1 * mean
+
+
+def _mean_grey(mapper, volume, passes) -> np.ndarray:
+    """The sampled average's grey: the mean over all counted samples of opacity(v) * grey(v).
+
+    Each brick gave its count n, the mean opacity and the mean of opacity * s
+    (s its own normalised scalar); with v = (low + s (high - low)) / k and
+    grey(v) = g0 + g1 v the sums over disjoint sample sets add up exactly.
+    """
+    g0, g1 = _shade_map(mapper, volume)
+    count, opacity, weighted = 0.0, 0.0, 0.0
+    for (n, mean_opacity, mean_shade), scalars in passes:
+        n = np.nan_to_num(-n)
+        low, high = scalars.GetRange(0)
+        scale = float_readout.texture_scale(scalars)
+        o = n * np.nan_to_num(mean_opacity)
+        q = n * np.nan_to_num(mean_shade)
+        count = count + n
+        opacity = opacity + o
+        weighted = weighted + (low * o + (high - low) * q) / scale
+    grey = (g0 * opacity + g1 * weighted) / np.where(count > 0.0, count, 1.0)
+    return np.where(count > 0.0, grey, np.nan)
 
 
 def _in_view(brick_volume, renderer, shape) -> bool:
@@ -343,8 +445,11 @@ def _in_view(brick_volume, renderer, shape) -> bool:
     return not (np.any(np.all(ndc < -1.0 - spare, axis=0)) or np.any(np.all(ndc > 1.0 + spare, axis=0)))
 
 
-def _readout(brick_mapper, shape) -> np.ndarray:
-    """One brick's readout in data units (top row first), NaN where its ray had no value."""
+def _readout(brick_mapper, shape, raw: bool = False) -> np.ndarray:
+    """One brick's readout in data units (top row first), NaN where its ray had no value.
+
+    ``raw``: the decoded value as the readout piece wrote it (a weight channel), not mapped.
+    """
     image = vtkImageData()
     brick_mapper.GetDepthImage(image)
     scalars = image.GetPointData().GetScalars()
@@ -352,6 +457,10 @@ def _readout(brick_mapper, shape) -> np.ndarray:
         return np.full(shape, np.nan)
     columns, rows, _ = image.GetDimensions()
     normalised = float_readout.decode(vtk_to_numpy(scalars).reshape(rows, columns)[::-1])
+    if raw:
+        if normalised.shape != shape:
+            raise RuntimeError(f"a brick's readout is {normalised.shape}, the viewport {shape}")
+        return normalised
     normalised = np.where(np.abs(normalised) > _EMPTY, np.nan, normalised)
     values = float_readout.to_data_units(normalised, brick_mapper.GetRenderedInput().GetPointData().GetScalars())
     if values.shape != shape:
@@ -396,10 +505,19 @@ def colour(values: np.ndarray, volume_property) -> np.ndarray:
     return out
 
 
-def _draw_picture(state, renderer, volume, values) -> None:
-    """Draw the coloured values over the renderer's viewport, premultiplied-blended, no depth test."""
+def _draw_picture(state, renderer, volume, values, grey: bool = False) -> None:
+    """Draw the coloured values over the renderer's viewport, premultiplied-blended, no depth test.
+
+    ``grey``: the values are an average's grey, drawn opaque (``shaders/average_color.glsl``).
+    """
     window = renderer.GetRenderWindow()
-    rgba = colour(values, volume.GetProperty())
+    if grey:
+        hit = np.isfinite(values)
+        rgba = np.zeros(values.shape + (4,), dtype=np.float32)
+        rgba[hit, :3] = np.clip(values[hit], 0.0, 1.0)[:, None]
+        rgba[hit, 3] = 1.0
+    else:
+        rgba = colour(values, volume.GetProperty())
     height, width = values.shape
     texture = state.get("brick_texture")  # kept: its copy program compiles once
     if texture is None or texture.GetContext() is not window:

@@ -72,6 +72,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     #: bricks inside the render by methods that can, refused by the others
     #: (:mod:`mipcast.mappers.bricked_draw`).
     BRICKS = "max"
+    #: A brick's readout piece when the bricks combine by their mean (``BRICKS`` "mean"), else None.
+    BRICK_READOUT = None
 
     def __init__(self) -> None:
         super().__init__()
@@ -297,7 +299,10 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
                 names = tuple(names) + ("depth_composite_min" if composite == "min" else "depth_composite",)
             return tuple(names)
         # rendering to image: VTK's ray set-up with the viewport-offset fix (it also refuses)
-        return tuple("image_terminate" if n == "refusal" else n for n in names) + ("float_readout",)
+        # a brick of a mapper drawn in bricks by the mean (mipcast.mappers.bricked_draw): its readout
+        # piece writes the mean, its weight, ... as u_mc_brickChannel says
+        readout = type(self).BRICK_READOUT if state.get("brick_mean") else None
+        return tuple("image_terminate" if n == "refusal" else n for n in names) + (readout or "float_readout",)
 
     def _install_pieces(self, volume) -> None:
         names = self._pieces_now(volume)

@@ -80,6 +80,10 @@ class AverageVolumeMapper(sampled_projection_mapper("average_hooks", color="aver
     #: the finite minimum do not count (the average's scalar range starts
     #: there), a ray with no sample left draws nothing (average_color).
     MISSING_PIECE = None
+    #: Over bricks: the bricks' means weighted by the number of samples each counted (bricks take
+    #: the whole volume's samples, each in one brick: :mod:`mipcast.mappers.bricked_draw`).
+    BRICKS = "mean"
+    BRICK_READOUT = "average_brick_readout"
 
     def _push_derived_uniforms(self, uniforms, settings) -> None:
         super()._push_derived_uniforms(uniforms, settings)
@@ -190,6 +194,10 @@ class AnalyticAverageVolumeMapper(_ExactProjection):
     #: the interpolant is at or above the finite minimum counts
     #: (amip_average_hooks, u_mc_missingBelow); a ray with none draws nothing.
     MISSING_PIECE = None
+    #: Over bricks: the bricks' means weighted by the length of the ray each counted
+    #: (:mod:`mipcast.mappers.bricked_draw`).
+    BRICKS = "mean"
+    BRICK_READOUT = "amip_average_brick_readout"
 
     def _push_derived_uniforms(self, uniforms, settings) -> None:
         super()._push_derived_uniforms(uniforms, settings)
