@@ -4,7 +4,7 @@ When a mapper's input has more points along an axis than the GPU's 3D
 texture limit (:func:`texture_limit`), one texture cannot hold it.  Methods
 whose composite over disjoint parts of a ray is exact (the mapper class's
 ``BRICKS``: ``"max"`` for MIP and analytic MIP, ``"min"`` for MinIP and
-analytic MinIP) then draw it in bricks inside the same ``Render()``:
+analytic MinIP, ``"mean"`` for the averages) then draw it in bricks inside the same ``Render()``:
 
 1. the volume is split into bricks of at most ``limit`` points per axis that
    share one layer of points (:func:`mipcast.mappers.bricks.brick_extents`),
@@ -28,7 +28,13 @@ the combined values are what the mapper's ``GetDepthImage`` returns, so
 readouts, :class:`mipcast.offscreen.OffscreenView`, the pyvista filters and
 the ParaView representation all see the bricked volume as one.
 
-Methods whose composite is not a maximum or minimum (average, DEMIP,
+The averages (``BRICKS`` ``"mean"``) combine the bricks' means weighted by
+what each brick counted: the number of the whole ray's samples (sampled
+average) or the length of the ray (analytic average), written by a further
+pass of the brick (its class's ``BRICK_READOUT`` piece, channel
+``u_mc_brickChannel``), so clipping, cropping and missing values are the
+GPU's; the sampled average's grey (mean of opacity x s) from two more
+channels.  Methods whose composite is none of these (DEMIP,
 foveated) refuse such a volume with a message naming the limit and the fix
 (:func:`refusal`).  Cost: one render per brick in view per frame plus one
 readback each (docs/reliability.md, "GPU limits and memory"); bricks whose box
