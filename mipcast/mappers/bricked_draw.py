@@ -115,9 +115,14 @@ def bricking_limit(mapper) -> int:
     >>> bricking_limit(AverageVolumeMapper())
     0
     """
-    if getattr(type(mapper), "BRICKS", None) not in COMPOSITES:
+    if getattr(type(mapper), "BRICKS", None) not in COMPOSITES and not _demip(mapper):
         return 0
     return exceeds_limit(mapper)
+
+
+def _demip(mapper) -> bool:
+    """DEMIP: drawn in bricks by :mod:`mipcast.mappers.bricked_demip` (two phases, not one composite)."""
+    return getattr(type(mapper), "BRICKS", None) == "demip"
 
 
 def refusal(mapper) -> Optional[str]:
@@ -134,6 +139,10 @@ def refusal(mapper) -> Optional[str]:
     limit = exceeds_limit(mapper)
     if not limit:
         return None
+    if _demip(mapper):
+        from mipcast.mappers import bricked_demip
+
+        return bricked_demip.problem(mapper, limit)
     dims = mapper.GetInputPreparer().GetInputDataObject(0, 0).GetDimensions()
     return (f"the volume's dimensions {dims} exceed this GPU's 3D texture limit of {limit} points per "
             f"axis, and {type(mapper).__name__} cannot draw it in bricks exactly (its ray value over "
@@ -161,13 +170,21 @@ def draw_bricks(mapper, event) -> None:
             gl = renderer.GetRenderWindow().GetState()
             gl.Push()  # the bricks' render-to-image passes set their own viewport and framebuffer
             try:
-                values = compose(mapper, volume, renderer, limit)
+                if _demip(mapper):
+                    from mipcast.mappers import bricked_demip
+
+                    values, depth, rgba = bricked_demip.compose(mapper, volume, renderer, limit)
+                    if mapper.GetReadout() == "depth":  # the readout's encoding of the depth
+                        values = float_readout.to_data_units(depth, mapper.GetRenderedInput().GetPointData()
+                                                             .GetScalars())
+                else:
+                    values, rgba = compose(mapper, volume, renderer, limit), None
             finally:
                 gl.Pop()
             if state.get("exact_readout"):
                 state["brick_readout"] = values
             else:
-                _draw_picture(state, renderer, volume, values)
+                _draw_picture(state, renderer, volume, values, rgba)
     except Exception as error:  # noqa: BLE001  (an observer: reported as mipcast's refusals are)
         from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 
@@ -396,10 +413,10 @@ def colour(values: np.ndarray, volume_property) -> np.ndarray:
     return out
 
 
-def _draw_picture(state, renderer, volume, values) -> None:
-    """Draw the coloured values over the renderer's viewport, premultiplied-blended, no depth test."""
+def _draw_picture(state, renderer, volume, values, rgba=None) -> None:
+    """Draw the coloured values (or the premultiplied ``rgba``) over the renderer's viewport, blended."""
     window = renderer.GetRenderWindow()
-    rgba = colour(values, volume.GetProperty())
+    rgba = colour(values, volume.GetProperty()) if rgba is None else rgba
     height, width = values.shape
     texture = state.get("brick_texture")  # kept: its copy program compiles once
     if texture is None or texture.GetContext() is not window:
