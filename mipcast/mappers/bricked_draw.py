@@ -28,8 +28,9 @@ the combined values are what the mapper's ``GetDepthImage`` returns, so
 readouts, :class:`mipcast.offscreen.OffscreenView`, the pyvista filters and
 the ParaView representation all see the bricked volume as one.
 
-Methods whose composite is not a maximum or minimum (average, DEMIP,
-foveated) refuse such a volume with a message naming the limit and the fix
+DEMIP (``BRICKS = "demip"``) is drawn in two phases by
+:mod:`mipcast.mappers.bricked_demip`.  Methods whose composite is not a
+maximum or minimum (average, foveated) refuse such a volume with a message naming the limit and the fix
 (:func:`refusal`).  Cost: one render per brick in view per frame plus one
 readback each (docs/reliability.md, "GPU limits and memory"); bricks whose box
 lies outside the view are skipped.
