@@ -63,14 +63,13 @@ from vtkmodules.vtkImagingCore import vtkImageClip
 from vtkmodules.vtkRenderingCore import vtkVolume
 
 from mipcast import methods
-from mipcast.core.camera_rays import camera_rays
-from mipcast.core.demip_depth import DepthGeometry, enhance
 from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import DEMIP
 from mipcast.core.parameters import set_parameters
 from mipcast.core.validation import check_choice, check_image
 from mipcast.mappers.brick_rays import global_texture_box, ray_uniforms, set_brick_uniforms, set_ray_uniforms  # noqa: F401
 from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, first_match_index
+from mipcast.mappers.demip_composite import demip_composite, demip_picture  # noqa: F401  (demip_picture: public here)
 from mipcast.mappers.float_readout import read_normalised, texture_scale
 from mipcast.offscreen import OffscreenView, set_view
 
@@ -473,20 +472,8 @@ class DistributedView:
         """
         values = self.float_image()
         index = self.first_match(values)
-        params = self.demip_parameters()
-        height, width = values.shape
-        rays = camera_rays(self.stub, self.camera, (width, height))
-        entry = rays.origin + rays.t_enter[..., None] * rays.direction
-        hit = ~np.isnan(values)
-        term = hit & np.isfinite(index) & rays.hit
-        where = entry + ((np.where(term, index, 0.0) + 1.0) * self.sample_distance)[..., None] * rays.direction
-        geometry = DepthGeometry(self.stub, self.camera, width / height)
-        depth = np.full(values.shape, np.nan)
-        depth[term] = geometry.depth(params["depth_mode"], where[term], entry[term])
-        rgb = _transfer_colour(np.where(hit, values, 0.0), self.local.volume.GetProperty())
-        rgb[term] = enhance(rgb[term], depth[term], np.ones(int(term.sum()), dtype=bool), where[term], geometry,
-                            params)
-        rgb[~hit] = 0.0
+        depth, rgb = demip_composite(self.stub, self.camera, self.sample_distance, values, index,
+                                     self.demip_parameters(), self.local.volume.GetProperty())
         return values.astype(np.float64), depth, rgb
 
     def images(self) -> dict:
@@ -539,23 +526,6 @@ ROUTES = {
 }
 
 
-def demip_picture(values: np.ndarray, rgb: np.ndarray, volume_property) -> np.ndarray:
-    """The 8-bit picture of :meth:`DistributedView.demip_image`: straight colour times the maximum's opacity.
-
-    As DEMIP's colour exit (``shaders/demip_color.glsl``): the opacity is
-    MIP's, premultiplied; black where the ray missed.
-
-    Examples
-    --------
-    >>> from mipcast.offscreen import grey_property
-    >>> demip_picture(np.array([[0.5, np.nan]]), np.full((1, 2, 3), 0.5), grey_property((0.0, 1.0)))[0, :, 0]
-    array([128,   0], dtype=uint8)
-    """
-    opacity = _opacity(np.nan_to_num(values), volume_property)
-    out = np.where(np.isnan(values)[..., None], 0.0, np.nan_to_num(rgb) * 255.0 * opacity[..., None])
-    return np.clip(np.rint(out), 0, 255).astype(np.uint8)
-
-
 def _set_global_box(mapper, volume, box) -> None:
     """A brick's mapper takes the whole volume's sample positions (the ``global_phase`` piece)."""
     object_state(mapper)["global_box"] = box
@@ -563,26 +533,6 @@ def _set_global_box(mapper, volume, box) -> None:
     uniforms.SetUniform3f("u_mc_globalTexMin", box[0])
     uniforms.SetUniform3f("u_mc_globalTexMax", box[1])
     mapper.Modified()
-
-
-def _transfer_colour(values: np.ndarray, volume_property, entries: int = 4096) -> np.ndarray:
-    """The colour transfer function's straight RGB in [0, 1] at ``values`` (float64, shape + (3,))."""
-    function = volume_property.GetRGBTransferFunction()
-    low, high = function.GetRange()
-    if not high > low:
-        return np.repeat(np.full(values.shape, 0.0)[..., None], 3, axis=-1) + np.array(function.GetColor(low))
-    table = np.zeros(3 * entries)
-    function.GetTable(low, high, entries, table)
-    table = table.reshape(entries, 3)
-    at = np.linspace(low, high, entries)
-    return np.stack([np.interp(values, at, table[:, c]) for c in range(3)], axis=-1)
-
-
-def _opacity(values: np.ndarray, volume_property) -> np.ndarray:
-    """The scalar opacity at ``values``."""
-    function = volume_property.GetScalarOpacity()
-    flat = np.asarray(values, dtype=np.float64).ravel()
-    return np.array([function.GetValue(v) for v in flat]).reshape(np.shape(values))
 
 
 def colour(values: np.ndarray, volume_property) -> np.ndarray:

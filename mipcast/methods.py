@@ -91,8 +91,10 @@ class Method:
         How its mapper draws a volume beyond the GPU's 3D texture limit inside
         one render (:mod:`mipcast.mappers.bricked_draw`; the mapper class's
         ``BRICKS``): ``"max"`` / ``"min"``, bricks combined by the maximum /
-        minimum of their float readouts (exact), ``"mean"``, by their means
-        weighted by the samples / ray length each brick counted (exact); None: such a volume is
+        minimum of their float readouts (exact); ``"demip"``, DEMIP's two
+        phases over the bricks (:mod:`mipcast.mappers.bricked_demip`, as the
+        ``"demip"`` distributed route); ``"mean"``, by their means weighted by
+        the samples / ray length each brick counted (exact); None: such a volume is
         refused with a message naming the limit and the fix.
     bench : tuple of (label, samples_per_voxel, settings), optional
         Its rows in ``mipcast bench``: ``settings`` are ``(Name, value)``
@@ -277,10 +279,12 @@ for _method in (
            bench=(("analytic", None, ()), ("analytic, no skipping", None, (("Skipping", False),)))),
     Method("demip", "DEMIP", "MIP brightened where its material is near (depth-enhanced MIP, colour sphere)",
            DEMIPVolumeMapper, reference=demip_reference, reference_tolerance=1e-4,
-           parameters=parameter_tables.DEMIP, foveation_layer=True, distributed="demip", bench=_DEMIP_BENCH),
+           parameters=parameter_tables.DEMIP, foveation_layer=True, distributed="demip", bricks="demip",
+           bench=_DEMIP_BENCH),
     Method("demip_two_pass", "DEMIP (two passes)", "DEMIP split into two GPU passes, for timing the split",
            _demip_two_pass, reference=demip_reference, reference_tolerance=1e-4,
-           parameters=parameter_tables.DEMIP, distributed="demip", bench=(("demip two passes", 1, ()),)),
+           parameters=parameter_tables.DEMIP, distributed="demip", bricks="demip",
+           bench=(("demip two passes", 1, ()),)),
     Method("foveated", "Foveated", "full quality around a gaze point, fewer rays and samples elsewhere",
            FoveatedVolumeMapper, parameters=parameter_tables.FOVEATED,
            bench=(("foveated mip", 1, ()), ("foveated mip, gaze at a corner", 1, (("GazePoint", (0.1, 0.1)),)),

@@ -12,8 +12,8 @@
   int mc_steps = 2 * int(u_mc_dims.x + u_mc_dims.y + u_mc_dims.z) + 8;  // cells and jumps
   int mc_blockSize = int(u_mc_blockSize);
   float mc_t0 = mc_ray.start;
+  mc_rayMax = mcCellsBegin();  // the floor (amip_max_hooks)
   float mc_ceiling = mcRaw(u_mc_ceiling);
-  mc_rayMax = mcRaw(u_mc_floor);
   for (int mc_i = 0; mc_i < mc_steps && (mc_i == 0 || mc_t0 < mc_ray.length) && mc_rayMax < mc_ceiling; ++mc_i)
   {
     float mc_t1 = min(min(min(mc_tNext.x, mc_tNext.y), mc_tNext.z), mc_ray.length);
@@ -34,5 +34,5 @@
     }
     mcWalkCell(mc_ray, mc_cell, mc_t1, mc_t0, mc_tNext, mc_rayMax);
   }
-  mc_rayMax = mcNormalised(mc_rayMax);
+  mc_rayMax = mcCellsEnd(mc_rayMax);  // the bounds drawn as the tables' ends (amip_max_hooks)
   g_exit = true;

@@ -6,13 +6,20 @@
 // ceiling (the float readout sets them to -/+1e30). A cell none of whose
 // corners is above the running maximum cannot raise it (trilinear values
 // never exceed the corners): its cubic is not solved (u_mc_cornerBound 0
-// turns this skip off, for measuring).
+// turns this skip off, for measuring). VTK draws colour and opacity from
+// tables that interpolate between texels, so the bounds' own colours are not
+// the transfer functions' constant ones: a ray still at the floor (nothing
+// higher seen) is drawn as the table's bottom (normalised 0.0), one stopped
+// at or above the ceiling as its top (1.0), where the tables hold exactly
+// the constant colours (a narrow window would otherwise tint such pixels).
+float mc_cellsFloor;
 float mc_cellsCeiling;
 
 float mcCellsBegin()
 {
   mc_cellsCeiling = mcRaw(u_mc_ceiling);
-  return mcRaw(u_mc_floor);
+  mc_cellsFloor = mcRaw(u_mc_floor);
+  return mc_cellsFloor;
 }
 
 bool mcCellsGoOn(float value)
@@ -32,5 +39,7 @@ void mcCell(vec4 lo, vec4 hi, vec3 u0, vec3 du, float span, inout float value)
 
 float mcCellsEnd(float value)
 {
+  if (value <= mc_cellsFloor) return 0.0;
+  if (value >= mc_cellsCeiling) return 1.0;
   return mcNormalised(value);
 }

@@ -7,13 +7,20 @@
 // starts at the transfer functions' ceiling and the walk stops at their
 // floor (the float readout sets them to +/-1e30); a cell none of whose
 // corners is below the running minimum cannot lower it (u_mc_cornerBound 0
-// turns this skip off).
+// turns this skip off). VTK draws colour and opacity from tables that
+// interpolate between texels, so the bounds' own colours are not the
+// transfer functions' constant ones: a ray still at the ceiling (nothing
+// lower seen) is drawn as the table's top (normalised 1.0), one stopped at
+// or below the floor as its bottom (0.0), where the tables hold exactly the
+// constant colours (a narrow window would otherwise grey every such pixel).
 float mc_cellsFloor;
+float mc_cellsCeiling;
 
 float mcCellsBegin()
 {
   mc_cellsFloor = mcRaw(u_mc_floor);
-  return mcRaw(u_mc_ceiling);
+  mc_cellsCeiling = mcRaw(u_mc_ceiling);
+  return mc_cellsCeiling;
 }
 
 bool mcCellsGoOn(float value)
@@ -33,5 +40,7 @@ void mcCell(vec4 lo, vec4 hi, vec3 u0, vec3 du, float span, inout float value)
 
 float mcCellsEnd(float value)
 {
+  if (value >= mc_cellsCeiling) return 1.0;
+  if (value <= mc_cellsFloor) return 0.0;
   return mcNormalised(value);
 }

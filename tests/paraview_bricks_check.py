@@ -7,7 +7,7 @@ Usage (from the repository root)::
 The "vessels" fixture (48^3) is shown in a render view with the limit lowered to 20 points
 per axis (``gpu_limits.max_texture_size_3d``, so 3 x 3 x 3 bricks) and without it, through
 :func:`mipcast.plugin.render_view.show` and, with ``--plugin``, the "mipcast" representation;
-analytic MIP must draw the same picture (within one grey level), DEMIP must refuse with
+analytic MIP must draw the same picture (within one grey level), foveated must refuse with
 the limit in ParaView's messages.  Prints one JSON object on the last line; used by
 tests/test_bricked_mapper.py.
 """
@@ -45,7 +45,7 @@ def main():
     real = gpu_limits.max_texture_size_3d
     report = {}
     for route in routes:
-        for method in ("analytic", "demip"):
+        for method in ("analytic", "foveated"):
             pictures, messages = [], []
             for limit in (None, LIMIT):
                 gpu_limits.max_texture_size_3d = real if limit is None else (lambda window: LIMIT)

@@ -34,8 +34,9 @@ average) or the length of the ray (analytic average), written by a further
 pass of the brick (its class's ``BRICK_READOUT`` piece, channel
 ``u_mc_brickChannel``), so clipping, cropping and missing values are the
 GPU's; the sampled average's grey (mean of opacity x s) from two more
-channels.  Methods whose composite is none of these (DEMIP,
-foveated) refuse such a volume with a message naming the limit and the fix
+channels.  DEMIP (``BRICKS = "demip"``) is drawn in two phases by
+:mod:`mipcast.mappers.bricked_demip`.  Methods whose composite is none of these
+(foveated) refuse such a volume with a message naming the limit and the fix
 (:func:`refusal`).  Cost: one render per brick in view per frame plus one
 readback each (docs/reliability.md, "GPU limits and memory"); bricks whose box
 lies outside the view are skipped.
@@ -146,9 +147,14 @@ def bricking_limit(mapper) -> int:
     >>> bricking_limit(AverageVolumeMapper())
     0
     """
-    if getattr(type(mapper), "BRICKS", None) not in COMPOSITES:
+    if getattr(type(mapper), "BRICKS", None) not in COMPOSITES and not _demip(mapper):
         return 0
     return exceeds_limit(mapper)
+
+
+def _demip(mapper) -> bool:
+    """DEMIP: drawn in bricks by :mod:`mipcast.mappers.bricked_demip` (two phases, not one composite)."""
+    return getattr(type(mapper), "BRICKS", None) == "demip"
 
 
 def refusal(mapper) -> Optional[str]:
@@ -165,6 +171,10 @@ def refusal(mapper) -> Optional[str]:
     limit = exceeds_limit(mapper)
     if not limit:
         return None
+    if _demip(mapper):
+        from mipcast.mappers import bricked_demip
+
+        return bricked_demip.problem(mapper, limit)
     dims = mapper.GetInputPreparer().GetInputDataObject(0, 0).GetDimensions()
     return (f"the volume's dimensions {dims} exceed this GPU's 3D texture limit of {limit} points per "
             f"axis, and {type(mapper).__name__} cannot draw it in bricks exactly (its ray value over "
@@ -192,13 +202,22 @@ def draw_bricks(mapper, event) -> None:
             gl = renderer.GetRenderWindow().GetState()
             gl.Push()  # the bricks' render-to-image passes set their own viewport and framebuffer
             try:
-                values = compose(mapper, volume, renderer, limit, readout=bool(state.get("exact_readout")))
+                if _demip(mapper):
+                    from mipcast.mappers import bricked_demip
+
+                    values, depth, rgba = bricked_demip.compose(mapper, volume, renderer, limit)
+                    if mapper.GetReadout() == "depth":  # the readout's encoding of the depth
+                        values = float_readout.to_data_units(depth, mapper.GetRenderedInput().GetPointData()
+                                                             .GetScalars())
+                else:
+                    values, rgba = compose(mapper, volume, renderer, limit,
+                                           readout=bool(state.get("exact_readout"))), None
             finally:
                 gl.Pop()
             if state.get("exact_readout"):
                 state["brick_readout"] = values
             else:
-                _draw_picture(state, renderer, volume, values, grey=type(mapper).BRICKS == "mean")
+                _draw_picture(state, renderer, volume, values, rgba, grey=type(mapper).BRICKS == "mean")
     except Exception as error:  # noqa: BLE001  (an observer: reported as mipcast's refusals are)
         from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 
@@ -511,19 +530,18 @@ def colour(values: np.ndarray, volume_property) -> np.ndarray:
     return out
 
 
-def _draw_picture(state, renderer, volume, values, grey: bool = False) -> None:
-    """Draw the coloured values over the renderer's viewport, premultiplied-blended, no depth test.
+def _draw_picture(state, renderer, volume, values, rgba=None, grey: bool = False) -> None:
+    """Draw the coloured values (or the premultiplied ``rgba``) over the renderer's viewport, blended.
 
     ``grey``: the values are an average's grey, drawn opaque (``shaders/average_color.glsl``).
     """
     window = renderer.GetRenderWindow()
-    if grey:
+    if grey and rgba is None:
         hit = np.isfinite(values)
         rgba = np.zeros(values.shape + (4,), dtype=np.float32)
         rgba[hit, :3] = np.clip(values[hit], 0.0, 1.0)[:, None]
         rgba[hit, 3] = 1.0
-    else:
-        rgba = colour(values, volume.GetProperty())
+    rgba = colour(values, volume.GetProperty()) if rgba is None else rgba
     height, width = values.shape
     texture = state.get("brick_texture")  # kept: its copy program compiles once
     if texture is None or texture.GetContext() is not window:

@@ -59,8 +59,9 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
     attenuated MIP and MIDA): ``docs/methods.md#demip``.
     """
 
-    #: Not drawn in bricks: the brightening needs the depth of the ray's maximum over the whole ray.
-    BRICKS = None
+    #: Drawn in bricks in two phases (:mod:`mipcast.mappers.bricked_demip`): the whole ray's maximum,
+    #: then its material's first sample over the bricks.
+    BRICKS = "demip"
     PIECES = ("mip_globals", "refusal", "demip_helpers", "sampled_loop", "demip_hooks", "no_stock_sample",
               "demip_color")
 

@@ -83,6 +83,21 @@ def first_match_index(render_window, mapper: DEMIPBrickDepthMapper, maximum: np.
         Sample index k (sample k at whole-box entry + (1 + k) steps); +inf
         where this brick holds no same-material sample.
     """
+    bind_maximum(render_window, mapper, maximum, data_range)
+    return match_index(read_normalised(render_window, mapper))
+
+
+def match_index(found: np.ndarray) -> np.ndarray:
+    """Phase 2's readout (normalised, NaN: none) -> whole-ray sample index (+inf: none)."""
+    return np.where(np.isnan(found), np.inf, np.rint(1.0 - found))
+
+
+def bind_maximum(render_window, mapper: DEMIPBrickDepthMapper, maximum: np.ndarray, data_range) -> None:
+    """Phase 2's inputs on ``mapper``: the material window's uniforms and the maximum as a float texture.
+
+    As :func:`first_match_index`, without the render: the next render of
+    ``mapper`` (its float readout) marches to the first same-material sample.
+    """
     scalars = mapper.GetRenderedInput().GetPointData().GetScalars()
     normalised = np.where(np.isnan(maximum), NO_MAXIMUM, from_data_units(np.nan_to_num(maximum), scalars))
     ends = constant_ends(mapper.GetAttachedVolume().GetProperty(), *data_range)
@@ -108,8 +123,6 @@ def first_match_index(render_window, mapper: DEMIPBrickDepthMapper, maximum: np.
     if not texture.Create2DFromRaw(width, height, 1, _VTK_FLOAT, rows):
         raise RuntimeError("could not upload the global maximum as a float texture (GL_R32F)")
     mapper.SetSharedDepthTexture(texture)
-    found = read_normalised(render_window, mapper)
-    return np.where(np.isnan(found), np.inf, np.rint(1.0 - found))
 
 
 def _bind_maximum(mapper, event) -> None:

@@ -172,6 +172,8 @@ def _draw_first_pass(mapper, event) -> None:
     if object_state(mapper).get("render_problem") is not None:  # MIPVolumeMapper's observer reported it
         _bind(state, state.get("shared_texture"))  # VTK still sets the sampler: keep it valid
         return
+    if state.get("brick_own_draw") is not None:  # drawn in bricks (mipcast.mappers.bricked_demip): no pass 1
+        return
     volume = mapper.GetAttachedVolume()
     uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
     renderer = rendering_renderer(mapper, volume)

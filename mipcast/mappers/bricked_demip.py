@@ -1,0 +1,218 @@
+"""DEMIP of a volume beyond the 3D texture limit, drawn in bricks inside the user's render.
+
+:mod:`mipcast.mappers.bricked_draw` draws MIP and MinIP beyond the limit by
+the maximum / minimum of the bricks' readouts.  DEMIP (``demip``,
+``demip_two_pass``: ``BRICKS = "demip"``) needs more than a maximum: the
+depth of the first sample of the maximum's material along the WHOLE ray.
+It is composited here exactly as :mod:`mipcast.distributed` composites it
+over MPI ranks, with every brick local:
+
+1. phase 1: every brick (same extents as :mod:`mipcast.mappers.bricked_draw`,
+   the whole volume's samples through the ``global_phase`` piece) renders
+   its sampled MIP into a float readout; their MAX is the whole ray's maximum;
+2. phase 2: that maximum goes back to every brick as a float texture, and
+   :class:`mipcast.mappers.demip_brick.DEMIPBrickDepthMapper` reads out the
+   whole-ray index of the brick's first sample of the maximum's material;
+   their MIN is the whole ray's first same-material sample;
+3. depth (over the whole box, the mapper's depth mode), Eq. 1, the colour
+   sphere and chromadepth on the CPU
+   (:func:`mipcast.mappers.demip_composite.demip_composite`), and the
+   premultiplied picture is drawn over the renderer's viewport as
+   :mod:`mipcast.mappers.bricked_draw` draws its own.
+
+Projection ``"mip"`` and no slab only, as distributed DEMIP (:func:`problem`
+names the others).  During a float readout the mapper's ``GetDepthImage``
+returns the bricked maximum (readout ``"value"``) or depth (``"depth"``).
+
+Examples
+--------
+>>> from mipcast.mappers.demip import DEMIPVolumeMapper
+>>> problem(DEMIPVolumeMapper(), 20) is None
+True
+"""
+from __future__ import annotations
+
+from typing import Optional, Tuple
+
+import numpy as np
+from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkCommonMath import vtkMatrix4x4
+from vtkmodules.vtkRenderingCore import vtkVolume
+
+from mipcast.core.object_state import object_state
+from mipcast.core.parameter_tables import DEMIP
+from mipcast.mappers import clip_uniforms, float_readout
+from mipcast.mappers.brick_rays import global_texture_box, set_brick_uniforms
+from mipcast.mappers.bricks import brick_extents, extract_brick
+from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, bind_maximum, match_index
+from mipcast.mappers.demip_composite import demip_composite, demip_premultiplied
+from mipcast.mappers.private_draw import follow_volume
+
+
+def problem(mapper, limit: int) -> Optional[str]:
+    """Why ``mapper``'s DEMIP settings cannot be drawn in bricks of ``limit`` points, or None.
+
+    Examples
+    --------
+    >>> from mipcast.mappers.demip import DEMIPVolumeMapper
+    >>> mapper = DEMIPVolumeMapper()
+    >>> mapper.SetProjection("lmip")
+    >>> "projection 'mip' only" in problem(mapper, 20)
+    True
+    """
+    projection = mapper.GetProjection()
+    if projection != "mip":
+        return (f"the volume exceeds this GPU's 3D texture limit of {limit} points per axis, and DEMIP in "
+                f"bricks composites projection 'mip' only, got {projection!r} (LMIP, attenuated MIP and MIDA "
+                "depend on the order along the whole ray): set projection 'mip', or resample the volume to "
+                f"at most {limit} points per axis (e.g. vtkImageResample)")
+    if mapper.GetSlabThickness() > 0:
+        return (f"the volume exceeds this GPU's 3D texture limit of {limit} points per axis, and DEMIP in "
+                "bricks has no slab yet (slab thickness > 0): set slab thickness 0, or resample the volume "
+                f"to at most {limit} points per axis (e.g. vtkImageResample)")
+    return None
+
+
+def _whole(image) -> vtkImageData:
+    """A scalar-less image with the whole volume's geometry (camera rays, depth box)."""
+    dims = image.GetDimensions()
+    whole = vtkImageData()
+    whole.SetExtent(0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)
+    whole.SetOrigin(image.GetOrigin())
+    whole.SetSpacing(image.GetSpacing())
+    whole.SetDirectionMatrix(image.GetDirectionMatrix())
+    return whole
+
+
+def bricks_of(mapper, limit: int) -> list:
+    """Per brick: a phase-1 MIP entry and a phase-2 depth entry (mapper, volume, matrix, extent)."""
+    from mipcast.mappers.mip import MIPVolumeMapper
+
+    state = object_state(mapper)
+    image = mapper.GetInput()
+    key = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime(), int(limit))
+    cached = state.get("demip_bricks")
+    if cached is not None and cached["key"] == key:
+        return cached["entries"]
+    dims = image.GetDimensions()
+    whole = (0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)
+    entries = []
+    for extent in brick_extents(dims, limit):
+        piece = extract_brick(image, extent)
+        low, high = global_texture_box(extent, whole)
+        pair = []
+        for kind in (MIPVolumeMapper, DEMIPBrickDepthMapper):
+            brick_mapper = kind()
+            brick_mapper.SetInputData(piece)
+            brick_volume = vtkVolume()
+            brick_mapper.Attach(brick_volume)
+            object_state(brick_mapper)["global_box"] = (low, high)  # the whole volume's samples
+            uniforms = brick_volume.GetShaderProperty().GetFragmentCustomUniforms()
+            uniforms.SetUniform3f("u_mc_globalTexMin", low)
+            uniforms.SetUniform3f("u_mc_globalTexMax", high)
+            set_brick_uniforms(uniforms, whole, extent, image.GetSpacing(), mapper.GetSampleDistance())
+            pair.append({"mapper": brick_mapper, "volume": brick_volume, "matrix": vtkMatrix4x4(),
+                         "extent": extent})
+        entries.append(tuple(pair))
+    state["demip_bricks"] = {"key": key, "entries": entries}
+    return entries
+
+
+def _follow(mapper, volume, entry, distance: float, demip: bool) -> None:
+    """The brick's mapper as the user's: DEMIP's settings (phase 2), sampling, cropping, clipping, matrix."""
+    brick_mapper = entry["mapper"]
+    if demip:
+        for parameter in DEMIP:
+            value = getattr(mapper, parameter.getter)()
+            if getattr(brick_mapper, parameter.getter)() != value:
+                getattr(brick_mapper, parameter.setter)(value)
+    if brick_mapper.GetComponent() != mapper.GetComponent():
+        brick_mapper.SetComponent(mapper.GetComponent())
+    brick_mapper.SetAutoAdjustSampleDistances(False)
+    brick_mapper.SetUseJittering(False)
+    if brick_mapper.GetSampleDistance() != distance:
+        brick_mapper.SetSampleDistance(distance)
+    if brick_mapper.GetImageSampleDistance() != 1.0:
+        brick_mapper.SetImageSampleDistance(1.0)
+    follow_volume(mapper, volume, brick_mapper, entry["volume"], entry["matrix"])
+    clip_uniforms.copy_clipping(mapper, brick_mapper)
+
+
+def _render(renderer, entry, mapper, camera, shape) -> np.ndarray:
+    """One brick's float readout (normalised as the shader wrote it, NaN: none), top row first."""
+    from mipcast.mappers import bricked_draw
+
+    brick_mapper, brick_volume = entry["mapper"], entry["volume"]
+    object_state(brick_mapper)["draw_camera"] = camera
+    bricked_draw._push_rays(mapper, entry, camera, shape)
+    object_state(brick_mapper)["exact_readout"] = True
+    brick_mapper.RenderToImageOn()
+    brick_mapper.SetDepthImageScalarTypeToFloat()
+    try:
+        brick_volume.RenderVolumetricGeometry(renderer)
+        image = vtkImageData()
+        brick_mapper.GetDepthImage(image)
+    finally:
+        object_state(brick_mapper).pop("exact_readout", None)
+        brick_mapper.RenderToImageOff()
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    scalars = image.GetPointData().GetScalars()
+    if scalars is None:
+        return np.full(shape, np.nan)
+    columns, rows, _ = image.GetDimensions()
+    found = float_readout.decode(vtk_to_numpy(scalars).reshape(rows, columns)[::-1])
+    if found.shape != shape:
+        raise RuntimeError(f"a brick's readout is {found.shape}, the viewport {shape}")
+    return found
+
+
+def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Both phases over every brick in view, then the CPU composite.
+
+    Returns
+    -------
+    values : numpy.ndarray, (height, width) of the viewport
+        The whole-ray maximum in data units (NaN: miss), top row first.
+    depth : numpy.ndarray
+        DEMIP's depth in [0, 1] (NaN: no DEMIP term).
+    rgba : numpy.ndarray, (height, width, 4)
+        The premultiplied picture, float.
+    """
+    from mipcast.mappers import bricked_draw
+
+    reason = problem(mapper, limit)
+    if reason is not None:
+        raise ValueError(reason)
+    width, height, x0, y0 = [0], [0], [0], [0]
+    renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
+    shape = (max(height[0], 1), max(width[0], 1))
+    camera = renderer.GetActiveCamera()
+    distance = mapper.GetSampleDistance()
+    if mapper.GetAutoAdjustSampleDistances():
+        distance = bricked_draw._auto_sample_distance(mapper.GetInput(), volume)
+    entries = bricks_of(mapper, limit)
+    in_view = []
+    values = np.full(shape, np.nan)
+    for first, second in entries:  # phase 1: MAX of the bricks' sampled MIP
+        _follow(mapper, volume, first, distance, demip=False)
+        if not bricked_draw._in_view(first["volume"], renderer, shape):
+            continue
+        in_view.append((first, second))
+        found = _render(renderer, first, mapper, camera, shape)
+        scalars = first["mapper"].GetRenderedInput().GetPointData().GetScalars()
+        brick = float_readout.to_data_units(np.where(np.abs(found) > 1.0e3, np.nan, found), scalars)
+        values = np.fmax(values, brick)
+    values = values.astype(np.float32).astype(np.float64)  # as the float readout / MPI reduction carry it
+    data_range = mapper.GetInput().GetPointData().GetScalars().GetRange(0)
+    index = np.full(shape, np.inf)
+    window = renderer.GetRenderWindow()
+    for _, second in in_view:  # phase 2: MIN of the whole-ray index of the first same-material sample
+        _follow(mapper, volume, second, distance, demip=True)
+        bind_maximum(window, second["mapper"], values, data_range)
+        index = np.minimum(index, match_index(_render(renderer, second, mapper, camera, shape)))
+    object_state(mapper)["bricks_drawn"] = len(in_view)
+    params = {p.name: getattr(mapper, p.getter)() for p in DEMIP}
+    depth, rgb = demip_composite(_whole(mapper.GetInput()), camera, distance, values, index, params,
+                                 volume.GetProperty())
+    return values, depth, demip_premultiplied(values, rgb, volume.GetProperty())

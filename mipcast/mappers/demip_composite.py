@@ -1,0 +1,106 @@
+"""DEMIP composited from bricks on the CPU: depth, Eq. 1, the colour sphere and the picture.
+
+The common last step of DEMIP drawn over bricks, whether the bricks are MPI
+ranks' (:mod:`mipcast.distributed`) or a volume beyond the 3D texture limit
+drawn by the mapper itself (:mod:`mipcast.mappers.bricked_demip`): given
+each pixel's whole-volume maximum (phase 1, MAX over the bricks) and the
+whole-ray index of its first same-material sample (phase 2, MIN over the
+bricks), the depth over the WHOLE volume's box, Eq. 1, the sphere and
+pseudo-chromadepth come from :mod:`mipcast.core.demip_depth`, the maths of
+the float64 reference.
+
+Examples
+--------
+>>> from mipcast.offscreen import grey_property
+>>> demip_picture(np.array([[0.5, np.nan]]), np.full((1, 2, 3), 0.5), grey_property((0.0, 1.0)))[0, :, 0]
+array([128,   0], dtype=uint8)
+"""
+from __future__ import annotations
+
+from typing import Tuple
+
+import numpy as np
+
+from mipcast.core.camera_rays import camera_rays
+from mipcast.core.demip_depth import DepthGeometry, enhance
+
+
+def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, index: np.ndarray, params: dict,
+                    volume_property) -> Tuple[np.ndarray, np.ndarray]:
+    """(depth, straight RGB) of DEMIP from the bricks' maximum and first same-material sample index.
+
+    Parameters
+    ----------
+    whole : vtkImageData
+        The whole volume's geometry (extent, origin, spacing, direction; scalars not needed).
+    camera : vtkCamera
+    sample_distance : float
+        World distance between samples (sample k at the box entry + (1 + k) steps).
+    values : numpy.ndarray, shape (height, width)
+        The whole-ray maximum in data units (NaN: miss), top row first.
+    index : numpy.ndarray, shape (height, width)
+        The whole-ray index of the first same-material sample (+inf: no DEMIP term).
+    params : dict
+        DEMIP's settings (name -> value of :data:`mipcast.core.parameter_tables.DEMIP`).
+    volume_property : vtkVolumeProperty
+
+    Returns
+    -------
+    depth : numpy.ndarray, float64
+        In [0, 1], NaN where there is no DEMIP term.
+    rgb : numpy.ndarray, shape (height, width, 3), float64
+        Straight colour in [0, 1] (0 on misses).
+    """
+    height, width = values.shape
+    rays = camera_rays(whole, camera, (width, height))
+    entry = rays.origin + rays.t_enter[..., None] * rays.direction
+    hit = ~np.isnan(values)
+    term = hit & np.isfinite(index) & rays.hit
+    where = entry + ((np.where(term, index, 0.0) + 1.0) * sample_distance)[..., None] * rays.direction
+    geometry = DepthGeometry(whole, camera, width / height)
+    depth = np.full(values.shape, np.nan)
+    depth[term] = geometry.depth(params["depth_mode"], where[term], entry[term])
+    rgb = transfer_colour(np.where(hit, values, 0.0), volume_property)
+    rgb[term] = enhance(rgb[term], depth[term], np.ones(int(term.sum()), dtype=bool), where[term], geometry,
+                        params)
+    rgb[~hit] = 0.0
+    return depth, rgb
+
+
+def transfer_colour(values: np.ndarray, volume_property, entries: int = 4096) -> np.ndarray:
+    """The colour transfer function's straight RGB in [0, 1] at ``values`` (float64, shape + (3,))."""
+    function = volume_property.GetRGBTransferFunction()
+    low, high = function.GetRange()
+    if not high > low:
+        return np.repeat(np.full(values.shape, 0.0)[..., None], 3, axis=-1) + np.array(function.GetColor(low))
+    table = np.zeros(3 * entries)
+    function.GetTable(low, high, entries, table)
+    table = table.reshape(entries, 3)
+    at = np.linspace(low, high, entries)
+    return np.stack([np.interp(values, at, table[:, c]) for c in range(3)], axis=-1)
+
+
+def opacity(values: np.ndarray, volume_property) -> np.ndarray:
+    """The scalar opacity at ``values``."""
+    function = volume_property.GetScalarOpacity()
+    flat = np.asarray(values, dtype=np.float64).ravel()
+    return np.array([function.GetValue(v) for v in flat]).reshape(np.shape(values))
+
+
+def demip_premultiplied(values: np.ndarray, rgb: np.ndarray, volume_property) -> np.ndarray:
+    """Float RGBA, premultiplied: straight colour times the maximum's opacity (alpha); 0 where missed."""
+    alpha = np.where(np.isnan(values), 0.0, opacity(np.nan_to_num(values), volume_property))
+    out = np.zeros(values.shape + (4,))
+    out[..., :3] = np.nan_to_num(rgb) * alpha[..., None]
+    out[..., 3] = alpha
+    return out
+
+
+def demip_picture(values: np.ndarray, rgb: np.ndarray, volume_property) -> np.ndarray:
+    """The 8-bit picture: straight colour times the maximum's opacity, black where the ray missed.
+
+    As DEMIP's colour exit (``shaders/demip_color.glsl``): the opacity is
+    MIP's, premultiplied.
+    """
+    out = demip_premultiplied(values, rgb, volume_property)[..., :3] * 255.0
+    return np.clip(np.rint(out), 0, 255).astype(np.uint8)
