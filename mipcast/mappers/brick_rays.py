@@ -117,3 +117,30 @@ def ray_uniforms(image, camera, size) -> dict:
         out["u_mc_rayDirection"] = np.zeros(3)
         out["u_mc_rayEye"] = np.append((to_index @ np.append(camera.GetPosition(), 1.0))[:3], 1.0)
     return {name: [float(v) for v in value] for name, value in out.items()}
+
+
+def brick_entry(kind, piece, extent: Sequence[int], whole: Sequence[int], spacing: Sequence[float],
+                sample_distance: float) -> dict:
+    """A private mapper of class ``kind`` on its own vtkVolume drawing ``piece``, a brick of ``whole``.
+
+    The mapper's state holds ``global_box`` (the whole volume's samples, the
+    ``global_phase`` piece) and the volume's uniforms the brick's boxes
+    (:func:`set_brick_uniforms`); :func:`ray_uniforms` come at each draw.
+    Returns ``{"mapper", "volume", "matrix", "extent"}``.
+    """
+    from vtkmodules.vtkCommonMath import vtkMatrix4x4
+    from vtkmodules.vtkRenderingCore import vtkVolume
+
+    from mipcast.core.object_state import object_state
+
+    mapper = kind()
+    mapper.SetInputData(piece)
+    volume = vtkVolume()
+    mapper.Attach(volume)
+    low, high = global_texture_box(extent, whole)
+    object_state(mapper)["global_box"] = (low, high)
+    uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+    uniforms.SetUniform3f("u_mc_globalTexMin", low)
+    uniforms.SetUniform3f("u_mc_globalTexMax", high)
+    set_brick_uniforms(uniforms, whole, extent, spacing, sample_distance)
+    return {"mapper": mapper, "volume": volume, "matrix": vtkMatrix4x4(), "extent": tuple(extent)}

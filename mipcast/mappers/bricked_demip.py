@@ -36,13 +36,11 @@ from typing import Optional, Tuple
 
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
-from vtkmodules.vtkCommonMath import vtkMatrix4x4
-from vtkmodules.vtkRenderingCore import vtkVolume
 
 from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import DEMIP
 from mipcast.mappers import clip_uniforms, float_readout
-from mipcast.mappers.brick_rays import global_texture_box, set_brick_uniforms
+from mipcast.mappers.brick_rays import brick_entry
 from mipcast.mappers.bricks import brick_extents, extract_brick
 from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, bind_maximum, match_index
 from mipcast.mappers.demip_composite import demip_composite, demip_premultiplied
@@ -99,21 +97,8 @@ def bricks_of(mapper, limit: int) -> list:
     entries = []
     for extent in brick_extents(dims, limit):
         piece = extract_brick(image, extent)
-        low, high = global_texture_box(extent, whole)
-        pair = []
-        for kind in (MIPVolumeMapper, DEMIPBrickDepthMapper):
-            brick_mapper = kind()
-            brick_mapper.SetInputData(piece)
-            brick_volume = vtkVolume()
-            brick_mapper.Attach(brick_volume)
-            object_state(brick_mapper)["global_box"] = (low, high)  # the whole volume's samples
-            uniforms = brick_volume.GetShaderProperty().GetFragmentCustomUniforms()
-            uniforms.SetUniform3f("u_mc_globalTexMin", low)
-            uniforms.SetUniform3f("u_mc_globalTexMax", high)
-            set_brick_uniforms(uniforms, whole, extent, image.GetSpacing(), mapper.GetSampleDistance())
-            pair.append({"mapper": brick_mapper, "volume": brick_volume, "matrix": vtkMatrix4x4(),
-                         "extent": extent})
-        entries.append(tuple(pair))
+        entries.append(tuple(brick_entry(kind, piece, extent, whole, image.GetSpacing(), mapper.GetSampleDistance())
+                             for kind in (MIPVolumeMapper, DEMIPBrickDepthMapper)))
     state["demip_bricks"] = {"key": key, "entries": entries}
     return entries
 

@@ -56,12 +56,10 @@ import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import VTK_FLOAT, reference
 from vtkmodules.vtkCommonDataModel import vtkImageData
-from vtkmodules.vtkCommonMath import vtkMatrix4x4
-from vtkmodules.vtkRenderingCore import vtkVolume
 
 from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms, float_readout
-from mipcast.mappers.brick_rays import global_texture_box, ray_uniforms, set_brick_uniforms, set_ray_uniforms
+from mipcast.mappers.brick_rays import brick_entry, ray_uniforms, set_ray_uniforms
 from mipcast.mappers.bricks import brick_extents, extract_brick
 from mipcast.mappers.private_draw import follow_volume, pixel_texture, rendering_renderer
 
@@ -266,22 +264,14 @@ def bricks_of(mapper, limit: int) -> list:
     whole = (0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)
     entries = []
     for extent in brick_extents(dims, limit):
-        brick_mapper = type(mapper)()
-        brick_mapper.SetInputData(extract_brick(image, extent))
-        brick_volume = vtkVolume()
-        brick_mapper.Attach(brick_volume)
-        low, high = global_texture_box(extent, whole)
-        object_state(brick_mapper)["global_box"] = (low, high)  # sampled loops: the whole volume's samples
+        entry = brick_entry(type(mapper), extract_brick(image, extent), extent, whole, image.GetSpacing(),
+                            mapper.GetSampleDistance())
+        brick_state = object_state(entry["mapper"])
         # cells lie whole in a brick: the plain walk is exact, and it ends at opaque geometry
-        object_state(brick_mapper)["global_cells"] = False
-        object_state(brick_mapper)["brick_mean"] = type(mapper).BRICKS == "mean"  # its BRICK_READOUT piece
-        uniforms = brick_volume.GetShaderProperty().GetFragmentCustomUniforms()
-        uniforms.SetUniform3f("u_mc_globalTexMin", low)
-        uniforms.SetUniform3f("u_mc_globalTexMax", high)
-        set_brick_uniforms(uniforms, whole, extent, image.GetSpacing(), mapper.GetSampleDistance())
-        uniforms.SetUniformf("u_mc_brickChannel", 0.0)
-        entries.append({"mapper": brick_mapper, "volume": brick_volume, "matrix": vtkMatrix4x4(),
-                        "extent": extent})
+        brick_state["global_cells"] = False
+        brick_state["brick_mean"] = type(mapper).BRICKS == "mean"  # its BRICK_READOUT piece
+        entry["volume"].GetShaderProperty().GetFragmentCustomUniforms().SetUniformf("u_mc_brickChannel", 0.0)
+        entries.append(entry)
     state["bricks"] = {"key": key, "entries": entries}
     return entries
 
