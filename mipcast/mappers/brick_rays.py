@@ -144,3 +144,27 @@ def brick_entry(kind, piece, extent: Sequence[int], whole: Sequence[int], spacin
     uniforms.SetUniform3f("u_mc_globalTexMax", high)
     set_brick_uniforms(uniforms, whole, extent, spacing, sample_distance)
     return {"mapper": mapper, "volume": volume, "matrix": vtkMatrix4x4(), "extent": tuple(extent)}
+
+
+def cached_bricks(mapper, limit: int, name: str, make) -> list:
+    """The mapper's bricks of its input at ``limit`` points per axis, made again when the input or limit changed.
+
+    ``make(piece, extent, whole)`` builds one brick's entry (e.g. with
+    :func:`brick_entry`); the entries are kept in the mapper's state under
+    ``name``, keyed by the input, its modification time, the limit and the
+    mapper's class.
+    """
+    from mipcast.core.object_state import object_state
+    from mipcast.mappers.bricks import brick_extents, extract_brick
+
+    state = object_state(mapper)
+    image = mapper.GetInput()
+    key = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime(), int(limit), type(mapper))
+    cached = state.get(name)
+    if cached is not None and cached["key"] == key:
+        return cached["entries"]
+    dims = image.GetDimensions()
+    whole = (0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)
+    entries = [make(extract_brick(image, extent), extent, whole) for extent in brick_extents(dims, limit)]
+    state[name] = {"key": key, "entries": entries}
+    return entries

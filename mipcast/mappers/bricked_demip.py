@@ -40,8 +40,7 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import DEMIP
 from mipcast.mappers import clip_uniforms, float_readout
-from mipcast.mappers.brick_rays import brick_entry
-from mipcast.mappers.bricks import brick_extents, extract_brick
+from mipcast.mappers.brick_rays import brick_entry, cached_bricks
 from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, bind_maximum, match_index
 from mipcast.mappers.demip_composite import demip_composite, demip_premultiplied
 from mipcast.mappers.private_draw import follow_volume
@@ -86,21 +85,10 @@ def bricks_of(mapper, limit: int) -> list:
     """Per brick: a phase-1 MIP entry and a phase-2 depth entry (mapper, volume, matrix, extent)."""
     from mipcast.mappers.mip import MIPVolumeMapper
 
-    state = object_state(mapper)
-    image = mapper.GetInput()
-    key = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime(), int(limit))
-    cached = state.get("demip_bricks")
-    if cached is not None and cached["key"] == key:
-        return cached["entries"]
-    dims = image.GetDimensions()
-    whole = (0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)
-    entries = []
-    for extent in brick_extents(dims, limit):
-        piece = extract_brick(image, extent)
-        entries.append(tuple(brick_entry(kind, piece, extent, whole, image.GetSpacing(), mapper.GetSampleDistance())
-                             for kind in (MIPVolumeMapper, DEMIPBrickDepthMapper)))
-    state["demip_bricks"] = {"key": key, "entries": entries}
-    return entries
+    def make(piece, extent, whole):
+        return tuple(brick_entry(kind, piece, extent, whole, piece.GetSpacing(), mapper.GetSampleDistance())
+                     for kind in (MIPVolumeMapper, DEMIPBrickDepthMapper))
+    return cached_bricks(mapper, limit, "demip_bricks", make)
 
 
 def _follow(mapper, volume, entry, distance: float, demip: bool) -> None:

@@ -59,8 +59,8 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms, float_readout
-from mipcast.mappers.brick_rays import brick_entry, ray_uniforms, set_ray_uniforms
-from mipcast.mappers.bricks import brick_extents, extract_brick
+from mipcast.mappers.brick_rays import brick_entry, cached_bricks, ray_uniforms, set_ray_uniforms
+from mipcast.mappers.bricks import brick_extents
 from mipcast.mappers.private_draw import follow_volume, pixel_texture, rendering_renderer
 
 def _weighted_mean(values: list, weights: list) -> np.ndarray:
@@ -254,26 +254,15 @@ def fill_depth_image(mapper, image) -> bool:
 # -- the bricks -------------------------------------------------------------------
 def bricks_of(mapper, limit: int) -> list:
     """The private (mapper, volume, matrix) of each brick, made when the input or the limit changed."""
-    state = object_state(mapper)
-    image = mapper.GetInput()
-    key = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime(), int(limit), type(mapper))
-    cached = state.get("bricks")
-    if cached is not None and cached["key"] == key:
-        return cached["entries"]
-    dims = image.GetDimensions()
-    whole = (0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)
-    entries = []
-    for extent in brick_extents(dims, limit):
-        entry = brick_entry(type(mapper), extract_brick(image, extent), extent, whole, image.GetSpacing(),
-                            mapper.GetSampleDistance())
+    def make(piece, extent, whole):
+        entry = brick_entry(type(mapper), piece, extent, whole, piece.GetSpacing(), mapper.GetSampleDistance())
         brick_state = object_state(entry["mapper"])
         # cells lie whole in a brick: the plain walk is exact, and it ends at opaque geometry
         brick_state["global_cells"] = False
         brick_state["brick_mean"] = type(mapper).BRICKS == "mean"  # its BRICK_READOUT piece
         entry["volume"].GetShaderProperty().GetFragmentCustomUniforms().SetUniformf("u_mc_brickChannel", 0.0)
-        entries.append(entry)
-    state["bricks"] = {"key": key, "entries": entries}
-    return entries
+        return entry
+    return cached_bricks(mapper, limit, "bricks", make)
 
 
 def _release(state) -> None:
