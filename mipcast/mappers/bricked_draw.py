@@ -166,6 +166,10 @@ def refusal(mapper) -> Optional[str]:
     """
     if getattr(type(mapper), "BRICKS", None) in COMPOSITES:
         return None
+    if getattr(type(mapper), "BRICKS", None) == "foveated":  # its levels brick themselves, by their layer
+        from mipcast.mappers import bricked_foveated
+
+        return bricked_foveated.refusal(mapper, mapper.GetMethod())
     limit = exceeds_limit(mapper)
     if not limit:
         return None
@@ -269,8 +273,11 @@ def _release(state) -> None:
     state.pop("bricks", None)
 
 
-def _follow(mapper, volume, entry) -> None:
-    """The brick's mapper and volume as the user's: parameters, sampling, cropping, clipping, matrix."""
+def _follow(mapper, volume, entry, image_sample_distance: float = 1.0) -> None:
+    """The brick's mapper and volume as the user's: parameters, sampling, cropping, clipping, matrix.
+
+    ``image_sample_distance``: the brick's rays (1: one per pixel; a foveated level's coarser grid).
+    """
     brick_mapper, brick_volume = entry["mapper"], entry["volume"]
     for parameter in type(mapper).PARAMETERS:
         value = getattr(mapper, parameter.getter)()
@@ -284,14 +291,17 @@ def _follow(mapper, volume, entry) -> None:
         distance = _auto_sample_distance(mapper.GetInput(), volume)
     if brick_mapper.GetSampleDistance() != distance:
         brick_mapper.SetSampleDistance(distance)
-    if brick_mapper.GetImageSampleDistance() != 1.0:
-        brick_mapper.SetImageSampleDistance(1.0)  # the readouts are combined pixel by pixel
+    if brick_mapper.GetImageSampleDistance() != image_sample_distance:
+        brick_mapper.SetImageSampleDistance(image_sample_distance)  # the readouts are combined ray by ray
     follow_volume(mapper, volume, brick_mapper, brick_volume, entry["matrix"])
     clip_uniforms.copy_clipping(mapper, brick_mapper)
 
 
-def _push_rays(mapper, entry, camera, shape) -> None:
-    """This frame's whole-volume rays and sample distance on a brick (``global_phase``, ``global_cells``)."""
+def _push_rays(mapper, entry, camera, shape, size=None) -> None:
+    """This frame's whole-volume rays and sample distance on a brick (``global_phase``, ``global_cells``).
+
+    ``size``: (width, height) giving the camera's aspect ratio (default: ``shape``'s, rows and columns).
+    """
     image = mapper.GetInput()
     dims = image.GetDimensions()
     whole = vtkImageData()
@@ -301,7 +311,7 @@ def _push_rays(mapper, entry, camera, shape) -> None:
     whole.SetDirectionMatrix(image.GetDirectionMatrix())
     uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
     uniforms.SetUniformf("u_mc_rayStep", float(entry["mapper"].GetSampleDistance()))
-    set_ray_uniforms(uniforms, ray_uniforms(whole, camera, (shape[1], shape[0])))
+    set_ray_uniforms(uniforms, ray_uniforms(whole, camera, (shape[1], shape[0]) if size is None else tuple(size)))
 
 
 def _auto_sample_distance(image, volume) -> float:
@@ -312,8 +322,14 @@ def _auto_sample_distance(image, volume) -> float:
     return min(abs(s) * float(np.linalg.norm(columns[:, i])) for i, s in enumerate(image.GetSpacing()))
 
 
-def compose(mapper, volume, renderer, limit: int, readout: bool = True) -> np.ndarray:
+def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sample_distance: float = 1.0,
+            grid=None) -> np.ndarray:
     """Render every brick's float readout with ``renderer``'s camera and combine them.
+
+    ``image_sample_distance`` and ``grid`` (columns, rows): rays on a coarser
+    grid than the viewport's pixels (VTK's reduced framebuffer of that image
+    sample distance; a foveated level, :mod:`mipcast.mappers.bricked_foveated`);
+    the result then has ``grid``'s shape.
 
     Bricks combined by their mean (``BRICKS`` "mean") render more passes,
     one per channel of their ``BRICK_READOUT`` piece: for the readout the mean
@@ -336,17 +352,20 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True) -> np.nd
     width, height, x0, y0 = [0], [0], [0], [0]
     renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
     shape = (max(height[0], 1), max(width[0], 1))
+    aspect_size = (shape[1], shape[0])
+    if grid is not None:
+        shape = (int(grid[1]), int(grid[0]))
     result = np.full(shape, np.nan)
     camera = renderer.GetActiveCamera()
     drawn = 0
     for entry in bricks_of(mapper, limit):
         brick_mapper, brick_volume = entry["mapper"], entry["volume"]
-        _follow(mapper, volume, entry)
+        _follow(mapper, volume, entry, image_sample_distance)
         if not _in_view(brick_volume, renderer, shape):
             continue  # its box covers no pixel: nothing to draw, nothing to combine
         drawn += 1
         object_state(brick_mapper)["draw_camera"] = camera
-        _push_rays(mapper, entry, camera, shape)
+        _push_rays(mapper, entry, camera, shape, aspect_size)
         object_state(brick_mapper)["exact_readout"] = True
         brick_mapper.RenderToImageOn()
         brick_mapper.SetDepthImageScalarTypeToFloat()

@@ -7,7 +7,8 @@ from typing import Optional, Sequence
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.util.misc import calldata_type
-from vtkmodules.vtkCommonCore import VTK_OBJECT, VTK_UNSIGNED_CHAR, vtkCommand, vtkUnsignedCharArray, vtkWeakReference
+from vtkmodules.vtkCommonCore import (VTK_OBJECT, VTK_UNSIGNED_CHAR, reference, vtkCommand, vtkUnsignedCharArray,
+                                      vtkWeakReference)
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkCommonMath import vtkMatrix4x4
 from vtkmodules.vtkRenderingCore import vtkCamera, vtkVolume
@@ -17,7 +18,7 @@ from mipcast.core import content_adaptive, foveation, parameter_tables
 from mipcast.core.gaze import GazeStream
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
 from mipcast.core.parameters import parameter_accessors
-from mipcast.mappers import float_readout, volume_pyramid
+from mipcast.mappers import bricked_draw, bricked_foveated, float_readout, volume_pyramid
 from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
 from mipcast.core.camera_rays import matrix_array
 from mipcast.mappers.corner_packing import CornerPacker
@@ -108,8 +109,9 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     """
 
     #: The mapper's own (skipped) draw only needs the refusal piece (and its helper).
-    #: Not drawn in bricks (its levels blend over the picture): refused beyond one texture.
-    BRICKS = None
+    #: Beyond one texture each level too large is composited over bricks first, then masked and
+    #: blended (:mod:`mipcast.mappers.bricked_foveated`); refused for layers that cannot brick (DEMIP).
+    BRICKS = "foveated"
     PIECES = ("mip_globals", "refusal")
     #: Pieces every level adds to its method's own.
     LEVEL_PIECES = ("foveated_band_dec", "foveated_skip", "foveated_weight")
@@ -388,6 +390,16 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
             total += counter.GetTextureBytes()
         return total
 
+    def GetNumberOfBricks(self) -> int:
+        """Bricks the last frame drew over all its levels (0: every level's volume fits one 3D texture).
+
+        A level whose volume exceeds the texture limit composites its rays
+        over bricks first (:mod:`mipcast.mappers.bricked_foveated`).
+        """
+        if not bricked_draw.exceeds_limit(self):
+            return 0
+        return int(object_state(self).get("bricks_drawn", 0))
+
     def GetLevelMapper(self, level: int):
         """The private mapper drawing pyramid level ``level`` (None if never drawn).
 
@@ -486,6 +498,7 @@ def _draw(mapper, state, volume, renderer) -> None:
     readout = bool(state.get("exact_readout"))
     drawn = state.setdefault("levels_drawn", {})
     layers, values = [], {}
+    bricks_drawn = 0
     gl_state = renderer.GetRenderWindow().GetState()
     depth = _capture_depth(state, renderer)
     masks = {}
@@ -512,18 +525,26 @@ def _draw(mapper, state, volume, renderer) -> None:
             level, footprint, base_distance, spacings, cells, params["peripheral_sampling"])
         masked = adaptive and index > 0
         kind = ("coarse" if on_gpu else "masked") if masked else None
+        level_input = _pyramid(state, image)[volume_level] if volume_level else image
+        component = mapper.GetComponent() if not volume_level else -1  # coarse levels hold one component
+        limit = bricked_foveated.level_limit(mapper, level_input)
+        values_texture = None
+        if limit:  # beyond one texture: composite the level's rays over its bricks first
+            level_input, values_texture = _composite_level(mapper, state, volume, renderer, level, volume_level,
+                                                           level_input, component, distance, layer)
+            component = -1
+            bricks_drawn += object_state(state["brick_sources"][volume_level]["mapper"]).get("bricks_drawn", 0)
         key = level if not masked else (level, kind)
-        entry = drawn.get(key) or _new_level(params["method"], kind)
+        key = (key, "bricks") if limit else key
+        entry = drawn.get(key) or _new_level(params["method"], kind, bricks=bool(limit))
         drawn[key] = entry
         level_mapper, level_volume = entry["mapper"], entry["volume"]
         if depth is not None and level_mapper.GetDepthTexture() is not depth:
             level_mapper.SetSharedDepthTexture(depth)
-        level_input = _pyramid(state, image)[volume_level] if volume_level else image
         if isinstance(level_mapper, AnalyticMIPVolumeMapper):  # levels reading one volume share its packed copy
             level_mapper.SetCornerPacker(state.setdefault("packers", {}).setdefault(volume_level, CornerPacker()))
         if level_mapper.GetInput() is not level_input:
             level_mapper.SetInputData(level_input)
-        component = mapper.GetComponent() if not volume_level else -1  # coarse levels hold one component
         if level_mapper.GetComponent() != component:
             level_mapper.SetComponent(component)
         _copy_settings(mapper, volume, level_mapper, level_volume, entry["matrix"], distance,
@@ -558,12 +579,18 @@ def _draw(mapper, state, volume, renderer) -> None:
             if level_state.get("mask_unit_built") not in (None, level_state["mask_unit"]):
                 # VTK sets our sampler only when it builds the shader: rebuild it for the new unit
                 level_mapper._install_pieces(level_volume)
+        if values_texture is not None:
+            values_texture.Activate()
+            object_state(level_mapper)["values_unit"] = values_texture.GetTextureUnit()
         try:
-            if kind == "coarse":
-                _render_coarse_level(level_mapper, level_volume, renderer, plan, layer)
+            if kind == "coarse" or values_texture is not None:
+                _render_coarse_level(level_mapper, level_volume, renderer, plan, layer,
+                                     band_off=values_texture is not None)
             else:
                 level_volume.RenderVolumetricGeometry(renderer)
         finally:
+            if values_texture is not None:
+                values_texture.Deactivate()
             if mask_texture is not None:
                 mask_texture.Deactivate()
             for texture in bound:
@@ -580,6 +607,7 @@ def _draw(mapper, state, volume, renderer) -> None:
         layers.append((level, volume_level, distance, level_input))
     if depth is not None:
         depth.Deactivate()
+    state["bricks_drawn"] = bricks_drawn
     if readout:
         state["readout"] = (plan, values)
     matrix = vtkMatrix4x4()
@@ -665,11 +693,18 @@ def _capture_depth(state, renderer):
     return depth
 
 
-def _new_level(method: str, kind: Optional[str] = None) -> dict:
-    """A private level mapper and volume; ``kind``: None, ``"masked"`` (CPU mask) or ``"coarse"`` (GPU mask)."""
-    level_mapper = _level_class(FOVEATION_LAYERS[method].factory, kind)()
+def _new_level(method: str, kind: Optional[str] = None, bricks: bool = False) -> dict:
+    """A private level mapper and volume; ``kind``: None, ``"masked"`` (CPU mask) or ``"coarse"`` (GPU mask).
+
+    ``bricks``: a level drawn from its rays' values composited over bricks
+    (:mod:`mipcast.mappers.bricked_foveated`), whatever the layer method.
+    """
+    base = _value_class() if bricks else FOVEATION_LAYERS[method].factory
+    level_mapper = _level_class(base, kind)()
     level_volume = vtkVolume()
     level_mapper.Attach(level_volume)
+    if bricks:
+        level_mapper.AddObserver(vtkCommand.UpdateShaderEvent, bricked_foveated.bind_values_sampler)
     if kind == "masked":
         level_mapper.AddObserver(vtkCommand.UpdateShaderEvent, _bind_mask_sampler)
     elif kind == "coarse":
@@ -688,7 +723,45 @@ def _bind_coarse_samplers(level_mapper, event, program) -> None:
         level_state["samplers_set"] = True
 
 
-def _render_coarse_level(level_mapper, level_volume, renderer, plan, layer) -> None:
+_VALUE_CLASS: list = []
+
+
+def _value_class():
+    """The mapper class of a level drawn from composited values (``shaders/foveated_brick_hooks.glsl``)."""
+    if not _VALUE_CLASS:
+        from mipcast.mappers.mip import sampled_projection_mapper
+
+        _VALUE_CLASS.append(sampled_projection_mapper(bricked_foveated.HOOKS))
+    return _VALUE_CLASS[0]
+
+
+def _composite_level(mapper, state, volume, renderer, level, volume_level, level_input, component, distance, layer):
+    """A level beyond the texture limit: its rays composited over its bricks, uploaded for its draw.
+
+    Returns (the 2 x 2 x 2 box the level draws, the values' texture); see
+    :mod:`mipcast.mappers.bricked_foveated`.
+    """
+    source = bricked_foveated.level_source(state, volume_level, mapper._parameters()["method"])
+    source_mapper = source["mapper"]
+    if source_mapper.GetInput() is not level_input:
+        source_mapper.SetInputData(level_input)
+    if source_mapper.GetComponent() != component:
+        source_mapper.SetComponent(component)
+    _copy_settings(mapper, volume, source_mapper, source["volume"], source["matrix"], distance,
+                   layer.image_sample_distance)
+    object_state(source_mapper)["draw_camera"] = renderer.GetActiveCamera()
+    limit = bricked_foveated.level_limit(mapper, level_input)
+    values = bricked_foveated.composite(source, volume, renderer, limit, layer.image_sample_distance, layer.grid)
+    rendered = source_mapper.GetRenderedInput()
+    boxes = state.setdefault("value_boxes", {})
+    stamp = (rendered.GetAddressAsString("vtkObjectBase"), rendered.GetMTime())
+    if boxes.get(volume_level, (None,))[0] != stamp:
+        boxes[volume_level] = (stamp, bricked_foveated.value_box(rendered))
+    normalised = bricked_foveated.normalised_values(values, rendered)
+    return boxes[volume_level][1], bricked_foveated.values_texture(state, renderer, level, normalised)
+
+
+def _render_coarse_level(level_mapper, level_volume, renderer, plan, layer, band_off: bool = False) -> None:
     """Draw a GPU-masked level, its samplers pointing at the coarse pictures.
 
     VTK invokes UpdateShaderEvent (where :func:`_bind_coarse_samplers` sets
@@ -708,10 +781,15 @@ def _render_coarse_level(level_mapper, level_volume, renderer, plan, layer) -> N
         uniforms = level_volume.GetShaderProperty().GetFragmentCustomUniforms()
         uniforms.SetUniformf("u_mc_fovCastFrom", _FAR)
         uniforms.SetUniformf("u_mc_fovCastTo", _FAR)
+        band = reference(0.0)
+        uniforms.GetUniformf("u_mc_fovSilOn", band)
+        if band_off:  # the silhouette band reads the samplers too: nothing at all is drawn
+            uniforms.SetUniformf("u_mc_fovSilOn", 0.0)
         try:
             level_volume.RenderVolumetricGeometry(renderer)
         finally:
             _set_uniforms(level_volume, plan, layer)
+            uniforms.SetUniformf("u_mc_fovSilOn", float(band))
     level_state["samplers_set"] = False
     level_volume.RenderVolumetricGeometry(renderer)
     if level_state["samplers_set"]:

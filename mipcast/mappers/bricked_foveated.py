@@ -1,0 +1,187 @@
+"""Foveated levels beyond the GPU's 3D texture limit: composited over bricks first, then masked and blended.
+
+A :class:`mipcast.mappers.foveated.FoveatedVolumeMapper` draws each pyramid
+level with a private mapper of its layer method; a level whose volume (level
+0 is the input itself, coarser levels its max-reduced copies) has more
+points along an axis than the texture limit
+(:func:`mipcast.mappers.bricked_draw.texture_limit`) cannot be uploaded.
+Such a level is drawn in two steps inside the same render:
+
+1. its rays' values are composited over the bricks of its volume:
+   :func:`mipcast.mappers.bricked_draw.compose` with a private mapper of the
+   layer method (the level's sample distance, image sample distance,
+   component, cropping, clipping, matrix and property), every brick casting
+   the WHOLE level volume's rays on the level's ray grid (VTK's reduced
+   framebuffer of the level's image sample distance), combined by the
+   maximum: exact for MIP and analytic MIP (``BRICKS`` ``"max"``), the
+   maximum over disjoint sample or cell sets being the maximum over their
+   union;
+2. the composited values are drawn by the level's own foveation pieces: a
+   level mapper whose hook piece (``shaders/foveated_brick_hooks.glsl``)
+   marches no sample but reads the ray's value from a float texture of the
+   level's grid, over a 2 x 2 x 2 box of the level volume's bounds and
+   scalar range (so VTK rasters the same fragments and colours through the
+   same tables).  The cast range, the content-adaptive mask (built from the
+   composited coarse level's picture, as for one texture), the silhouette
+   band and the blend weights are the level's own: the levels blend after
+   compositing, never before (a maximum of blends is no blend of maxima).
+
+Levels whose volume fits one texture are drawn as usual.  The layers that
+can (:func:`refusal`): those whose method's ``BRICKS`` is ``"max"``; DEMIP
+(two phases, :mod:`mipcast.mappers.bricked_demip`) is refused as a
+foveation layer beyond the limit.
+
+Examples
+--------
+>>> from mipcast.data_fixtures import make_fixture
+>>> box = value_box(make_fixture("spheres", size=8))
+>>> box.GetDimensions(), box.GetPointData().GetScalars().GetRange(0) == make_fixture(
+...     "spheres", size=8).GetPointData().GetScalars().GetRange(0)
+((2, 2, 2), True)
+"""
+from __future__ import annotations
+
+from typing import Optional, Sequence
+
+import numpy as np
+from vtkmodules.util.misc import calldata_type
+from vtkmodules.vtkCommonCore import VTK_FLOAT, VTK_OBJECT, vtkDataArray
+from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkRenderingCore import vtkVolume
+
+from mipcast.core.object_state import object_state
+from mipcast.core.parameter_tables import FOVEATION_LAYERS
+from mipcast.mappers import bricked_draw, float_readout
+from mipcast.mappers.private_draw import pixel_texture
+
+#: The hook piece of a level drawn from composited values.
+HOOKS = "foveated_brick_hooks"
+#: The value a ray without any brick's sample gets (what the sampled loop starts from).
+_NO_VALUE = -1.0e30
+
+
+def level_limit(mapper, level_input) -> int:
+    """The texture limit when ``level_input`` (a foveated level's volume) exceeds it along an axis, else 0.
+
+    Examples
+    --------
+    >>> from mipcast.mappers.foveated import FoveatedVolumeMapper
+    >>> level_limit(FoveatedVolumeMapper(), vtkImageData())   # no window yet: limit unknown
+    0
+    """
+    limit = bricked_draw.texture_limit(mapper)
+    if limit < 2 or level_input is None:
+        return 0
+    return limit if max(level_input.GetDimensions()) > limit else 0
+
+
+def refusal(mapper, method: str) -> Optional[str]:
+    """The message refusing ``mapper``'s input beyond the texture limit for a layer ``method`` that cannot brick.
+
+    None when the input fits one texture, or the layer's bricks combine by
+    the maximum (every foveation layer but DEMIP).
+
+    Examples
+    --------
+    >>> from mipcast.mappers.foveated import FoveatedVolumeMapper
+    >>> refusal(FoveatedVolumeMapper(), "demip") is None   # no input yet
+    True
+    """
+    if getattr(FOVEATION_LAYERS[method].factory, "BRICKS", None) == "max":
+        return None
+    limit = bricked_draw.exceeds_limit(mapper)
+    if not limit:
+        return None
+    dims = mapper.GetInputPreparer().GetInputDataObject(0, 0).GetDimensions()
+    layers = ", ".join(name for name, entry in FOVEATION_LAYERS.items()
+                       if getattr(entry.factory, "BRICKS", None) == "max")
+    return (f"the volume's dimensions {dims} exceed this GPU's 3D texture limit of {limit} points per "
+            f"axis, and the foveated mapper cannot draw its {method!r} levels in bricks (their ray value over "
+            "several bricks is not the bricks' maximum): resample the volume to at most "
+            f"{limit} points per axis (e.g. vtkImageResample), crop it (vtkExtractVOI), use foveation "
+            f"layers that draw in bricks (SetMethod: {layers}), or the {method!r} method itself unfoveated")
+
+
+def value_box(rendered) -> vtkImageData:
+    """A 2 x 2 x 2 image of ``rendered``'s bounds, direction and scalar type holding its scalar range.
+
+    What a level drawn from composited values rasters (the same box, so the
+    same fragments) and normalises with (the same range, so the same colour
+    tables and readout units).
+    """
+    dims = rendered.GetDimensions()
+    box = vtkImageData()
+    box.SetDimensions(2, 2, 2)
+    box.SetOrigin(rendered.GetOrigin())
+    box.SetSpacing([s * max(d - 1, 1) for s, d in zip(rendered.GetSpacing(), dims)])
+    box.SetDirectionMatrix(rendered.GetDirectionMatrix())
+    scalars = rendered.GetPointData().GetScalars()
+    array = vtkDataArray.CreateDataArray(scalars.GetDataType())
+    array.SetName(scalars.GetName() or "scalars")
+    array.SetNumberOfComponents(1)
+    array.SetNumberOfTuples(8)
+    low, high = scalars.GetRange(0)
+    for index in range(8):
+        array.SetTuple1(index, high if index == 7 else low)
+    box.GetPointData().SetScalars(array)
+    return box
+
+
+def level_source(state, volume_level: int, method: str) -> dict:
+    """The private mapper of the layer method (on its own vtkVolume) whose bricks a level composites."""
+    sources = state.setdefault("brick_sources", {})
+    entry = sources.get(volume_level)
+    if entry is None or entry["method"] != method:
+        from vtkmodules.vtkCommonMath import vtkMatrix4x4
+
+        source = FOVEATION_LAYERS[method].factory()
+        source_volume = vtkVolume()
+        source.Attach(source_volume)
+        entry = sources[volume_level] = {"mapper": source, "volume": source_volume, "matrix": vtkMatrix4x4(),
+                                         "method": method}
+    return entry
+
+
+def composite(source: dict, volume, renderer, limit: int, image_sample_distance: float,
+              grid: Sequence[int]) -> np.ndarray:
+    """The level's rays composited over its bricks: data units, (rows, columns) top row first, NaN = no value."""
+    gl = renderer.GetRenderWindow().GetState()
+    gl.Push()  # the bricks' render-to-image passes set their own viewport and framebuffer
+    try:
+        return bricked_draw.compose(source["mapper"], volume, renderer, limit, readout=True,
+                                    image_sample_distance=image_sample_distance, grid=grid)
+    finally:
+        gl.Pop()
+
+
+def normalised_values(values: np.ndarray, rendered) -> np.ndarray:
+    """Composited values (data units) as the level's shader holds them: VTK's normalised scalar, float32.
+
+    Rays without a value get -1e30 (the sampled loop's start: no sample).
+    """
+    normalised = float_readout.from_data_units(values, rendered.GetPointData().GetScalars())
+    return np.where(np.isfinite(values), normalised, _NO_VALUE).astype(np.float32)
+
+
+def values_texture(state, renderer, level: int, normalised: np.ndarray):
+    """The level's values as a nearest-filtered one-channel float texture (bottom row first)."""
+    textures = state.setdefault("value_textures", {})
+    window = renderer.GetRenderWindow()
+    texture = textures.get(level)
+    if texture is None or texture.GetContext() is not window:
+        texture = pixel_texture(window)
+        textures[level] = texture
+    data = np.ascontiguousarray(normalised[::-1], dtype=np.float32)
+    rows, columns = data.shape
+    texture.Create2DFromRaw(columns, rows, 1, VTK_FLOAT, data)
+    return texture
+
+
+@calldata_type(VTK_OBJECT)
+def bind_values_sampler(level_mapper, event, program) -> None:
+    """UpdateShaderEvent: point ``u_mc_fovValues`` at the unit the level's value texture is bound to."""
+    level_state = object_state(level_mapper)
+    unit = level_state.get("values_unit")
+    if program is not None and unit is not None and unit >= 0:
+        program.SetUniformi("u_mc_fovValues", int(unit))
+        level_state["samplers_set"] = True

@@ -1,0 +1,32 @@
+// mipcast piece: foveated_brick_hooks
+// fills: Picking::Dec
+// mode: augment
+// A foveated level whose volume lies beyond the GPU's 3D texture limit
+// (mipcast.mappers.bricked_foveated): its rays' values were composited over
+// the bricks first (the maximum of the bricks' float readouts on this
+// level's ray grid, whole-volume rays), and arrive here as a float texture
+// of the level's grid (bottom row first, nearest filtered), the value
+// VTK's normalised scalar of the level's volume, -1e30 where no brick had a
+// sample. No sample is marched (the level's own volume is a 2 x 2 x 2 box
+// of the same bounds and scalar range, drawn only to raster the same
+// fragments); the colour, the level's cast range, mask, silhouette band
+// and blend weight are the level's own pieces, as for a volume in one
+// texture.
+uniform sampler2D u_mc_fovValues;
+
+void mcBeginRay(inout int first, inout int count)
+{
+  count = first;  // nothing to march: the value is the bricks'
+  mc_rayMax = -1.0e30;
+}
+
+bool mcSample(float value, int i)
+{
+  return false;
+}
+
+void mcEndRay(int count)
+{
+  vec2 mc_fovValueAt = (gl_FragCoord.xy - in_windowLowerLeftCorner) * in_inverseWindowSize;
+  mc_rayMax = texture2D(u_mc_fovValues, mc_fovValueAt).r;
+}
