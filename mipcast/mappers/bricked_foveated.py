@@ -127,6 +127,33 @@ def value_box(rendered) -> vtkImageData:
     return box
 
 
+#: Pieces a level's bricks add to their method's: they cast only where the level casts (its cast
+#: range and silhouette band; a superset of a content-adaptive level's rays), no blend weight.
+SOURCE_PIECES = ("foveated_band_dec", "foveated_skip")
+_SOURCE_CLASSES: dict = {}
+
+
+def source_class(base) -> type:
+    """``base`` (a layer method's mapper class) whose rays are cast only where a foveated level casts.
+
+    Examples
+    --------
+    >>> from mipcast.mappers.mip import MIPVolumeMapper
+    >>> source_class(MIPVolumeMapper)().GetShaderPieces()[-2:]
+    ('foveated_band_dec', 'foveated_skip')
+    """
+    cls = _SOURCE_CLASSES.get(base)
+    if cls is None:
+        def GetShaderPieces(self):
+            return tuple(base.GetShaderPieces(self)) + SOURCE_PIECES
+
+        cls = type(f"FoveatedBrick{base.__name__}", (base,), {
+            "__doc__": f"{base.__name__} casting only a foveated level's rays (a brick's source).",
+            "GetShaderPieces": GetShaderPieces})
+        _SOURCE_CLASSES[base] = cls
+    return cls
+
+
 def level_source(state, volume_level: int, method: str) -> dict:
     """The private mapper of the layer method (on its own vtkVolume) whose bricks a level composites."""
     sources = state.setdefault("brick_sources", {})
@@ -134,7 +161,7 @@ def level_source(state, volume_level: int, method: str) -> dict:
     if entry is None or entry["method"] != method:
         from vtkmodules.vtkCommonMath import vtkMatrix4x4
 
-        source = FOVEATION_LAYERS[method].factory()
+        source = source_class(FOVEATION_LAYERS[method].factory)()
         source_volume = vtkVolume()
         source.Attach(source_volume)
         entry = sources[volume_level] = {"mapper": source, "volume": source_volume, "matrix": vtkMatrix4x4(),

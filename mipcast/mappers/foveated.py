@@ -531,7 +531,8 @@ def _draw(mapper, state, volume, renderer) -> None:
         values_texture = None
         if limit:  # beyond one texture: composite the level's rays over its bricks first
             level_input, values_texture = _composite_level(mapper, state, volume, renderer, level, volume_level,
-                                                           level_input, component, distance, layer)
+                                                           level_input, component, distance, plan, layer,
+                                                           silhouette if len(plan.layers) > 1 else None)
             component = -1
             bricks_drawn += object_state(state["brick_sources"][volume_level]["mapper"]).get("bricks_drawn", 0)
         key = level if not masked else (level, kind)
@@ -571,7 +572,8 @@ def _draw(mapper, state, volume, renderer) -> None:
             bound = (coarse["after"], coarse["before"], _fovea_texture(state, renderer, plan, layer))
             _bind_coarse(level_mapper, level_volume, bound)
             _set_coarse_uniforms(level_volume, plan, layer, viewport, tolerance)
-        elif level in masks and not readout:
+        elif level in masks and (not readout or values_texture is not None):
+            # (a level drawn from bricks reads one sampler more: its mask must be bound, readout or not)
             mask_texture = _mask_texture(state, renderer, level, masks[level])
             mask_texture.Activate()
             level_state = object_state(level_mapper)
@@ -735,7 +737,8 @@ def _value_class():
     return _VALUE_CLASS[0]
 
 
-def _composite_level(mapper, state, volume, renderer, level, volume_level, level_input, component, distance, layer):
+def _composite_level(mapper, state, volume, renderer, level, volume_level, level_input, component, distance, plan,
+                     layer, silhouette):
     """A level beyond the texture limit: its rays composited over its bricks, uploaded for its draw.
 
     Returns (the 2 x 2 x 2 box the level draws, the values' texture); see
@@ -751,6 +754,9 @@ def _composite_level(mapper, state, volume, renderer, level, volume_level, level
                    layer.image_sample_distance)
     object_state(source_mapper)["draw_camera"] = renderer.GetActiveCamera()
     limit = bricked_foveated.level_limit(mapper, level_input)
+    for brick in bricked_draw.bricks_of(source_mapper, limit):  # they cast only the level's rays
+        _set_uniforms(brick["volume"], plan, layer)
+        _set_silhouette(brick["volume"], silhouette, layer.level)
     values = bricked_foveated.composite(source, volume, renderer, limit, layer.image_sample_distance, layer.grid)
     rendered = source_mapper.GetRenderedInput()
     boxes = state.setdefault("value_boxes", {})
