@@ -94,8 +94,11 @@ class Method:
         minimum of their float readouts (exact); ``"demip"``, DEMIP's two
         phases over the bricks (:mod:`mipcast.mappers.bricked_demip`, as the
         ``"demip"`` distributed route); ``"mean"``, by their means weighted by
-        the samples / ray length each brick counted (exact); None: such a volume is
-        refused with a message naming the limit and the fix.
+        the samples / ray length each brick counted (exact); ``"foveated"``, each
+        level too large for one texture composited over its bricks by its layer
+        method's maximum, then masked and blended as one texture
+        (:mod:`mipcast.mappers.bricked_foveated`; DEMIP layers refused); None: such
+        a volume is refused with a message naming the limit and the fix.
     bench : tuple of (label, samples_per_voxel, settings), optional
         Its rows in ``mipcast bench``: ``settings`` are ``(Name, value)``
         pairs for its setters; default one row, the method's own name at one
@@ -286,7 +289,7 @@ for _method in (
            parameters=parameter_tables.DEMIP, distributed="demip", bricks="demip",
            bench=(("demip two passes", 1, ()),)),
     Method("foveated", "Foveated", "full quality around a gaze point, fewer rays and samples elsewhere",
-           FoveatedVolumeMapper, parameters=parameter_tables.FOVEATED,
+           FoveatedVolumeMapper, parameters=parameter_tables.FOVEATED, bricks="foveated",
            bench=(("foveated mip", 1, ()), ("foveated mip, gaze at a corner", 1, (("GazePoint", (0.1, 0.1)),)),
                   ("foveated analytic", None, (("Method", "analytic"),)))),
     Method("cpu", "VTK CPU MIP", "VTK's CPU ray caster (vtkFixedPointVolumeRayCastMapper), a peer",

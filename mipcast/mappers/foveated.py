@@ -348,7 +348,9 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
             ``rays``, ``samples``, ``full_rays``, ``full_samples``,
             ``ray_ratio`` and ``sample_ratio`` (full / foveated), ``band_rays``
             (level-0 rays cast only for the volume's silhouette band, included
-            in ``rays``), ``unit``
+            in ``rays``), ``brick_rays`` (rays the bricks of levels beyond
+            the 3D texture limit cast before their level is drawn from
+            them, :mod:`mipcast.mappers.bricked_foveated`; not in ``rays``), ``unit``
             (``"samples"`` or ``"cells"``) and ``levels``: one dict per
             drawn level (``level``, ``volume_level``, ``grid``,
             ``sample_distance``, ``rays``, ``samples``).  None before the
@@ -498,7 +500,7 @@ def _draw(mapper, state, volume, renderer) -> None:
     readout = bool(state.get("exact_readout"))
     drawn = state.setdefault("levels_drawn", {})
     layers, values = [], {}
-    bricks_drawn = 0
+    bricks_drawn, bricked_levels = 0, {}
     gl_state = renderer.GetRenderWindow().GetState()
     depth = _capture_depth(state, renderer)
     masks = {}
@@ -535,6 +537,8 @@ def _draw(mapper, state, volume, renderer) -> None:
                                                            silhouette if len(plan.layers) > 1 else None)
             component = -1
             bricks_drawn += object_state(state["brick_sources"][volume_level]["mapper"]).get("bricks_drawn", 0)
+            bricked_levels[level] = [brick["mapper"].GetInput() for brick in bricked_draw.bricks_of(
+                state["brick_sources"][volume_level]["mapper"], limit)]
         key = level if not masked else (level, kind)
         key = (key, "bricks") if limit else key
         entry = drawn.get(key) or _new_level(params["method"], kind, bricks=bool(limit))
@@ -618,7 +622,7 @@ def _draw(mapper, state, volume, renderer) -> None:
     snapshot.DeepCopy(camera)
     state["frame"] = {"plan": plan, "camera": snapshot, "matrix": matrix, "image": image, "silhouette": silhouette,
                       "layers": layers, "cells": cells, "method": params["method"], "masks": masks,
-                      "base_distance": base_distance, "base_isd": base_isd}
+                      "base_distance": base_distance, "base_isd": base_isd, "bricked": bricked_levels}
     if on_gpu:  # the masks for GetLastFrameCost: read back only when asked, after the frame
         state["frame"]["coarse"] = {"textures": coarse, "window": renderer.GetRenderWindow(),
                                     "viewport": viewport, "tolerance": tolerance}
@@ -1258,9 +1262,16 @@ def _frame_cost(frame) -> dict:
                                       cast=added & ~cast, **kind)[0]
             cast = cast | added
         rays, samples = grid_cost(image, camera, size, layer.grid, volume_matrix=matrix, cast=cast, **kind)
+        brick_rays = 0
+        if level in frame.get("bricked", {}):  # its bricks cast the level's range and band, not its mask
+            reach = (e >= layer.cast_from) & (e < layer.cast_to)
+            if len(plan.layers) > 1 and level == 0:
+                reach = reach | foveation.silhouette_band(plan, frame.get("silhouette"), layer.grid)
+            brick_rays = sum(grid_cost(piece, camera, size, layer.grid, volume_matrix=matrix, cast=reach,
+                                       sample_distance=distance)[0] for piece in frame["bricked"][level])
         rows.append({"level": level, "volume_level": volume_level, "grid": tuple(layer.grid),
                      "sample_distance": None if frame["cells"] else distance,
-                     "rays": rays, "samples": samples})
+                     "rays": rays, "samples": samples, "brick_rays": brick_rays})
     kind = {"cells_of": image} if frame["cells"] else {"sample_distance": frame["base_distance"]}
     full_grid = foveation.level_grid(size[0], size[1], 0, frame["base_isd"])
     full_rays, full_samples = grid_cost(image, camera, size, full_grid, volume_matrix=matrix, **kind)
@@ -1268,7 +1279,7 @@ def _frame_cost(frame) -> dict:
     samples = sum(r["samples"] for r in rows)
     return {"method": frame["method"], "unit": "cells" if frame["cells"] else "samples",
             "rays": rays, "samples": samples, "full_rays": full_rays, "full_samples": full_samples,
-            "band_rays": band_rays,
+            "band_rays": band_rays, "brick_rays": sum(r["brick_rays"] for r in rows),
             "ray_ratio": full_rays / rays if rays else math.inf,
             "sample_ratio": full_samples / samples if samples else math.inf,
             "levels": rows}
