@@ -26,7 +26,9 @@ LIMIT = 20
 SIZE = (80, 72)
 DISTANCE = 0.7
 BRICKED = [name for name, m in METHODS.items() if m.bricks in ("max", "min", "mean")]  # DEMIP: test_bricked_demip
-REFUSED = [name for name, m in METHODS.items() if m.float_readout and m.bricks is None]
+#: (method, settings) refusing beyond the limit: methods without bricks, foveated with a DEMIP layer
+REFUSED = [(name, ()) for name, m in METHODS.items() if m.float_readout and m.bricks is None] + [
+    ("foveated", (("Method", "demip"),))]
 
 
 @pytest.fixture(scope="module")
@@ -213,10 +215,12 @@ def test_the_pyvista_route_draws_it_in_bricks(image, monkeypatch):
         assert rgb.max() > 100 and (np.abs(rgb - one).max(axis=-1) <= 1).mean() >= 0.999
 
 
-@pytest.mark.parametrize("name", REFUSED)
-def test_a_method_that_cannot_brick_exactly_refuses_naming_the_limit_and_the_fix(image, name, monkeypatch):
+@pytest.mark.parametrize("name, settings", REFUSED)
+def test_a_method_that_cannot_brick_exactly_refuses_naming_the_limit_and_the_fix(image, name, settings, monkeypatch):
     lowered(monkeypatch)
     mapper, renderer, window = pipeline(image, name)
+    for setting, value in settings:
+        getattr(mapper, f"Set{setting}")(value)
     events = []
     mapper.AddObserver(vtkCommand.ErrorEvent, lambda caller, event: events.append(event))
     captured, previous = vtkStringOutputWindow(), vtkOutputWindow.GetInstance()

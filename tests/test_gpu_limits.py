@@ -103,8 +103,13 @@ def test_analytic_beyond_the_texture_limit_is_drawn_in_bricks_exactly(monkeypatc
     assert rgb.max() > 100 and np.abs(rgb.astype(int) - unbricked_rgb).max() <= 1
     assert scene.mapper.GetLastProblem() is None
 
-    # a method whose composite over bricks is not a maximum refuses, naming the limit and the fix
+    # foveated draws it too: its levels beyond the limit composited over bricks (tests/test_foveated_bricks.py)
+    foveated = OffscreenView(image, "foveated", size=(64, 56), view="perspective", window="full")
+    assert foveated.screenshot().max() > 100 and foveated.mapper.GetLastProblem() is None
+    assert foveated.mapper.GetNumberOfBricks() >= 27
+    # layers whose composite over bricks is not a maximum refuse, naming the limit and the fix (DEMIP)
     refused = OffscreenView(image, "foveated", size=(64, 56), view="perspective", window="full")
+    refused.mapper.SetMethod("demip")
     captured, previous = _errors()
     try:
         assert refused.screenshot().max() == 0
