@@ -35,9 +35,12 @@ pass of the brick (its class's ``BRICK_READOUT`` piece, channel
 ``u_mc_brickChannel``), so clipping, cropping and missing values are the
 GPU's; the sampled average's grey (mean of opacity x s) from two more
 channels.  DEMIP (``BRICKS = "demip"``) is drawn in two phases by
-:mod:`mipcast.mappers.bricked_demip`.  Methods whose composite is none of these
-(foveated) refuse such a volume with a message naming the limit and the fix
-(:func:`refusal`).  Cost: one render per brick in view per frame plus one
+:mod:`mipcast.mappers.bricked_demip`; foveated (``BRICKS = "foveated"``) composites
+each level too large for one texture over its bricks before blending it
+(:mod:`mipcast.mappers.bricked_foveated`, :func:`compose` on the level's ray
+grid).  Methods whose composite is none of these (a new sampled projection,
+a foveated DEMIP layer) refuse such a volume with a message naming the limit
+and the fix (:func:`refusal`).  Cost: one render per brick in view per frame plus one
 readback each (docs/reliability.md, "GPU limits and memory"); bricks whose box
 lies outside the view are skipped.
 
