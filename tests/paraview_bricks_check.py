@@ -7,8 +7,9 @@ Usage (from the repository root)::
 The "vessels" fixture (48^3) is shown in a render view with the limit lowered to 20 points
 per axis (``gpu_limits.max_texture_size_3d``, so 3 x 3 x 3 bricks) and without it, through
 :func:`mipcast.plugin.render_view.show` and, with ``--plugin``, the "mipcast" representation;
-analytic MIP must draw the same picture (within one grey level), foveated must refuse with
-the limit in ParaView's messages.  Prints one JSON object on the last line; used by
+analytic MIP and foveated (its levels composited over bricks before blending,
+mipcast.mappers.bricked_foveated) must draw the same picture (within one grey level), with no
+refusal in ParaView's messages.  Prints one JSON object on the last line; used by
 tests/test_bricked_mapper.py.
 """
 import argparse

@@ -242,8 +242,7 @@ def test_paraview_draws_it_in_bricks_too(plugin):
                                cwd=ROOT, env=_env(), timeout=300)
     report = _report(completed)
     for route in ("render_view", "representation"):
-        analytic, refused = report[f"{route} analytic"], report[f"{route} foveated"]
-        assert analytic["max_bricked"] > 100 and analytic["within_1"] >= 0.999, (route, analytic)
-        assert not analytic["refused"] and analytic["messages_one"] == ""
-        assert refused["refused"] and refused["max_one"] > 30 and refused["within_1"] < 0.95, (route, refused)
-    assert report["representation foveated"]["max_bricked"] == 0  # nothing drawn (no outline in that route)
+        for method in ("analytic", "foveated"):  # foveated: its levels composited over bricks, then blended
+            drawn = report[f"{route} {method}"]
+            assert drawn["max_bricked"] > 100 and drawn["within_1"] >= 0.999, (route, method, drawn)
+            assert not drawn["refused"] and drawn["messages_one"] == "", (route, method, drawn)
