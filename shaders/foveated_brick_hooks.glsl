@@ -11,7 +11,11 @@
 // of the same bounds and scalar range, drawn only to raster the same
 // fragments); the colour, the level's cast range, mask, silhouette band
 // and blend weight are the level's own pieces, as for a volume in one
-// texture.
+// texture. The box is drawn without the user's cropping (the bricks
+// honoured it, and with no sample marched the loop would discard every
+// ray): where the user crops (u_mc_fovNoValueDiscard 1) a ray without a
+// value is discarded, as the single texture discards a ray crossing hidden
+// regions only.
 uniform sampler2D u_mc_fovValues;
 
 void mcBeginRay(inout int first, inout int count)
@@ -29,4 +33,8 @@ void mcEndRay(int count)
 {
   vec2 mc_fovValueAt = (gl_FragCoord.xy - in_windowLowerLeftCorner) * in_inverseWindowSize;
   mc_rayMax = texture2D(u_mc_fovValues, mc_fovValueAt).r;
+  if (mc_rayMax < -1.0e29 && u_mc_fovNoValueDiscard > 0.5)
+  {
+    discard;
+  }
 }

@@ -84,3 +84,26 @@ def test_a_demip_layer_beyond_the_limit_refuses_naming_the_limit_and_the_fix(ima
     assert "3D texture limit of 20" in problem and problem in captured.GetOutput()
     assert "'demip'" in problem and "SetMethod" in problem and "resample" in problem
     assert foveated(image, "demip").screenshot().max() > 100  # within one texture it draws
+
+
+def test_bricked_levels_follow_the_users_cropping_and_clipping(image):
+    from vtkmodules.vtkCommonDataModel import vtkPlane, vtkPlaneCollection
+
+    pictures = []
+    for limit in (None, LIMIT):
+        view = foveated(image, "mip", 8.0, limit)
+        mapper = view.mapper
+        mapper.SetCropping(True)
+        mapper.SetCroppingRegionPlanes(0, 30, 0, 47, 0, 47)
+        mapper.SetCroppingRegionFlagsToSubVolume()
+        plane = vtkPlane()
+        plane.SetOrigin(0.0, 0.0, 20.0)
+        plane.SetNormal(0.2, 0.0, 1.0)
+        planes = vtkPlaneCollection()
+        planes.AddItem(plane)
+        mapper.SetClippingPlanes(planes)
+        pictures.append(view.screenshot().astype(int))
+        assert mapper.GetLastProblem() is None and mapper.GetNumberOfBricks() == (35 if limit else 0)
+    grey = np.abs(pictures[0] - pictures[1]).max(axis=-1)
+    assert pictures[1].max() > 200 and (grey <= 1).mean() >= 0.999
+    assert mapper.GetCropping()  # the user's settings are left as they were

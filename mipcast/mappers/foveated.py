@@ -532,9 +532,16 @@ def _draw(mapper, state, volume, renderer) -> None:
         limit = bricked_foveated.level_limit(mapper, level_input)
         values_texture = None
         if limit:  # beyond one texture: composite the level's rays over its bricks first
-            level_input, values_texture = _composite_level(mapper, state, volume, renderer, level, volume_level,
-                                                           level_input, component, distance, plan, layer,
-                                                           silhouette if len(plan.layers) > 1 else None)
+            try:
+                level_input, values_texture = _composite_level(mapper, state, volume, renderer, level, volume_level,
+                                                               level_input, component, distance, plan, layer,
+                                                               silhouette if len(plan.layers) > 1 else None)
+            except Exception as error:  # noqa: BLE001  (an observer: reported as mipcast's refusals are)
+                _report_problem(mapper, state, f"drawing level {level} in bricks of {limit} points per axis "
+                                               f"failed: {error!r}")
+                if depth is not None:
+                    depth.Deactivate()
+                return
             component = -1
             bricks_drawn += object_state(state["brick_sources"][volume_level]["mapper"]).get("bricks_drawn", 0)
             bricked_levels[level] = [brick["mapper"].GetInput() for brick in bricked_draw.bricks_of(
@@ -554,6 +561,10 @@ def _draw(mapper, state, volume, renderer) -> None:
             level_mapper.SetComponent(component)
         _copy_settings(mapper, volume, level_mapper, level_volume, entry["matrix"], distance,
                        layer.image_sample_distance)
+        if limit:  # the bricks honoured the cropping (shaders/foveated_brick_hooks.glsl)
+            level_mapper.SetCropping(False)
+            level_volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniformf(
+                "u_mc_fovNoValueDiscard", 1.0 if mapper.GetCropping() else 0.0)
         _set_uniforms(level_volume, plan, layer)
         band = _set_silhouette(level_volume, silhouette if len(plan.layers) > 1 else None, layer.level)
         object_state(level_mapper)["draw_camera"] = camera
@@ -626,6 +637,15 @@ def _draw(mapper, state, volume, renderer) -> None:
     if on_gpu:  # the masks for GetLastFrameCost: read back only when asked, after the frame
         state["frame"]["coarse"] = {"textures": coarse, "window": renderer.GetRenderWindow(),
                                     "viewport": viewport, "tolerance": tolerance}
+
+
+def _report_problem(mapper, state, problem: str) -> None:
+    """Report a failed frame as mipcast's refusals are: a VTK error naming it, kept as the render problem."""
+    from vtkmodules.vtkCommonCore import vtkOutputWindow
+
+    state["render_problem"] = problem
+    vtkOutputWindow.GetInstance().DisplayErrorText(f"{type(mapper).__name__}: {problem}\n")
+    mapper.InvokeEvent(vtkCommand.ErrorEvent)
 
 
 def _refine(state, params, image, volume, camera, viewport, gaze, radius):
