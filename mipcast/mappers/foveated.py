@@ -89,7 +89,10 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     The float readout (:func:`mipcast.mappers.float_readout.render_float`) returns the
     foveated image in data units; :meth:`GetLastFrameCost` the rays and
     samples of the last frame against full quality.  Each drawn level holds its
-    own 3D texture.
+    own 3D texture; a level whose volume exceeds the GPU's 3D texture limit
+    composites its rays over bricks first and is then masked and blended as
+    one texture (:mod:`mipcast.mappers.bricked_foveated`; MIP and analytic
+    layers, a DEMIP layer is refused; :meth:`GetNumberOfBricks`).
 
     Examples
     --------
