@@ -194,6 +194,28 @@ def test_bricks_follow_the_users_cropping_clipping_opaque_geometry_and_camera(im
         assert np.max(np.abs(values[both] - one_values[both])) / (high - low) <= 1e-4
 
 
+@pytest.mark.parametrize("name", ["mip", "analytic"])
+def test_with_msaa_the_bricked_silhouette_gets_the_boxs_coverage(image, name, monkeypatch):
+    """8x MSAA: the bricked picture is drawn through the box's outline, so a silhouette pixel whose
+    centre the box covers is blended by the box's coverage as the single texture's is (drawn over
+    the whole viewport before: 97.2 % of those pixels within one level)."""
+    def shot(samples):
+        mapper, renderer, window = pipeline(image, name)
+        window.SetMultiSamples(samples)
+        return mapper, window, picture(window)
+
+    plain_mapper, plain_window, plain = shot(0)
+    covered = np.isfinite(render_float(plain_window, plain_mapper))  # pixel centres inside the box
+    one = shot(8)[2]
+    blended = covered & (np.abs(one - plain).max(axis=-1) > 1)  # partly covered: MSAA changed them
+    lowered(monkeypatch)
+    mapper, _, bricked = shot(8)
+    assert mapper.GetNumberOfBricks() == 27 and blended.sum() >= 30
+    difference = np.abs(bricked - one).max(axis=-1)
+    assert (difference[covered] <= 1).mean() >= 0.995, (difference[covered] > 1).sum()
+    assert (difference[blended] <= 1).mean() >= 0.9, (difference[blended] > 1).sum()
+
+
 def test_the_pyvista_route_draws_it_in_bricks(image, monkeypatch):
     pyvista = pytest.importorskip("pyvista")
     import mipcast.filters  # noqa: F401  (registers grid.mip)
