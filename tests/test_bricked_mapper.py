@@ -196,6 +196,76 @@ def test_bricks_follow_the_users_cropping_clipping_opaque_geometry_and_camera(im
         assert np.max(np.abs(values[both] - one_values[both])) / (high - low) <= 1e-4
 
 
+@pytest.mark.parametrize("name", ["mip", "average"])
+def test_the_sample_past_an_opaque_surface_just_before_a_brick_border_is_kept(name, monkeypatch):
+    """VTK's loop takes one sample past opaque geometry (samples 0 .. ceil(T)). With the surface 0.3
+    voxel before the brick border at x = 16, that sample (x = 16.1) lies in the next brick, whose
+    front face is behind the surface: that brick must still take it (it was discarded: every
+    pixel's MIP read 0.4 instead of 1, the average lost its brightest sample)."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+    from vtkmodules.vtkFiltersSources import vtkPlaneSource
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
+
+    values = np.zeros((48, 48, 48), np.float32)
+    values[:, :, 16:] = 1.0  # bright from the border on (x = 16)
+    values[:, :, :16] = np.linspace(0.0, 0.2, 16, dtype=np.float32)
+    wall = vtkImageData()
+    wall.SetDimensions(48, 48, 48)
+    wall.GetPointData().SetScalars(numpy_to_vtk(values.ravel(), deep=True))
+
+    def shot():
+        mapper, renderer, window = pipeline(wall, name)
+        plane = vtkPlaneSource()
+        plane.SetOrigin(15.7, -20.0, -20.0)
+        plane.SetPoint1(15.7, 70.0, -20.0)
+        plane.SetPoint2(15.7, -20.0, 70.0)
+        actor = vtkActor()
+        actor.SetMapper(vtkPolyDataMapper())
+        actor.GetMapper().SetInputConnection(plane.GetOutputPort())
+        renderer.AddActor(actor)
+        camera = renderer.GetActiveCamera()
+        camera.ParallelProjectionOn()
+        camera.SetFocalPoint(23.5, 23.5, 23.5)
+        camera.SetPosition(-60.0, 24.1, 23.2)
+        camera.SetViewUp(0.0, 0.0, 1.0)
+        camera.SetParallelScale(20.0)
+        renderer.ResetCameraClippingRange()
+        return mapper, render_float(window, mapper)
+
+    _, one = shot()
+    lowered(monkeypatch)
+    mapper, bricked = shot()
+    assert mapper.GetNumberOfBricks() == 27
+    hit = np.isfinite(one)
+    assert hit.mean() > 0.9 and (np.isfinite(bricked) == hit).all()
+    if name == "mip":
+        assert np.allclose(one[hit], 1.0, atol=1e-4), "the single texture's last sample is past the wall"
+    assert np.max(np.abs(bricked[hit] - one[hit])) <= 1e-4, np.max(np.abs(bricked[hit] - one[hit]))
+
+
+@pytest.mark.parametrize("name", ["mip", "analytic"])
+def test_with_msaa_the_bricked_silhouette_gets_the_boxs_coverage(image, name, monkeypatch):
+    """8x MSAA: the bricked picture is drawn through the box's outline, so a silhouette pixel whose
+    centre the box covers is blended by the box's coverage as the single texture's is (drawn over
+    the whole viewport before: 97.2 % of those pixels within one level)."""
+    def shot(samples):
+        mapper, renderer, window = pipeline(image, name)
+        window.SetMultiSamples(samples)
+        return mapper, window, picture(window)
+
+    plain_mapper, plain_window, plain = shot(0)
+    covered = np.isfinite(render_float(plain_window, plain_mapper))  # pixel centres inside the box
+    one = shot(8)[2]
+    blended = covered & (np.abs(one - plain).max(axis=-1) > 1)  # partly covered: MSAA changed them
+    lowered(monkeypatch)
+    mapper, _, bricked = shot(8)
+    assert mapper.GetNumberOfBricks() == 27 and blended.sum() >= 30
+    difference = np.abs(bricked - one).max(axis=-1)
+    assert (difference[covered] <= 1).mean() >= 0.995, (difference[covered] > 1).sum()
+    assert (difference[blended] <= 1).mean() >= 0.9, (difference[blended] > 1).sum()
+
+
 def test_the_pyvista_route_draws_it_in_bricks(image, monkeypatch):
     pyvista = pytest.importorskip("pyvista")
     import mipcast.filters  # noqa: F401  (registers grid.mip)

@@ -64,6 +64,7 @@ from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms, float_readout
 from mipcast.mappers.brick_rays import brick_entry, cached_bricks, ray_uniforms, set_ray_uniforms
 from mipcast.mappers.bricks import brick_extents
+from mipcast.mappers.box_outline import box_corners, outline_ndc, outline_quads
 from mipcast.mappers.private_draw import follow_volume, pixel_texture, rendering_renderer
 
 def _weighted_mean(values: list, weights: list) -> np.ndarray:
@@ -222,7 +223,8 @@ def draw_bricks(mapper, event) -> None:
             if state.get("exact_readout"):
                 state["brick_readout"] = values
             else:
-                _draw_picture(state, renderer, volume, values, rgba, grey=type(mapper).BRICKS == "mean")
+                _draw_picture(state, renderer, volume, values, rgba, grey=type(mapper).BRICKS == "mean",
+                              image=mapper.GetInput())
     except Exception as error:  # noqa: BLE001  (an observer: reported as mipcast's refusals are)
         from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 
@@ -531,10 +533,14 @@ def colour(values: np.ndarray, volume_property) -> np.ndarray:
     return out
 
 
-def _draw_picture(state, renderer, volume, values, rgba=None, grey: bool = False) -> None:
+def _draw_picture(state, renderer, volume, values, rgba=None, grey: bool = False, image=None) -> None:
     """Draw the coloured values (or the premultiplied ``rgba``) over the renderer's viewport, blended.
 
     ``grey``: the values are an average's grey, drawn opaque (``shaders/average_color.glsl``).
+    With multisampling and the whole volume ``image`` given, the picture is
+    drawn through the box's outline (:mod:`mipcast.mappers.box_outline`), so
+    the silhouette's pixels are blended by the box's coverage as the single
+    texture's are; otherwise over the whole viewport.
     """
     window = renderer.GetRenderWindow()
     if grey and rgba is None:
@@ -561,6 +567,14 @@ def _draw_picture(state, renderer, volume, values, rgba=None, grey: bool = False
         gl.vtkglBlendFuncSeparate(_GL_ONE, _GL_ONE_MINUS_SRC_ALPHA, _GL_ONE, _GL_ONE_MINUS_SRC_ALPHA)
         gl.vtkglDisable(_GL_DEPTH_TEST)
         gl.vtkglDepthMask(False)
-        texture.CopyToFrameBuffer(None, None)
+        polygon = outline_ndc(box_corners(image, volume), renderer) \
+            if image is not None and window.GetMultiSamples() > 1 else None
+        if polygon is None:
+            texture.CopyToFrameBuffer(None, None)  # the whole viewport
+        else:  # through the whole box's outline: its silhouette pixels get the box's MSAA coverage
+            for quad in outline_quads(polygon):
+                verts = [c for x, y in quad for c in (x, y, 0.0)]
+                tcoords = [c for x, y in quad for c in (0.5 * (x + 1.0), 0.5 * (y + 1.0))]
+                texture.CopyToFrameBuffer(tcoords, verts, None, None)
     finally:
         gl.Pop()

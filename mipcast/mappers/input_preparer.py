@@ -136,6 +136,8 @@ def prepared_image(image: vtkImageData, component=None, missing_allowed: bool = 
     if prepared.missing and not missing_allowed:
         raise InputError(f"{prepared.missing} NaN/Inf voxels: missing data cannot be drawn here; "
                          "replace them first (e.g. numpy.nan_to_num)")
+    if projection == "average" and not prepared.missing and not prepared.high > prepared.low:
+        _warn_constant_average(image)
     if not prepared.changed:
         return image
     out = vtkImageData()
@@ -144,6 +146,20 @@ def prepared_image(image: vtkImageData, component=None, missing_allowed: bool = 
     array.SetName(image.GetPointData().GetScalars().GetName() or "scalars")
     out.GetPointData().SetScalars(array)
     return out
+
+
+def _warn_constant_average(image: vtkImageData) -> None:
+    """Once per volume: VTK's own average draws this constant volume black, and why."""
+    scalars = image.GetPointData().GetScalars()
+    stamp = (scalars.GetAddressAsString("vtkObjectBase"), scalars.GetMTime(), "constant average")
+    if stamp in _WARNED:
+        return
+    _WARNED.add(stamp)
+    warnings.warn(
+        f"'{scalars.GetName()}' is constant: VTK's own AVERAGE_INTENSITY blend (stock_average) averages the "
+        "samples normalised over the data range, which is empty here, so it draws the volume black; use "
+        "mipcast's 'average' or 'analytic_average', which draw the mean in data units", InputWarning,
+        stacklevel=3)
 
 
 #: Where :func:`missing_as_background`'s opacity ramp starts and ends, in data ranges beyond the finite extreme.
