@@ -61,14 +61,13 @@ def run_loop(view, live, until, watchdog_s=WATCHDOG_S):
 
     watchdog = interactor.CreateOneShotTimer(int(watchdog_s * 1000))
 
-    def timer(caller, event):
-        if caller.GetTimerEventId() == watchdog or not any(r.timer for r in live._REFINERS.values()):
-            if until() or caller.GetTimerEventId() == watchdog:
-                interactor.TerminateApp()
+    def timer(caller, timer_id):
+        if timer_id == watchdog or (until() and not any(r.timer for r in live._REFINERS.values())):
+            interactor.TerminateApp()
 
     tags = [(window, window.AddObserver("StartEvent", frame_start)),
             (window, window.AddObserver("EndEvent", frame_end, -100.0)),  # after the refiner's
-            (interactor, interactor.AddObserver("TimerEvent", timer, -100.0))]
+            (interactor, interactor.AddObserver("TimerEvent", _on_timer(timer), -100.0))]
     t0 = time.perf_counter()
     interactor.Start()
     wall = time.perf_counter() - t0
@@ -78,19 +77,31 @@ def run_loop(view, live, until, watchdog_s=WATCHDOG_S):
     return times, wall
 
 
-def idle(view, seconds=0.4):
-    """Frames rendered while the event loop runs ``seconds`` with nothing changing."""
+def _on_timer(function):
+    """A TimerEvent observer called with the timer's id (VTK passes it as call data)."""
+    from vtkmodules.util.misc import calldata_type
+    from vtkmodules.util.vtkConstants import VTK_INT
+
+    @calldata_type(VTK_INT)
+    def observer(caller, event, timer_id=None):
+        function(caller, timer_id)
+    return observer
+
+
+def idle(view, refiner, seconds=0.4):
+    """(frames rendered, frames the refiner asked for) while the event loop runs ``seconds``."""
     interactor = view.GetInteractor()
     window = interactor.GetRenderWindow()
-    count = []
+    count, asked = [], refiner.frames
     tag = window.AddObserver("EndEvent", lambda c, e: count.append(1))
     stop = interactor.CreateOneShotTimer(int(seconds * 1000))
-    tag2 = interactor.AddObserver("TimerEvent", lambda c, e: interactor.TerminateApp())
+    tag2 = interactor.AddObserver("TimerEvent", _on_timer(
+        lambda caller, timer_id: interactor.TerminateApp() if timer_id == stop else None))
     interactor.Start()
     interactor.DestroyTimer(stop)
     window.RemoveObserver(tag)
     interactor.RemoveObserver(tag2)
-    return len(count)
+    return len(count), refiner.frames - asked
 
 
 def full_quality(display, view, png, name):
@@ -163,9 +174,9 @@ def timer_part(reader, image, view, png, live, remote):
             refining_frame_ms=[round(f[2], 2) for f in frames if f[1]], wall_s=wall,
             timer_left=refiner.timer is not None, first_vs_full=compare(first, full),
             bit_equal_full=bool(np.array_equal(converged_pixels, full)), vs_full=compare(converged_pixels, full))
-    before = refiner.frames
-    report["idle_frames"] = [idle(view), idle(view)]  # interactor.Start() itself renders once
-    report["idle_frames_asked"] = refiner.frames - before
+    idles = [idle(view, refiner), idle(view, refiner)]  # interactor.Start() itself renders once
+    report["idle_frames"] = [i[0] for i in idles]
+    report["idle_frames_asked"] = sum(i[1] for i in idles)
     ref, _ = reference(image, "foveated", view, gaze_point=GAZE, foveation=False)
     write_png(png("ref_full"), ref)
     report["vs_offscreen"] = compare(screenshot(view, png("converged_final")), ref)

@@ -10,7 +10,7 @@ view's interactor, every :data:`POLL_MS`) walks through the phases: wait
 until the picture has converged (no refining frame asked for, no timer
 pending), compare it with the same view with foveation off (bit for bit),
 turn the camera (the next frame drops back to the foveated one) and wait
-again, then switch progressive off, send a synthetic ``MouseMoveEvent`` to
+again, count the frames of a second with nothing changing, then switch progressive off, send a synthetic ``MouseMoveEvent`` to
 the view's interactor and compare the picture with mipcast's offscreen view
 gazing at that pixel.  Writes ``report.json`` and ends this ParaView
 (``os._exit``); a watchdog ends it after :data:`WATCHDOG_S` with what it has.
@@ -27,6 +27,7 @@ OUT = os.environ.get("MIPCAST_GUI_OUT", "")
 FRAMES = 4
 GAZE = (0.3, 0.6)
 POLL_MS = 100
+IDLE_S = 1.0  # seconds watched for frames once converged
 WATCHDOG_S = 60.0
 MOUSE = (0.62, 0.45)  # where the mouse moves, as a share of the view's width and height (on the volume)
 
@@ -148,7 +149,14 @@ def main():
                 report["after_camera_step"] = m.GetRefinementStep()
                 report["after_camera_needs"] = bool(m.NeedsRefinement())
             else:
-                state["phase"] = "mouse"
+                state["phase"] = "idle_wait"  # the foveation switch above was a change: converge again
+        elif phase == "idle_wait" and converged():
+            state.update(phase="idle", idle_t0=time.perf_counter(), idle_frames=len(frames),
+                         idle_asked=refiner.frames)
+        elif phase == "idle" and time.perf_counter() - state["idle_t0"] > IDLE_S:
+            report["idle"] = dict(seconds=IDLE_S, frames=len(frames) - state["idle_frames"],
+                                  asked=refiner.frames - state["idle_asked"], timer_left=refiner.timer is not None)
+            state["phase"] = "mouse"
         elif phase == "mouse":
             display.foveated_progressive = 0
             before = shot("mouse_before")

@@ -60,6 +60,7 @@ def test_client_mouse_moves_the_server_fovea_and_the_timer_refines(plugin, tmp_p
     assert report["session"] == "client-server"
     for phase in ("still", "camera_change"):
         _converged(report["timer"][phase], remote=True)
+    assert report["timer"]["idle_frames_asked"] == 0, report["timer"]  # no change seen: no frames asked
     assert report["timer"]["refine_call"]["bit_equal_full"], report["timer"]["refine_call"]
     mouse = report["mouse"]
     assert mouse["interactor"] and mouse["moves"] == 3, mouse
@@ -86,6 +87,7 @@ def test_paraview_gui_refines_by_itself_and_follows_the_mouse(plugin, tmp_path):
         assert phase["bit_equal_full"] and phase["vs_full"]["lit_share"] > 0.2, phase
     assert camera["asked"] >= 1, camera  # nothing but the timer renders once the script has returned
     assert report["after_camera_step"] == 0 and report["after_camera_needs"], report
+    assert report["idle"]["frames"] == 0 and not report["idle"]["timer_left"], report["idle"]  # no idle cost
     mouse = report["mouse"]
     assert mouse["source"] == "mouse" and mouse["vs_ref"]["within_1_share"] >= MATCH, mouse
     assert mouse["vs_ref"]["lit_share"] > 0.2 and mouse["changed_share"] > 0.05, mouse

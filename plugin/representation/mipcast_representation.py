@@ -682,7 +682,7 @@ def prepare(key, volume, assign, renderer, interactor, whole=None):
     assign.Update()
     image = assign.GetOutputDataObject(0)
     if image is None or image.GetNumberOfPoints() == 0 or not image.IsA("vtkImageData"):
-        _live_without_data(key, entry, interactor, renderer)
+        _live_without_data(key, entry, interactor, renderer, image)
         return False
     if entry.mapper is None or entry.mapper_method != entry.method:
         _new_mapper(entry, volume, assign)
@@ -718,7 +718,7 @@ def _live():
     return mipcast_representation_live
 
 
-def _live_without_data(key, entry, interactor, renderer):
+def _live_without_data(key, entry, interactor, renderer, image):
     """A process without data (a client of a remote server): its interactor drives the server's
     foveated mapper, the mouse through the gaze point property, the timer through frame counts."""
     if interactor is None or entry.method != "foveated":
@@ -726,7 +726,7 @@ def _live_without_data(key, entry, interactor, renderer):
     live = _live()
     if live.remote_client():
         live.watch_client_gaze(key, entry, interactor, renderer)
-        live.watch_refinement(key, entry, interactor, remote=True)
+        live.watch_refinement(key, entry, interactor, remote=True, renderer=renderer, image=image)
 
 
 def refine(view=None, max_frames=64):

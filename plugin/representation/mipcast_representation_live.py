@@ -19,8 +19,8 @@ interactor (the GUI and pvpython; pvbatch and ``pvserver`` have none):
   held), and a change drops the mapper back to the foveated frame, after
   which refinement starts again.  In a client of a remote server the
   mappers live on the server: the client asks for
-  ``refinement_frames`` further frames after each frame it did not ask
-  for itself.  The timers need the interactor's event loop (the GUI's
+  ``refinement_frames`` further frames after each change it sees (camera,
+  view size, properties, a new delivery of the data).  The timers need the interactor's event loop (the GUI's
   always runs; pvpython's runs in ``Interact()``); scripts call
   :func:`refine` instead.
 - **Mouse gaze in client-server sessions** (``foveated_follow_mouse``): the
@@ -96,7 +96,9 @@ class Refiner:
         self.interacting = False
         self.requested = False  # the frame being drawn was asked for by our timer
         self.renders: dict = {}  # key -> the entry's draw count when our timer asked for a frame
-        self.remote_frames: dict = {}  # key -> frames asked for since the last frame we did not ask for
+        self.remote_frames: dict = {}  # key -> frames asked for since the client last saw a change
+        self.signatures: dict = {}  # key -> what the client saw of the frame being drawn
+        self.seen: dict = {}  # key -> the signature the frame count started at
         self.frames = 0  # frames this refiner asked for (tests, benchmarks)
         self.window = interactor.GetRenderWindow()
         from vtkmodules.util.misc import calldata_type
@@ -114,10 +116,13 @@ class Refiner:
         if self.window is not None:
             self.observers.append((self.window, self.window.AddObserver(vtkCommand.EndEvent, self._after_frame)))
 
-    def watch(self, key: str, remote: bool = False) -> None:
+    def watch(self, key: str, remote: bool = False, signature=None) -> None:
+        """Watch representation ``key``; ``remote``: its mapper is on the server, and ``signature``
+        (what the client sees of this frame: camera, view size, properties, data) tells a change."""
         self.keys.add(key)
         if remote:
             self.remote_frames.setdefault(key, 0)
+            self.signatures[key] = signature
 
     # -- what needs a frame ----------------------------------------------------
     def _needs(self, key, after_frame) -> bool:
@@ -129,8 +134,9 @@ class Refiner:
             on, frames = _progressive(entry)
             if entry.method != "foveated" or not on:
                 return False
-            if after_frame and not self.requested:
-                self.remote_frames[key] = 0  # somebody else rendered: maybe a change, start over
+            if after_frame and self.signatures.get(key) != self.seen.get(key, object()):
+                self.seen[key] = self.signatures.get(key)
+                self.remote_frames[key] = 0  # a change the client saw: the server starts over
             return self.remote_frames[key] < frames
         mapper = entry.mapper
         if mapper is None or entry.mapper_method != "foveated" or not mapper.NeedsRefinement():
@@ -198,7 +204,7 @@ def refiner(interactor):
     return found
 
 
-def watch_refinement(key, entry, interactor, remote=False) -> None:
+def watch_refinement(key, entry, interactor, remote=False, renderer=None, image=None) -> None:
     """Called by ``prepare()`` each frame: let the interactor's timer render this representation's
     refining frames while its foveated mapper (or, in a remote client, its panel) asks for them."""
     if interactor is None:
@@ -206,7 +212,19 @@ def watch_refinement(key, entry, interactor, remote=False) -> None:
     on, _ = _progressive(entry)
     if entry.method != "foveated" or not on:
         return
-    refiner(interactor).watch(key, remote)
+    refiner(interactor).watch(key, remote, client_signature(entry, renderer, image) if remote else None)
+
+
+def client_signature(entry, renderer, image) -> tuple:
+    """What a client without the data sees change: the camera, the view's size, the representation's
+    properties and its (empty) delivered piece."""
+    camera = renderer.GetActiveCamera() if renderer is not None else None
+    view = () if camera is None else (camera.GetPosition(), camera.GetFocalPoint(), camera.GetViewUp(),
+                                      camera.GetViewAngle(), camera.GetParallelScale(),
+                                      camera.GetParallelProjection(), tuple(renderer.GetSize()))
+    values = tuple(sorted((method, tuple(sorted((k, repr(v)) for k, v in settings.items())))
+                          for method, settings in entry.values.items()))
+    return view, values, entry.method, image.GetMTime() if image is not None else None
 
 
 def refine(view=None, max_frames: int = 64) -> int:
