@@ -24,6 +24,8 @@ if not hasattr(inspect, "getargspec"):  # ParaView 5.11's plugin loader on Pytho
     inspect.getargspec = inspect.getfullargspec
 
 OUT = os.environ.get("MIPCAST_GUI_OUT", "")
+#: "1": this GUI is the client of a pvserver (started with --url=cs://HOST:PORT); the mappers are there.
+REMOTE = os.environ.get("MIPCAST_GUI_REMOTE") == "1"
 FRAMES = 4
 GAZE = (0.3, 0.6)
 POLL_MS = 100
@@ -42,7 +44,9 @@ def main():
     from paraview_view_check import changed_share, compare
 
     os.makedirs(OUT, exist_ok=True)
-    LoadPlugin(os.environ["MIPCAST_PLUGIN"], ns=globals())
+    if REMOTE:
+        LoadPlugin(os.environ["MIPCAST_PLUGIN"], remote=True, ns=globals())
+    LoadPlugin(os.environ["MIPCAST_PLUGIN"], remote=False, ns=globals())
     path = os.path.join(OUT, "vessels.vti")
     write_vti(make_fixture("vessels", size=48), path)
     image = read_vti(path)
@@ -73,7 +77,8 @@ def main():
     import mipcast_representation_live as live
 
     interactor = view.GetInteractor()
-    report = {"interactor": type(interactor).__name__ if interactor is not None else None, "phases": []}
+    report = {"interactor": type(interactor).__name__ if interactor is not None else None, "phases": [],
+              "remote": REMOTE}
     frames = []  # (phase, step, asked by the refiner's timer, ms)
     clock = {}
 
@@ -111,6 +116,9 @@ def main():
     window.AddObserver("EndEvent", frame_end, 100.0)  # before the refiner's (it resets 'requested')
 
     def converged():
+        if REMOTE:  # the mapper is on the server: the client's frame count
+            asked = [f for f in frames if f[0] == state["phase"] and f[2]]
+            return bool(asked) and refiner.timer is None and not refiner.needs_refinement()
         m = mapper()
         return m is not None and not m.NeedsRefinement() and refiner.timer is None
 
@@ -129,7 +137,7 @@ def main():
         phase = state["phase"]
         if phase in ("still", "camera") and converged():
             m = mapper()
-            converged_step = m.GetRefinementStep()
+            converged_step = m.GetRefinementStep() if m is not None else None
             pixels = shot(f"converged_{phase}")
             display.foveated_foveation = 0
             full = shot(f"full_{phase}")
@@ -146,8 +154,9 @@ def main():
                 state["phase"] = "camera"
                 camera.Azimuth(12.0)
                 Render(view)  # the interaction's frame: back to the foveated frame
-                report["after_camera_step"] = m.GetRefinementStep()
-                report["after_camera_needs"] = bool(m.NeedsRefinement())
+                report["after_camera_step"] = m.GetRefinementStep() if m is not None else None
+                report["after_camera_needs"] = bool(m.NeedsRefinement() if m is not None
+                                                    else refiner.needs_refinement())
             else:
                 state["phase"] = "idle_wait"  # the foveation switch above was a change: converge again
         elif phase == "idle_wait" and converged():
@@ -170,7 +179,8 @@ def main():
             gaze = ((x + 0.5) / width, (y + 0.5) / height)
             ref, _ = reference(image, "foveated", view, size=(width, height), gaze_point=gaze)
             report["mouse"] = dict(vs_ref=compare(moved, ref), changed_share=changed_share(before, moved),
-                                   gaze=list(gaze), source=mapper().GetGazeSource())
+                                   gaze=list(gaze), property=list(display.foveated_gaze_point),
+                                   source=mapper().GetGazeSource() if mapper() is not None else None)
             finish("done")
 
     interactor.AddObserver("TimerEvent", poll, -100.0)

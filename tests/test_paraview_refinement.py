@@ -91,3 +91,29 @@ def test_paraview_gui_refines_by_itself_and_follows_the_mouse(plugin, tmp_path):
     mouse = report["mouse"]
     assert mouse["source"] == "mouse" and mouse["vs_ref"]["within_1_share"] >= MATCH, mouse
     assert mouse["vs_ref"]["lit_share"] > 0.2 and mouse["changed_share"] > 0.05, mouse
+
+
+def test_paraview_gui_client_refines_and_moves_the_server_fovea(plugin, tmp_path):
+    """The GUI as the client of a pvserver (``paraview --url=cs://...``): the client's timer asks
+    for the refining frames, its mouse writes the gaze point the server draws with."""
+    if shutil.which("paraview") is None:
+        pytest.skip("the paraview GUI binary is not installed")
+    out, log, port = tmp_path / "gui", tmp_path / "server.log", _free_port()
+    script = (
+        f'pvserver --server-port={port} > "{log}" 2>&1 & server=$!\n'
+        f'for i in $(seq 100); do grep -q Accepting "{log}" && break; sleep 0.2; done\n'
+        f'paraview --dr --url=cs://localhost:{port} "--script={GUI}"\n'
+        'status=$?\nkill $server 2>/dev/null; sleep 1; kill -9 $server 2>/dev/null\nexit $status\n')
+    env = dict(_env(), MIPCAST_GUI_OUT=str(out), MIPCAST_PLUGIN=str(plugin), MIPCAST_GUI_REMOTE="1")
+    completed = run_under_xvfb(["sh", "-c", script], cwd=ROOT, env=env, timeout=150)
+    report_file = out / "report.json"
+    assert report_file.exists(), (f"{completed.returncode}\n{completed.stdout[-3000:]}\n{completed.stderr[-3000:]}"
+                                  f"\n{log.read_text()[-2000:] if log.exists() else ''}")
+    report = json.loads(report_file.read_text())
+    assert report["end"] == "done" and report["remote"], report
+    for phase in report["phases"]:
+        assert phase["asked"] >= 1 and phase["bit_equal_full"] and phase["vs_full"]["lit_share"] > 0.2, phase
+    assert report["idle"]["frames"] == 0 and not report["idle"]["timer_left"], report["idle"]
+    mouse = report["mouse"]
+    assert mouse["property"] == pytest.approx(mouse["gaze"]), mouse  # written by the client
+    assert mouse["vs_ref"]["within_1_share"] >= MATCH and mouse["changed_share"] > 0.05, mouse
