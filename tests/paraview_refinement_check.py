@@ -15,7 +15,8 @@ refining frame, whether a timer is left once converged, the converged
 picture against the same view with ``foveated_foveation`` off (the method at
 full quality, bit for bit) and against mipcast's offscreen view; then a
 camera change drops back to the foveated frame and the timer converges again;
-then :func:`mipcast_representation.refine` (the scripts' API) does the same
+then a camera drag (left button held: no refining frame) and its release, and
+:func:`mipcast_representation.refine` (the scripts' API) does the same
 without an event loop.  With ``--server`` (a client of a running
 ``pvserver``) it also moves the client's mouse (``MouseMoveEvent`` on the
 client's interactor) and checks the server's picture follows it
@@ -192,8 +193,30 @@ def timer_part(reader, image, view, png, live, remote):
     pixels = screenshot(view, png("refined_by_call"))
     report["refine_call"] = dict(frames=frames, steps=[f[0] for f in recorder.frames],
                                  bit_equal_full=bool(np.array_equal(pixels, full)), vs_full=compare(pixels, full))
+    report["drag"] = drag(view, display, png, live, refiner, recorder, converged)
     display.foveated_progressive = 0
     return report
+
+
+def drag(view, display, png, live, refiner, recorder, converged):
+    """A camera drag (left button held, the mouse moved) from a converged picture: no refining
+    frame while the button is held, refinement again after the release."""
+    interactor = view.GetInteractor()
+    interactor.SetEventPosition(80, 64)
+    interactor.InvokeEvent("LeftButtonPressEvent")
+    interactor.SetEventPosition(92, 70)
+    recorder.start()
+    interactor.InvokeEvent("MouseMoveEvent")  # ParaView rotates the camera and renders
+    held = idle(view, refiner, 0.3)  # the event loop runs with the button held
+    during = list(recorder.frames)
+    interactor.InvokeEvent("LeftButtonReleaseEvent")  # ParaView's still render, then our timer
+    times, wall = run_loop(view, live, converged)
+    frames, timer_left = list(recorder.frames), refiner.timer is not None
+    pixels = screenshot(view, png("converged_drag"))
+    full = full_quality(display, view, png, "full_drag")
+    return dict(steps_while_held=[f[0] for f in during], asked_while_held=held[1],
+                steps=[f[0] for f in frames], asked=sum(bool(f[1]) for f in frames),
+                bit_equal_full=bool(np.array_equal(pixels, full)), timer_left=timer_left)
 
 
 def mouse_part(reader, image, view, png, live):

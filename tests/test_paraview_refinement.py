@@ -6,7 +6,8 @@ and as the client of a ``pvserver`` started here, and
 (``paraview --script``): timer-driven frames converge to the full-quality
 picture (bit for bit, sampled MIP) within ``refinement_frames`` still
 frames, no timer is left once converged, a camera change drops back to the
-foveated frame, ``refine(view)`` does the same for scripts, and the mouse
+foveated frame, no refining frame is rendered while a mouse button is held,
+``refine(view)`` does the same for scripts, and the mouse
 moves the fovea (client-server: through the gaze point property the client
 writes; the GUI: the builtin mouse gaze with a synthetic mouse move).
 """
@@ -45,6 +46,9 @@ def test_timer_refines_to_full_quality_in_pvpython(plugin):
     call = report["refine_call"]
     assert call["frames"] == FRAMES and call["bit_equal_full"], call
     assert call["steps"][:FRAMES + 1] == list(range(FRAMES + 1)), call
+    drag = report["drag"]  # a button held: no refining frame; released: refines to full quality again
+    assert drag["steps_while_held"][0] == 0 and drag["asked_while_held"] == 0, drag
+    assert drag["steps"][-1] == FRAMES and drag["bit_equal_full"] and not drag["timer_left"], drag
 
 
 def test_client_mouse_moves_the_server_fovea_and_the_timer_refines(plugin, tmp_path):

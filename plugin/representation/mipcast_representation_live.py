@@ -296,7 +296,16 @@ class ClientGaze:
         self.renderer.Set(renderer)
         self.proxy = None
         self.moves = 0  # mouse moves turned into gaze points (tests)
-        self.tag = interactor.AddObserver(vtkCommand.MouseMoveEvent, self.moved)
+        self.interacting = False  # a button held: ParaView renders the interaction, we do not
+        self.tags = [interactor.AddObserver(vtkCommand.MouseMoveEvent, self.moved),
+                     interactor.AddObserver(vtkCommand.StartInteractionEvent, self._start),
+                     interactor.AddObserver(vtkCommand.EndInteractionEvent, self._end)]
+
+    def _start(self, caller, event):
+        self.interacting = True
+
+    def _end(self, caller, event):
+        self.interacting = False
 
     def gaze(self, interactor):
         """The normalised viewport position of the interactor's last event (the mapper's mouse gaze)."""
@@ -325,16 +334,14 @@ class ClientGaze:
         prop.SetElement(1, gaze[1])
         self.proxy.UpdateVTKObjects()  # -> the server's representation: its mapper's gaze point
         self.moves += 1
-        style = interactor.GetInteractorStyle()
-        if style is not None and hasattr(style, "GetCurrentStyle") and style.GetCurrentStyle():
-            style = style.GetCurrentStyle()
-        if style is None or style.GetState() == 0:  # no rotation/pan under way: render ourselves
+        if not self.interacting:  # no rotation/pan under way (ParaView's style keeps State 0): render
             interactor.Render()
 
     def stop(self):
         interactor = self.link.Get()
         if interactor is not None:
-            interactor.RemoveObserver(self.tag)
+            for tag in self.tags:
+                interactor.RemoveObserver(tag)
 
 
 def _follows(entry) -> bool:
