@@ -682,6 +682,7 @@ def prepare(key, volume, assign, renderer, interactor, whole=None):
     assign.Update()
     image = assign.GetOutputDataObject(0)
     if image is None or image.GetNumberOfPoints() == 0 or not image.IsA("vtkImageData"):
+        _live_without_data(key, entry, interactor, renderer, image)
         return False
     if entry.mapper is None or entry.mapper_method != entry.method:
         _new_mapper(entry, volume, assign)
@@ -704,7 +705,34 @@ def prepare(key, volume, assign, renderer, interactor, whole=None):
             mapper.SetImageSampleDistance(isd)
     if hasattr(mapper, "FollowMouse"):
         _gaze_source(entry, mapper, interactor, common)
+        _live().watch_refinement(key, entry, interactor)
     return True
+
+
+def _live():
+    """mipcast_representation_live (refinement timer, client mouse gaze), next to this module."""
+    if _HERE not in sys.path:
+        sys.path.append(_HERE)
+    import mipcast_representation_live
+
+    return mipcast_representation_live
+
+
+def _live_without_data(key, entry, interactor, renderer, image):
+    """A process without data (a client of a remote server): its interactor drives the server's
+    foveated mapper, the mouse through the gaze point property, the timer through frame counts."""
+    if interactor is None or entry.method != "foveated":
+        return
+    live = _live()
+    if live.remote_client():
+        live.watch_client_gaze(key, entry, interactor, renderer)
+        live.watch_refinement(key, entry, interactor, remote=True, renderer=renderer, image=image)
+
+
+def refine(view=None, max_frames=64):
+    """pvpython/pvbatch scripts: render ``view`` until its foveated representations have refined to
+    full quality (:func:`mipcast_representation_live.refine`); returns the frames rendered."""
+    return _live().refine(view, max_frames)
 
 
 def _gaze_source(entry, mapper, interactor, common):
@@ -734,6 +762,8 @@ def release(key):
     entry = _REGISTRY.pop(key, None)
     if entry is not None and entry.mapper is not None and hasattr(entry.mapper, "Detach"):
         entry.mapper.Detach()
+    if "mipcast_representation_live" in sys.modules:
+        sys.modules["mipcast_representation_live"].release(key)
     return True
 
 
