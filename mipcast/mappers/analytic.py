@@ -201,16 +201,14 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
             state["frames_of"], state["frames_drawn"] = stamp, 0
 
     def _packing_active(self) -> bool:
-        """The packed copy is drawn: packing is wanted (:meth:`_packing_wanted`) and the input
-        has been drawn :meth:`GetPackingDelay` frames unpacked."""
+        """The packed copy is drawn: packing is wanted (:meth:`_packing_wanted`) and either there is
+        no delay or the copy made after the delay's frames is ready."""
         if not self._packing_wanted():
             return False
-        delay = self._delay_for(self.GetRenderedInput())
-        if object_state(self).get("frames_drawn", 0) < delay:
-            return False
-        # after a delay: once the background copy (started after the last unpacked frame) is ready,
-        # so that no frame waits for the packing itself
-        return delay == 0 or object_state(self)["packer"].PackingReady()
+        # with a delay: once the copy (started in the background after the last frame the delay
+        # keeps unpacked: _pack_in_background) is ready, so that no frame waits for the packing;
+        # a copy already made for this input is drawn whatever the delay
+        return self._delay_for(self.GetRenderedInput()) == 0 or object_state(self)["packer"].PackingReady()
 
     def _pack_in_background(self) -> None:
         """After a frame drawn unpacked: start packing for a later frame once the delay is over."""
