@@ -208,7 +208,16 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         # with a delay: once the copy (started in the background after the last frame the delay
         # keeps unpacked: _pack_in_background) is ready, so that no frame waits for the packing;
         # a copy already made for this input is drawn whatever the delay
-        return self._delay_for(self.GetRenderedInput()) == 0 or object_state(self)["packer"].PackingReady()
+        # (latched at the render's start, _latch_packing: a thread finishing mid-render changes nothing)
+        if self._delay_for(self.GetRenderedInput()) == 0:
+            return True
+        latched = object_state(self).get("packing_ready")
+        return latched is not None and latched == object_state(self)["packer"].InputStamp()
+
+    def _latch_packing(self) -> None:
+        """At a render's start: whether the background copy is ready, for the whole render."""
+        state = object_state(self)
+        state["packing_ready"] = state["packer"].ReadyStamp()
 
     def _pack_in_background(self) -> None:
         """After a frame drawn unpacked: start packing for a later frame once the delay is over."""
@@ -411,6 +420,7 @@ def _route_before_render(mapper, event) -> None:
     mapper._adopt_direct_input()
     # the prepared data, to decide whether it packs exactly, and whether it is new (packing delay)
     mapper._count_frame(mapper.GetRenderedInput())
+    mapper._latch_packing()
     mapper._route_input()
 
 

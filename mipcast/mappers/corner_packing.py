@@ -100,8 +100,8 @@ class CornerPacker(VTKPythonAlgorithmBase):
         self._pending = None     # the background packing (StartPacking) under way or done, not yet taken
         self._packed_for = None  # the input stamp the output holds the packed copy of
 
-    def _input_stamp(self):
-        """(address, MTime, dims, type) of the input data object as it is now, or None."""
+    def InputStamp(self):
+        """(address, MTime, dims, scalars) of the input data object as it is now, or None."""
         if self.GetNumberOfInputConnections(0) == 0:
             return None
         source = self.GetInputDataObject(0, 0)
@@ -145,16 +145,19 @@ class CornerPacker(VTKPythonAlgorithmBase):
         self._pending = pending
         return True
 
-    def PackingReady(self) -> bool:
-        """Whether the output for the current input needs no packing work in the render: the packed
-        copy is there already, or :meth:`StartPacking`'s thread has finished it."""
-        stamp = self._input_stamp()
+    def ReadyStamp(self):
+        """:meth:`InputStamp` when the output for the current input needs no packing work in the
+        render (the packed copy is there already, or :meth:`StartPacking`'s thread has finished
+        it), else None."""
+        stamp = self.InputStamp()
         if stamp is None:
-            return False
+            return None
         if stamp == self._packed_for:
-            return True
+            return stamp
         pending = self._pending
-        return pending is not None and pending["stamp"] == stamp and not pending["thread"].is_alive()
+        if pending is not None and pending["stamp"] == stamp and not pending["thread"].is_alive():
+            return stamp
+        return None
 
     def RequestData(self, request, in_info, out_info) -> int:
         source = vtkImageData.GetData(in_info[0])
