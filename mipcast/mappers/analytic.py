@@ -38,8 +38,10 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
 
     Settings: :meth:`SetPackedCorners` (default True: two fetches per cell from
     a four-component copy of the volume made inside the mapper, four times the
-    texture memory; a large input's first frame is drawn unpacked; :meth:`GetInput` still returns your image, never
-    modified; turn it off on GPUs short of memory) and :meth:`SetSkipping`
+    texture memory; a large input's first frame is drawn unpacked, the copy
+    following from a later frame: :meth:`SetPackingDelay`; :meth:`GetInput`
+    still returns your image, never modified; turn it off on GPUs short of
+    memory) and :meth:`SetSkipping`
     (default True; False only to measure what skipping saves; both exact).
 
     Examples
@@ -188,7 +190,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         return 0 if volume_texture_bytes(image, 4) <= self.LAZY_PACKING_BYTES else 1
 
     def GetFramesDrawnUnchanged(self) -> int:
-        """Frames started with the current input unchanged, before this one (0 on a new input's first frame)."""
+        """Frames started with the current input unchanged before the latest (0: a new input's first)."""
         return object_state(self).get("frames_drawn", 0)
 
     def _count_frame(self, image) -> None:
