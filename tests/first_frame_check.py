@@ -9,6 +9,7 @@ the slowest later one (where the packed copy is uploaded) and the steady
 ones (median of the last half).  Rounds alternate the methods.
 
     python3 tests/first_frame_check.py --shape 400x512x512 --size 512 --rounds 3
+    python3 tests/first_frame_check.py --profile analytic   # where one first frame's time goes
 """
 from __future__ import annotations
 
@@ -41,11 +42,20 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--frames", type=int, default=8, help="frames after the first (>= 2)")
     parser.add_argument("--delays", default="", help="also analytic with these packing delays, e.g. 0")
+    parser.add_argument("--profile", default="", help="instead: cProfile one first frame of this method")
     args = parser.parse_args()
     from mipcast.data_fixtures.ct_phantom import ct_volume
 
     image = ct_volume(tuple(int(n) for n in args.shape.split("x")))
     one_view(image, "stock", 64, 2)  # process warm-up (GL context, shader cache): not counted
+    if args.profile:
+        import cProfile
+        import pstats
+
+        profile = cProfile.Profile()
+        profile.runcall(one_view, image, args.profile, args.size, 2)
+        pstats.Stats(profile).sort_stats("tottime").print_stats(14)
+        return
     variants = [("stock", None), ("analytic", None)] + [("analytic", int(d)) for d in args.delays.split(",") if d]
     rows = {f"{m}" + ("" if d is None else f"-delay{d}"): [] for m, d in variants}
     for round_ in range(args.rounds):
