@@ -6,6 +6,7 @@ import numbers
 
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkCommand
+from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
 from mipcast.core import parameter_tables
 from mipcast.core.object_state import object_state
@@ -32,12 +33,15 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     interpolation is always trilinear.  Partitioned rendering is refused
     with a message; a volume larger than one 3D texture is drawn exactly in
     bricks inside the render (:mod:`mipcast.mappers.bricked_draw`).  :meth:`GetTextureBytes` says what the method uploads;
-    :meth:`SetTextureBudget` caps the packed copy (beyond it: unpacked, warned once).
+    :meth:`SetTextureBudget` caps the packed copy (beyond it: unpacked, warned once);
+    :meth:`SetPackingDelay` draws a large new input's first frame unpacked (default: automatic).
 
     Settings: :meth:`SetPackedCorners` (default True: two fetches per cell from
     a four-component copy of the volume made inside the mapper, four times the
-    texture memory; :meth:`GetInput` still returns your image, never
-    modified; turn it off on GPUs short of memory) and :meth:`SetSkipping`
+    texture memory; a large input's first frame is drawn unpacked, the copy
+    following from a later frame: :meth:`SetPackingDelay`; :meth:`GetInput`
+    still returns your image, never modified; turn it off on GPUs short of
+    memory) and :meth:`SetSkipping`
     (default True; False only to measure what skipping saves; both exact).
 
     Examples
@@ -63,6 +67,10 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
 
     #: Cells per edge of a skipping block (the coarse level is 1/BLOCK^3 the size).
     BLOCK = 8
+    #: Largest packed copy (bytes) made for a new input's first frame under the automatic
+    #: packing delay (:meth:`SetPackingDelay`); larger ones wait one frame.  32 MiB: a 128^3 int16
+    #: volume packs at once, a 512x512x400 CT (800 MiB packed) draws its first frame unpacked.
+    LAZY_PACKING_BYTES = 32 * 2 ** 20
 
     def __init__(self) -> None:
         super().__init__()
@@ -70,6 +78,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         state["packer"] = CornerPacker()
         # before MIPVolumeMapper's check (priority 0) updates the input
         self.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, _route_before_render, 1.0)
+        self.AddObserver(vtkCommand.VolumeMapperRenderEndEvent, _pack_after_render, 1.0)
 
     # -- input: the prepared image goes through the corner packer ----------
     def _vtk_port(self):
@@ -78,6 +87,22 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         if packer.GetNumberOfInputConnections(0) == 0 or not _same_port(packer.GetInputConnection(0, 0), source):
             packer.SetInputConnection(0, source)
         return packer.GetOutputPort() if self._packing_active() else source
+
+    def _route_input(self) -> None:
+        """As :meth:`MIPVolumeMapper._route_input`; going from the volume's own texture to the packed
+        copy first releases the mapper's graphics resources (VTK 9.7 crashes drawing four components
+        where it drew one; the one-component texture would be replaced anyway)."""
+        if self.GetInputPreparer().GetNumberOfInputConnections(0) and \
+                vtkOpenGLGPUVolumeRayCastMapper.GetNumberOfInputConnections(self, 0):
+            packed = object_state(self)["packer"].GetOutputPort()
+            current = vtkOpenGLGPUVolumeRayCastMapper.GetInputConnection(self, 0, 0)
+            if not _same_port(current, packed) and _same_port(self._vtk_port(), packed):
+                from mipcast.mappers.gpu_limits import window_of
+
+                window = window_of(self.GetAttachedVolume())
+                if window is not None:
+                    self.ReleaseGraphicsResources(window)
+        super()._route_input()
 
     def _own_ports(self) -> list:
         return super()._own_ports() + [object_state(self)["packer"].GetOutputPort()]
@@ -126,7 +151,85 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     def SkippingOff(self) -> None:
         self.SetSkipping(False)
 
+    def SetPackingDelay(self, frames: int) -> None:
+        """Frames of a new input drawn unpacked before the packed copy is made; -1 (default): automatic.
+
+        Packing copies the volume into a four-component texture (four times
+        its memory) once per input; on a 512x512x400 CT that copy and its
+        upload cost more than the rest of the first frame.  With a delay of
+        ``frames``, the first ``frames`` frames of each input are drawn from
+        the volume's own texture (eight fetches per cell instead of two, the
+        same exact picture); the copy is then made in a background thread
+        (:meth:`CornerPacker.StartPacking`) and drawn from the first frame
+        that finds it ready (frames before that stay unpacked), so no frame
+        waits for the packing and a view that draws a large volume once (a
+        batch render) never packs.
+        0: pack for the very first frame.  -1: 0 while the packed copy takes
+        at most :data:`LAZY_PACKING_BYTES` (packing is then cheap), else 1.
+        """
+        if isinstance(frames, bool) or not isinstance(frames, numbers.Integral) or frames < -1:
+            raise ValueError(f"the packing delay is a whole number of frames >= 0 (0: pack for the first "
+                             f"frame) or -1 (automatic), got {frames!r}")
+        state = object_state(self)
+        if state.get("packing_delay", -1) != int(frames):
+            state["packing_delay"] = int(frames)
+            self.Modified()
+            self._route_input()
+
+    def GetPackingDelay(self) -> int:
+        """The delay :meth:`SetPackingDelay` set (-1: automatic)."""
+        return object_state(self).get("packing_delay", -1)
+
+    def _delay_for(self, image) -> int:
+        """Frames of ``image`` drawn unpacked first (:meth:`SetPackingDelay`, -1 resolved)."""
+        delay = object_state(self).get("packing_delay", -1)
+        if delay >= 0:
+            return delay
+        from mipcast.mappers.gpu_limits import volume_texture_bytes
+
+        return 0 if volume_texture_bytes(image, 4) <= self.LAZY_PACKING_BYTES else 1
+
+    def GetFramesDrawnUnchanged(self) -> int:
+        """Frames started with the current input unchanged before the latest (0: a new input's first)."""
+        return object_state(self).get("frames_drawn", 0)
+
+    def _count_frame(self, image) -> None:
+        """At a render's start: count the frames the (unchanged) prepared input has been drawn."""
+        state = object_state(self)
+        stamp = None if image is None else (image.GetAddressAsString("vtkObjectBase"), image.GetMTime())
+        if stamp is not None and state.get("frames_of") == stamp:
+            state["frames_drawn"] = state.get("frames_drawn", 0) + 1
+        else:
+            state["frames_of"], state["frames_drawn"] = stamp, 0
+
     def _packing_active(self) -> bool:
+        """The packed copy is drawn: packing is wanted (:meth:`_packing_wanted`) and either there is
+        no delay or the copy made after the delay's frames is ready."""
+        if not self._packing_wanted():
+            return False
+        # with a delay: once the copy (started in the background after the last frame the delay
+        # keeps unpacked: _pack_in_background) is ready, so that no frame waits for the packing;
+        # a copy already made for this input is drawn whatever the delay
+        # (latched at the render's start, _latch_packing: a thread finishing mid-render changes nothing)
+        if self._delay_for(self.GetRenderedInput()) == 0:
+            return True
+        latched = object_state(self).get("packing_ready")
+        return latched is not None and latched == object_state(self)["packer"].InputStamp()
+
+    def _latch_packing(self) -> None:
+        """At a render's start: whether the background copy is ready, for the whole render."""
+        state = object_state(self)
+        state["packing_ready"] = state["packer"].ReadyStamp()
+
+    def _pack_in_background(self) -> None:
+        """After a frame drawn unpacked: start packing for a later frame once the delay is over."""
+        state = object_state(self)
+        if state.get("frames_of") is None or self._packing_active() or not self._packing_wanted():
+            return
+        if state.get("frames_drawn", 0) + 1 >= self._delay_for(self.GetRenderedInput()):
+            state["packer"].StartPacking()
+
+    def _packing_wanted(self) -> bool:
         """Packed corners are set, the attached volume draws components independently,
         and the input's values pack exactly (:func:`mipcast.mappers.corner_packing.packable`)."""
         volume = self.GetAttachedVolume()
@@ -146,9 +249,11 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     def GetTextureBytes(self) -> int:
         """GPU texture bytes for the current input: the volume (packed: 4x) plus the block maxima.
 
-        With packed corners active the volume texture holds four components
-        (four times the unpacked volume); the block-maximum level (float32,
-        one value per :data:`BLOCK`^3 cells) rides in the mask texture.
+        With packed corners wanted the volume texture holds four components
+        (four times the unpacked volume) in the steady state; the first
+        :meth:`GetPackingDelay` frames of an input draw the one-component
+        volume (1x) instead.  The block-maximum level (float32, one value per
+        :data:`BLOCK`^3 cells) rides in the mask texture.
 
         Examples
         --------
@@ -163,7 +268,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         image = self.GetInput()
         if image is None or image.GetPointData().GetScalars() is None:
             return 0
-        volume = volume_texture_bytes(image, 4 if self._packing_active() else None)
+        volume = volume_texture_bytes(image, 4 if self._packing_wanted() else None)
         return volume + _block_bytes(image.GetDimensions(), self.BLOCK)
 
     def SetTextureBudget(self, budget: int) -> None:
@@ -315,8 +420,14 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
 
 def _route_before_render(mapper, event) -> None:
     mapper._adopt_direct_input()
-    mapper.GetRenderedInput()  # the prepared data, to decide whether it packs exactly
+    # the prepared data, to decide whether it packs exactly, and whether it is new (packing delay)
+    mapper._count_frame(mapper.GetRenderedInput())
+    mapper._latch_packing()
     mapper._route_input()
+
+
+def _pack_after_render(mapper, event) -> None:
+    mapper._pack_in_background()
 
 
 def _block_bytes(dims, block: int) -> int:

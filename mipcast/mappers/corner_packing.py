@@ -15,6 +15,7 @@ others: docs/methods.md, section Corner packing
 """
 from __future__ import annotations
 
+import threading
 from typing import Optional
 
 import numpy as np
@@ -96,6 +97,67 @@ class CornerPacker(VTKPythonAlgorithmBase):
 
     def __init__(self) -> None:
         super().__init__(nInputPorts=1, inputType="vtkImageData", nOutputPorts=1, outputType="vtkImageData")
+        self._pending = None     # the background packing (StartPacking) under way or done, not yet taken
+        self._packed_for = None  # the input stamp the output holds the packed copy of
+
+    def InputStamp(self):
+        """(address, MTime, dims, scalars) of the input data object as it is now, or None."""
+        if self.GetNumberOfInputConnections(0) == 0:
+            return None
+        source = self.GetInputDataObject(0, 0)
+        if source is None:
+            return None
+        return _stamp(source)
+
+    def StartPacking(self) -> bool:
+        """Pack the current input (brought up to date) in a background thread; False if it cannot.
+
+        The copy is filled while the caller goes on (numpy's slice copies
+        release the GIL); :meth:`RequestData` takes it when it matches the
+        input then, waiting for the thread if needed, and packs anew if the
+        input changed meanwhile.  The thread only writes into its own new
+        array; it reads the input's values, which the caller keeps alive.
+        """
+        if self.GetNumberOfInputConnections(0) == 0:
+            return False
+        self.GetInputAlgorithm(0, 0).Update(self.GetInputConnection(0, 0).GetIndex())  # what the thread reads
+        source = self.GetInputDataObject(0, 0)
+        stamp = _stamp(source) if source is not None else None
+        if stamp is None or stamp == self._packed_for or (self._pending and self._pending["stamp"] == stamp):
+            return stamp is not None
+        scalars = source.GetPointData().GetScalars()
+        dims = source.GetDimensions()
+        if scalars is None or scalars.GetNumberOfComponents() != 1 or min(dims) < 2:
+            return False
+        packed = _packed_array(scalars)
+        values = vtk_to_numpy(scalars).reshape(dims[2], dims[1], dims[0])
+        out = vtk_to_numpy(packed).reshape(values.shape + (4,))
+        pending = {"stamp": stamp, "array": packed, "source": source, "error": None}
+
+        def fill() -> None:
+            try:
+                packed_corners(values, out=out)
+            except BaseException as error:  # reported by packing anew in RequestData
+                pending["error"] = error
+
+        pending["thread"] = threading.Thread(target=fill, name="mipcast-corner-packing")
+        pending["thread"].start()
+        self._pending = pending
+        return True
+
+    def ReadyStamp(self):
+        """:meth:`InputStamp` when the output for the current input needs no packing work in the
+        render (the packed copy is there already, or :meth:`StartPacking`'s thread has finished
+        it), else None."""
+        stamp = self.InputStamp()
+        if stamp is None:
+            return None
+        if stamp == self._packed_for:
+            return stamp
+        pending = self._pending
+        if pending is not None and pending["stamp"] == stamp and not pending["thread"].is_alive():
+            return stamp
+        return None
 
     def RequestData(self, request, in_info, out_info) -> int:
         source = vtkImageData.GetData(in_info[0])
@@ -105,13 +167,34 @@ class CornerPacker(VTKPythonAlgorithmBase):
         if scalars is None or scalars.GetNumberOfComponents() != 1 or min(dims) < 2:
             target.SetDimensions(2, 2, 2)
             target.GetPointData().SetScalars(numpy_to_vtk(np.zeros((8, 4), np.float32), deep=True))
+            self._packed_for = None
             return 1
-        values = vtk_to_numpy(scalars).reshape(dims[2], dims[1], dims[0])
-        packed = vtkDataArray.CreateDataArray(scalars.GetDataType())  # same type, standard (AOS) layout,
-        packed.SetNumberOfComponents(4)                                # filled in place: no copy of a 4x volume
-        packed.SetNumberOfTuples(scalars.GetNumberOfTuples())
-        packed_corners(values, out=vtk_to_numpy(packed).reshape(values.shape + (4,)))
+        stamp, pending, self._pending = _stamp(source), self._pending, None
+        packed = None
+        if pending is not None:
+            pending["thread"].join()
+            if pending["stamp"] == stamp and pending["error"] is None:
+                packed = pending["array"]
+        if packed is None:
+            values = vtk_to_numpy(scalars).reshape(dims[2], dims[1], dims[0])
+            packed = _packed_array(scalars)  # filled in place: no copy of a 4x volume
+            packed_corners(values, out=vtk_to_numpy(packed).reshape(values.shape + (4,)))
         packed.SetName(scalars.GetName() or "scalars")
         target.CopyStructure(source)
         target.GetPointData().SetScalars(packed)
+        self._packed_for = stamp
         return 1
+
+
+def _stamp(image) -> tuple:
+    scalars = image.GetPointData().GetScalars()
+    return (image.GetAddressAsString("vtkObjectBase"), image.GetMTime(), image.GetDimensions(),
+            None if scalars is None else (scalars.GetAddressAsString("vtkObjectBase"), scalars.GetMTime()))
+
+
+def _packed_array(scalars) -> vtkDataArray:
+    """A new four-component array of ``scalars``' type and tuple count (standard AOS layout)."""
+    packed = vtkDataArray.CreateDataArray(scalars.GetDataType())
+    packed.SetNumberOfComponents(4)
+    packed.SetNumberOfTuples(scalars.GetNumberOfTuples())
+    return packed

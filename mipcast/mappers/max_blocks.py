@@ -39,12 +39,19 @@ def block_maxima(values: np.ndarray, block: int) -> np.ndarray:
 
 
 def _axis_maxima(values: np.ndarray, block: int, axis: int) -> np.ndarray:
+    # no padded copy of the volume: the full blocks' points [B*b, B*b + B) are a reshaped view,
+    # the last, short block (if any) runs to the volume's end; then each block adds the point
+    # B*b + B it shares with the next one (where that point exists)
     moved = np.moveaxis(values, axis, 0)
     cells = moved.shape[0] - 1
-    count = -(-cells // block)
-    padded = np.concatenate([moved, np.repeat(moved[-1:], count * block + 1 - moved.shape[0], axis=0)])
-    windows = padded[:-1].reshape((count, block) + moved.shape[1:]).max(axis=1)
-    return np.moveaxis(np.maximum(windows, padded[block::block]), 0, axis)
+    full = cells // block
+    parts = [moved[:full * block].reshape((full, block) + moved.shape[1:]).max(axis=1)] if full else []
+    if full * block < cells:
+        parts.append(moved[full * block:].max(axis=0, keepdims=True))
+    windows = np.concatenate(parts) if len(parts) > 1 else parts[0]
+    if full:
+        np.maximum(windows[:full], moved[block::block][:full], out=windows[:full])
+    return np.moveaxis(windows, 0, axis)
 
 
 def block_maxima_image(values: np.ndarray, block: int, low: float, high: float) -> vtkImageData:
