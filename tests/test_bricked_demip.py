@@ -74,8 +74,7 @@ def test_bricked_demip_draws_the_single_texture_picture(image, name, mode, spher
         write_png(tmp_path / "bricked_demip.png", np.concatenate([one_rgb, rgb], axis=1).astype(np.uint8))
 
 
-@pytest.mark.parametrize("setting, words", [(("SetProjection", "lmip"), "projection 'mip' only"),
-                                            (("SetSlabThickness", 6.0), "no slab yet")])
+@pytest.mark.parametrize("setting, words", [(("SetProjection", "mida"), "projection 'mip'")])
 def test_bricked_demip_refuses_what_distributed_demip_refuses(image, setting, words, monkeypatch):
     lowered(monkeypatch)
     mapper, _, window = build(image, "demip", "steps", 0.0)

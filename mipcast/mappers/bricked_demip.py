@@ -20,8 +20,12 @@ over MPI ranks, with every brick local:
    premultiplied picture is drawn over the renderer's viewport as
    :mod:`mipcast.mappers.bricked_draw` draws its own.
 
-Projection ``"mip"`` and no slab only, as distributed DEMIP (:func:`problem`
-names the others).  During a float readout the mapper's ``GetDepthImage``
+A slab (``slab_thickness`` > 0) clips every brick's part of the whole ray
+to the same global slab (the clipping uniforms of each brick's own texture
+space, :func:`mipcast.mappers.clip_uniforms.copy_clipping`), and the depth
+is normalised over the box's part inside the slab on the CPU
+(:func:`mipcast.mappers.demip_composite.demip_composite`'s ``slab``).
+Projections other than ``"mip"`` are named by :func:`problem`.  During a float readout the mapper's ``GetDepthImage``
 returns the bricked maximum (readout ``"value"``) or depth (``"depth"``).
 
 Examples
@@ -63,10 +67,6 @@ def problem(mapper, limit: int) -> Optional[str]:
                 f"bricks composites projection 'mip' only, got {projection!r} (LMIP, attenuated MIP and MIDA "
                 "depend on the order along the whole ray): set projection 'mip', or resample the volume to "
                 f"at most {limit} points per axis (e.g. vtkImageResample)")
-    if mapper.GetSlabThickness() > 0:
-        return (f"the volume exceeds this GPU's 3D texture limit of {limit} points per axis, and DEMIP in "
-                "bricks has no slab yet (slab thickness > 0): set slab thickness 0, or resample the volume "
-                f"to at most {limit} points per axis (e.g. vtkImageResample)")
     return None
 
 
@@ -187,5 +187,5 @@ def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarra
     object_state(mapper)["bricks_drawn"] = len(in_view)
     params = {p.name: getattr(mapper, p.getter)() for p in DEMIP}
     depth, rgb = demip_composite(_whole(mapper.GetInput()), camera, distance, values, index, params,
-                                 volume.GetProperty())
+                                 volume.GetProperty(), slab=clip_uniforms.slab_of(mapper, camera))
     return values, depth, demip_premultiplied(values, rgb, volume.GetProperty())
