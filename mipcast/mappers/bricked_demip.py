@@ -50,6 +50,11 @@ from mipcast.mappers.demip_composite import demip_composite, demip_premultiplied
 from mipcast.mappers.private_draw import follow_volume
 
 
+#: The projections DEMIP composites in bricks: "mip" (MAX of the bricks), "lmip" (the bricks front to back,
+#: :mod:`mipcast.mappers.demip_lmip_brick`).
+PROJECTIONS = ("mip", "lmip")
+
+
 def problem(mapper, limit: int) -> Optional[str]:
     """Why ``mapper``'s DEMIP settings cannot be drawn in bricks of ``limit`` points, or None.
 
@@ -62,7 +67,7 @@ def problem(mapper, limit: int) -> Optional[str]:
     True
     """
     projection = mapper.GetProjection()
-    if projection != "mip":
+    if projection not in PROJECTIONS:
         return (f"the volume exceeds this GPU's 3D texture limit of {limit} points per axis, and DEMIP in "
                 f"bricks composites projection 'mip' only, got {projection!r} (LMIP, attenuated MIP and MIDA "
                 "depend on the order along the whole ray): set projection 'mip', or resample the volume to "
@@ -89,6 +94,19 @@ def bricks_of(mapper, limit: int) -> list:
         return tuple(brick_entry(kind, piece, extent, whole, piece.GetSpacing(), mapper.GetSampleDistance())
                      for kind in (MIPVolumeMapper, DEMIPBrickDepthMapper))
     return cached_bricks(mapper, limit, "demip_bricks", make)
+
+
+def lmip_bricks_of(mapper, limit: int) -> list:
+    """Per brick: LMIP's phase-1 entry (:class:`mipcast.mappers.demip_lmip_brick.LMIPBrickMapper`)."""
+    from mipcast.mappers.demip_lmip_brick import LMIPBrickMapper
+
+    def make(piece, extent, whole):
+        entry = brick_entry(LMIPBrickMapper, piece, extent, whole, piece.GetSpacing(), mapper.GetSampleDistance())
+        uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
+        uniforms.SetUniformf("u_mc_brickChannel", 0.0)
+        uniforms.SetUniformf("u_mc_brickLocal", 1.0e30)
+        return entry
+    return cached_bricks(mapper, limit, "demip_lmip_bricks", make)
 
 
 def _follow(mapper, volume, entry, distance: float, demip: bool) -> None:
@@ -140,6 +158,37 @@ def _render(renderer, entry, mapper, camera, shape) -> np.ndarray:
     return found
 
 
+def _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range):
+    """LMIP's phase 1: the bricks in view front to back, each continuing the scan (data units, NaN: miss)."""
+    from mipcast.mappers import bricked_draw
+    from mipcast.mappers.brick_rays import visibility_order
+    from mipcast.mappers.demip_lmip_brick import bind_running, local_threshold, scan
+
+    lmip = lmip_bricks_of(mapper, limit)
+    seen = {id(first) for first, _ in in_view}
+    visible = [i for i, (first, _) in enumerate(entries) if id(first) in seen]
+    rays = bricked_draw.ray_uniforms(_whole(mapper.GetInput()), camera, (shape[1], shape[0]))
+    order = visibility_order([lmip[i]["extent"] for i in visible], rays)
+    local = local_threshold(volume.GetProperty(), data_range, mapper.GetLocalThreshold())
+    running, ended = np.full(shape, np.nan), np.zeros(shape, dtype=bool)
+    window = renderer.GetRenderWindow()
+    for position in order:
+        entry = lmip[visible[position]]
+        _follow(mapper, volume, entry, distance, demip=True)
+        bind_running(window, entry["mapper"], running, local)
+        uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
+        scalars = entry["mapper"].GetRenderedInput().GetPointData().GetScalars()
+        found = _render(renderer, entry, mapper, camera, shape)
+        brick_max = float_readout.to_data_units(np.where(np.abs(found) > 1.0e3, np.nan, found), scalars)
+        uniforms.SetUniformf("u_mc_brickChannel", 1.0)
+        try:
+            brick_ended = _render(renderer, entry, mapper, camera, shape)
+        finally:
+            uniforms.SetUniformf("u_mc_brickChannel", 0.0)
+        scan(running, ended, brick_max, brick_ended)
+    return running
+
+
 def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Both phases over every brick in view, then the CPU composite.
 
@@ -172,12 +221,16 @@ def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarra
         if not bricked_draw._in_view(first["volume"], renderer, shape):
             continue
         in_view.append((first, second))
+        if mapper.GetProjection() == "lmip":
+            continue  # phase 1 of LMIP: the bricks front to back (below)
         found = _render(renderer, first, mapper, camera, shape)
         scalars = first["mapper"].GetRenderedInput().GetPointData().GetScalars()
         brick = float_readout.to_data_units(np.where(np.abs(found) > 1.0e3, np.nan, found), scalars)
         values = np.fmax(values, brick)
-    values = values.astype(np.float32).astype(np.float64)  # as the float readout / MPI reduction carry it
     data_range = mapper.GetInput().GetPointData().GetScalars().GetRange(0)
+    if mapper.GetProjection() == "lmip":
+        values = _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range)
+    values = values.astype(np.float32).astype(np.float64)  # as the float readout / MPI reduction carry it
     index = np.full(shape, np.inf)
     window = renderer.GetRenderWindow()
     for _, second in in_view:  # phase 2: MIN of the whole-ray index of the first same-material sample

@@ -108,7 +108,15 @@ def bind_maximum(render_window, mapper: DEMIPBrickDepthMapper, maximum: np.ndarr
     eps = mapper.GetMaterialThreshold() if mapper.GetDepthOf() == "same_material" else 0.0
     mapper.GetAttachedVolume().GetShaderProperty().GetFragmentCustomUniforms().SetUniform4f(
         "u_mc_brickWindow", [floor, ceiling, eps, FLOOR_TOLERANCE])
-    height, width = maximum.shape
+    upload_pixels(render_window, mapper, normalised)
+
+
+def upload_pixels(render_window, mapper, normalised: np.ndarray) -> None:
+    """A per-pixel float image (top row first) as ``mapper``'s shared float texture (``in_depthSampler``).
+
+    Read by the ``demip_brick_fetch`` piece (``mc_globalMax``) at the next render.
+    """
+    height, width = normalised.shape
     state = object_state(mapper)
     texture = state.get("maximum_texture")
     if texture is None:

@@ -1,0 +1,104 @@
+"""LMIP with DEMIP drawn in bricks, phase 1: the whole ray's first local maximum, brick after brick.
+
+LMIP (``projection="lmip"``, docs/methods.md#demip) scans the ray front to
+back and ends it before the first sample that falls below a running maximum
+above ``local_threshold``; the ray's value is that running maximum.  The
+scan's state at a brick's border is the running maximum of the samples in
+front of it (and whether the scan has already ended), so the bricks are
+drawn in a front-to-back visibility order
+(:func:`mipcast.mappers.brick_rays.visibility_order`) by
+:class:`LMIPBrickMapper`: each reads the running maximum so far as a float
+texture (per pixel, as :class:`mipcast.mappers.demip_brick.DEMIPBrickDepthMapper`
+reads the global maximum), continues the scan over its share of the WHOLE
+volume's samples (the ``global_phase`` piece: whole-ray positions and
+indices, so a local maximum straddling a brick border is seen as one ray
+sees it: the sample in front lies in the brick in front, the fall in the
+brick behind, and the running maximum crosses with the texture) and reads
+out the new running maximum (channel 0) and whether the scan ended in it
+(channel 1).  A ray whose scan ended keeps its maximum: the bricks behind
+do not touch it (:func:`scan`).  Phase 2 (the first same-material sample)
+is DEMIP's: the maximum's own sample lies before the end, so the bricks'
+minimum index is the shortened ray's first same-material sample.
+
+Examples
+--------
+>>> mapper = LMIPBrickMapper()
+>>> "demip_brick_lmip_hooks" in mapper.GetShaderPieces()
+True
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from mipcast.core.transfer_bounds import constant_ends
+from mipcast.mappers.demip_brick import NO_MAXIMUM, DEMIPBrickDepthMapper, upload_pixels
+from mipcast.mappers.float_readout import from_data_units
+
+
+class LMIPBrickMapper(DEMIPBrickDepthMapper):
+    """One brick's part of LMIP's scan (phase 1 of bricked LMIP DEMIP), continued from the bricks in front.
+
+    Needs ``global_box`` in its state and the brick's ``global_phase``
+    uniforms (:func:`mipcast.mappers.brick_rays.brick_entry`), the running
+    maximum so far (:func:`bind_running`) and ``u_mc_brickChannel`` on its
+    volume's uniforms (0: the running maximum, 1: the end flag).
+
+    Examples
+    --------
+    >>> LMIPBrickMapper().GetShaderPieces()[:2]
+    ('mip_globals', 'demip_brick_fetch')
+    """
+
+    PIECES = ("mip_globals", "demip_brick_fetch", "demip_helpers", "sampled_loop", "demip_brick_lmip_hooks",
+              "no_stock_sample", "mip_color")
+
+    def GetShaderPieces(self) -> tuple:
+        """:data:`PIECES` (with ``global_phase`` on a brick); the state readout while a readout renders."""
+        names = self._with_readout(self.PIECES)
+        return self._with_missing("demip_brick_lmip_readout" if n == "float_readout" else n for n in names)
+
+
+def local_threshold(volume_property, data_range, fraction: float) -> float:
+    """LMIP's threshold in data units: ``fraction`` of the transfer functions' window over ``data_range``.
+
+    As the single texture's (``floor + fraction (ceiling - floor)``, the
+    window's ends those of :func:`mipcast.core.transfer_bounds.constant_ends`).
+
+    Examples
+    --------
+    >>> from mipcast.offscreen import grey_property
+    >>> local_threshold(grey_property((100.0, 300.0)), (0.0, 1000.0), 0.5)
+    200.0
+    """
+    floor, ceiling = constant_ends(volume_property, *data_range)
+    if not ceiling > floor:
+        return float("inf")  # no window: no sample is above it, the scan never ends (the global maximum)
+    return float(floor + fraction * (ceiling - floor))
+
+
+def bind_running(render_window, mapper: LMIPBrickMapper, running: np.ndarray, local: float) -> None:
+    """The scan's state on ``mapper``: the running maximum so far (data units, NaN: none) and the threshold."""
+    scalars = mapper.GetRenderedInput().GetPointData().GetScalars()
+    normalised = np.where(np.isnan(running), NO_MAXIMUM, from_data_units(np.nan_to_num(running), scalars))
+    threshold = float(from_data_units(np.array([local]), scalars)[0]) if np.isfinite(local) else 1.0e30
+    mapper.GetAttachedVolume().GetShaderProperty().GetFragmentCustomUniforms().SetUniformf(
+        "u_mc_brickLocal", threshold)
+    upload_pixels(render_window, mapper, normalised)
+
+
+def scan(running: np.ndarray, ended: np.ndarray, brick_max: np.ndarray, brick_ended: np.ndarray) -> None:
+    """One brick's readouts into the scan's state, in place: rays not yet ended take the brick's.
+
+    ``brick_max`` in data units (NaN: the brick's ray had no sample and
+    no state), ``brick_ended`` 1 where the scan ended in the brick.
+
+    Examples
+    --------
+    >>> running, ended = np.array([1.0, 2.0, np.nan]), np.array([False, True, False])
+    >>> scan(running, ended, np.array([3.0, 5.0, np.nan]), np.array([1.0, 0.0, np.nan]))
+    >>> running.tolist(), ended.tolist()
+    ([3.0, 2.0, nan], [True, True, False])
+    """
+    open_ = ~ended & ~np.isnan(brick_max)
+    running[open_] = brick_max[open_]
+    ended |= open_ & (np.nan_to_num(brick_ended) > 0.5)
