@@ -2,7 +2,7 @@
 // fills: Picking::Dec
 // mode: augment
 // LMIP with DEMIP drawn in bricks, phase 1 on one brick (mipcast/mappers/
-// demip_lmip_brick.py), hooks for sampled_loop with global_phase (the whole
+// demip_ordered_bricks.py), hooks for sampled_loop with global_phase (the whole
 // volume's sample positions and indices). The bricks are drawn front to back
 // (mipcast.mappers.brick_rays.visibility_order); each continues LMIP's scan
 // of demip_lmip_hooks where the bricks in front of it left it: the running

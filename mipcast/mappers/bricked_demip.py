@@ -51,8 +51,8 @@ from mipcast.mappers.private_draw import follow_volume
 
 
 #: The projections DEMIP composites in bricks: "mip" (MAX of the bricks), "lmip" (the bricks front to back,
-#: :mod:`mipcast.mappers.demip_lmip_brick`).
-PROJECTIONS = ("mip", "lmip")
+#: :mod:`mipcast.mappers.demip_ordered_bricks`).
+PROJECTIONS = ("mip", "lmip", "attenuated")
 
 
 def problem(mapper, limit: int) -> Optional[str]:
@@ -97,8 +97,8 @@ def bricks_of(mapper, limit: int) -> list:
 
 
 def lmip_bricks_of(mapper, limit: int) -> list:
-    """Per brick: LMIP's phase-1 entry (:class:`mipcast.mappers.demip_lmip_brick.LMIPBrickMapper`)."""
-    from mipcast.mappers.demip_lmip_brick import LMIPBrickMapper
+    """Per brick: LMIP's phase-1 entry (:class:`mipcast.mappers.demip_ordered_bricks.LMIPBrickMapper`)."""
+    from mipcast.mappers.demip_ordered_bricks import LMIPBrickMapper
 
     def make(piece, extent, whole):
         entry = brick_entry(LMIPBrickMapper, piece, extent, whole, piece.GetSpacing(), mapper.GetSampleDistance())
@@ -106,7 +106,21 @@ def lmip_bricks_of(mapper, limit: int) -> list:
         uniforms.SetUniformf("u_mc_brickChannel", 0.0)
         uniforms.SetUniformf("u_mc_brickLocal", 1.0e30)
         return entry
-    return cached_bricks(mapper, limit, "demip_lmip_bricks", make)
+    return cached_bricks(mapper, limit, "demip_ordered_brickss", make)
+
+
+def attenuated_bricks_of(mapper, limit: int) -> list:
+    """Per brick: attenuated MIP's entry (:class:`mipcast.mappers.demip_ordered_bricks.AttenuatedBrickMapper`)."""
+    from mipcast.mappers.demip_ordered_bricks import AttenuatedBrickMapper
+
+    def make(piece, extent, whole):
+        entry = brick_entry(AttenuatedBrickMapper, piece, extent, whole, piece.GetSpacing(),
+                            mapper.GetSampleDistance())
+        uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
+        uniforms.SetUniformf("u_mc_brickChannel", 0.0)
+        uniforms.SetUniform4f("u_mc_brickWindow", [0.0, 1.0, 0.0, 0.0])
+        return entry
+    return cached_bricks(mapper, limit, "demip_attenuated_bricks", make)
 
 
 def _follow(mapper, volume, entry, distance: float, demip: bool) -> None:
@@ -129,8 +143,11 @@ def _follow(mapper, volume, entry, distance: float, demip: bool) -> None:
     clip_uniforms.copy_clipping(mapper, brick_mapper)
 
 
-def _render(renderer, entry, mapper, camera, shape) -> np.ndarray:
-    """One brick's float readout (normalised as the shader wrote it, NaN: none), top row first."""
+def _render(renderer, entry, mapper, camera, shape, raw: bool = False) -> np.ndarray:
+    """One brick's float readout (normalised as the shader wrote it, NaN: none), top row first.
+
+    ``raw``: the readout's float32 values as written (1.0, the clear value, where no ray was cast).
+    """
     from mipcast.mappers import bricked_draw
 
     brick_mapper, brick_volume = entry["mapper"], entry["volume"]
@@ -152,28 +169,55 @@ def _render(renderer, entry, mapper, camera, shape) -> np.ndarray:
     if scalars is None:
         return np.full(shape, np.nan)
     columns, rows, _ = image.GetDimensions()
-    found = float_readout.decode(vtk_to_numpy(scalars).reshape(rows, columns)[::-1])
+    found = vtk_to_numpy(scalars).reshape(rows, columns)[::-1]
+    found = np.array(found, dtype=np.float32) if raw else float_readout.decode(found)
     if found.shape != shape:
         raise RuntimeError(f"a brick's readout is {found.shape}, the viewport {shape}")
     return found
 
 
-def _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range):
-    """LMIP's phase 1: the bricks in view front to back, each continuing the scan (data units, NaN: miss)."""
+def _front_to_back(mapper, limit, camera, shape, entries, in_view, ordered) -> list:
+    """The ``ordered`` entries (one per brick, as ``entries``) of the bricks in view, front to back."""
     from mipcast.mappers import bricked_draw
     from mipcast.mappers.brick_rays import visibility_order
-    from mipcast.mappers.demip_lmip_brick import bind_running, local_threshold, scan
 
-    lmip = lmip_bricks_of(mapper, limit)
     seen = {id(first) for first, _ in in_view}
     visible = [i for i, (first, _) in enumerate(entries) if id(first) in seen]
     rays = bricked_draw.ray_uniforms(_whole(mapper.GetInput()), camera, (shape[1], shape[0]))
-    order = visibility_order([lmip[i]["extent"] for i in visible], rays)
+    return [ordered[visible[p]] for p in visibility_order([ordered[i]["extent"] for i in visible], rays)]
+
+
+def _attenuated_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range):
+    """Attenuated MIP over the bricks in view front to back (data units, NaN: miss)."""
+    from mipcast.mappers.demip_ordered_bricks import attenuated_value, bind_crossed
+
+    crossed = np.zeros(shape, dtype=np.float32)
+    best = np.full(shape, np.nan)
+    window = renderer.GetRenderWindow()
+    for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view,
+                                attenuated_bricks_of(mapper, limit)):
+        _follow(mapper, volume, entry, distance, demip=True)
+        bind_crossed(window, entry["mapper"], crossed, data_range)
+        uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
+        found = _render(renderer, entry, mapper, camera, shape, raw=True)
+        uniforms.SetUniformf("u_mc_brickChannel", 1.0)
+        try:
+            after = _render(renderer, entry, mapper, camera, shape, raw=True)
+        finally:
+            uniforms.SetUniformf("u_mc_brickChannel", 0.0)
+        best = np.fmax(best, np.where(found == 1.0, np.nan, -found.astype(np.float64)))
+        crossed = np.where(after == 1.0, crossed, -after).astype(np.float32)
+    return attenuated_value(best, volume.GetProperty(), data_range)
+
+
+def _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range):
+    """LMIP's phase 1: the bricks in view front to back, each continuing the scan (data units, NaN: miss)."""
+    from mipcast.mappers.demip_ordered_bricks import bind_running, local_threshold, scan
+
     local = local_threshold(volume.GetProperty(), data_range, mapper.GetLocalThreshold())
     running, ended = np.full(shape, np.nan), np.zeros(shape, dtype=bool)
     window = renderer.GetRenderWindow()
-    for position in order:
-        entry = lmip[visible[position]]
+    for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view, lmip_bricks_of(mapper, limit)):
         _follow(mapper, volume, entry, distance, demip=True)
         bind_running(window, entry["mapper"], running, local)
         uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
@@ -221,7 +265,7 @@ def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarra
         if not bricked_draw._in_view(first["volume"], renderer, shape):
             continue
         in_view.append((first, second))
-        if mapper.GetProjection() == "lmip":
+        if mapper.GetProjection() != "mip":
             continue  # phase 1 of LMIP: the bricks front to back (below)
         found = _render(renderer, first, mapper, camera, shape)
         scalars = first["mapper"].GetRenderedInput().GetPointData().GetScalars()
@@ -230,10 +274,13 @@ def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarra
     data_range = mapper.GetInput().GetPointData().GetScalars().GetRange(0)
     if mapper.GetProjection() == "lmip":
         values = _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range)
+    elif mapper.GetProjection() == "attenuated":
+        values = _attenuated_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view,
+                                  data_range)
     values = values.astype(np.float32).astype(np.float64)  # as the float readout / MPI reduction carry it
     index = np.full(shape, np.inf)
     window = renderer.GetRenderWindow()
-    for _, second in in_view:  # phase 2: MIN of the whole-ray index of the first same-material sample
+    for _, second in in_view if mapper.GetProjection() != "attenuated" else ():  # phase 2: MIN of the whole-ray index of the first same-material sample
         _follow(mapper, volume, second, distance, demip=True)
         bind_maximum(window, second["mapper"], values, data_range)
         index = np.minimum(index, match_index(_render(renderer, second, mapper, camera, shape)))

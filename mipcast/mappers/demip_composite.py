@@ -67,8 +67,6 @@ def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, i
     if slab is not None and term.any():
         entry = entry.copy()
         entry[term] = geometry.narrow_to_slab(slab, entry[term], rays.direction[term])
-    elif slab is not None:
-        geometry.narrow_to_slab(slab, entry[:0], rays.direction[:0])
     depth = np.full(values.shape, np.nan)
     depth[term] = geometry.depth(params["depth_mode"], where[term], entry[term])
     rgb = transfer_colour(np.where(hit, values, 0.0), volume_property)

@@ -1,4 +1,4 @@
-"""LMIP with DEMIP drawn in bricks, phase 1: the whole ray's first local maximum, brick after brick.
+"""DEMIP's ordered projections drawn in bricks: LMIP and attenuated MIP, brick after brick front to back.
 
 LMIP (``projection="lmip"``, docs/methods.md#demip) scans the ray front to
 back and ends it before the first sample that falls below a running maximum
@@ -19,6 +19,15 @@ out the new running maximum (channel 0) and whether the scan ended in it
 do not touch it (:func:`scan`).  Phase 2 (the first same-material sample)
 is DEMIP's: the maximum's own sample lies before the end, so the bricks'
 minimum index is the shortened ray's first same-material sample.
+
+Attenuated MIP (``projection="attenuated"``) weighs each sample's material
+by ``exp(-decay * crossed)``, ``crossed`` the material of the samples in
+front of it: :class:`AttenuatedBrickMapper` reads the crossed material so
+far as the float texture, continues the single texture's sums over its
+samples (the same float32 operations in the same order) and reads out its
+best attenuated material and the crossed material after it, both exactly
+as float32 (:func:`attenuated_scan`); the whole ray's best is the maximum
+of the bricks' (no DEMIP term: no phase 2).
 
 Examples
 --------
@@ -56,6 +65,51 @@ class LMIPBrickMapper(DEMIPBrickDepthMapper):
         """:data:`PIECES` (with ``global_phase`` on a brick); the state readout while a readout renders."""
         names = self._with_readout(self.PIECES)
         return self._with_missing("demip_brick_lmip_readout" if n == "float_readout" else n for n in names)
+
+
+class AttenuatedBrickMapper(DEMIPBrickDepthMapper):
+    """One brick's part of attenuated MIP, continued from the material crossed in the bricks in front.
+
+    As :class:`LMIPBrickMapper`; its state is the crossed material
+    (:func:`bind_crossed`); channel 0 reads out minus the best attenuated
+    material, channel 1 minus the crossed material after the brick.
+
+    Examples
+    --------
+    >>> "demip_brick_attenuated_hooks" in AttenuatedBrickMapper().GetShaderPieces()
+    True
+    """
+
+    PIECES = ("mip_globals", "demip_brick_fetch", "demip_helpers", "sampled_loop",
+              "demip_brick_attenuated_hooks", "no_stock_sample", "mip_color")
+
+    def GetShaderPieces(self) -> tuple:
+        """:data:`PIECES` (with ``global_phase`` on a brick); the raw readout while a readout renders."""
+        names = self._with_readout(self.PIECES)
+        return self._with_missing("demip_brick_attenuated_readout" if n == "float_readout" else n for n in names)
+
+
+def bind_crossed(render_window, mapper: AttenuatedBrickMapper, crossed: np.ndarray, data_range) -> None:
+    """The crossed material so far (per pixel, float32 as the GPU summed it) and the material window."""
+    scalars = mapper.GetRenderedInput().GetPointData().GetScalars()
+    floor, ceiling = constant_ends(mapper.GetAttachedVolume().GetProperty(), *data_range)
+    floor, ceiling = (float(v) for v in from_data_units(np.array([floor, ceiling]), scalars))
+    mapper.GetAttachedVolume().GetShaderProperty().GetFragmentCustomUniforms().SetUniform4f(
+        "u_mc_brickWindow", [floor, ceiling, 0.0, 0.0])
+    upload_pixels(render_window, mapper, crossed)
+
+
+def attenuated_value(best: np.ndarray, volume_property, data_range) -> np.ndarray:
+    """The ray's value in data units: the scalar of the best attenuated material (NaN: no sample).
+
+    Examples
+    --------
+    >>> from mipcast.offscreen import grey_property
+    >>> attenuated_value(np.array([0.5, np.nan]), grey_property((100.0, 300.0)), (0.0, 1000.0)).tolist()
+    [200.0, nan]
+    """
+    floor, ceiling = constant_ends(volume_property, *data_range)
+    return floor + np.asarray(best, dtype=np.float64) * (ceiling - floor)
 
 
 def local_threshold(volume_property, data_range, fraction: float) -> float:
