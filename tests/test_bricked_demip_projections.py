@@ -1,9 +1,10 @@
-"""DEMIP's slab and ordered projections (LMIP, attenuated MIP) of a volume beyond the 3D texture limit,
+"""DEMIP's slab and ordered projections (LMIP, attenuated MIP, MIDA) of a volume beyond the 3D texture limit,
 drawn in bricks (mipcast.mappers.bricked_demip, mipcast.mappers.demip_ordered_bricks).
 
 The limit is lowered to 20 points per axis (48^3 fixture: 27 bricks). Each bricked picture is compared
 with the single-texture render and its values and depths with the float64 reference (mipcast.reference.demip)
-on the same camera rays; LMIP's and attenuated MIP's bricks are drawn front to back
+on the same camera rays (MIDA's picture with the opaque grey ramp too); the ordered projections' bricks
+are drawn front to back
 (mipcast.mappers.brick_rays.visibility_order).
 """
 import numpy as np
@@ -26,8 +27,30 @@ NORMAL = (0.3, 0.2, 1.0)
 BACKGROUND = np.array([26, 26, 51])
 
 
-def build(image, projection, slab, parallel, camera=None):
+def translucent(image):
+    """A coloured, translucent property (MIDA's opacity and colour then matter sample by sample)."""
+    from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+    from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolumeProperty
+
+    low, high = image.GetPointData().GetScalars().GetRange(0)
+    colour = vtkColorTransferFunction()
+    colour.AddRGBPoint(low, 0.1, 0.0, 0.3)
+    colour.AddRGBPoint(0.5 * (low + high), 1.0, 0.5, 0.0)
+    colour.AddRGBPoint(high, 1.0, 1.0, 0.8)
+    opacity = vtkPiecewiseFunction()
+    opacity.AddPoint(low, 0.02)
+    opacity.AddPoint(high, 0.5)
+    prop = vtkVolumeProperty()
+    prop.SetColor(colour)
+    prop.SetScalarOpacity(opacity)
+    prop.SetInterpolationTypeToLinear()
+    return prop
+
+
+def build(image, projection, slab, parallel, camera=None, coloured=False):
     mapper, renderer, window = pipeline(image, "demip")
+    if coloured:
+        mapper.GetAttachedVolume().SetProperty(translucent(image))
     mapper.SetDepthWeight(DEPTH)
     mapper.SetDepthMode("entry_plus_length")
     mapper.SetProjection(projection)
@@ -41,13 +64,13 @@ def build(image, projection, slab, parallel, camera=None):
     return mapper, renderer, window
 
 
-def render_both(image, projection, slab, parallel, monkeypatch, camera=None):
+def render_both(image, projection, slab, parallel, monkeypatch, camera=None, coloured=False):
     """(single texture, bricked): each (rgb, depth, values, camera)."""
     out = []
     for bricked in (False, True):
         if bricked:
             lowered(monkeypatch)
-        mapper, renderer, window = build(image, projection, slab, parallel, camera)
+        mapper, renderer, window = build(image, projection, slab, parallel, camera, coloured)
         rgb = picture(window)
         if bricked:
             assert mapper.GetNumberOfBricks() == 27 and mapper.GetLastProblem() is None
@@ -65,13 +88,17 @@ def reference(image, camera, projection, slab, output):
     return render_demip(image, camera, SIZE, output=output, **settings)
 
 
-def check(image, one, bricked, projection, slab):
+def check(image, one, bricked, projection, slab, coloured=False):
     (one_rgb, one_depth, one_values, _), (rgb, depth, values, camera) = one, bricked
     low, high = image.GetPointData().GetScalars().GetRange(0)
     # the picture: within 1 grey level of the single texture's on >= 99.9 % of the pixels, not blank
     assert (np.abs(rgb - BACKGROUND).max(axis=-1) > 10).mean() > 0.2
     difference = np.abs(rgb - one_rgb).max(axis=-1)
     assert (difference <= 1).mean() >= 0.999, (difference.max(), (difference > 1).sum())
+    if projection == "mida" and not coloured:  # the picture is MIDA's composite (opaque grey ramp)
+        composite = np.rint(255.0 * reference(image, camera, projection, slab, "rgb"))
+        hit = np.isfinite(composite).all(axis=-1)
+        assert hit.mean() > 0.2 and (np.abs(rgb[hit] - composite[hit]).max(axis=-1) <= 1).mean() >= 0.999
     # the values: the single texture's and the float64 reference's (same hits, float32 rounding)
     expected = reference(image, camera, projection, slab, "value")
     for other in (one_values, expected):
@@ -84,24 +111,27 @@ def check(image, one, bricked, projection, slab):
         assert (np.isnan(depth) == np.isnan(other)).mean() >= 0.999
         both = np.isfinite(depth) & np.isfinite(other)
         assert not both.any() or (np.abs(depth[both] - other[both]) <= 1e-5).mean() >= 0.999
-    if projection == "attenuated":
+    if projection in ("attenuated", "mida"):
         assert np.isnan(depth).all()
     else:
         assert np.isfinite(depth).mean() > 0.2
     return expected
 
 
-@pytest.mark.parametrize("projection, slab, parallel", [("lmip", 0.0, False), ("lmip", 8.0, True),
-                                                        ("attenuated", 0.0, True), ("attenuated", 8.0, False),
-                                                        ("mip", 8.0, False)])
-def test_bricked_demip_projection_and_slab(image, projection, slab, parallel, monkeypatch, tmp_path):
-    one, bricked = render_both(image, projection, slab, parallel, monkeypatch)
-    expected = check(image, one, bricked, projection, slab)
-    if projection != "mip":  # the projection is not MIP on a good share of the rays
+@pytest.mark.parametrize("projection, slab, parallel, coloured", [
+    ("lmip", 0.0, False, False), ("lmip", 8.0, True, False), ("attenuated", 0.0, True, False),
+    ("attenuated", 8.0, False, False), ("mip", 8.0, False, False), ("mida", 0.0, False, False),
+    ("mida", 8.0, True, True)])
+def test_bricked_demip_projection_and_slab(image, projection, slab, parallel, coloured, monkeypatch, tmp_path):
+    one, bricked = render_both(image, projection, slab, parallel, monkeypatch, coloured=coloured)
+    expected = check(image, one, bricked, projection, slab, coloured)
+    if projection in ("lmip", "attenuated"):  # the projection is not MIP on a good share of the rays
         mip = reference(image, bricked[3], "mip", slab, "value")
         low, high = image.GetPointData().GetScalars().GetRange(0)
         both = np.isfinite(mip) & np.isfinite(expected)
         assert (np.abs(mip[both] - expected[both]) > 1e-3 * (high - low)).mean() > 0.02
+    if coloured:  # translucent and coloured: the background shows through, the picture has hues
+        assert np.abs(bricked[0][..., 0] - bricked[0][..., 2]).max() > 30
     write_png(tmp_path / f"bricked_{projection}_{slab:g}.png", np.concatenate([one[0], bricked[0]], axis=1)
               .astype(np.uint8))
 

@@ -25,8 +25,18 @@ to the same global slab (the clipping uniforms of each brick's own texture
 space, :func:`mipcast.mappers.clip_uniforms.copy_clipping`), and the depth
 is normalised over the box's part inside the slab on the CPU
 (:func:`mipcast.mappers.demip_composite.demip_composite`'s ``slab``).
-Projections other than ``"mip"`` are named by :func:`problem`.  During a float readout the mapper's ``GetDepthImage``
-returns the bricked maximum (readout ``"value"``) or depth (``"depth"``).
+
+The projections that depend on the order along the ray draw their bricks
+front to back (:func:`mipcast.mappers.brick_rays.visibility_order`), each
+brick continuing the single texture's scan from a per-pixel state the
+bricks in front left, handed to it as a float texture
+(:mod:`mipcast.mappers.demip_ordered_bricks`): LMIP (the running maximum;
+its phase 2 is MIP's), attenuated MIP (the crossed material; no phase 2)
+and MIDA (running material and opacity; its picture only, its float
+readout is the MAX of phase 1).  :func:`problem` names what cannot be
+drawn in bricks (nothing of DEMIP's now; kept for the callers).  During a
+float readout the mapper's ``GetDepthImage`` returns the bricked value
+(readout ``"value"``) or depth (``"depth"``).
 
 Examples
 --------
@@ -52,7 +62,7 @@ from mipcast.mappers.private_draw import follow_volume
 
 #: The projections DEMIP composites in bricks: "mip" (MAX of the bricks), "lmip" (the bricks front to back,
 #: :mod:`mipcast.mappers.demip_ordered_bricks`).
-PROJECTIONS = ("mip", "lmip", "attenuated")
+PROJECTIONS = ("mip", "lmip", "attenuated", "mida")
 
 
 def problem(mapper, limit: int) -> Optional[str]:
@@ -62,8 +72,8 @@ def problem(mapper, limit: int) -> Optional[str]:
     --------
     >>> from mipcast.mappers.demip import DEMIPVolumeMapper
     >>> mapper = DEMIPVolumeMapper()
-    >>> mapper.SetProjection("lmip")
-    >>> "projection 'mip' only" in problem(mapper, 20)
+    >>> mapper.SetProjection("mida"); mapper.SetSlabThickness(5.0)
+    >>> problem(mapper, 20) is None   # every projection, with or without a slab
     True
     """
     projection = mapper.GetProjection()
@@ -121,6 +131,19 @@ def attenuated_bricks_of(mapper, limit: int) -> list:
         uniforms.SetUniform4f("u_mc_brickWindow", [0.0, 1.0, 0.0, 0.0])
         return entry
     return cached_bricks(mapper, limit, "demip_attenuated_bricks", make)
+
+
+def mida_bricks_of(mapper, limit: int) -> list:
+    """Per brick: MIDA's entry (:class:`mipcast.mappers.demip_ordered_bricks.MIDABrickMapper`)."""
+    from mipcast.mappers.demip_ordered_bricks import MIDABrickMapper
+
+    def make(piece, extent, whole):
+        entry = brick_entry(MIDABrickMapper, piece, extent, whole, piece.GetSpacing(), mapper.GetSampleDistance())
+        uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
+        uniforms.SetUniformf("u_mc_brickChannel", 0.0)
+        uniforms.SetUniform4f("u_mc_brickWindow", [0.0, 1.0, 0.0, 0.0])
+        return entry
+    return cached_bricks(mapper, limit, "demip_mida_bricks", make)
 
 
 def _follow(mapper, volume, entry, distance: float, demip: bool) -> None:
@@ -210,6 +233,30 @@ def _attenuated_scan(mapper, volume, renderer, limit, camera, shape, distance, e
     return attenuated_value(best, volume.GetProperty(), data_range)
 
 
+def _mida_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range):
+    """MIDA's picture over the bricks in view front to back: premultiplied float RGBA."""
+    from mipcast.mappers.demip_ordered_bricks import MIDA_CHANNELS, bind_mida, mida_scan
+
+    colour, opacity, material = np.zeros(shape + (3,)), np.zeros(shape), np.zeros(shape)
+    window = renderer.GetRenderWindow()
+    for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view, mida_bricks_of(mapper, limit)):
+        _follow(mapper, volume, entry, distance, demip=True)
+        bind_mida(window, entry["mapper"], material, opacity, data_range)
+        uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
+        readouts = {}
+        try:
+            for channel, name in enumerate(MIDA_CHANNELS):
+                uniforms.SetUniformf("u_mc_brickChannel", float(channel))
+                readouts[name] = _render(renderer, entry, mapper, camera, shape, raw=True)
+        finally:
+            uniforms.SetUniformf("u_mc_brickChannel", 0.0)
+        mida_scan(colour, opacity, material, readouts)
+    rgba = np.zeros(shape + (4,))
+    rgba[..., :3] = np.clip(colour, 0.0, 1.0)
+    rgba[..., 3] = np.clip(opacity, 0.0, 1.0)
+    return rgba
+
+
 def _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range):
     """LMIP's phase 1: the bricks in view front to back, each continuing the scan (data units, NaN: miss)."""
     from mipcast.mappers.demip_ordered_bricks import bind_running, local_threshold, scan
@@ -265,7 +312,7 @@ def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarra
         if not bricked_draw._in_view(first["volume"], renderer, shape):
             continue
         in_view.append((first, second))
-        if mapper.GetProjection() != "mip":
+        if mapper.GetProjection() in ("lmip", "attenuated"):
             continue  # phase 1 of LMIP: the bricks front to back (below)
         found = _render(renderer, first, mapper, camera, shape)
         scalars = first["mapper"].GetRenderedInput().GetPointData().GetScalars()
@@ -280,7 +327,7 @@ def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarra
     values = values.astype(np.float32).astype(np.float64)  # as the float readout / MPI reduction carry it
     index = np.full(shape, np.inf)
     window = renderer.GetRenderWindow()
-    for _, second in in_view if mapper.GetProjection() != "attenuated" else ():  # phase 2: MIN of the whole-ray index of the first same-material sample
+    for _, second in in_view if mapper.GetProjection() in ("mip", "lmip") else ():  # phase 2: MIN of the whole-ray index of the first same-material sample
         _follow(mapper, volume, second, distance, demip=True)
         bind_maximum(window, second["mapper"], values, data_range)
         index = np.minimum(index, match_index(_render(renderer, second, mapper, camera, shape)))
@@ -288,4 +335,9 @@ def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarra
     params = {p.name: getattr(mapper, p.getter)() for p in DEMIP}
     depth, rgb = demip_composite(_whole(mapper.GetInput()), camera, distance, values, index, params,
                                  volume.GetProperty(), slab=clip_uniforms.slab_of(mapper, camera))
+    if mapper.GetProjection() == "mida":  # the picture: the bricks' compositing front to back
+        if object_state(mapper).get("exact_readout"):
+            return values, depth, None  # a float readout: MIDA's value is the sampled maximum (MAX above)
+        return values, depth, _mida_scan(mapper, volume, renderer, limit, camera, shape, distance, entries,
+                                         in_view, data_range)
     return values, depth, demip_premultiplied(values, rgb, volume.GetProperty())

@@ -29,6 +29,16 @@ best attenuated material and the crossed material after it, both exactly
 as float32 (:func:`attenuated_scan`); the whole ray's best is the maximum
 of the bricks' (no DEMIP term: no phase 2).
 
+MIDA (``projection="mida"``) composites front to back with weights that
+depend on the running maximum of the material: :class:`MIDABrickMapper`
+reads the running material and accumulated opacity so far (a two-channel
+float texture), continues the compositing over its samples and reads out
+its colour (started at 0: MIDA's colour update is linear in the colour in
+front), the opacity and running material after it and the product of its
+betas (:func:`mida_scan` applies ``C = P C + C_brick``).  Only the picture
+needs this; MIDA's float readout (the sampled maximum) is the MAX of the
+bricks' MIP.
+
 Examples
 --------
 >>> mapper = LMIPBrickMapper()
@@ -89,13 +99,75 @@ class AttenuatedBrickMapper(DEMIPBrickDepthMapper):
         return self._with_missing("demip_brick_attenuated_readout" if n == "float_readout" else n for n in names)
 
 
-def bind_crossed(render_window, mapper: AttenuatedBrickMapper, crossed: np.ndarray, data_range) -> None:
-    """The crossed material so far (per pixel, float32 as the GPU summed it) and the material window."""
+class MIDABrickMapper(DEMIPBrickDepthMapper):
+    """One brick's part of MIDA's compositing, continued from the state the bricks in front left.
+
+    Its state (:func:`bind_mida`): running material and accumulated opacity;
+    ``u_mc_brickChannel`` 0 .. 5 reads out (minus) the brick's colour (r, g,
+    b), the opacity, the product of its betas and the running material.
+
+    Examples
+    --------
+    >>> "demip_brick_state_fetch" in MIDABrickMapper().GetShaderPieces()
+    True
+    """
+
+    PIECES = ("mip_globals", "demip_brick_state_fetch", "demip_helpers", "sampled_loop",
+              "demip_brick_mida_hooks", "no_stock_sample", "mip_color")
+
+    def GetShaderPieces(self) -> tuple:
+        """:data:`PIECES` (with ``global_phase`` on a brick); the state readout while a readout renders."""
+        names = self._with_readout(self.PIECES)
+        return self._with_missing("demip_brick_mida_readout" if n == "float_readout" else n for n in names)
+
+
+#: MIDA's readout channels (``u_mc_brickChannel``), in order.
+MIDA_CHANNELS = ("red", "green", "blue", "opacity", "beta_product", "material")
+
+
+def bind_mida(render_window, mapper: MIDABrickMapper, material: np.ndarray, opacity: np.ndarray,
+              data_range) -> None:
+    """MIDA's state so far on ``mapper`` (running material, accumulated opacity) and the material window."""
+    _bind_window(mapper, data_range)
+    upload_pixels(render_window, mapper, np.stack([material, opacity], axis=-1))
+
+
+def mida_scan(colour: np.ndarray, opacity: np.ndarray, material: np.ndarray, readouts: dict) -> None:
+    """One brick's readouts (:data:`MIDA_CHANNELS` -> minus the value, +1 where no ray) into the state, in place.
+
+    Examples
+    --------
+    >>> colour, opacity, material = np.zeros((1, 2, 3)), np.array([[0.5, 0.2]]), np.array([[0.4, 0.1]])
+    >>> out = {"red": np.array([[-0.1, 1.0]]), "green": np.array([[-0.2, 1.0]]), "blue": np.array([[-0.3, 1.0]]),
+    ...        "opacity": np.array([[-0.6, 1.0]]), "beta_product": np.array([[-0.5, 1.0]]),
+    ...        "material": np.array([[-0.7, 1.0]])}
+    >>> colour[0, 0] = 0.2
+    >>> mida_scan(colour, opacity, material, out)
+    >>> colour[0].round(3).tolist(), opacity.tolist(), material.tolist()
+    ([[0.2, 0.3, 0.4], [0.0, 0.0, 0.0]], [[0.6, 0.2]], [[0.7, 0.1]])
+    """
+    drawn = readouts["opacity"] != 1.0
+    value = {name: -np.asarray(readout, dtype=np.float64) for name, readout in readouts.items()}
+    brick = np.stack([value["red"], value["green"], value["blue"]], axis=-1)
+    colour[drawn] = (value["beta_product"][..., None] * colour + brick)[drawn]
+    opacity[drawn] = value["opacity"][drawn]
+    material[drawn] = value["material"][drawn]
+
+
+def _bind_window(mapper, data_range) -> None:
+    """The material window (the transfer functions' ends over the whole range) in the brick's scalar."""
     scalars = mapper.GetRenderedInput().GetPointData().GetScalars()
     floor, ceiling = constant_ends(mapper.GetAttachedVolume().GetProperty(), *data_range)
     floor, ceiling = (float(v) for v in from_data_units(np.array([floor, ceiling]), scalars))
+    if not ceiling > floor:  # constant transfer functions: no material anywhere (as DEMIPVolumeMapper's window)
+        floor, ceiling = 1.0e20, 2.0e20
     mapper.GetAttachedVolume().GetShaderProperty().GetFragmentCustomUniforms().SetUniform4f(
         "u_mc_brickWindow", [floor, ceiling, 0.0, 0.0])
+
+
+def bind_crossed(render_window, mapper: AttenuatedBrickMapper, crossed: np.ndarray, data_range) -> None:
+    """The crossed material so far (per pixel, float32 as the GPU summed it) and the material window."""
+    _bind_window(mapper, data_range)
     upload_pixels(render_window, mapper, crossed)
 
 
