@@ -313,7 +313,9 @@ def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarra
             continue
         in_view.append((first, second))
         if mapper.GetProjection() in ("lmip", "attenuated"):
-            continue  # phase 1 of LMIP: the bricks front to back (below)
+            continue  # phase 1 of LMIP, attenuated MIP: the bricks front to back (below)
+        if mapper.GetProjection() == "mida" and not object_state(mapper).get("exact_readout"):
+            continue  # MIDA's picture needs no maximum (its compositing, below)
         found = _render(renderer, first, mapper, camera, shape)
         scalars = first["mapper"].GetRenderedInput().GetPointData().GetScalars()
         brick = float_readout.to_data_units(np.where(np.abs(found) > 1.0e3, np.nan, found), scalars)
