@@ -7,7 +7,6 @@ and with the float64 reference (mipcast.reference.demip) on the same camera rays
 """
 import numpy as np
 import pytest
-from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow, vtkStringOutputWindow
 
 from mipcast.core.object_state import object_state
 from mipcast.mappers.demip import render_depth

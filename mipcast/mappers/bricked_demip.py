@@ -201,12 +201,11 @@ def _render(renderer, entry, mapper, camera, shape, raw: bool = False) -> np.nda
 
 def _front_to_back(mapper, limit, camera, shape, entries, in_view, ordered) -> list:
     """The ``ordered`` entries (one per brick, as ``entries``) of the bricks in view, front to back."""
-    from mipcast.mappers import bricked_draw
-    from mipcast.mappers.brick_rays import visibility_order
+    from mipcast.mappers.brick_rays import ray_uniforms, visibility_order
 
     seen = {id(first) for first, _ in in_view}
     visible = [i for i, (first, _) in enumerate(entries) if id(first) in seen]
-    rays = bricked_draw.ray_uniforms(_whole(mapper.GetInput()), camera, (shape[1], shape[0]))
+    rays = ray_uniforms(_whole(mapper.GetInput()), camera, (shape[1], shape[0]))
     return [ordered[visible[p]] for p in visibility_order([ordered[i]["extent"] for i in visible], rays)]
 
 
