@@ -33,7 +33,12 @@ volume property's transfer functions.
   Its depth (normalised over the WHOLE volume's box, every depth mode),
   Eq. 1, the colour sphere and pseudo-chromadepth are applied on the CPU
   with :mod:`mipcast.core.demip_depth`, the maths of the float64 reference.
-  Projection ``"mip"`` only, no slab (refused with a message).
+  A slab (``slab_thickness`` > 0) clips both phases of every rank to the
+  same global slab, depth normalised over the box's part inside it.
+  Projection ``"mip"`` only (the others are refused with a message: they
+  need the bricks front to back, one rank after another; on one GPU beyond
+  its texture limit the mapper draws them so,
+  :mod:`mipcast.mappers.bricked_demip`).
 
 The method table's ``distributed`` entry names the route (:data:`ROUTES`);
 other methods are refused with a message. mpi4py provides the communicator
@@ -68,6 +73,7 @@ from mipcast.core.parameter_tables import DEMIP
 from mipcast.core.parameters import set_parameters
 from mipcast.core.validation import check_choice, check_image
 from mipcast.mappers.brick_rays import global_texture_box, ray_uniforms, set_brick_uniforms, set_ray_uniforms  # noqa: F401
+from mipcast.mappers.clip_uniforms import slab_of
 from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, first_match_index
 from mipcast.mappers.demip_composite import demip_composite, demip_picture  # noqa: F401  (demip_picture: public here)
 from mipcast.mappers.float_readout import read_normalised, texture_scale
@@ -392,11 +398,13 @@ class DistributedView:
         values = self.demip_parameters()
         if values["projection"] != "mip":
             raise ValueError(f"distributed DEMIP composites projection 'mip' only, got {values['projection']!r} "
-                             "(LMIP, attenuated MIP and MIDA depend on the order along the whole ray): "
-                             "set projection='mip' or render the whole volume on one rank")
-        if values["slab_thickness"] > 0:
-            raise ValueError("distributed DEMIP has no slab yet (slab_thickness > 0): "
-                             "render the slab on one rank, or set slab_thickness=0")
+                             "(LMIP, attenuated MIP and MIDA depend on the order along the whole ray: their "
+                             "bricks would be drawn one rank after another, front to back; the mapper draws "
+                             "them so in bricks beyond the texture limit on one GPU): set projection='mip' or "
+                             "render the whole volume on one rank")
+        # phase 1 clips with the same slab (its default centre and normal follow the same camera)
+        slab = {name: values[name] for name in ("slab_thickness", "slab_centre", "slab_normal")}
+        set_parameters(self.local.mapper, **slab)
 
     def demip_parameters(self) -> dict:
         """The DEMIP settings of the ``"demip"`` route (name -> value, from the phase-2 mapper)."""
@@ -473,7 +481,8 @@ class DistributedView:
         values = self.float_image()
         index = self.first_match(values)
         depth, rgb = demip_composite(self.stub, self.camera, self.sample_distance, values, index,
-                                     self.demip_parameters(), self.local.volume.GetProperty())
+                                     self.demip_parameters(), self.local.volume.GetProperty(),
+                                     slab=slab_of(self.depth_mapper, self.camera))
         return values.astype(np.float64), depth, rgb
 
     def images(self) -> dict:

@@ -41,6 +41,8 @@ from mipcast.distributed import demip_picture
 from mipcast.mappers.demip import render_depth
 from mipcast.offscreen import OffscreenView
 from mipcast.reference.demip import render_demip
+from mipcast.core.clipping import slab_planes
+from mipcast.mappers.clip_uniforms import slab_of
 
 AXES = {"x": 0, "y": 1, "z": 2, "d3": None}
 
@@ -141,9 +143,13 @@ def demip_cases(args, comm, image, window, span, axis, axis_number, extents, met
         single_depth = render_depth(single.render_window, single.mapper)
         key = json.dumps(case_settings, sort_keys=True)
         if key not in _REFERENCE:
+            extra = {}
+            if case_settings.get("slab_thickness", 0.0) > 0:  # the slab's planes, and depth inside it
+                slab = slab_of(view.depth_mapper, view.camera)
+                extra = {"slab": slab, "clip_planes": slab_planes(*slab)}
             _REFERENCE[key] = render_demip(image, view.camera, tuple(args.image),
                                            sample_distance=view.sample_distance, window=window,
-                                           output="depth", **case_settings)
+                                           output="depth", **case_settings, **extra)
         reference = _REFERENCE[key]
         one = one_rank(method, image, args, window, view)
         one.set_parameters(**case_settings)

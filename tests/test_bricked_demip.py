@@ -7,7 +7,6 @@ and with the float64 reference (mipcast.reference.demip) on the same camera rays
 """
 import numpy as np
 import pytest
-from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow, vtkStringOutputWindow
 
 from mipcast.core.object_state import object_state
 from mipcast.mappers.demip import render_depth
@@ -72,22 +71,3 @@ def test_bricked_demip_draws_the_single_texture_picture(image, name, mode, spher
         from vtk_png import write_png
 
         write_png(tmp_path / "bricked_demip.png", np.concatenate([one_rgb, rgb], axis=1).astype(np.uint8))
-
-
-@pytest.mark.parametrize("setting, words", [(("SetProjection", "lmip"), "projection 'mip' only"),
-                                            (("SetSlabThickness", 6.0), "no slab yet")])
-def test_bricked_demip_refuses_what_distributed_demip_refuses(image, setting, words, monkeypatch):
-    lowered(monkeypatch)
-    mapper, _, window = build(image, "demip", "steps", 0.0)
-    getattr(mapper, setting[0])(setting[1])
-    events = []
-    mapper.AddObserver(vtkCommand.ErrorEvent, lambda caller, event: events.append(event))
-    captured, previous = vtkStringOutputWindow(), vtkOutputWindow.GetInstance()
-    vtkOutputWindow.SetInstance(captured)
-    try:
-        rgb = picture(window)
-    finally:
-        vtkOutputWindow.SetInstance(previous)
-    problem = mapper.GetLastProblem()
-    assert events and problem is not None and words in problem and "3D texture limit of 20" in problem
-    assert rgb.max() <= 51  # nothing drawn

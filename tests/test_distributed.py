@@ -136,6 +136,22 @@ def test_demip_composites_exactly(display, ranks):
     check_demip(results, ranks, ["demip", "demip_two_pass"])
 
 
+def test_demip_slab_composites_exactly(display):
+    """DEMIP with a tilted slab, 2 ranks split along z: both phases clip to the same global slab."""
+    done, results = run_check(display, 2, "--axes", "z", "--methods", "demip", "--demip-modes",
+                              "steps,eye_distance", "--spheres", "0", "--set", "demip:slab_thickness=14",
+                              "--set", "demip:slab_normal=[0.3, 0.2, 1.0]")
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    for case in results["cases"]:
+        label = f"{case['depth_mode']}: {case}"
+        assert case["lit"] > 0.15 and case["within_1_grey"] >= 0.999, label
+        assert case["misses_agree"] >= 0.999 and case["term_agree"] >= 0.999, label
+        assert case["float_max_error"] <= methods.METHODS["demip"].reference_tolerance, label
+        assert case["depth_within_1e-5"] >= 0.999 and case["reference_depth_within_1e-5"] >= 0.999, label
+        assert case["reference_term_agree"] >= 0.999, label
+    assert {case["depth_mode"] for case in results["cases"]} == {"steps", "eye_distance"}
+
+
 def test_methods_without_a_route_are_refused():
     from mipcast.data_fixtures import make_fixture
     from mipcast.distributed import ROUTES, DistributedView

@@ -168,3 +168,45 @@ def cached_bricks(mapper, limit: int, name: str, make) -> list:
     entries = [make(extract_brick(image, extent), extent, whole) for extent in brick_extents(dims, limit)]
     state[name] = {"key": key, "entries": entries}
     return entries
+
+
+def visibility_order(extents: Sequence[Sequence[int]], rays: dict) -> list:
+    """Indices of ``extents`` (bricks of an axis-aligned grid) in a front-to-back order along every ray.
+
+    ``rays`` are :func:`ray_uniforms`' values (point-index space).  Each
+    brick owns the cells ``[e0, e1)`` of its extent along each axis.  Along
+    an axis, a ray's brick index only moves one way: with the parallel
+    direction's sign (orthographic), or away from the eye's brick
+    (perspective: the eye's brick index per axis, -1 or n outside the
+    grid).  Sorting by the sum over the axes of that signed index (distance
+    from the eye's brick) puts every brick after all bricks a ray can cross
+    before it.
+
+    Examples
+    --------
+    >>> bricks = [(0, 4, 0, 0, 0, 0), (4, 8, 0, 0, 0, 0), (8, 12, 0, 0, 0, 0)]
+    >>> parallel = {"u_mc_rayDirection": [-1.0, 0.0, 0.0], "u_mc_rayEye": [0.0, 0.0, 0.0, 0.0]}
+    >>> visibility_order(bricks, parallel)
+    [2, 1, 0]
+    >>> visibility_order(bricks, {"u_mc_rayDirection": [0.0] * 3, "u_mc_rayEye": [5.0, 0.0, 0.0, 1.0]})
+    [1, 0, 2]
+    """
+    extents = [tuple(int(v) for v in e) for e in extents]
+    eye = rays["u_mc_rayEye"]
+    keys = []
+    starts = [sorted({e[2 * a] for e in extents}) for a in range(3)]
+    for extent in extents:
+        key = 0.0
+        for a in range(3):
+            index = starts[a].index(extent[2 * a])
+            if eye[3] > 0.5:  # perspective: distance from the eye's brick along the axis
+                inside = [i for i, s in enumerate(starts[a]) if s <= eye[a]]
+                eye_index = inside[-1] if inside else -1
+                last = max(e[2 * a + 1] for e in extents)
+                if eye[a] >= last:
+                    eye_index = len(starts[a])
+                key += abs(index - eye_index)
+            else:
+                key += index * float(np.sign(rays["u_mc_rayDirection"][a]))
+        keys.append(key)
+    return sorted(range(len(extents)), key=lambda i: keys[i])

@@ -20,9 +20,23 @@ over MPI ranks, with every brick local:
    premultiplied picture is drawn over the renderer's viewport as
    :mod:`mipcast.mappers.bricked_draw` draws its own.
 
-Projection ``"mip"`` and no slab only, as distributed DEMIP (:func:`problem`
-names the others).  During a float readout the mapper's ``GetDepthImage``
-returns the bricked maximum (readout ``"value"``) or depth (``"depth"``).
+A slab (``slab_thickness`` > 0) clips every brick's part of the whole ray
+to the same global slab (the clipping uniforms of each brick's own texture
+space, :func:`mipcast.mappers.clip_uniforms.copy_clipping`), and the depth
+is normalised over the box's part inside the slab on the CPU
+(:func:`mipcast.mappers.demip_composite.demip_composite`'s ``slab``).
+
+The projections that depend on the order along the ray draw their bricks
+front to back (:func:`mipcast.mappers.brick_rays.visibility_order`), each
+brick continuing the single texture's scan from a per-pixel state the
+bricks in front left, handed to it as a float texture
+(:mod:`mipcast.mappers.demip_ordered_bricks`): LMIP (the running maximum;
+its phase 2 is MIP's), attenuated MIP (the crossed material; no phase 2)
+and MIDA (running material and opacity; its picture only, its float
+readout is the MAX of phase 1).  :func:`problem` names what cannot be
+drawn in bricks (nothing of DEMIP's now; kept for the callers).  During a
+float readout the mapper's ``GetDepthImage`` returns the bricked value
+(readout ``"value"``) or depth (``"depth"``).
 
 Examples
 --------
@@ -46,6 +60,11 @@ from mipcast.mappers.demip_composite import demip_composite, demip_premultiplied
 from mipcast.mappers.private_draw import follow_volume
 
 
+#: The projections DEMIP composites in bricks: "mip" (MAX of the bricks), "lmip" (the bricks front to back,
+#: :mod:`mipcast.mappers.demip_ordered_bricks`).
+PROJECTIONS = ("mip", "lmip", "attenuated", "mida")
+
+
 def problem(mapper, limit: int) -> Optional[str]:
     """Why ``mapper``'s DEMIP settings cannot be drawn in bricks of ``limit`` points, or None.
 
@@ -53,20 +72,16 @@ def problem(mapper, limit: int) -> Optional[str]:
     --------
     >>> from mipcast.mappers.demip import DEMIPVolumeMapper
     >>> mapper = DEMIPVolumeMapper()
-    >>> mapper.SetProjection("lmip")
-    >>> "projection 'mip' only" in problem(mapper, 20)
+    >>> mapper.SetProjection("mida"); mapper.SetSlabThickness(5.0)
+    >>> problem(mapper, 20) is None   # every projection, with or without a slab
     True
     """
     projection = mapper.GetProjection()
-    if projection != "mip":
+    if projection not in PROJECTIONS:
         return (f"the volume exceeds this GPU's 3D texture limit of {limit} points per axis, and DEMIP in "
                 f"bricks composites projection 'mip' only, got {projection!r} (LMIP, attenuated MIP and MIDA "
                 "depend on the order along the whole ray): set projection 'mip', or resample the volume to "
                 f"at most {limit} points per axis (e.g. vtkImageResample)")
-    if mapper.GetSlabThickness() > 0:
-        return (f"the volume exceeds this GPU's 3D texture limit of {limit} points per axis, and DEMIP in "
-                "bricks has no slab yet (slab thickness > 0): set slab thickness 0, or resample the volume "
-                f"to at most {limit} points per axis (e.g. vtkImageResample)")
     return None
 
 
@@ -91,6 +106,46 @@ def bricks_of(mapper, limit: int) -> list:
     return cached_bricks(mapper, limit, "demip_bricks", make)
 
 
+def lmip_bricks_of(mapper, limit: int) -> list:
+    """Per brick: LMIP's phase-1 entry (:class:`mipcast.mappers.demip_ordered_bricks.LMIPBrickMapper`)."""
+    from mipcast.mappers.demip_ordered_bricks import LMIPBrickMapper
+
+    def make(piece, extent, whole):
+        entry = brick_entry(LMIPBrickMapper, piece, extent, whole, piece.GetSpacing(), mapper.GetSampleDistance())
+        uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
+        uniforms.SetUniformf("u_mc_brickChannel", 0.0)
+        uniforms.SetUniformf("u_mc_brickLocal", 1.0e30)
+        return entry
+    return cached_bricks(mapper, limit, "demip_ordered_brickss", make)
+
+
+def attenuated_bricks_of(mapper, limit: int) -> list:
+    """Per brick: attenuated MIP's entry (:class:`mipcast.mappers.demip_ordered_bricks.AttenuatedBrickMapper`)."""
+    from mipcast.mappers.demip_ordered_bricks import AttenuatedBrickMapper
+
+    def make(piece, extent, whole):
+        entry = brick_entry(AttenuatedBrickMapper, piece, extent, whole, piece.GetSpacing(),
+                            mapper.GetSampleDistance())
+        uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
+        uniforms.SetUniformf("u_mc_brickChannel", 0.0)
+        uniforms.SetUniform4f("u_mc_brickWindow", [0.0, 1.0, 0.0, 0.0])
+        return entry
+    return cached_bricks(mapper, limit, "demip_attenuated_bricks", make)
+
+
+def mida_bricks_of(mapper, limit: int) -> list:
+    """Per brick: MIDA's entry (:class:`mipcast.mappers.demip_ordered_bricks.MIDABrickMapper`)."""
+    from mipcast.mappers.demip_ordered_bricks import MIDABrickMapper
+
+    def make(piece, extent, whole):
+        entry = brick_entry(MIDABrickMapper, piece, extent, whole, piece.GetSpacing(), mapper.GetSampleDistance())
+        uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
+        uniforms.SetUniformf("u_mc_brickChannel", 0.0)
+        uniforms.SetUniform4f("u_mc_brickWindow", [0.0, 1.0, 0.0, 0.0])
+        return entry
+    return cached_bricks(mapper, limit, "demip_mida_bricks", make)
+
+
 def _follow(mapper, volume, entry, distance: float, demip: bool) -> None:
     """The brick's mapper as the user's: DEMIP's settings (phase 2), sampling, cropping, clipping, matrix."""
     brick_mapper = entry["mapper"]
@@ -111,8 +166,11 @@ def _follow(mapper, volume, entry, distance: float, demip: bool) -> None:
     clip_uniforms.copy_clipping(mapper, brick_mapper)
 
 
-def _render(renderer, entry, mapper, camera, shape) -> np.ndarray:
-    """One brick's float readout (normalised as the shader wrote it, NaN: none), top row first."""
+def _render(renderer, entry, mapper, camera, shape, raw: bool = False) -> np.ndarray:
+    """One brick's float readout (normalised as the shader wrote it, NaN: none), top row first.
+
+    ``raw``: the readout's float32 values as written (1.0, the clear value, where no ray was cast).
+    """
     from mipcast.mappers import bricked_draw
 
     brick_mapper, brick_volume = entry["mapper"], entry["volume"]
@@ -134,10 +192,91 @@ def _render(renderer, entry, mapper, camera, shape) -> np.ndarray:
     if scalars is None:
         return np.full(shape, np.nan)
     columns, rows, _ = image.GetDimensions()
-    found = float_readout.decode(vtk_to_numpy(scalars).reshape(rows, columns)[::-1])
+    found = vtk_to_numpy(scalars).reshape(rows, columns)[::-1]
+    found = np.array(found, dtype=np.float32) if raw else float_readout.decode(found)
     if found.shape != shape:
         raise RuntimeError(f"a brick's readout is {found.shape}, the viewport {shape}")
     return found
+
+
+def _front_to_back(mapper, limit, camera, shape, entries, in_view, ordered) -> list:
+    """The ``ordered`` entries (one per brick, as ``entries``) of the bricks in view, front to back."""
+    from mipcast.mappers.brick_rays import ray_uniforms, visibility_order
+
+    seen = {id(first) for first, _ in in_view}
+    visible = [i for i, (first, _) in enumerate(entries) if id(first) in seen]
+    rays = ray_uniforms(_whole(mapper.GetInput()), camera, (shape[1], shape[0]))
+    return [ordered[visible[p]] for p in visibility_order([ordered[i]["extent"] for i in visible], rays)]
+
+
+def _attenuated_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range):
+    """Attenuated MIP over the bricks in view front to back (data units, NaN: miss)."""
+    from mipcast.mappers.demip_ordered_bricks import attenuated_value, bind_crossed
+
+    crossed = np.zeros(shape, dtype=np.float32)
+    best = np.full(shape, np.nan)
+    window = renderer.GetRenderWindow()
+    for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view,
+                                attenuated_bricks_of(mapper, limit)):
+        _follow(mapper, volume, entry, distance, demip=True)
+        bind_crossed(window, entry["mapper"], crossed, data_range)
+        uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
+        found = _render(renderer, entry, mapper, camera, shape, raw=True)
+        uniforms.SetUniformf("u_mc_brickChannel", 1.0)
+        try:
+            after = _render(renderer, entry, mapper, camera, shape, raw=True)
+        finally:
+            uniforms.SetUniformf("u_mc_brickChannel", 0.0)
+        best = np.fmax(best, np.where(found == 1.0, np.nan, -found.astype(np.float64)))
+        crossed = np.where(after == 1.0, crossed, -after).astype(np.float32)
+    return attenuated_value(best, volume.GetProperty(), data_range)
+
+
+def _mida_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range):
+    """MIDA's picture over the bricks in view front to back: premultiplied float RGBA."""
+    from mipcast.mappers.demip_ordered_bricks import MIDA_CHANNELS, bind_mida, mida_scan
+
+    colour, opacity, material = np.zeros(shape + (3,)), np.zeros(shape), np.zeros(shape)
+    window = renderer.GetRenderWindow()
+    for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view, mida_bricks_of(mapper, limit)):
+        _follow(mapper, volume, entry, distance, demip=True)
+        bind_mida(window, entry["mapper"], material, opacity, data_range)
+        uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
+        readouts = {}
+        try:
+            for channel, name in enumerate(MIDA_CHANNELS):
+                uniforms.SetUniformf("u_mc_brickChannel", float(channel))
+                readouts[name] = _render(renderer, entry, mapper, camera, shape, raw=True)
+        finally:
+            uniforms.SetUniformf("u_mc_brickChannel", 0.0)
+        mida_scan(colour, opacity, material, readouts)
+    rgba = np.zeros(shape + (4,))
+    rgba[..., :3] = np.clip(colour, 0.0, 1.0)
+    rgba[..., 3] = np.clip(opacity, 0.0, 1.0)
+    return rgba
+
+
+def _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range):
+    """LMIP's phase 1: the bricks in view front to back, each continuing the scan (data units, NaN: miss)."""
+    from mipcast.mappers.demip_ordered_bricks import bind_running, local_threshold, scan
+
+    local = local_threshold(volume.GetProperty(), data_range, mapper.GetLocalThreshold())
+    running, ended = np.full(shape, np.nan), np.zeros(shape, dtype=bool)
+    window = renderer.GetRenderWindow()
+    for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view, lmip_bricks_of(mapper, limit)):
+        _follow(mapper, volume, entry, distance, demip=True)
+        bind_running(window, entry["mapper"], running, local)
+        uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
+        scalars = entry["mapper"].GetRenderedInput().GetPointData().GetScalars()
+        found = _render(renderer, entry, mapper, camera, shape)
+        brick_max = float_readout.to_data_units(np.where(np.abs(found) > 1.0e3, np.nan, found), scalars)
+        uniforms.SetUniformf("u_mc_brickChannel", 1.0)
+        try:
+            brick_ended = _render(renderer, entry, mapper, camera, shape)
+        finally:
+            uniforms.SetUniformf("u_mc_brickChannel", 0.0)
+        scan(running, ended, brick_max, brick_ended)
+    return running
 
 
 def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -172,20 +311,34 @@ def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarra
         if not bricked_draw._in_view(first["volume"], renderer, shape):
             continue
         in_view.append((first, second))
+        if mapper.GetProjection() in ("lmip", "attenuated"):
+            continue  # phase 1 of LMIP, attenuated MIP: the bricks front to back (below)
+        if mapper.GetProjection() == "mida" and not object_state(mapper).get("exact_readout"):
+            continue  # MIDA's picture needs no maximum (its compositing, below)
         found = _render(renderer, first, mapper, camera, shape)
         scalars = first["mapper"].GetRenderedInput().GetPointData().GetScalars()
         brick = float_readout.to_data_units(np.where(np.abs(found) > 1.0e3, np.nan, found), scalars)
         values = np.fmax(values, brick)
-    values = values.astype(np.float32).astype(np.float64)  # as the float readout / MPI reduction carry it
     data_range = mapper.GetInput().GetPointData().GetScalars().GetRange(0)
+    if mapper.GetProjection() == "lmip":
+        values = _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range)
+    elif mapper.GetProjection() == "attenuated":
+        values = _attenuated_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view,
+                                  data_range)
+    values = values.astype(np.float32).astype(np.float64)  # as the float readout / MPI reduction carry it
     index = np.full(shape, np.inf)
     window = renderer.GetRenderWindow()
-    for _, second in in_view:  # phase 2: MIN of the whole-ray index of the first same-material sample
+    for _, second in in_view if mapper.GetProjection() in ("mip", "lmip") else ():  # phase 2: MIN of the whole-ray index of the first same-material sample
         _follow(mapper, volume, second, distance, demip=True)
         bind_maximum(window, second["mapper"], values, data_range)
         index = np.minimum(index, match_index(_render(renderer, second, mapper, camera, shape)))
     object_state(mapper)["bricks_drawn"] = len(in_view)
     params = {p.name: getattr(mapper, p.getter)() for p in DEMIP}
     depth, rgb = demip_composite(_whole(mapper.GetInput()), camera, distance, values, index, params,
-                                 volume.GetProperty())
+                                 volume.GetProperty(), slab=clip_uniforms.slab_of(mapper, camera))
+    if mapper.GetProjection() == "mida":  # the picture: the bricks' compositing front to back
+        if object_state(mapper).get("exact_readout"):
+            return values, depth, None  # a float readout: MIDA's value is the sampled maximum (MAX above)
+        return values, depth, _mida_scan(mapper, volume, renderer, limit, camera, shape, distance, entries,
+                                         in_view, data_range)
     return values, depth, demip_premultiplied(values, rgb, volume.GetProperty())

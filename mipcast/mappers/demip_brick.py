@@ -108,7 +108,17 @@ def bind_maximum(render_window, mapper: DEMIPBrickDepthMapper, maximum: np.ndarr
     eps = mapper.GetMaterialThreshold() if mapper.GetDepthOf() == "same_material" else 0.0
     mapper.GetAttachedVolume().GetShaderProperty().GetFragmentCustomUniforms().SetUniform4f(
         "u_mc_brickWindow", [floor, ceiling, eps, FLOOR_TOLERANCE])
-    height, width = maximum.shape
+    upload_pixels(render_window, mapper, normalised)
+
+
+def upload_pixels(render_window, mapper, normalised: np.ndarray) -> None:
+    """A per-pixel float image (top row first) as ``mapper``'s shared float texture (``in_depthSampler``).
+
+    Read by the ``demip_brick_fetch`` piece (``mc_globalMax``) at the next render;
+    shape (height, width) or (height, width, components) (1 to 4 components).
+    """
+    height, width = normalised.shape[:2]
+    components = normalised.shape[2] if normalised.ndim == 3 else 1
     state = object_state(mapper)
     texture = state.get("maximum_texture")
     if texture is None:
@@ -120,7 +130,7 @@ def bind_maximum(render_window, mapper: DEMIPBrickDepthMapper, maximum: np.ndarr
     texture.SetContext(render_window)
     rows = np.ascontiguousarray(normalised[::-1], dtype=np.float32)  # the texture's row 0 is the bottom
     state["maximum_rows"] = rows  # kept alive while VTK may read it
-    if not texture.Create2DFromRaw(width, height, 1, _VTK_FLOAT, rows):
+    if not texture.Create2DFromRaw(width, height, components, _VTK_FLOAT, rows):
         raise RuntimeError("could not upload the global maximum as a float texture (GL_R32F)")
     mapper.SetSharedDepthTexture(texture)
 

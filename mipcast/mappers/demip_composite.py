@@ -26,7 +26,7 @@ from mipcast.core.demip_depth import DepthGeometry, enhance
 
 
 def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, index: np.ndarray, params: dict,
-                    volume_property) -> Tuple[np.ndarray, np.ndarray]:
+                    volume_property, slab=None) -> Tuple[np.ndarray, np.ndarray]:
     """(depth, straight RGB) of DEMIP from the bricks' maximum and first same-material sample index.
 
     Parameters
@@ -43,6 +43,12 @@ def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, i
     params : dict
         DEMIP's settings (name -> value of :data:`mipcast.core.parameter_tables.DEMIP`).
     volume_property : vtkVolumeProperty
+    slab : (thickness, centre, normal), optional
+        The slab the bricks clipped with (world coordinates,
+        :func:`mipcast.mappers.clip_uniforms.slab_of`): depth is then
+        normalised over the box's part inside it and ``steps`` /
+        ``entry_plus_length`` measure from the ray's slab entry, as the
+        float64 reference (:meth:`mipcast.core.demip_depth.DepthGeometry.narrow_to_slab`).
 
     Returns
     -------
@@ -58,6 +64,9 @@ def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, i
     term = hit & np.isfinite(index) & rays.hit
     where = entry + ((np.where(term, index, 0.0) + 1.0) * sample_distance)[..., None] * rays.direction
     geometry = DepthGeometry(whole, camera, width / height)
+    if slab is not None and term.any():
+        entry = entry.copy()
+        entry[term] = geometry.narrow_to_slab(slab, entry[term], rays.direction[term])
     depth = np.full(values.shape, np.nan)
     depth[term] = geometry.depth(params["depth_mode"], where[term], entry[term])
     rgb = transfer_colour(np.where(hit, values, 0.0), volume_property)
