@@ -5,7 +5,6 @@ Everything renders offscreen (EGL/Mesa works with no GPU and no display).
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 import time
 from pathlib import Path

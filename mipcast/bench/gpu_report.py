@@ -33,7 +33,6 @@ Examples
 """
 from __future__ import annotations
 
-import json
 import shutil
 import statistics
 import subprocess

@@ -13,7 +13,6 @@ from mipcast.core.object_state import object_state
 from mipcast.core.parameters import parameter_accessors
 from mipcast.mappers import bricked_draw
 from mipcast.mappers.corner_packing import CornerPacker, packable
-from mipcast.mappers.input_preparer import InputPreparer
 from mipcast.mappers.max_blocks import block_maxima_image
 from mipcast.mappers.mip import MIPVolumeMapper, _same_port
 from mipcast.core.transfer_bounds import normalised_ends

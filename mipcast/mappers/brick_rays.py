@@ -119,6 +119,53 @@ def ray_uniforms(image, camera, size) -> dict:
     return {name: [float(v) for v in value] for name, value in out.items()}
 
 
+def push_rays(mapper, entry, camera, shape, size=None) -> None:
+    """This frame's whole-volume rays and sample distance on a brick of ``mapper``'s input.
+
+    For the ``global_phase`` / ``global_cells`` pieces of the brick ``entry``
+    (:func:`brick_entry`): the rays of ``camera`` over a viewport of ``shape``
+    (rows, columns); ``size`` (width, height) gives the camera's aspect ratio
+    when it is not ``shape``'s.
+    """
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    image = mapper.GetInput()
+    dims = image.GetDimensions()
+    whole = vtkImageData()  # the whole volume's geometry, no scalars
+    whole.SetExtent(0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)
+    whole.SetOrigin(image.GetOrigin())
+    whole.SetSpacing(image.GetSpacing())
+    whole.SetDirectionMatrix(image.GetDirectionMatrix())
+    uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
+    uniforms.SetUniformf("u_mc_rayStep", float(entry["mapper"].GetSampleDistance()))
+    set_ray_uniforms(uniforms, ray_uniforms(whole, camera, (shape[1], shape[0]) if size is None else tuple(size)))
+
+
+def box_in_view(brick_volume, renderer, shape) -> bool:
+    """Whether the brick's box may cover a pixel of the viewport (False only when it surely does not).
+
+    The box's 8 corners (through the volume's matrix) in the camera's clip
+    coordinates: a box wholly behind the camera, or wholly beyond one side of
+    the viewport (with two pixels to spare), covers no pixel.
+    """
+    bounds = brick_volume.GetMapper().GetInput().GetBounds()
+    corners = np.array([[x, y, z, 1.0] for x in bounds[0:2] for y in bounds[2:4] for z in bounds[4:6]])
+    matrix = brick_volume.GetMatrix()
+    model = np.array([[matrix.GetElement(r, c) for c in range(4)] for r in range(4)])
+    camera = renderer.GetActiveCamera()
+    projection = camera.GetCompositeProjectionTransformMatrix(renderer.GetTiledAspectRatio(), -1.0, 1.0)
+    view = np.array([[projection.GetElement(r, c) for c in range(4)] for r in range(4)])
+    clip = corners @ (view @ model).T
+    w = clip[:, 3]
+    if np.all(w <= 0.0):
+        return False
+    if np.any(w <= 0.0):
+        return True  # the box reaches behind the camera: its projection is unbounded
+    ndc = clip[:, :2] / w[:, None]
+    spare = 2.0 * 2.0 / np.array([shape[1], shape[0]], dtype=float)
+    return not (np.any(np.all(ndc < -1.0 - spare, axis=0)) or np.any(np.all(ndc > 1.0 + spare, axis=0)))
+
+
 def brick_entry(kind, piece, extent: Sequence[int], whole: Sequence[int], spacing: Sequence[float],
                 sample_distance: float) -> dict:
     """A private mapper of class ``kind`` on its own vtkVolume drawing ``piece``, a brick of ``whole``.

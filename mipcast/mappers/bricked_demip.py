@@ -54,10 +54,10 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import DEMIP
 from mipcast.mappers import clip_uniforms, float_readout
-from mipcast.mappers.brick_rays import brick_entry, cached_bricks
+from mipcast.mappers.brick_rays import box_in_view, brick_entry, cached_bricks, push_rays
 from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, bind_maximum, match_index
 from mipcast.mappers.demip_composite import demip_composite, demip_premultiplied
-from mipcast.mappers.private_draw import follow_volume
+from mipcast.mappers.private_draw import auto_sample_distance, follow_volume
 
 
 #: The projections DEMIP composites in bricks: "mip" (MAX of the bricks), "lmip" (the bricks front to back,
@@ -171,11 +171,10 @@ def _render(renderer, entry, mapper, camera, shape, raw: bool = False) -> np.nda
 
     ``raw``: the readout's float32 values as written (1.0, the clear value, where no ray was cast).
     """
-    from mipcast.mappers import bricked_draw
 
     brick_mapper, brick_volume = entry["mapper"], entry["volume"]
     object_state(brick_mapper)["draw_camera"] = camera
-    bricked_draw._push_rays(mapper, entry, camera, shape)
+    push_rays(mapper, entry, camera, shape)
     object_state(brick_mapper)["exact_readout"] = True
     brick_mapper.RenderToImageOn()
     brick_mapper.SetDepthImageScalarTypeToFloat()
@@ -291,7 +290,6 @@ def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarra
     rgba : numpy.ndarray, (height, width, 4)
         The premultiplied picture, float.
     """
-    from mipcast.mappers import bricked_draw
 
     reason = problem(mapper, limit)
     if reason is not None:
@@ -302,13 +300,13 @@ def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarra
     camera = renderer.GetActiveCamera()
     distance = mapper.GetSampleDistance()
     if mapper.GetAutoAdjustSampleDistances():
-        distance = bricked_draw._auto_sample_distance(mapper.GetInput(), volume)
+        distance = auto_sample_distance(mapper.GetInput(), volume)
     entries = bricks_of(mapper, limit)
     in_view = []
     values = np.full(shape, np.nan)
     for first, second in entries:  # phase 1: MAX of the bricks' sampled MIP
         _follow(mapper, volume, first, distance, demip=False)
-        if not bricked_draw._in_view(first["volume"], renderer, shape):
+        if not box_in_view(first["volume"], renderer, shape):
             continue
         in_view.append((first, second))
         if mapper.GetProjection() in ("lmip", "attenuated"):

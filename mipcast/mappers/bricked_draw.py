@@ -62,10 +62,9 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms, float_readout
-from mipcast.mappers.brick_rays import brick_entry, cached_bricks, ray_uniforms, set_ray_uniforms
-from mipcast.mappers.bricks import brick_extents
+from mipcast.mappers.brick_rays import box_in_view, brick_entry, cached_bricks, push_rays
 from mipcast.mappers.box_outline import box_corners, outline_ndc, outline_quads
-from mipcast.mappers.private_draw import follow_volume, pixel_texture, rendering_renderer
+from mipcast.mappers.private_draw import auto_sample_distance, follow_volume, pixel_texture, rendering_renderer
 
 def _weighted_mean(values: list, weights: list) -> np.ndarray:
     """The bricks' means weighted by what each counted (NaN where none had a value).
@@ -293,38 +292,13 @@ def _follow(mapper, volume, entry, image_sample_distance: float = 1.0) -> None:
     brick_mapper.SetAutoAdjustSampleDistances(False)
     distance = mapper.GetSampleDistance()
     if mapper.GetAutoAdjustSampleDistances():  # VTK's automatic distance without time-based reduction
-        distance = _auto_sample_distance(mapper.GetInput(), volume)
+        distance = auto_sample_distance(mapper.GetInput(), volume)
     if brick_mapper.GetSampleDistance() != distance:
         brick_mapper.SetSampleDistance(distance)
     if brick_mapper.GetImageSampleDistance() != image_sample_distance:
         brick_mapper.SetImageSampleDistance(image_sample_distance)  # the readouts are combined ray by ray
     follow_volume(mapper, volume, brick_mapper, brick_volume, entry["matrix"])
     clip_uniforms.copy_clipping(mapper, brick_mapper)
-
-
-def _push_rays(mapper, entry, camera, shape, size=None) -> None:
-    """This frame's whole-volume rays and sample distance on a brick (``global_phase``, ``global_cells``).
-
-    ``size``: (width, height) giving the camera's aspect ratio (default: ``shape``'s, rows and columns).
-    """
-    image = mapper.GetInput()
-    dims = image.GetDimensions()
-    whole = vtkImageData()
-    whole.SetExtent(0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)
-    whole.SetOrigin(image.GetOrigin())
-    whole.SetSpacing(image.GetSpacing())
-    whole.SetDirectionMatrix(image.GetDirectionMatrix())
-    uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
-    uniforms.SetUniformf("u_mc_rayStep", float(entry["mapper"].GetSampleDistance()))
-    set_ray_uniforms(uniforms, ray_uniforms(whole, camera, (shape[1], shape[0]) if size is None else tuple(size)))
-
-
-def _auto_sample_distance(image, volume) -> float:
-    """The smallest world spacing of ``image`` drawn by ``volume`` (VTK's auto-adjusted distance at full time)."""
-    matrix = np.array([[volume.GetMatrix().GetElement(r, c) for c in range(3)] for r in range(3)])
-    direction = np.array([[image.GetDirectionMatrix().GetElement(r, c) for c in range(3)] for r in range(3)])
-    columns = matrix @ direction
-    return min(abs(s) * float(np.linalg.norm(columns[:, i])) for i, s in enumerate(image.GetSpacing()))
 
 
 def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sample_distance: float = 1.0,
@@ -366,11 +340,11 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
     for entry in bricks_of(mapper, limit):
         brick_mapper, brick_volume = entry["mapper"], entry["volume"]
         _follow(mapper, volume, entry, image_sample_distance)
-        if not _in_view(brick_volume, renderer, shape):
+        if not box_in_view(brick_volume, renderer, shape):
             continue  # its box covers no pixel: nothing to draw, nothing to combine
         drawn += 1
         object_state(brick_mapper)["draw_camera"] = camera
-        _push_rays(mapper, entry, camera, shape, aspect_size)
+        push_rays(mapper, entry, camera, shape, aspect_size)
         object_state(brick_mapper)["exact_readout"] = True
         brick_mapper.RenderToImageOn()
         brick_mapper.SetDepthImageScalarTypeToFloat()
@@ -446,31 +420,6 @@ def _mean_grey(mapper, volume, passes) -> np.ndarray:
         weighted = weighted + (low * o + (high - low) * q) / scale
     grey = (g0 * opacity + g1 * weighted) / np.where(count > 0.0, count, 1.0)
     return np.where(count > 0.0, grey, np.nan)
-
-
-def _in_view(brick_volume, renderer, shape) -> bool:
-    """Whether the brick's box may cover a pixel of the viewport (False only when it surely does not).
-
-    The box's 8 corners (through the volume's matrix) in the camera's clip
-    coordinates: a box wholly behind the camera, or wholly beyond one side of
-    the viewport (with two pixels to spare), covers no pixel.
-    """
-    bounds = brick_volume.GetMapper().GetInput().GetBounds()
-    corners = np.array([[x, y, z, 1.0] for x in bounds[0:2] for y in bounds[2:4] for z in bounds[4:6]])
-    matrix = brick_volume.GetMatrix()
-    model = np.array([[matrix.GetElement(r, c) for c in range(4)] for r in range(4)])
-    camera = renderer.GetActiveCamera()
-    projection = camera.GetCompositeProjectionTransformMatrix(renderer.GetTiledAspectRatio(), -1.0, 1.0)
-    view = np.array([[projection.GetElement(r, c) for c in range(4)] for r in range(4)])
-    clip = corners @ (view @ model).T
-    w = clip[:, 3]
-    if np.all(w <= 0.0):
-        return False
-    if np.any(w <= 0.0):
-        return True  # the box reaches behind the camera: its projection is unbounded
-    ndc = clip[:, :2] / w[:, None]
-    spare = 2.0 * 2.0 / np.array([shape[1], shape[0]], dtype=float)
-    return not (np.any(np.all(ndc < -1.0 - spare, axis=0)) or np.any(np.all(ndc > 1.0 + spare, axis=0)))
 
 
 def _readout(brick_mapper, shape, raw: bool = False) -> np.ndarray:

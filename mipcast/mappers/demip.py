@@ -7,9 +7,8 @@ from mipcast.mappers.float_readout import read_normalised
 from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.core.object_state import object_state
 from mipcast.core.transfer_bounds import normalised_ends
-from mipcast.core.shading import (DEPTH_MODES, DEPTH_OF, FLOOR_TOLERANCE, IDENTITY, PROJECTIONS, READOUTS,
+from mipcast.core.shading import (DEPTH_MODES, DEPTH_OF, FLOOR_TOLERANCE, PROJECTIONS, READOUTS,
                                   SPHERE_PRESETS)
-from mipcast.core import shading
 from mipcast.core import parameter_tables
 from mipcast.core.parameters import parameter_accessors
 from mipcast.core.validation import check_choice

@@ -25,9 +25,8 @@ from mipcast.mappers.corner_packing import CornerPacker
 from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms
-from mipcast.mappers.private_draw import follow_volume, pixel_texture, rendering_renderer
+from mipcast.mappers.private_draw import auto_sample_distance, follow_volume, pixel_texture, rendering_renderer
 from mipcast.core.ray_cost import grid_cost
-from mipcast.core.validation import check_choice
 
 #: Stand-in for an unbounded eccentricity in the shader's uniforms.
 _FAR = 1.0e30
@@ -487,7 +486,7 @@ def _draw(mapper, state, volume, renderer) -> None:
         state.pop("refine_step", None)
     auto = bool(mapper.GetAutoAdjustSampleDistances())
     base_isd = 1.0 if auto else float(mapper.GetImageSampleDistance())
-    base_distance = _auto_sample_distance(image, volume) if auto else float(mapper.GetSampleDistance())
+    base_distance = auto_sample_distance(image, volume) if auto else float(mapper.GetSampleDistance())
     # a tile of a bigger picture (SaveScreenshot beyond the window's size): the plan is made in
     # this tile's viewport, with the gaze, radius and falloff of the whole picture carried over
     plan = foveation.plan_frame(viewport, to_tile(gaze), radius * tile_scale, params["falloff"] * tile_scale,
@@ -1239,14 +1238,6 @@ def _world_per_pixel(camera, volume, viewport) -> float:
     matrix = matrix_array(volume.GetMatrix())[:3, :3]
     scale = float(np.cbrt(abs(np.linalg.det(matrix)))) or 1.0
     return world / scale
-
-
-def _auto_sample_distance(image, volume) -> float:
-    """VTK's auto-adjusted sample distance without time-based reduction: the smallest world spacing."""
-    matrix = matrix_array(volume.GetMatrix())[:3, :3]
-    direction = matrix_array(image.GetDirectionMatrix())
-    columns = matrix @ direction
-    return min(abs(s) * float(np.linalg.norm(columns[:, i])) for i, s in enumerate(image.GetSpacing()))
 
 
 def _walks_cells(method: str) -> bool:

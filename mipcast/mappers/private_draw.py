@@ -102,3 +102,27 @@ def pixel_texture(window):
     texture.SetWrapS(vtkTextureObject.ClampToEdge)
     texture.SetWrapT(vtkTextureObject.ClampToEdge)
     return texture
+
+
+def auto_sample_distance(image, volume) -> float:
+    """VTK's auto-adjusted sample distance at full time: the smallest world spacing of ``image`` drawn by ``volume``.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkCommonDataModel import vtkImageData
+    >>> from vtkmodules.vtkRenderingCore import vtkVolume
+    >>> image = vtkImageData()
+    >>> image.SetSpacing(2.0, 0.5, 1.0)
+    >>> volume = vtkVolume()
+    >>> volume.SetScale(1.0, 3.0, 1.0)
+    >>> auto_sample_distance(image, volume)
+    1.0
+    """
+    import numpy as np
+
+    from mipcast.core.camera_rays import matrix_array
+
+    matrix = matrix_array(volume.GetMatrix())[:3, :3]
+    direction = matrix_array(image.GetDirectionMatrix())
+    columns = matrix @ direction
+    return min(abs(s) * float(np.linalg.norm(columns[:, i])) for i, s in enumerate(image.GetSpacing()))
