@@ -158,8 +158,17 @@ def main():
             display.GetProperty("BlendMode").SetElement(0, 1)
             display.UpdateVTKObjects()
         else:
+            # "demip@sphere_weight=0.5@depth_mode=eye_distance": the method and some of its parameters
+            name, *settings = method.split("@")
             display.SetRepresentationType("mipcast")
-            display.MipcastMethod = method
+            display.MipcastMethod = name
+            for setting in settings:
+                parameter, value = setting.split("=")
+                try:
+                    value = float(value)
+                except ValueError:
+                    pass
+                setattr(display, f"{name}_{parameter}", value)
         if "minip" in method:  # the minimum projections: opaque, a window on the low values
             lut.RescaleTransferFunction(low, low + MINIP_WINDOW * (high - low))
             pwf.Points = [low, 1.0, 0.5, 0.0, high, 1.0, 0.5, 0.0]
