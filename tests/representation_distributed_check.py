@@ -150,6 +150,7 @@ def main():
     results = {"ranks": ranks, "reader_pieces": reader_pieces, "session": "client-server" if args.connect else "pvbatch", "axis": args.axis,
                "pieces": args.pieces, "pngs": {}}
     first = True
+    applied = []
     for method in args.methods.split(","):
         if method == "paraview-mip":
             display.SetRepresentationType("Volume")
@@ -162,6 +163,10 @@ def main():
             name, *settings = method.split("@")
             display.SetRepresentationType("mipcast")
             display.MipcastMethod = name
+            for prop in applied:  # the previous entry's settings back to their defaults
+                display.GetProperty(prop).SMProperty.ResetToDefault()
+            display.UpdateVTKObjects()
+            applied = [f"{name}_{setting.split('=')[0]}" for setting in settings]
             for setting in settings:
                 parameter, value = setting.split("=")
                 try:
