@@ -189,3 +189,20 @@ def test_two_pvserver_ranks_behind_a_pvpython_client(plugin, display, work, one_
         except ProcessLookupError:
             pass
         server.wait(timeout=30)
+
+
+def test_a_rank_whose_piece_is_out_of_view_still_takes_part(plugin, display, work):
+    """4 ranks along x, zoomed onto the first x-eighth: the last rank's piece (x >= 47) is out of view, IceT
+    skips its volume's draw (seen: 1 draw in 4 frames), yet it enters every reduction (the renderer's
+    StartEvent): no hang, the 1-rank picture."""
+    methods = ("demip", "average")
+    pictures = {}
+    for ranks in (1, 4):
+        name = f"zoom-n{ranks}"
+        done = subprocess.run(["mpiexec", "--oversubscribe", "-n", str(ranks), "pvbatch",
+                               *_args(plugin, work, name, 0, ranks, methods), "--zoom", "5",
+                               "--png-dir", str(work / "zoom")],
+                              env=_env(display), capture_output=True, text=True, timeout=120, cwd="/tmp")
+        pictures[ranks] = {m: load_png(p) for m, p in _results(done, work, name)["pngs"].items()}
+    check_parity({"ranks": 4, "session": "pvbatch", "pngs": {m: str(work / "zoom" / f"{m}-n4-axis0.png")
+                                                             for m in methods}}, pictures[1], 4, "pvbatch", methods)
