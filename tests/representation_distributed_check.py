@@ -97,6 +97,9 @@ def main():
     parser.add_argument("--image", type=int, nargs=2, default=(96, 96))
     parser.add_argument("--methods", default="mip,analytic,paraview-mip")
     parser.add_argument("--outline", action="store_true", help="also show an opaque outline of the volume")
+    parser.add_argument("--zoom", type=float, default=0.0,
+                        help="look at the first x-quarter of the volume, zoomed by this factor (pieces further along "
+                             "x out of view: their ranks must still take part)")
     args = parser.parse_args()
     if args.connect:
         host, port = args.connect.rsplit(":", 1)
@@ -150,6 +153,7 @@ def main():
     results = {"ranks": ranks, "reader_pieces": reader_pieces, "session": "client-server" if args.connect else "pvbatch", "axis": args.axis,
                "pieces": args.pieces, "pngs": {}}
     first = True
+    applied = []
     for method in args.methods.split(","):
         if method == "paraview-mip":
             display.SetRepresentationType("Volume")
@@ -158,8 +162,21 @@ def main():
             display.GetProperty("BlendMode").SetElement(0, 1)
             display.UpdateVTKObjects()
         else:
+            # "demip@sphere_weight=0.5@depth_mode=eye_distance": the method and some of its parameters
+            name, *settings = method.split("@")
             display.SetRepresentationType("mipcast")
-            display.MipcastMethod = method
+            display.MipcastMethod = name
+            for prop in applied:  # the previous entry's settings back to their defaults
+                display.GetProperty(prop).SMProperty.ResetToDefault()
+            display.UpdateVTKObjects()
+            applied = [f"{name}_{setting.split('=')[0]}" for setting in settings]
+            for setting in settings:
+                parameter, value = setting.split("=")
+                try:
+                    value = float(value)
+                except ValueError:
+                    pass
+                setattr(display, f"{name}_{parameter}", value)
         if "minip" in method:  # the minimum projections: opaque, a window on the low values
             lut.RescaleTransferFunction(low, low + MINIP_WINDOW * (high - low))
             pwf.Points = [low, 1.0, 0.5, 0.0, high, 1.0, 0.5, 0.0]
@@ -177,6 +194,15 @@ def main():
             camera.Elevation(25.0)
             camera.OrthogonalizeViewUp()
             view.ResetCamera(False)
+            if args.zoom > 0:
+                bounds = reader.GetDataInformation().GetBounds()
+                target = [bounds[0] + 0.125 * (bounds[1] - bounds[0]), 0.5 * (bounds[2] + bounds[3]),
+                          0.5 * (bounds[4] + bounds[5])]
+                focal = camera.GetFocalPoint()
+                shift = [t - f for t, f in zip(target, focal)]
+                camera.SetFocalPoint(*target)
+                camera.SetPosition(*[p + d for p, d in zip(camera.GetPosition(), shift)])
+                camera.Zoom(args.zoom)
             first = False
         simple.Render(view)
         key = method + "-again" if method in results["pngs"] else method  # a method shown twice

@@ -496,6 +496,30 @@ def depth_composite_op(method):
     return None
 
 
+def rank_composite_rule(method):
+    """How ``method``'s pieces composite exactly by reduction over the ranks: ``"demip"``, ``"mean"`` or None.
+
+    ``"demip"`` for the method table's ``distributed="demip"`` entries (DEMIP,
+    two-pass DEMIP), ``"mean"`` for its mipcast mappers combined by their mean
+    (``bricks="mean"``: average, analytic average); None for the others
+    (foveated, ``stock*``, ``cpu``: ParaView's ordered blending).  See
+    :mod:`mipcast.mappers.rank_composite`.
+
+    >>> [rank_composite_rule(m) for m in ("demip", "demip_two_pass", "average", "analytic_average", "mip",
+    ...                                   "foveated", "stock_average")]
+    ['demip', 'demip', 'mean', 'mean', None, None, None]
+    """
+    mipcast = _import_mipcast()
+    entry = mipcast.METHODS.get(method)
+    if entry is None or not entry.float_readout:
+        return None
+    if entry.distributed == "demip":
+        return "demip"
+    if entry.bricks == "mean":
+        return "mean"
+    return None
+
+
 @_guarded
 def depth_composited(key):
     """Called at REQUEST_UPDATE: True when this rank's piece is composited by depth, not by ordered blending.
@@ -506,7 +530,9 @@ def depth_composited(key):
     has the mapper write each ray's value as its depth.
     """
     _import_mipcast()
-    return process_count() > 1 and depth_composite_op(_entry(key).method) is not None
+    method = _entry(key).method
+    return process_count() > 1 and (depth_composite_op(method) is not None
+                                    or rank_composite_rule(method) is not None)
 
 
 def depth_mapping(volume_property, scalars, op="max"):
@@ -662,6 +688,118 @@ def _set_composite(entry, volume, image, whole):
         mapper.Modified()
 
 
+# -- parallel render views: DEMIP and the averages by reduction over the ranks --------------
+_OPS = {"max": "MAX_OP", "min": "MIN_OP", "sum": "SUM_OP"}
+
+
+def _all_reduce(array, op):
+    """``array`` reduced over every rank of ParaView's global controller (float64 AllReduce)."""
+    import numpy as np
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    from vtkmodules.vtkCommonCore import vtkDoubleArray
+    from vtkmodules.vtkParallelCore import vtkCommunicator, vtkMultiProcessController
+
+    controller = vtkMultiProcessController.GetGlobalController()
+    send = numpy_to_vtk(np.ascontiguousarray(array, dtype=np.float64).ravel(), deep=True)
+    receive = vtkDoubleArray()
+    receive.SetNumberOfTuples(send.GetNumberOfTuples())
+    if not controller.AllReduce(send, receive, getattr(vtkCommunicator, _OPS[op])):
+        raise RuntimeError(f"AllReduce ({op}) over {controller.GetNumberOfProcesses()} ranks failed")
+    return vtk_to_numpy(receive).astype(np.float64).reshape(np.shape(array))
+
+
+def _rank_frame(entry, image, whole):
+    """At REQUEST_RENDER (every rank, data or not): this frame reduces over the ranks if its method does.
+
+    The reductions run in the renderer's StartEvent (:func:`_rank_start`),
+    which every rank's renderer passes in each render (IceT may skip a rank's
+    draw when its piece is out of view; the StartEvent it does not skip).
+    """
+    rule = rank_composite_rule(entry.method) if process_count() > 1 else None
+    entry.rank_rule = rule
+    entry.rank_picture = None
+    if rule is None:
+        entry.rank_pending = False
+        return
+    entry.rank_pending = True
+    entry.rank_piece = image
+    if image is not None and whole is not None:
+        direction = image.GetDirectionMatrix()
+        entry.rank_whole = (tuple(int(v) for v in whole), image.GetOrigin(), image.GetSpacing(),
+                            [direction.GetElement(i, j) for i in range(3) for j in range(3)])
+    renderer = entry.renderer.Get()
+    if renderer is not None and getattr(entry, "rank_observed", None) != renderer.GetAddressAsString("vtkObjectBase"):
+        from vtkmodules.vtkCommonCore import vtkCommand
+
+        renderer.AddObserver(vtkCommand.StartEvent, _rank_start(entry), -100.0)  # after the camera sync
+        entry.rank_observed = renderer.GetAddressAsString("vtkObjectBase")
+
+
+def _rank_start(entry):
+    def start(renderer, event, entry=entry):
+        if not getattr(entry, "rank_pending", False):
+            return
+        entry.rank_pending = False
+        from mipcast.mappers.rank_composite import compose
+
+        mapper = entry.mapper if entry.mapper_method == entry.method else None
+        piece = entry.rank_piece if mapper is not None else None
+        volume = mapper.GetAttachedVolume() if mapper is not None and hasattr(mapper, "GetAttachedVolume") else None
+        try:
+            rgba, problem = compose(mapper, volume, renderer, piece, getattr(entry, "rank_whole", None),
+                                    _all_reduce, entry.rank_rule)
+        except Exception as error:  # noqa: BLE001  (never into C++)
+            rgba, problem = None, repr(error)
+        entry.rank_picture = rgba
+        from mipcast.mappers.rank_composite import projection
+
+        entry.rank_projection = projection(renderer)  # IceT shifts it for each rank's draw
+        if problem is not None and problem != getattr(entry, "rank_problem", None):
+            _report(f"{entry.method} on {process_count()} ranks: {problem}")
+        entry.rank_problem = problem
+        entry.rank_piece = None
+    return start
+
+
+def _rank_mapper(entry, mapper):
+    """Observers on the mapper: while its method reduces over the ranks, the reduced picture replaces its draw."""
+    if getattr(entry, "rank_observers", None) is mapper:
+        return
+    from vtkmodules.vtkCommonCore import vtkCommand
+
+    from mipcast.core.object_state import object_state
+
+    def start(mapper, event, entry=entry):
+        if getattr(entry, "rank_rule", None) is None:
+            return
+        state = object_state(mapper)
+        state["rank_own_draw"] = (mapper.GetCropping(), mapper.GetCroppingRegionPlanes())
+        rgba = getattr(entry, "rank_picture", None)
+        renderer = entry.renderer.Get()
+        if rgba is not None and renderer is not None:
+            from mipcast.mappers.rank_composite import draw
+
+            width, height, x0, y0 = [0], [0], [0], [0]
+            renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
+            if rgba.shape[:2] == (height[0], width[0]):
+                from mipcast.mappers.rank_composite import ndc_transform, projection
+
+                ndc = ndc_transform(entry.rank_projection, projection(renderer))
+                draw(state, renderer, rgba, ndc)
+        mapper.SetCropping(True)  # never the own draw: invalid planes make VTK skip it silently
+        mapper.SetCroppingRegionPlanes(1.0, 0.0, 1.0, 0.0, 1.0, 0.0)
+
+    def end(mapper, event, entry=entry):
+        saved = object_state(mapper).pop("rank_own_draw", None)
+        if saved is not None:
+            mapper.SetCropping(saved[0])
+            mapper.SetCroppingRegionPlanes(*saved[1])
+
+    mapper.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, start, 20.0)
+    mapper.AddObserver(vtkCommand.VolumeMapperRenderEndEvent, end, -20.0)
+    entry.rank_observers = mapper
+
+
 @_guarded
 def prepare(key, volume, assign, renderer, interactor, whole=None):
     """Before a frame: the volume's mapper for the current method, up to date; False hides it.
@@ -680,7 +818,9 @@ def prepare(key, volume, assign, renderer, interactor, whole=None):
         entry.renderer.Set(renderer)
     assign.Update()
     image = assign.GetOutputDataObject(0)
-    if image is None or image.GetNumberOfPoints() == 0 or not image.IsA("vtkImageData"):
+    usable = image is not None and image.GetNumberOfPoints() > 0 and image.IsA("vtkImageData")
+    _rank_frame(entry, image if usable else None, whole)  # before any return: every rank reduces
+    if not usable:
         _live_without_data(key, entry, interactor, renderer, image)
         return False
     if entry.mapper is None or entry.mapper_method != entry.method:
@@ -693,6 +833,7 @@ def prepare(key, volume, assign, renderer, interactor, whole=None):
     # _new_mapper applies all of a method's values (a refused value is reported once, not
     # at every frame)
     _set_composite(entry, volume, image, whole)
+    _rank_mapper(entry, mapper)
     common = entry.applied
     spacing = min(abs(s) for s in image.GetSpacing()) or 1.0
     distance = common.get("common_sample_distance", 0.0) or spacing
