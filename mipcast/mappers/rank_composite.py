@@ -47,7 +47,7 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import DEMIP
 from mipcast.mappers import bricked_draw, float_readout
-from mipcast.mappers.brick_rays import brick_entry, ray_uniforms, set_ray_uniforms
+from mipcast.mappers.brick_rays import box_in_view, brick_entry, ray_uniforms, set_ray_uniforms
 
 #: Reduce(array, op) -> the array reduced over every rank; op is "max", "min" or "sum".
 Reduce = Callable[[np.ndarray, str], np.ndarray]
@@ -195,7 +195,7 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce,
             for entry in entries:
                 bricked_draw._follow(mapper, volume, entry) if rule == "mean" else _follow_demip(
                     mapper, volume, entry, entry is entries[1])
-            if not bricked_draw._in_view(entries[0]["volume"], renderer, shape):
+            if not box_in_view(entries[0]["volume"], renderer, shape):
                 entries = []
         except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
             entries, local_problem = [], repr(error)
