@@ -119,6 +119,27 @@ def ray_uniforms(image, camera, size) -> dict:
     return {name: [float(v) for v in value] for name, value in out.items()}
 
 
+def whole_geometry(whole_stub):
+    """A scalar-less vtkImageData with the whole volume's geometry, from ``(extent, origin, spacing, direction)``.
+
+    ``direction``: the 3x3 matrix, row-major, nine numbers (or a vtkMatrix3x3).
+
+    Examples
+    --------
+    >>> whole_geometry(((0, 9, 0, 4, 0, 2), (0.0, 0.0, 0.0), (1.0, 2.0, 1.0), [1, 0, 0, 0, 1, 0, 0, 0, 1])).GetBounds()
+    (0.0, 9.0, 0.0, 8.0, 0.0, 2.0)
+    """
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    extent, origin, spacing, direction = whole_stub
+    image = vtkImageData()
+    image.SetExtent(*extent)
+    image.SetOrigin(origin)
+    image.SetSpacing(spacing)
+    image.SetDirectionMatrix(direction)
+    return image
+
+
 def push_rays(mapper, entry, camera, shape, size=None) -> None:
     """This frame's whole-volume rays and sample distance on a brick of ``mapper``'s input.
 
@@ -127,15 +148,10 @@ def push_rays(mapper, entry, camera, shape, size=None) -> None:
     (rows, columns); ``size`` (width, height) gives the camera's aspect ratio
     when it is not ``shape``'s.
     """
-    from vtkmodules.vtkCommonDataModel import vtkImageData
-
     image = mapper.GetInput()
     dims = image.GetDimensions()
-    whole = vtkImageData()  # the whole volume's geometry, no scalars
-    whole.SetExtent(0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)
-    whole.SetOrigin(image.GetOrigin())
-    whole.SetSpacing(image.GetSpacing())
-    whole.SetDirectionMatrix(image.GetDirectionMatrix())
+    whole = whole_geometry(((0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1), image.GetOrigin(), image.GetSpacing(),
+                            image.GetDirectionMatrix()))
     uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
     uniforms.SetUniformf("u_mc_rayStep", float(entry["mapper"].GetSampleDistance()))
     set_ray_uniforms(uniforms, ray_uniforms(whole, camera, (shape[1], shape[0]) if size is None else tuple(size)))

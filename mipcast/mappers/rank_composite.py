@@ -42,12 +42,11 @@ from __future__ import annotations
 from typing import Callable, Optional, Tuple
 
 import numpy as np
-from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import DEMIP
 from mipcast.mappers import bricked_draw, float_readout
-from mipcast.mappers.brick_rays import box_in_view, brick_entry, ray_uniforms, set_ray_uniforms
+from mipcast.mappers.brick_rays import box_in_view, brick_entry, ray_uniforms, set_ray_uniforms, whole_geometry
 
 #: Reduce(array, op) -> the array reduced over every rank; op is "max", "min" or "sum".
 Reduce = Callable[[np.ndarray, str], np.ndarray]
@@ -72,16 +71,6 @@ def combine_mean(total: np.ndarray, weighted: np.ndarray, plain: np.ndarray, hit
     mean = np.where(total > 0.0, weighted / np.where(total > 0.0, total, 1.0),
                     plain / np.where(hits > 0.0, hits, 1.0))
     return np.where(hits > 0.0, mean, np.nan)
-
-
-def _whole_image(whole_stub) -> vtkImageData:
-    whole, origin, spacing, direction = whole_stub
-    image = vtkImageData()
-    image.SetExtent(*whole)
-    image.SetOrigin(origin)
-    image.SetSpacing(spacing)
-    image.SetDirectionMatrix(direction)
-    return image
 
 
 def _entries(mapper, piece, whole, rule: str) -> list:
@@ -186,7 +175,7 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce,
     if not high >= low:
         return None, "no rank has data"
     camera = renderer.GetActiveCamera()
-    whole_image = _whole_image(whole_stub) if whole_stub is not None else None
+    whole_image = whole_geometry(whole_stub) if whole_stub is not None else None
     entries, local_problem = [], None
     usable = usable and mapper is not None and whole_image is not None
     if usable:

@@ -617,19 +617,16 @@ def _ray_pusher(entry):
     """
     def push(mapper, event, entry=entry):
         from mipcast.core.object_state import object_state
-        from mipcast.mappers.brick_rays import ray_uniforms, set_ray_uniforms
-        from vtkmodules.vtkCommonDataModel import vtkImageData
+        from mipcast.mappers.brick_rays import ray_uniforms, set_ray_uniforms, whole_geometry
 
         renderer, volume = entry.renderer.Get(), mapper.GetAttachedVolume()
         stub = getattr(entry, "whole_stub", None)
         if renderer is None or volume is None or stub is None or object_state(mapper).get("global_box") is None:
             return
-        whole, origin, spacing, direction = stub
-        image = vtkImageData()
-        image.SetExtent(*whole)
-        image.SetOrigin(origin)
-        image.SetSpacing(spacing)
-        image.SetDirectionMatrix(direction)
+        cached = getattr(entry, "whole_image", None)
+        if cached is None or cached[0] != stub:  # built once per whole volume, not per draw
+            cached = entry.whole_image = (stub, whole_geometry(stub))
+        image = cached[1]
         uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
         uniforms.SetUniformf("u_mc_rayStep", float(mapper.GetSampleDistance()))
         set_ray_uniforms(uniforms, ray_uniforms(image, renderer.GetActiveCamera(), renderer.GetSize()))
