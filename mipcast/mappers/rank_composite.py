@@ -239,7 +239,7 @@ def _demip(mapper, volume, renderer, entries, whole_image, camera, shape, reduce
     if entries and not failed:
         try:  # phase 2: the first sample of the GLOBAL maximum's material on this piece
             bind_maximum(renderer.GetRenderWindow(), entries[1]["mapper"], values, data_range)
-            index = match_index(_render(renderer, entries[1], whole_image, camera, shape))
+            index = match_index(_render(renderer, entries[1], whole_image, camera, shape, raw=True))  # 1 - index, not data units
         except Exception as error:  # noqa: BLE001
             problem = repr(error)
     flag = np.array([1.0 if problem else 0.0])
