@@ -20,7 +20,8 @@ from pathlib import Path
 
 import pytest
 
-from installed import ROOT, pvpython_env
+from installed import ROOT
+from xvfb import mpi_env, private_display
 from mipcast import methods
 
 CHECK = ROOT / "tests" / "distributed_check.py"
@@ -32,34 +33,14 @@ pytestmark = pytest.mark.skipif(bool(missing), reason="needs " + ", ".join(missi
                                 + " (apt-get install openmpi-bin python3-mpi4py paraview python3-paraview xvfb)")
 
 
-@pytest.fixture(scope="module")
-def display():
-    """One private X server for this module's jobs, on a display Xvfb picks itself (-displayfd).
-
-    ``-displayfd`` has the server choose a free display; ``-noreset`` keeps
-    it from resetting when its last client leaves (a rank connecting during
-    a reset fails: "bad X server connection").
-    """
-    read, write = os.pipe()
-    server = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0", "1280x1024x24", "-nolisten", "tcp",
-                               "-noreset"],
-                              pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    os.close(write)
-    with os.fdopen(read) as pipe:
-        number = pipe.readline().strip()
-    if not number:
-        server.kill()
-        pytest.fail("Xvfb did not start")
-    yield f":{number}"
-    server.terminate()
-    server.wait(timeout=30)
+display = pytest.fixture(scope="module", name="display")(private_display)
 
 
 def run_check(display, ranks, *args, timeout=240):
     """Run the check under mpiexec; returns (CompletedProcess, results or None)."""
     out = Path(os.environ.get("TMPDIR", "/tmp")) / f"mipcast-distributed-{os.getpid()}-{ranks}.json"
     out.unlink(missing_ok=True)
-    env = _paraview_env(display)
+    env = mpi_env(display)
     env["PYTHONPATH"] += os.pathsep + str(ROOT / "tests")
     command = ["mpiexec", "--oversubscribe", "-n", str(ranks),
                "pvbatch", "--symmetric", str(CHECK), "--out", str(out), *args]
@@ -69,10 +50,6 @@ def run_check(display, ranks, *args, timeout=240):
     return done, results
 
 
-def _paraview_env(display):
-    env = pvpython_env()
-    env.update(DISPLAY=display, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    return env
 
 
 def check_exact(results, ranks):
@@ -209,7 +186,7 @@ def test_paraview_reader_split_in_pvbatch(display, tmp_path):
     out = tmp_path / "pvbatch.json"
     command = ["mpiexec", "--oversubscribe", "-n", "2", "pvbatch", str(PARAVIEW_CHECK), "--out", str(out),
                "--methods", "mip,analytic,demip"]
-    done = subprocess.run(command, env=_paraview_env(display), capture_output=True, text=True, timeout=240,
+    done = subprocess.run(command, env=mpi_env(display), capture_output=True, text=True, timeout=240,
                           cwd="/tmp")
     assert done.returncode == 0 and out.exists(), done.stdout[-3000:] + done.stderr[-3000:]
     check_paraview_results(out, 2, "pvbatch", ("mip", "analytic", "demip"))
@@ -223,7 +200,7 @@ def test_pvserver_two_ranks_behind_a_pvpython_client(display, tmp_path):
         port = probe.getsockname()[1]
     server = subprocess.Popen(
         ["mpiexec", "--oversubscribe", "-n", "2", "pvserver", f"--server-port={port}", "--timeout=5"],
-        env=_paraview_env(display), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd="/tmp",
+        env=mpi_env(display), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd="/tmp",
         start_new_session=True)
     try:
         for line in server.stdout:  # "Accepting connection(s): host:port" once it listens
@@ -234,7 +211,7 @@ def test_pvserver_two_ranks_behind_a_pvpython_client(display, tmp_path):
         out = tmp_path / "client.json"
         client = subprocess.run(
             ["pvpython", str(PARAVIEW_CHECK), "--connect", f"localhost:{port}", "--out", str(out)],
-            env=_paraview_env(display), capture_output=True, text=True, timeout=240, cwd="/tmp")
+            env=mpi_env(display), capture_output=True, text=True, timeout=240, cwd="/tmp")
         assert client.returncode == 0 and out.exists(), client.stdout[-3000:] + client.stderr[-3000:]
         check_paraview_results(out, 2, "client-server")
     finally:

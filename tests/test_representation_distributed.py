@@ -20,12 +20,12 @@ import signal
 import socket
 import subprocess
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from installed import ROOT, pvpython_env
+from installed import ROOT
+from xvfb import mpi_env, private_display
 
 CHECK = ROOT / "tests" / "representation_distributed_check.py"
 METHODS = ("mip", "analytic")
@@ -50,27 +50,9 @@ pytestmark = pytest.mark.skipif(bool(missing), reason="needs " + ", ".join(missi
 from test_paraview_representation import plugin  # noqa: E402,F401  (the built plugin, or a skip naming paraview-dev)
 
 
-@pytest.fixture(scope="module")
-def display():
-    """A private X server (``-displayfd`` picks a free display; ``-noreset``: no reset between ranks)."""
-    read, write = os.pipe()
-    server = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0", "1280x1024x24", "-nolisten", "tcp",
-                               "-noreset"], pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    os.close(write)
-    with os.fdopen(read) as pipe:
-        number = pipe.readline().strip()
-    if not number:
-        server.kill()
-        pytest.fail("Xvfb did not start")
-    yield f":{number}"
-    server.terminate()
-    server.wait(timeout=30)
+display = pytest.fixture(scope="module", name="display")(private_display)
 
 
-def _env(display):
-    env = pvpython_env()
-    env.update(DISPLAY=display, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    return env
 
 
 @pytest.fixture(scope="module")
@@ -94,7 +76,7 @@ def pvbatch(plugin, display, work, ranks, axis, methods=METHODS):
     name = f"pvbatch-n{ranks}-axis{axis}"
     done = subprocess.run(["mpiexec", "--oversubscribe", "-n", str(ranks), "pvbatch",
                            *_args(plugin, work, name, axis, ranks, methods)],
-                          env=_env(display), capture_output=True, text=True, timeout=240, cwd="/tmp")
+                          env=mpi_env(display), capture_output=True, text=True, timeout=240, cwd="/tmp")
     return _results(done, work, name)
 
 
@@ -171,7 +153,7 @@ def test_two_pvserver_ranks_behind_a_pvpython_client(plugin, display, work, one_
     log = work / "pvserver.log"
     with open(log, "w") as handle:
         server = subprocess.Popen(["mpiexec", "--oversubscribe", "-n", "2", "pvserver", f"--server-port={port}",
-                                   "--timeout=5"], env=_env(display), stdout=handle, stderr=subprocess.STDOUT,
+                                   "--timeout=5"], env=mpi_env(display), stdout=handle, stderr=subprocess.STDOUT,
                                   cwd="/tmp", start_new_session=True)
     try:
         deadline = time.monotonic() + 60
@@ -182,7 +164,7 @@ def test_two_pvserver_ranks_behind_a_pvpython_client(plugin, display, work, one_
         name = "pvserver-n2-axis1"
         methods = METHODS + ("demip", "average")
         done = subprocess.run(["pvpython", *_args(plugin, work, name, 1, 2, methods), "--connect", f"localhost:{port}"],
-                              env=_env(display), capture_output=True, text=True, timeout=240, cwd="/tmp")
+                              env=mpi_env(display), capture_output=True, text=True, timeout=240, cwd="/tmp")
         assert done.returncode == 0, done.stdout[-2000:] + done.stderr[-3000:] + log.read_text()[-3000:]
         check_parity(_results(done, work, name), one_rank, 2, "client-server", methods)
     finally:
@@ -204,7 +186,7 @@ def test_a_rank_whose_piece_is_out_of_view_still_takes_part(plugin, display, wor
         done = subprocess.run(["mpiexec", "--oversubscribe", "-n", str(ranks), "pvbatch",
                                *_args(plugin, work, name, 0, ranks, methods), "--zoom", "5",
                                "--png-dir", str(work / "zoom")],
-                              env=_env(display), capture_output=True, text=True, timeout=120, cwd="/tmp")
+                              env=mpi_env(display), capture_output=True, text=True, timeout=120, cwd="/tmp")
         pictures[ranks] = {m: load_png(p) for m, p in _results(done, work, name)["pngs"].items()}
     check_parity({"ranks": 4, "session": "pvbatch", "pngs": {m: str(work / "zoom" / f"{m}-n4-axis0.png")
                                                              for m in methods}}, pictures[1], 4, "pvbatch", methods)

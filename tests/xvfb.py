@@ -13,7 +13,6 @@ import json
 import os
 import shutil
 import subprocess
-from pathlib import Path
 
 from installed import ROOT, pvpython_env
 
@@ -52,3 +51,34 @@ def pvpython_report(check, what: str, timeout: float = 240) -> dict:
         f"pvpython exited with {completed.returncode}\nstdout:\n{completed.stdout[-3000:]}"
         f"\nstderr:\n{completed.stderr[-3000:]}")
     return json.loads(lines[-1])
+
+
+def private_display():
+    """A generator for a module fixture: one private X server, yielding its display (e.g. ``":7"``).
+
+    ``-displayfd`` has the server choose a free display; ``-noreset`` keeps
+    it from resetting when its last client leaves (a rank connecting during
+    a reset fails: "bad X server connection").  Use as
+    ``display = pytest.fixture(scope="module")(private_display)``.
+    """
+    import pytest
+
+    read, write = os.pipe()
+    server = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0", "1280x1024x24", "-nolisten", "tcp",
+                               "-noreset"], pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    os.close(write)
+    with os.fdopen(read) as pipe:
+        number = pipe.readline().strip()
+    if not number:
+        server.kill()
+        pytest.fail("Xvfb did not start")
+    yield f":{number}"
+    server.terminate()
+    server.wait(timeout=30)
+
+
+def mpi_env(display) -> dict:
+    """``pvpython_env()`` on ``display``, with Open MPI allowed to run as root (CI runs as root)."""
+    env = pvpython_env()
+    env.update(DISPLAY=display, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    return env
