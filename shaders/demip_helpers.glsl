@@ -149,6 +149,20 @@ float mcMaterial(float value)
   return clamp((value - mc_floorRaw) * mc_toMaterial, 0.0, 1.0);
 }
 
+// MIDA's step (Bruckner & Groller, gamma 0) at one sample of material
+// `material`, opacity `alpha` and colour `color`: what is in front fades by
+// beta = 1 - (how much the material exceeds the running maximum), then the
+// sample is composited front to back into `sum` (premultiplied). Returns
+// beta. The one definition of the single-texture and the brick hooks.
+float mcMidaStep(float material, float alpha, vec3 color, inout float runMaterial, inout vec4 sum)
+{
+  float beta = 1.0 - max(material - runMaterial, 0.0);
+  runMaterial = max(runMaterial, material);
+  float fresh = (1.0 - beta * sum.a) * alpha;
+  sum = vec4(beta * sum.rgb + fresh * color, beta * sum.a + fresh);
+  return beta;
+}
+
 // DEMIP's two marches over the samples of sampled_loop.
 //
 // The material is monotone, so "within eps of the maximum's material, and

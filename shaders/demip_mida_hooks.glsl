@@ -24,14 +24,9 @@ void mcBeginRay(inout int first, inout int count)
 bool mcSample(float value, int i)
 {
   mc_rayMax = max(mc_rayMax, value);
-  float material = mcMaterial(value);
-  float beta = 1.0 - max(material - mc_runMaterial, 0.0);
-  mc_runMaterial = max(mc_runMaterial, material);
   vec4 scalar = vec4(mcNormalised(value));
   float alpha = computeOpacity(scalar);
-  vec3 color = computeColor(scalar, alpha).rgb;
-  float fresh = (1.0 - beta * mc_sum.a) * alpha;
-  mc_sum = vec4(beta * mc_sum.rgb + fresh * color, beta * mc_sum.a + fresh);
+  mcMidaStep(mcMaterial(value), alpha, computeColor(scalar, alpha).rgb, mc_runMaterial, mc_sum);
   return true;
 }
 

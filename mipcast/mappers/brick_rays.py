@@ -140,21 +140,31 @@ def whole_geometry(whole_stub):
     return image
 
 
+def push_whole_rays(volume, sample_distance: float, whole, camera, size) -> None:
+    """On ``volume``'s shader property: the rays of ``camera`` through the ``whole`` volume and the step.
+
+    For the ``global_phase`` / ``global_cells`` pieces: ``whole`` is the
+    whole volume's geometry (:func:`whole_geometry`), ``size`` the viewport's
+    (width, height), ``sample_distance`` the world step of the samples.
+    """
+    uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+    uniforms.SetUniformf("u_mc_rayStep", float(sample_distance))
+    set_ray_uniforms(uniforms, ray_uniforms(whole, camera, tuple(size)))
+
+
 def push_rays(mapper, entry, camera, shape, size=None) -> None:
     """This frame's whole-volume rays and sample distance on a brick of ``mapper``'s input.
 
-    For the ``global_phase`` / ``global_cells`` pieces of the brick ``entry``
-    (:func:`brick_entry`): the rays of ``camera`` over a viewport of ``shape``
-    (rows, columns); ``size`` (width, height) gives the camera's aspect ratio
-    when it is not ``shape``'s.
+    For the brick ``entry`` (:func:`brick_entry`): the rays of ``camera``
+    over a viewport of ``shape`` (rows, columns); ``size`` (width, height)
+    gives the camera's aspect ratio when it is not ``shape``'s.
     """
     image = mapper.GetInput()
     dims = image.GetDimensions()
     whole = whole_geometry(((0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1), image.GetOrigin(), image.GetSpacing(),
                             image.GetDirectionMatrix()))
-    uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
-    uniforms.SetUniformf("u_mc_rayStep", float(entry["mapper"].GetSampleDistance()))
-    set_ray_uniforms(uniforms, ray_uniforms(whole, camera, (shape[1], shape[0]) if size is None else tuple(size)))
+    push_whole_rays(entry["volume"], entry["mapper"].GetSampleDistance(), whole, camera,
+                    (shape[1], shape[0]) if size is None else size)
 
 
 def box_in_view(brick_volume, renderer, shape) -> bool:

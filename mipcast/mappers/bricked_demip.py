@@ -106,47 +106,34 @@ def bricks_of(mapper, limit: int) -> list:
     return cached_bricks(mapper, limit, "demip_bricks", make)
 
 
-def lmip_bricks_of(mapper, limit: int) -> list:
-    """Per brick: LMIP's phase-1 entry (:class:`mipcast.mappers.demip_ordered_bricks.LMIPBrickMapper`)."""
-    from mipcast.mappers.demip_ordered_bricks import LMIPBrickMapper
+#: The ordered projections' brick mappers (:mod:`mipcast.mappers.demip_ordered_bricks`) and the
+#: uniforms besides ``u_mc_brickChannel`` (0) they start with.
+_ORDERED_BRICKS = {"lmip": ("LMIPBrickMapper", {"u_mc_brickLocal": 1.0e30}),
+                   "attenuated": ("AttenuatedBrickMapper", {"u_mc_brickWindow": [0.0, 1.0, 0.0, 0.0]}),
+                   "mida": ("MIDABrickMapper", {"u_mc_brickWindow": [0.0, 1.0, 0.0, 0.0]})}
+
+
+def ordered_bricks_of(mapper, limit: int, projection: str) -> list:
+    """Per brick: the entry of ``projection``'s brick mapper ("lmip", "attenuated" or "mida"), drawn front to back."""
+    from mipcast.mappers import demip_ordered_bricks
+
+    name, start = _ORDERED_BRICKS[projection]
+    kind = getattr(demip_ordered_bricks, name)
 
     def make(piece, extent, whole):
-        entry = brick_entry(LMIPBrickMapper, piece, extent, whole, piece.GetSpacing(), mapper.GetSampleDistance())
+        entry = brick_entry(kind, piece, extent, whole, piece.GetSpacing(), mapper.GetSampleDistance())
         uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
         uniforms.SetUniformf("u_mc_brickChannel", 0.0)
-        uniforms.SetUniformf("u_mc_brickLocal", 1.0e30)
+        for uniform, value in start.items():
+            if isinstance(value, list):
+                uniforms.SetUniform4f(uniform, value)
+            else:
+                uniforms.SetUniformf(uniform, value)
         return entry
-    return cached_bricks(mapper, limit, "demip_ordered_brickss", make)
+    return cached_bricks(mapper, limit, f"demip_{projection}_bricks", make)
 
 
-def attenuated_bricks_of(mapper, limit: int) -> list:
-    """Per brick: attenuated MIP's entry (:class:`mipcast.mappers.demip_ordered_bricks.AttenuatedBrickMapper`)."""
-    from mipcast.mappers.demip_ordered_bricks import AttenuatedBrickMapper
-
-    def make(piece, extent, whole):
-        entry = brick_entry(AttenuatedBrickMapper, piece, extent, whole, piece.GetSpacing(),
-                            mapper.GetSampleDistance())
-        uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
-        uniforms.SetUniformf("u_mc_brickChannel", 0.0)
-        uniforms.SetUniform4f("u_mc_brickWindow", [0.0, 1.0, 0.0, 0.0])
-        return entry
-    return cached_bricks(mapper, limit, "demip_attenuated_bricks", make)
-
-
-def mida_bricks_of(mapper, limit: int) -> list:
-    """Per brick: MIDA's entry (:class:`mipcast.mappers.demip_ordered_bricks.MIDABrickMapper`)."""
-    from mipcast.mappers.demip_ordered_bricks import MIDABrickMapper
-
-    def make(piece, extent, whole):
-        entry = brick_entry(MIDABrickMapper, piece, extent, whole, piece.GetSpacing(), mapper.GetSampleDistance())
-        uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
-        uniforms.SetUniformf("u_mc_brickChannel", 0.0)
-        uniforms.SetUniform4f("u_mc_brickWindow", [0.0, 1.0, 0.0, 0.0])
-        return entry
-    return cached_bricks(mapper, limit, "demip_mida_bricks", make)
-
-
-def _follow(mapper, volume, entry, distance: float, demip: bool) -> None:
+def follow_demip_brick(mapper, volume, entry, distance: float, demip: bool) -> None:
     """The brick's mapper as the user's: DEMIP's settings (phase 2), sampling, cropping, clipping, matrix."""
     brick_mapper = entry["mapper"]
     if demip:
@@ -216,8 +203,8 @@ def _attenuated_scan(mapper, volume, renderer, limit, camera, shape, distance, e
     best = np.full(shape, np.nan)
     window = renderer.GetRenderWindow()
     for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view,
-                                attenuated_bricks_of(mapper, limit)):
-        _follow(mapper, volume, entry, distance, demip=True)
+                                ordered_bricks_of(mapper, limit, "attenuated")):
+        follow_demip_brick(mapper, volume, entry, distance, demip=True)
         bind_crossed(window, entry["mapper"], crossed, data_range)
         uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
         found = _render(renderer, entry, mapper, camera, shape, raw=True)
@@ -237,8 +224,8 @@ def _mida_scan(mapper, volume, renderer, limit, camera, shape, distance, entries
 
     colour, opacity, material = np.zeros(shape + (3,)), np.zeros(shape), np.zeros(shape)
     window = renderer.GetRenderWindow()
-    for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view, mida_bricks_of(mapper, limit)):
-        _follow(mapper, volume, entry, distance, demip=True)
+    for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view, ordered_bricks_of(mapper, limit, "mida")):
+        follow_demip_brick(mapper, volume, entry, distance, demip=True)
         bind_mida(window, entry["mapper"], material, opacity, data_range)
         uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
         readouts = {}
@@ -262,8 +249,8 @@ def _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries
     local = local_threshold(volume.GetProperty(), data_range, mapper.GetLocalThreshold())
     running, ended = np.full(shape, np.nan), np.zeros(shape, dtype=bool)
     window = renderer.GetRenderWindow()
-    for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view, lmip_bricks_of(mapper, limit)):
-        _follow(mapper, volume, entry, distance, demip=True)
+    for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view, ordered_bricks_of(mapper, limit, "lmip")):
+        follow_demip_brick(mapper, volume, entry, distance, demip=True)
         bind_running(window, entry["mapper"], running, local)
         uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
         scalars = entry["mapper"].GetRenderedInput().GetPointData().GetScalars()
@@ -305,7 +292,7 @@ def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarra
     in_view = []
     values = np.full(shape, np.nan)
     for first, second in entries:  # phase 1: MAX of the bricks' sampled MIP
-        _follow(mapper, volume, first, distance, demip=False)
+        follow_demip_brick(mapper, volume, first, distance, demip=False)
         if not box_in_view(first["volume"], renderer, shape):
             continue
         in_view.append((first, second))
@@ -327,7 +314,7 @@ def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarra
     index = np.full(shape, np.inf)
     window = renderer.GetRenderWindow()
     for _, second in in_view if mapper.GetProjection() in ("mip", "lmip") else ():  # phase 2: MIN of the whole-ray index of the first same-material sample
-        _follow(mapper, volume, second, distance, demip=True)
+        follow_demip_brick(mapper, volume, second, distance, demip=True)
         bind_maximum(window, second["mapper"], values, data_range)
         index = np.minimum(index, match_index(_render(renderer, second, mapper, camera, shape)))
     object_state(mapper)["bricks_drawn"] = len(in_view)

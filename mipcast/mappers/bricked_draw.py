@@ -64,7 +64,8 @@ from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms, float_readout
 from mipcast.mappers.brick_rays import box_in_view, brick_entry, cached_bricks, push_rays
 from mipcast.mappers.box_outline import box_corners, outline_ndc, outline_quads
-from mipcast.mappers.private_draw import auto_sample_distance, follow_volume, pixel_texture, rendering_renderer
+from mipcast.mappers.private_draw import (GL_BLEND, GL_DEPTH_TEST, GL_ONE, GL_ONE_MINUS_SRC_ALPHA,
+                                          auto_sample_distance, follow_volume, pixel_texture, rendering_renderer)
 
 def _weighted_mean(values: list, weights: list) -> np.ndarray:
     """The bricks' means weighted by what each counted (NaN where none had a value).
@@ -97,8 +98,6 @@ COMPOSITES = {"max": np.fmax, "min": np.fmin, "mean": _weighted_mean}
 #: Normalised readout values beyond this are a brick's empty ray (no sample, no cell): no value.
 _EMPTY = 1.0e3
 
-_GL_BLEND, _GL_DEPTH_TEST, _GL_SCISSOR_TEST = 0x0BE2, 0x0B71, 0x0C11
-_GL_ONE, _GL_ONE_MINUS_SRC_ALPHA = 1, 0x0303
 #: Samples of the transfer functions for colouring on the CPU (linear between them).
 _TABLE = 8192
 
@@ -277,7 +276,7 @@ def _release(state) -> None:
     state.pop("bricks", None)
 
 
-def _follow(mapper, volume, entry, image_sample_distance: float = 1.0) -> None:
+def follow_brick(mapper, volume, entry, image_sample_distance: float = 1.0) -> None:
     """The brick's mapper and volume as the user's: parameters, sampling, cropping, clipping, matrix.
 
     ``image_sample_distance``: the brick's rays (1: one per pixel; a foveated level's coarser grid).
@@ -339,7 +338,7 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
     drawn = 0
     for entry in bricks_of(mapper, limit):
         brick_mapper, brick_volume = entry["mapper"], entry["volume"]
-        _follow(mapper, volume, entry, image_sample_distance)
+        follow_brick(mapper, volume, entry, image_sample_distance)
         if not box_in_view(brick_volume, renderer, shape):
             continue  # its box covers no pixel: nothing to draw, nothing to combine
         drawn += 1
@@ -355,7 +354,7 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
                 if rule == "mean":
                     uniforms.SetUniformf("u_mc_brickChannel", float(channel))
                 brick_volume.RenderVolumetricGeometry(renderer)
-                read.append(_readout(brick_mapper, shape, raw=channel > 0))
+                read.append(brick_readout(brick_mapper, shape, raw=channel > 0))
         finally:
             object_state(brick_mapper).pop("exact_readout", None)
             brick_mapper.RenderToImageOff()
@@ -422,7 +421,7 @@ def _mean_grey(mapper, volume, passes) -> np.ndarray:
     return np.where(count > 0.0, grey, np.nan)
 
 
-def _readout(brick_mapper, shape, raw: bool = False) -> np.ndarray:
+def brick_readout(brick_mapper, shape, raw: bool = False) -> np.ndarray:
     """One brick's readout in data units (top row first), NaN where its ray had no value.
 
     ``raw``: the decoded value as the readout piece wrote it (a weight channel), not mapped.
@@ -512,9 +511,9 @@ def _draw_picture(state, renderer, volume, values, rgba=None, grey: bool = False
     try:
         gl.vtkglViewport(x0[0], y0[0], width, height)
         gl.vtkglScissor(x0[0], y0[0], width, height)
-        gl.vtkglEnable(_GL_BLEND)
-        gl.vtkglBlendFuncSeparate(_GL_ONE, _GL_ONE_MINUS_SRC_ALPHA, _GL_ONE, _GL_ONE_MINUS_SRC_ALPHA)
-        gl.vtkglDisable(_GL_DEPTH_TEST)
+        gl.vtkglEnable(GL_BLEND)
+        gl.vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA)
+        gl.vtkglDisable(GL_DEPTH_TEST)
         gl.vtkglDepthMask(False)
         polygon = outline_ndc(box_corners(image, volume), renderer) \
             if image is not None and window.GetMultiSamples() > 1 else None

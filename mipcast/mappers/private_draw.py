@@ -87,6 +87,11 @@ def follow_volume(mapper, volume, private_mapper, private_volume, matrix) -> Non
         private_volume.SetUserMatrix(matrix)
 
 
+#: OpenGL enums the private draws set state with (vtkOpenGLState takes plain numbers).
+GL_BLEND, GL_DEPTH_TEST = 0x0BE2, 0x0B71
+GL_ONE, GL_ONE_MINUS_SRC_ALPHA = 1, 0x0303
+
+
 def pixel_texture(window):
     """A new 2D ``vtkTextureObject`` on ``window`` read texel for texel: nearest filtering, clamped edges.
 

@@ -46,7 +46,8 @@ import numpy as np
 from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import DEMIP
 from mipcast.mappers import bricked_draw, float_readout
-from mipcast.mappers.brick_rays import box_in_view, brick_entry, ray_uniforms, set_ray_uniforms, whole_geometry
+from mipcast.mappers.private_draw import GL_BLEND, GL_DEPTH_TEST, GL_ONE, GL_ONE_MINUS_SRC_ALPHA
+from mipcast.mappers.brick_rays import box_in_view, brick_entry, push_whole_rays, whole_geometry
 
 #: Reduce(array, op) -> the array reduced over every rank; op is "max", "min" or "sum".
 Reduce = Callable[[np.ndarray, str], np.ndarray]
@@ -103,18 +104,12 @@ def _entries(mapper, piece, whole, rule: str) -> list:
     return entries
 
 
-def _push_rays(entry, whole_image, camera, shape) -> None:
-    uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
-    uniforms.SetUniformf("u_mc_rayStep", float(entry["mapper"].GetSampleDistance()))
-    set_ray_uniforms(uniforms, ray_uniforms(whole_image, camera, (shape[1], shape[0])))
-
-
 def _render(renderer, entry, whole_image, camera, shape, channel: Optional[float] = None,
             raw: bool = False) -> np.ndarray:
     """One float readout of this rank's brick (data units, or ``raw`` as written), NaN: none."""
     brick_mapper, brick_volume = entry["mapper"], entry["volume"]
     object_state(brick_mapper)["draw_camera"] = camera
-    _push_rays(entry, whole_image, camera, shape)
+    push_whole_rays(entry["volume"], entry["mapper"].GetSampleDistance(), whole_image, camera, (shape[1], shape[0]))
     object_state(brick_mapper)["exact_readout"] = True
     brick_mapper.RenderToImageOn()
     brick_mapper.SetDepthImageScalarTypeToFloat()
@@ -123,7 +118,7 @@ def _render(renderer, entry, whole_image, camera, shape, channel: Optional[float
         if channel is not None:
             uniforms.SetUniformf("u_mc_brickChannel", float(channel))
         brick_volume.RenderVolumetricGeometry(renderer)
-        return bricked_draw._readout(brick_mapper, shape, raw=raw)
+        return bricked_draw.brick_readout(brick_mapper, shape, raw=raw)
     finally:
         object_state(brick_mapper).pop("exact_readout", None)
         brick_mapper.RenderToImageOff()
@@ -182,7 +177,7 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce,
         try:
             entries = _entries(mapper, piece, whole_stub[0], rule)
             for entry in entries:
-                bricked_draw._follow(mapper, volume, entry) if rule == "mean" else _follow_demip(
+                bricked_draw.follow_brick(mapper, volume, entry) if rule == "mean" else _follow_demip(
                     mapper, volume, entry, entry is entries[1])
             if not box_in_view(entries[0]["volume"], renderer, shape):
                 entries = []
@@ -216,7 +211,7 @@ def _clear_depth(renderer) -> None:
 def _follow_demip(mapper, volume, entry, demip: bool) -> None:
     from mipcast.mappers import bricked_demip
 
-    bricked_demip._follow(mapper, volume, entry, mapper.GetSampleDistance(), demip=demip)
+    bricked_demip.follow_demip_brick(mapper, volume, entry, mapper.GetSampleDistance(), demip=demip)
 
 
 def _demip(mapper, volume, renderer, entries, whole_image, camera, shape, reduce, data_range, problem):
@@ -392,10 +387,10 @@ def draw(state, renderer, rgba: np.ndarray, ndc=(1.0, 0.0, 1.0, 0.0)) -> None:
     try:
         gl.vtkglViewport(x, y, w, h)
         gl.vtkglScissor(x, y, w, h)
-        gl.vtkglEnable(bricked_draw._GL_BLEND)
-        gl.vtkglBlendFuncSeparate(bricked_draw._GL_ONE, bricked_draw._GL_ONE_MINUS_SRC_ALPHA,
-                                  bricked_draw._GL_ONE, bricked_draw._GL_ONE_MINUS_SRC_ALPHA)
-        gl.vtkglEnable(bricked_draw._GL_DEPTH_TEST)
+        gl.vtkglEnable(GL_BLEND)
+        gl.vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA,
+                                  GL_ONE, GL_ONE_MINUS_SRC_ALPHA)
+        gl.vtkglEnable(GL_DEPTH_TEST)
         gl.vtkglDepthMask(True)
         texture.CopyToFrameBuffer(None, None)
     finally:

@@ -617,7 +617,7 @@ def _ray_pusher(entry):
     """
     def push(mapper, event, entry=entry):
         from mipcast.core.object_state import object_state
-        from mipcast.mappers.brick_rays import ray_uniforms, set_ray_uniforms, whole_geometry
+        from mipcast.mappers.brick_rays import push_whole_rays, whole_geometry
 
         renderer, volume = entry.renderer.Get(), mapper.GetAttachedVolume()
         stub = getattr(entry, "whole_stub", None)
@@ -627,9 +627,7 @@ def _ray_pusher(entry):
         if cached is None or cached[0] != stub:  # built once per whole volume, not per draw
             cached = entry.whole_image = (stub, whole_geometry(stub))
         image = cached[1]
-        uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
-        uniforms.SetUniformf("u_mc_rayStep", float(mapper.GetSampleDistance()))
-        set_ray_uniforms(uniforms, ray_uniforms(image, renderer.GetActiveCamera(), renderer.GetSize()))
+        push_whole_rays(volume, mapper.GetSampleDistance(), image, renderer.GetActiveCamera(), renderer.GetSize())
     return push
 
 
