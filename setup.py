@@ -41,7 +41,7 @@ setup(
         "tqdm>=4.60",
     ],
     # test: what the tests import besides the core (vispy/PyOpenGL: the peer rows of the benchmark)
-    extras_require={"test": ["pytest>=7", "scipy>=1.9", "hypothesis>=6", "pydicom-data", "vispy>=0.14",
+    extras_require={"test": ["pytest>=7", "pytest-xdist>=3", "scipy>=1.9", "hypothesis>=6", "pydicom-data", "vispy>=0.14",
                              "PyOpenGL>=3.1"],
                     # peers beside VTK in `mipcast bench --peers` and the GPU report (never required)
                     "bench": ["vispy>=0.14", "PyOpenGL>=3.1"]},

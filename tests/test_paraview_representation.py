@@ -10,6 +10,7 @@ starts and stops itself, and the ParaView GUI is scripted once
 mipcast's own offscreen render (:class:`mipcast.offscreen.OffscreenView`)
 given ParaView's camera.
 """
+import fcntl
 import json
 import os
 import shutil
@@ -21,7 +22,7 @@ from pathlib import Path
 
 import pytest
 from installed import pvpython_env
-from xvfb import SERVER, run_under_xvfb
+from xvfb import run_under_xvfb
 
 ROOT = Path(__file__).resolve().parents[1]
 GLUE_DIR = ROOT / "plugin" / "representation"
@@ -101,12 +102,15 @@ def _plugin_file():
 
 @pytest.fixture(scope="module")
 def plugin():
-    missing = [t for t in ("pvpython", "xvfb-run", "cmake", "c++") if shutil.which(t) is None]
+    missing = [t for t in ("pvpython", "Xvfb", "cmake", "c++") if shutil.which(t) is None]
     if missing:
         pytest.skip(f"{', '.join(missing)} not on PATH: the representation needs Debian's paraview, "
                     "paraview-dev, cmake, g++ and xvfb")
-    built = subprocess.run(["sh", str(GLUE_DIR / "build.sh"), str(BUILD)], capture_output=True,
-                           text=True, timeout=900, env=pvpython_env())  # the panel from the installed mipcast
+    BUILD.parent.mkdir(parents=True, exist_ok=True)
+    with open(BUILD.parent / "paraview-representation.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # one build at a time: parallel test workers share the folder
+        built = subprocess.run(["sh", str(GLUE_DIR / "build.sh"), str(BUILD)], capture_output=True,
+                               text=True, timeout=900, env=pvpython_env())  # the panel from the installed mipcast
     if built.returncode != 0:
         log = Path(str(BUILD) + ".configure.log")
         text = log.read_text() if log.exists() else ""
@@ -162,7 +166,7 @@ def client_server(plugin, tmp_path_factory):
         f'pvpython "{CHECK}" --plugin "{plugin}" --png-dir "{pngs}" --server localhost:{port} '
         f'--parts methods --methods {",".join(PARITY)}\n'
         'status=$?\nkill $server 2>/dev/null; wait $server 2>/dev/null\nexit $status\n')
-    for _ in range(2):  # xvfb-run -a now and then hands out a display that is not ready yet
+    for _ in range(2):  # a display now and then is not ready yet
         completed = run_under_xvfb(["sh", "-c", script], cwd=ROOT, env=_env(), timeout=300)
         log = (pngs / "server.log").read_text() if (pngs / "server.log").exists() else ""
         if completed.returncode == 0 or "bad X server connection" not in log:

@@ -1,31 +1,63 @@
-"""Run a command under a private X server (xvfb-run), for the VTK 9.2 / ParaView checks.
+"""Run a command under a private X server, for the VTK 9.2 / ParaView checks.
 
-An X server resets itself when its last client disconnects, and a
-connection attempted during the reset fails: VTK then aborts in
-``vtkXOpenGLRenderWindow::CreateAWindow`` ("bad X server connection").
-With two X clients under one ``xvfb-run`` (pvserver and pvpython), one
-closing its probe window while the other opens its own hit this now and
-then; ``-noreset`` keeps the server up.  A display that still fails
-("bad X server connection") is retried once; any other failure is
-returned as it is.
+Every call gets an X server of its own: ``Xvfb -displayfd`` picks a free
+display itself, so runs in parallel test workers (pytest-xdist) never share
+or race for one (``xvfb-run -a`` probes for a free number and can hand two
+callers the same).  The server runs with ``-noreset``: an X server resets
+itself when its last client disconnects, and a connection attempted during
+the reset fails (VTK then aborts in ``vtkXOpenGLRenderWindow::CreateAWindow``,
+"bad X server connection"); with two X clients on one server (pvserver and
+pvpython) one closing its probe window while the other opens its own hit
+this now and then.  A run that still fails to reach its display is retried
+once; any other failure is returned as it is.
 """
 import json
 import os
 import shutil
 import subprocess
+from contextlib import contextmanager
 
 from installed import ROOT, pvpython_env
 
 #: A 24-bit screen (GLX needs a true-colour visual; xvfb-run's default is 8-bit),
-#: never reset between clients.
-SERVER = ["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24 -noreset"]
+#: never reset between clients, no TCP.
+XVFB_ARGS = ["-screen", "0", "1280x1024x24", "-nolisten", "tcp", "-noreset"]
 _NO_DISPLAY = ("bad X server connection", "CreateAWindow", "cannot open display")
 
 
-def run_under_xvfb(command, **kwargs) -> subprocess.CompletedProcess:
-    """``subprocess.run(SERVER + command, capture_output=True, text=True, **kwargs)``, retried once if X failed."""
+@contextmanager
+def xvfb_display():
+    """A private X server for the ``with`` block, yielding its display (e.g. ``":7"``)."""
+    read, write = os.pipe()
+    server = subprocess.Popen(["Xvfb", "-displayfd", str(write)] + XVFB_ARGS, pass_fds=(write,),
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    os.close(write)
+    with os.fdopen(read) as pipe:
+        number = pipe.readline().strip()
+    try:
+        if not number:
+            raise RuntimeError(f"Xvfb did not start (exit status {server.poll()})")
+        yield f":{number}"
+    finally:
+        server.terminate()
+        try:
+            server.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            server.kill()
+            server.wait()
+
+
+def run_under_xvfb(command, env=None, **kwargs) -> subprocess.CompletedProcess:
+    """``subprocess.run(command, capture_output=True, text=True, **kwargs)`` on a private X server.
+
+    ``env`` (default: this process's environment) gets that server's
+    ``DISPLAY``; a run that failed to reach it is retried once.
+    """
+    env = dict(os.environ if env is None else env)
     for _ in range(2):
-        result = subprocess.run(SERVER + list(command), capture_output=True, text=True, **kwargs)
+        with xvfb_display() as display:
+            env["DISPLAY"] = display
+            result = subprocess.run(list(command), capture_output=True, text=True, env=env, **kwargs)
         if result.returncode == 0 or not any(text in result.stderr for text in _NO_DISPLAY):
             return result
     return result
@@ -40,7 +72,7 @@ def pvpython_report(check, what: str, timeout: float = 240) -> dict:
     """
     import pytest
 
-    missing = [tool for tool in ("pvpython", "xvfb-run") if shutil.which(tool) is None]
+    missing = [tool for tool in ("pvpython", "Xvfb") if shutil.which(tool) is None]
     if missing:
         pytest.skip(f"{' and '.join(missing)} not on PATH: {what} needs "
                     "Debian's paraview, python3-paraview and xvfb")
@@ -56,25 +88,15 @@ def pvpython_report(check, what: str, timeout: float = 240) -> dict:
 def private_display():
     """A generator for a module fixture: one private X server, yielding its display (e.g. ``":7"``).
 
-    ``-displayfd`` has the server choose a free display; ``-noreset`` keeps
-    it from resetting when its last client leaves (a rank connecting during
-    a reset fails: "bad X server connection").  Use as
-    ``display = pytest.fixture(scope="module")(private_display)``.
+    Use as ``display = pytest.fixture(scope="module")(private_display)``.
     """
     import pytest
 
-    read, write = os.pipe()
-    server = subprocess.Popen(["Xvfb", "-displayfd", str(write), "-screen", "0", "1280x1024x24", "-nolisten", "tcp",
-                               "-noreset"], pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    os.close(write)
-    with os.fdopen(read) as pipe:
-        number = pipe.readline().strip()
-    if not number:
-        server.kill()
-        pytest.fail("Xvfb did not start")
-    yield f":{number}"
-    server.terminate()
-    server.wait(timeout=30)
+    try:
+        with xvfb_display() as display:
+            yield display
+    except RuntimeError as error:
+        pytest.fail(str(error))
 
 
 def mpi_env(display) -> dict:
