@@ -14,7 +14,7 @@ from mipcast.core.parameters import parameter_accessors
 from mipcast.mappers import bricked_draw
 from mipcast.mappers.corner_packing import CornerPacker, packable
 from mipcast.mappers.max_blocks import block_maxima_image
-from mipcast.mappers.mip import MIPVolumeMapper, _same_port
+from mipcast.mappers.mip import MIPVolumeMapper, same_port
 from mipcast.core.transfer_bounds import normalised_ends
 from mipcast.core.validation import check_image
 
@@ -83,7 +83,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     def _vtk_port(self):
         """The packed copy of the prepared input, or the prepared input itself."""
         packer, source = object_state(self)["packer"], self._prepared_port()
-        if packer.GetNumberOfInputConnections(0) == 0 or not _same_port(packer.GetInputConnection(0, 0), source):
+        if packer.GetNumberOfInputConnections(0) == 0 or not same_port(packer.GetInputConnection(0, 0), source):
             packer.SetInputConnection(0, source)
         return packer.GetOutputPort() if self._packing_active() else source
 
@@ -95,7 +95,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
                 vtkOpenGLGPUVolumeRayCastMapper.GetNumberOfInputConnections(self, 0):
             packed = object_state(self)["packer"].GetOutputPort()
             current = vtkOpenGLGPUVolumeRayCastMapper.GetInputConnection(self, 0, 0)
-            if not _same_port(current, packed) and _same_port(self._vtk_port(), packed):
+            if not same_port(current, packed) and same_port(self._vtk_port(), packed):
                 from mipcast.mappers.gpu_limits import window_of
 
                 window = window_of(self.GetAttachedVolume())

@@ -19,7 +19,7 @@ from mipcast.mappers.demip import DEMIPVolumeMapper
 from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms
-from mipcast.mappers.private_draw import follow_volume, rendering_renderer
+from mipcast.mappers.private_draw import GL_BLEND, GL_DEPTH_TEST, GL_SCISSOR_TEST, follow_volume, rendering_renderer
 
 #: Sample indices are packed as ``start * INDEX_BASE + max`` into one float32
 #: (exact below 2**24): rays of at most this many samples hand pass 2 the
@@ -28,7 +28,7 @@ from mipcast.mappers.private_draw import follow_volume, rendering_renderer
 INDEX_BASE = 4096
 
 #: GL_BLEND, GL_DEPTH_TEST, GL_SCISSOR_TEST: restored after pass 1 (its buffer changes them).
-_GL_CAPS = (0x0BE2, 0x0B71, 0x0C11)
+_GL_CAPS = (GL_BLEND, GL_DEPTH_TEST, GL_SCISSOR_TEST)
 
 
 class DEMIPFirstPassMapper(MIPVolumeMapper):

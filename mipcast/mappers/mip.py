@@ -181,7 +181,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         port = self._vtk_port()
         if vtkOpenGLGPUVolumeRayCastMapper.GetNumberOfInputConnections(self, 0):
             current = vtkOpenGLGPUVolumeRayCastMapper.GetInputConnection(self, 0, 0)
-            if _same_port(current, port):
+            if same_port(current, port):
                 return
         vtkOpenGLGPUVolumeRayCastMapper.SetInputConnection(self, port)
 
@@ -190,7 +190,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         if not vtkOpenGLGPUVolumeRayCastMapper.GetNumberOfInputConnections(self, 0):
             return
         current = vtkOpenGLGPUVolumeRayCastMapper.GetInputConnection(self, 0, 0)
-        if current.GetProducer() is None or any(_same_port(current, port) for port in self._own_ports()):
+        if current.GetProducer() is None or any(same_port(current, port) for port in self._own_ports()):
             return
         self.GetInputPreparer().SetInputConnection(0, current)
         self._route_input()
@@ -481,7 +481,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         return wanted <= set(shader_pieces.installed_tags(volume.GetShaderProperty()))
 
 
-def _same_port(a, b) -> bool:
+def same_port(a, b) -> bool:
     """Whether two vtkAlgorithmOutput objects name the same output port."""
     return a.GetProducer() is b.GetProducer() and a.GetIndex() == b.GetIndex()
 

@@ -88,7 +88,7 @@ def follow_volume(mapper, volume, private_mapper, private_volume, matrix) -> Non
 
 
 #: OpenGL enums the private draws set state with (vtkOpenGLState takes plain numbers).
-GL_BLEND, GL_DEPTH_TEST = 0x0BE2, 0x0B71
+GL_BLEND, GL_DEPTH_TEST, GL_SCISSOR_TEST = 0x0BE2, 0x0B71, 0x0C11
 GL_ONE, GL_ONE_MINUS_SRC_ALPHA = 1, 0x0303
 
 
