@@ -202,7 +202,7 @@ def timer_part(reader, image, view, png, live, remote):
 def server_state(view, display, reader, live, refiner, recorder, converged):
     """After each change, the timer asks for exactly the frames the (server's) mapper still needs:
     its refinement state read from the representation's information properties before and after."""
-    from paraview.simple import GetOpacityTransferFunction, Render
+    from paraview.simple import Render
 
     renderer = view.GetRenderer()
     key = next(k for k, e in live._registry().items() if e.method == "foveated" and e.renderer.Get() is renderer)
@@ -210,8 +210,6 @@ def server_state(view, display, reader, live, refiner, recorder, converged):
                ("other_method", lambda: setattr(display, "mip_slab_thickness", 0.25)),  # not what foveated draws
                ("opacity", lambda: setattr(display, "ScalarOpacityUnitDistance",
                                            2.0 * display.ScalarOpacityUnitDistance)),  # not a mipcast value
-               ("opacity_points", lambda: setattr(GetOpacityTransferFunction(ARRAY), "Points", [
-                   p * (0.9 if i % 4 == 0 else 1.0) for i, p in enumerate(GetOpacityTransferFunction(ARRAY).Points)])),
                ("data", lambda: setattr(reader, "FileName", reader.FileName[0].replace(".vti", "_b.vti"))))
     report = {}
     for name, change in changes:

@@ -38,7 +38,7 @@ def _converged(phase, remote=False):
 def _exact(state):
     """After each change the timer asked for exactly the frames the (server's) mapper still needed,
     read from the representation's information properties: none once it had converged."""
-    for name in ("camera", "opacity", "opacity_points", "data"):  # changes the mapper refines after
+    for name in ("camera", "opacity", "data"):  # changes the mapper refines after
         phase = state[name]
         assert phase["before"][:2] == [1, 0] and phase["after"][:2] == [0, FRAMES], (name, phase)
         assert phase["asked"] == FRAMES - phase["untimed"] and phase["asked"] >= 1, (name, phase)
