@@ -137,6 +137,10 @@ def test_paraview_gui_client_refines_and_moves_the_server_fovea(plugin, tmp_path
     assert report["end"] == "done" and report["remote"], report
     for phase in report["phases"]:
         assert phase["asked"] >= 1 and phase["bit_equal_full"] and phase["vs_full"]["lit_share"] > 0.2, phase
+    camera = report["phases"][1]  # the server's frames after the camera turn: exactly those it needed
+    before, after = camera["server_before"], camera["server_after"]
+    assert before[:2] == [1, 0] and after[:2] == [0, FRAMES], camera
+    assert camera["asked"] <= FRAMES and after[2] - before[2] == FRAMES, camera
     assert report["idle"]["frames"] == 0 and not report["idle"]["timer_left"], report["idle"]
     mouse = report["mouse"]
     assert mouse["property"] == pytest.approx(mouse["gaze"]), mouse  # written by the client
