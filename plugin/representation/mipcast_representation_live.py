@@ -232,7 +232,8 @@ def refiner(interactor):
 
 def watch_refinement(key, entry, interactor, remote=False) -> None:
     """Called by ``prepare()`` each frame: let the interactor's timer render this representation's
-    refining frames while its foveated mapper (or, in a remote client, its panel) asks for them."""
+    refining frames while its foveated mapper (in a remote client: the server's, read when the timer
+    fires) asks for them."""
     if interactor is None:
         return
     on, _ = _progressive(entry)
