@@ -278,7 +278,7 @@ def server_refinement(key):
         return None
     location = proxy.GetLocation()
     server = location & ~_CLIENT
-    if server and location != server:
+    if server and location != server and remote_client():
         # a proxy on client and servers pulls information from the client's object: ask the servers'
         proxy.SetLocation(server)
         try:
