@@ -9,7 +9,11 @@ frames, no timer is left once converged, a camera change drops back to the
 foveated frame, no refining frame is rendered while a mouse button is held,
 ``refine(view)`` does the same for scripts, and the mouse
 moves the fovea (client-server: through the gaze point property the client
-writes; the GUI: the builtin mouse gaze with a synthetic mouse move).
+writes; the GUI: the builtin mouse gaze with a synthetic mouse move).  After
+camera, opacity and data changes the timer asks for exactly the frames the
+(server's) mapper still needs, read from the representation's
+information-only properties before and after, and none after a change the
+mapper does not draw with or with progressive refinement off.
 """
 import json
 import shutil
