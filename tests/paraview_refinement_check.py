@@ -194,7 +194,45 @@ def timer_part(reader, image, view, png, live, remote):
     report["refine_call"] = dict(frames=frames, steps=[f[0] for f in recorder.frames],
                                  bit_equal_full=bool(np.array_equal(pixels, full)), vs_full=compare(pixels, full))
     report["drag"] = drag(view, display, png, live, refiner, recorder, converged)
+    report["server_state"] = server_state(view, display, reader, live, refiner, recorder, converged)
     display.foveated_progressive = 0
+    return report
+
+
+def server_state(view, display, reader, live, refiner, recorder, converged):
+    """After each change, the timer asks for exactly the frames the (server's) mapper still needs:
+    its refinement state read from the representation's information properties before and after."""
+    from paraview.simple import Render
+
+    renderer = view.GetRenderer()
+    key = next(k for k, e in live._registry().items() if e.method == "foveated" and e.renderer.Get() is renderer)
+    changes = (("camera", lambda: view.GetActiveCamera().Azimuth(6.0)),
+               ("other_method", lambda: setattr(display, "mip_slab_thickness", 0.25)),  # not what foveated draws
+               ("opacity", lambda: setattr(display, "ScalarOpacityUnitDistance",
+                                           2.0 * display.ScalarOpacityUnitDistance)),  # not a mipcast value
+               ("data", lambda: setattr(reader, "FileName", reader.FileName[0].replace(".vti", "_b.vti"))))
+    report = {}
+    for name, change in changes:
+        change()
+        Render(view)
+        before, asked, pulls = live.server_refinement(key), refiner.frames, refiner.pulls
+        recorder.start()
+        t0 = time.perf_counter()
+        run_loop(view, live, converged)
+        wall = time.perf_counter() - t0
+        after, frames = live.server_refinement(key), list(recorder.frames)
+        report[name] = dict(before=before, after=after, asked=refiner.frames - asked, loop_frames=len(frames),
+                            untimed=sum(not f[1] for f in frames), pulls=refiner.pulls - pulls, wall_s=wall,
+                            frame_ms=[round(f[2], 2) for f in frames])
+    display.foveated_progressive = 0
+    Render(view)
+    frames, asked = idle(view, refiner, 0.3)
+    report["progressive_off"] = dict(frames=frames, asked=asked, after=live.server_refinement(key))
+    t0 = time.perf_counter()
+    for _ in range(10):
+        live.server_refinement(key)
+    report["pull_ms"] = 100.0 * (time.perf_counter() - t0)  # one read of the state (a round trip remote)
+    display.foveated_progressive = 1
     return report
 
 
@@ -272,6 +310,7 @@ def main():
     image = make_fixture("vessels", size=48)
     path = os.path.join(directory, "vessels.vti")
     write_vti(image, path)
+    write_vti(make_fixture("vessels", size=48, seed=1), path.replace(".vti", "_b.vti"))  # the "data" change
     image = read_vti(path)
     import sys
     sys.path.append(os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "plugin",

@@ -87,6 +87,13 @@ def main():
                  if e.mapper is not None and e.mapper_method == "foveated"]
         return found[0] if found else None
 
+    def server_state():
+        """The (server's) refinement state: the representation's information properties."""
+        renderer = view.GetRenderer()
+        keys = [k for k, e in mipcast_representation._REGISTRY.items()
+                if e.method == "foveated" and e.renderer.Get() is renderer]
+        return list(live.server_refinement(keys[0])) if keys else None
+
     def shot(name):
         return screenshot(view, os.path.join(OUT, name + ".png"), size=tuple(view.ViewSize))
 
@@ -138,6 +145,7 @@ def main():
         if phase in ("still", "camera") and converged():
             m = mapper()
             converged_step = m.GetRefinementStep() if m is not None else None
+            server_after = server_state()  # before the screenshots below render again
             pixels = shot(f"converged_{phase}")
             display.foveated_foveation = 0
             full = shot(f"full_{phase}")
@@ -148,12 +156,14 @@ def main():
                 phase=phase, steps=[f[1] for f in mine], asked=sum(bool(f[2]) for f in mine),
                 refining_ms=[f[3] for f in mine if f[2]], step=converged_step,
                 frames_to_full=[f[1] for f in mine].index(FRAMES) if FRAMES in [f[1] for f in mine] else None,
+                server_before=state.get("server_before"), server_after=server_after,
                 seconds=time.perf_counter() - state["t0"], bit_equal_full=bool(np.array_equal(pixels, full)),
                 vs_full=compare(pixels, full)))
             if phase == "still":
                 state["phase"] = "camera"
                 camera.Azimuth(12.0)
                 Render(view)  # the interaction's frame: back to the foveated frame
+                state["server_before"] = server_state()
                 report["after_camera_step"] = m.GetRefinementStep() if m is not None else None
                 report["after_camera_needs"] = bool(m.NeedsRefinement() if m is not None
                                                     else refiner.needs_refinement())

@@ -9,7 +9,11 @@ frames, no timer is left once converged, a camera change drops back to the
 foveated frame, no refining frame is rendered while a mouse button is held,
 ``refine(view)`` does the same for scripts, and the mouse
 moves the fovea (client-server: through the gaze point property the client
-writes; the GUI: the builtin mouse gaze with a synthetic mouse move).
+writes; the GUI: the builtin mouse gaze with a synthetic mouse move).  After
+camera, opacity and data changes the timer asks for exactly the frames the
+(server's) mapper still needs, read from the representation's
+information-only properties before and after, and none after a change the
+mapper does not draw with or with progressive refinement off.
 """
 import json
 import shutil
@@ -35,6 +39,19 @@ def _converged(phase, remote=False):
     assert phase["first_vs_full"]["within_1_share"] < 0.95, phase  # the foveated frame is not full quality
 
 
+def _exact(state):
+    """After each change the timer asked for exactly the frames the (server's) mapper still needed,
+    read from the representation's information properties: none once it had converged."""
+    for name in ("camera", "opacity", "data"):  # changes the mapper refines after
+        phase = state[name]
+        assert phase["before"][:2] == [1, 0] and phase["after"][:2] == [0, FRAMES], (name, phase)
+        assert phase["asked"] == FRAMES - phase["untimed"] and phase["asked"] >= 1, (name, phase)
+        assert phase["after"][2] - phase["before"][2] == phase["loop_frames"], (name, phase)  # all drew
+    other = state["other_method"]  # a property foveated does not draw with: converged, no frame asked
+    assert other["before"][:2] == [0, FRAMES] and other["asked"] == 0, other
+    assert state["progressive_off"]["asked"] == 0 and state["progressive_off"]["after"][0] == 0, state
+
+
 def test_timer_refines_to_full_quality_in_pvpython(plugin):
     completed = run_under_xvfb(["pvpython", str(CHECK), "--plugin", str(plugin)], cwd=ROOT, env=_env(),
                                timeout=240)
@@ -49,6 +66,7 @@ def test_timer_refines_to_full_quality_in_pvpython(plugin):
     drag = report["drag"]  # a button held: no refining frame; released: refines to full quality again
     assert drag["steps_while_held"][0] == 0 and drag["asked_while_held"] == 0, drag
     assert drag["steps"][-1] == FRAMES and drag["bit_equal_full"] and not drag["timer_left"], drag
+    _exact(report["server_state"])
 
 
 def test_client_mouse_moves_the_server_fovea_and_the_timer_refines(plugin, tmp_path):
@@ -66,6 +84,12 @@ def test_client_mouse_moves_the_server_fovea_and_the_timer_refines(plugin, tmp_p
         _converged(report["timer"][phase], remote=True)
     assert report["timer"]["idle_frames_asked"] == 0, report["timer"]  # no change seen: no frames asked
     assert report["timer"]["refine_call"]["bit_equal_full"], report["timer"]["refine_call"]
+    _exact(report["timer"]["server_state"])
+    camera = report["timer"]["server_state"]["camera"]  # one read per timer tick: the frames asked, then "converged"
+    assert camera["pulls"] == camera["asked"] + 1, camera
+    for phase in ("still", "camera_change"):  # Render + SaveScreenshot were steps 0 and 1: 2 frames
+        assert report["timer"][phase]["frames_asked"] == FRAMES - 2, report["timer"][phase]
+    assert report["timer"]["refine_call"]["frames"] == FRAMES, report["timer"]["refine_call"]
     mouse = report["mouse"]
     assert mouse["interactor"] and mouse["moves"] == 3, mouse
     assert mouse["property"] == pytest.approx(mouse["expected"]), mouse  # the client wrote the gaze point
@@ -117,6 +141,10 @@ def test_paraview_gui_client_refines_and_moves_the_server_fovea(plugin, tmp_path
     assert report["end"] == "done" and report["remote"], report
     for phase in report["phases"]:
         assert phase["asked"] >= 1 and phase["bit_equal_full"] and phase["vs_full"]["lit_share"] > 0.2, phase
+    camera = report["phases"][1]  # the server's frames after the camera turn: exactly those it needed
+    before, after = camera["server_before"], camera["server_after"]
+    assert before[:2] == [1, 0] and after[:2] == [0, FRAMES], camera
+    assert camera["asked"] <= FRAMES and after[2] - before[2] == FRAMES, camera
     assert report["idle"]["frames"] == 0 and not report["idle"]["timer_left"], report["idle"]
     mouse = report["mouse"]
     assert mouse["property"] == pytest.approx(mouse["gaze"]), mouse  # written by the client

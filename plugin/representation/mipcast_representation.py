@@ -197,6 +197,15 @@ def _visibility(method):
         '        </Hints>\n')
 
 
+#: The information-only properties of the server's refinement state (the C++ getters
+#: ``Get<name>()`` call :func:`refinement_info`), in the order of its tuple.
+REFINEMENT_INFO = (
+    ("MipcastRefining", "1 while this process's foveated mapper needs another frame to refine."),
+    ("MipcastRefinementStep", "Still frames the foveated mapper has refined (-1: none here)."),
+    ("MipcastFramesDrawn", "Frames the volume has drawn in this process."),
+)
+
+
 def server_manager_xml(methods=None):
     """The ServerManager XML of the representation, generated from :func:`plugin_methods`."""
     methods = plugin_methods() if methods is None else methods
@@ -215,6 +224,13 @@ def server_manager_xml(methods=None):
         '        </Hints>\n'
         '      </StringVectorProperty>\n')
     exposed.append('          <Property name="MipcastMethod" />\n')
+    for name, doc in REFINEMENT_INFO:  # read by a client of a remote server after a frame
+        props.append(
+            f'      <IntVectorProperty name="{name}" command="Get{name}" information_only="1" '
+            'number_of_elements="1" default_values="0" panel_visibility="never">\n'
+            '        <SimpleIntInformationHelper />\n'
+            f'        <Documentation>{_xml_escape(doc)}</Documentation>\n'
+            f'      </IntVectorProperty>\n')
     for method in methods:
         group = []
         for p in method["parameters"]:
@@ -861,7 +877,7 @@ def _live_without_data(key, entry, interactor, renderer, image):
     live = _live()
     if live.remote_client():
         live.watch_client_gaze(key, entry, interactor, renderer)
-        live.watch_refinement(key, entry, interactor, remote=True, renderer=renderer, image=image)
+        live.watch_refinement(key, entry, interactor, remote=True)
 
 
 def refine(view=None, max_frames=64):
@@ -892,6 +908,31 @@ def _gaze_source(entry, mapper, interactor, common):
 
 
 @_guarded
+@_guarded
+def refinement_info(key):
+    """(refining, step, frames drawn) of representation ``key`` in this process: its foveated
+    mapper needs another frame (1/0), the still frames it has refined (-1: no foveated mapper
+    here, e.g. a client of a remote server), the frames the volume drew.
+
+    The C++ getters behind :data:`REFINEMENT_INFO`'s information-only properties; a client
+    reads the server's through ``UpdatePropertyInformation`` (``mipcast_representation_live``).
+
+    Examples
+    --------
+    >>> refinement_info("no such representation")
+    (0, -1, 0)
+    """
+    entry = _REGISTRY.get(key)
+    if entry is None:
+        return (0, -1, 0)
+    mapper = entry.mapper
+    if mapper is None or entry.mapper_method != "foveated" or entry.method != "foveated":
+        return (0, -1, entry.renders)
+    volume = mapper.GetAttachedVolume() if hasattr(mapper, "GetAttachedVolume") else None
+    visible = volume is None or bool(volume.GetVisibility())
+    return (int(visible and bool(mapper.NeedsRefinement())), int(mapper.GetRefinementStep()), entry.renders)
+
+
 def release(key):
     """The C++ representation is deleted: drop its mapper."""
     entry = _REGISTRY.pop(key, None)

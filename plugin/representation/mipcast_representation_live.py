@@ -18,9 +18,17 @@ interactor (the GUI and pvpython; pvbatch and ``pvserver`` have none):
   converged, none fires a render during an interaction (mouse button
   held), and a change drops the mapper back to the foveated frame, after
   which refinement starts again.  In a client of a remote server the
-  mappers live on the server: the client asks for
-  ``refinement_frames`` further frames after each change it sees (camera,
-  view size, properties, a new delivery of the data).  The timers need the interactor's event loop (the GUI's
+  mappers live on the server: after each of the client's frames the
+  timer is started as well, and when it fires the client reads the
+  server's refinement state (the representation's information-only
+  properties ``MipcastRefining``, ``MipcastRefinementStep``,
+  ``MipcastFramesDrawn``, one ``UpdatePropertyInformation`` round trip,
+  :func:`server_refinement`) and asks for a frame only while the server's
+  mapper still refines: exactly the frames the server needs, none once it
+  has converged, whatever the change was (camera, gaze, a property, the
+  colour map, new data) as long as a frame of the client's showed it.  A
+  change made on the server alone (no client frame follows it) is not seen
+  until the client renders next: nothing polls the server.  The timers need the interactor's event loop (the GUI's
   always runs; pvpython's runs in ``Interact()``); scripts call
   :func:`refine` instead.
 - **Mouse gaze in client-server sessions** (``foveated_follow_mouse``): the
@@ -95,11 +103,12 @@ class Refiner:
         self.timer = None  # the pending one-shot timer's id
         self.interacting = False
         self.requested = False  # the frame being drawn was asked for by our timer
+        self.requested_remote = False  # the last frame was asked for by our timer (remote keys)
         self.renders: dict = {}  # key -> the entry's draw count when our timer asked for a frame
-        self.remote_frames: dict = {}  # key -> frames asked for since the client last saw a change
-        self.signatures: dict = {}  # key -> what the client saw of the frame being drawn
-        self.seen: dict = {}  # key -> the signature the frame count started at
+        self.remote: set = set()  # keys whose mapper is on the server
+        self.server: dict = {}  # key -> the server's (refining, step, frames drawn), last read
         self.frames = 0  # frames this refiner asked for (tests, benchmarks)
+        self.pulls = 0  # reads of the server's refinement state (tests)
         self.window = interactor.GetRenderWindow()
         from vtkmodules.util.misc import calldata_type
         from vtkmodules.util.vtkConstants import VTK_INT
@@ -116,13 +125,12 @@ class Refiner:
         if self.window is not None:
             self.observers.append((self.window, self.window.AddObserver(vtkCommand.EndEvent, self._after_frame)))
 
-    def watch(self, key: str, remote: bool = False, signature=None) -> None:
-        """Watch representation ``key``; ``remote``: its mapper is on the server, and ``signature``
-        (what the client sees of this frame: camera, view size, properties, data) tells a change."""
+    def watch(self, key: str, remote: bool = False) -> None:
+        """Watch representation ``key``; ``remote``: its mapper is on the server (its refinement
+        state is read from the server's information properties)."""
         self.keys.add(key)
         if remote:
-            self.remote_frames.setdefault(key, 0)
-            self.signatures[key] = signature
+            self.remote.add(key)
 
     # -- what needs a frame ----------------------------------------------------
     def _needs(self, key, after_frame) -> bool:
@@ -130,14 +138,17 @@ class Refiner:
         if entry is None:
             self.keys.discard(key)
             return False
-        if key in self.remote_frames:  # the mapper is on the server: count frames
-            on, frames = _progressive(entry)
+        if key in self.remote:  # the mapper is on the server
+            on, _ = _progressive(entry)
             if entry.method != "foveated" or not on:
                 return False
-            if after_frame and self.signatures.get(key) != self.seen.get(key, object()):
-                self.seen[key] = self.signatures.get(key)
-                self.remote_frames[key] = 0  # a change the client saw: the server starts over
-            return self.remote_frames[key] < frames
+            if after_frame:  # the server's state is read when the timer fires, outside the frame
+                return True
+            state = self.server.get(key)
+            if state is None or not state[0]:
+                return False
+            # a frame we asked for in which the server's volume did not draw: do not ask again
+            return not (self.requested_remote and self.renders.get(key) == state[2])
         mapper = entry.mapper
         if mapper is None or entry.mapper_method != "foveated" or not mapper.NeedsRefinement():
             return False
@@ -166,17 +177,32 @@ class Refiner:
             timer = interactor.CreateOneShotTimer(self.interval_ms)
             self.timer = timer or None  # 0: the interactor takes no timers yet (not initialised)
 
+    def pull(self) -> None:
+        """Read the server's refinement state of the remote representations watched."""
+        for key in list(self.remote):
+            entry = _registry().get(key)
+            on = entry is not None and entry.method == "foveated" and _progressive(entry)[0]
+            state = server_refinement(key) if on else None
+            if state is None:
+                self.server.pop(key, None)
+            else:
+                self.server[key] = state
+                self.pulls += 1
+
     def _tick(self, interactor, timer_id):
         if self.timer is None or (timer_id is not None and timer_id != self.timer):
             return  # another timer (ParaView's delayed still render, the user's)
         self.timer = None
-        if self.interacting or not self.needs_refinement():
+        if self.interacting:
+            return
+        self.pull()
+        if not self.needs_refinement():
+            self.requested_remote = False
             return
         registry = _registry()
         self.renders = {key: registry[key].renders for key in self.keys if key in registry}
-        for key in self.remote_frames:
-            self.remote_frames[key] += 1
-        self.requested = True
+        self.renders.update({key: self.server[key][2] for key in self.remote if key in self.server})
+        self.requested = self.requested_remote = True
         self.frames += 1
         interactor.Render()  # -> vtkSMViewProxyInteractorHelper -> the view proxy's StillRender()
 
@@ -204,27 +230,64 @@ def refiner(interactor):
     return found
 
 
-def watch_refinement(key, entry, interactor, remote=False, renderer=None, image=None) -> None:
+def watch_refinement(key, entry, interactor, remote=False) -> None:
     """Called by ``prepare()`` each frame: let the interactor's timer render this representation's
-    refining frames while its foveated mapper (or, in a remote client, its panel) asks for them."""
+    refining frames while its foveated mapper (in a remote client: the server's, read when the timer
+    fires) asks for them."""
     if interactor is None:
         return
     on, _ = _progressive(entry)
     if entry.method != "foveated" or not on:
         return
-    refiner(interactor).watch(key, remote, client_signature(entry, renderer, image) if remote else None)
+    refiner(interactor).watch(key, remote)
 
 
-def client_signature(entry, renderer, image) -> tuple:
-    """What a client without the data sees change: the camera, the view's size, the representation's
-    properties and its (empty) delivered piece."""
-    camera = renderer.GetActiveCamera() if renderer is not None else None
-    view = () if camera is None else (camera.GetPosition(), camera.GetFocalPoint(), camera.GetViewUp(),
-                                      camera.GetViewAngle(), camera.GetParallelScale(),
-                                      camera.GetParallelProjection(), tuple(renderer.GetSize()))
-    values = tuple(sorted((method, tuple(sorted((k, repr(v)) for k, v in settings.items())))
-                          for method, settings in entry.values.items()))
-    return view, values, entry.method, image.GetMTime() if image is not None else None
+#: vtkPVSession::CLIENT (a proxy's location bit)
+_CLIENT = 0x10
+#: representation key -> its vtkSMProxy of the MipcastRepresentation (a client's cache)
+_PROXIES: dict = {}
+
+
+def _representation_proxy(key):
+    """The MipcastRepresentation (sub)proxy of the client-side representation ``key``, or None."""
+    found = _PROXIES.get(key)
+    if found is None:
+        outer = _proxy_of(key)
+        exposed = outer.GetProperty("MipcastMethod") if outer is not None else None
+        found = exposed.GetParent() if exposed is not None else None  # the MipcastRepresentation subproxy
+        if found is None or found.GetProperty("MipcastRefining") is None:
+            return None  # a server plugin without the information properties
+        _PROXIES[key] = found
+    return found
+
+
+def server_refinement(key):
+    """The server's (refining, step, frames drawn) of representation ``key`` (a client of a
+    remote server): its information-only properties, updated by one round trip; None if
+    unknown.
+
+    Examples
+    --------
+    >>> server_refinement.__name__   # in a client: server_refinement(key) -> (1, 2, 17)
+    'server_refinement'
+    """
+    from mipcast_representation import REFINEMENT_INFO
+
+    proxy = _representation_proxy(key)
+    if proxy is None:
+        return None
+    location = proxy.GetLocation()
+    server = location & ~_CLIENT
+    if server and location != server and remote_client():
+        # a proxy on client and servers pulls information from the client's object: ask the servers'
+        proxy.SetLocation(server)
+        try:
+            proxy.UpdatePropertyInformation()  # -> vtkMipcastRepresentation::GetMipcast*() on the server
+        finally:
+            proxy.SetLocation(location)
+    else:
+        proxy.UpdatePropertyInformation()
+    return tuple(int(proxy.GetProperty(name).GetElement(0)) for name, _ in REFINEMENT_INFO)
 
 
 def refine(view=None, max_frames: int = 64) -> int:
@@ -235,7 +298,9 @@ def refine(view=None, max_frames: int = 64) -> int:
     the change, before ``SaveScreenshot``.  In a builtin session it renders
     while a mapper of this process still refines (at most ``max_frames``);
     in a client of a remote server (the mappers are on the server) it
-    renders ``refinement_frames`` frames.  Returns the frames it rendered.
+    renders while the server reports that a mapper still refines (the
+    information properties, :func:`server_refinement`).  Returns the
+    frames it rendered.
 
     Examples
     --------
@@ -255,9 +320,15 @@ def refine(view=None, max_frames: int = 64) -> int:
             Render(view)
             frames += 1
         return frames
-    wanted = max([_progressive(e)[1] for e in registry.values()
-                  if e.mapper is None and e.method == "foveated" and _progressive(e)[0]] or [0])
-    for _ in range(min(wanted, max_frames)):
+    remote = [key for key, e in registry.items()
+              if e.mapper is None and e.method == "foveated" and _progressive(e)[0]
+              and (renderer is None or e.renderer.Get() is renderer)]
+
+    def refining():
+        states = [server_refinement(key) for key in remote]
+        return any(state is not None and state[0] for state in states)
+
+    while frames < max_frames and remote and refining():
         Render(view)
         frames += 1
     return frames
@@ -367,6 +438,8 @@ def release(key) -> None:
     found = _CLIENT_GAZE.pop(key, None)
     if found is not None:
         found.stop()
+    _PROXIES.pop(key, None)
     for refiner_ in _REFINERS.values():
         refiner_.keys.discard(key)
-        refiner_.remote_frames.pop(key, None)
+        refiner_.remote.discard(key)
+        refiner_.server.pop(key, None)

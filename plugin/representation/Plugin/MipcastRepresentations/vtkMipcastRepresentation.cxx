@@ -176,6 +176,44 @@ void vtkMipcastRepresentation::SetMipcastString(
 }
 
 //----------------------------------------------------------------------------
+int vtkMipcastRepresentation::RefinementInfo(int index)
+{
+  vtkPythonInterpreter::Initialize();
+  vtkPythonScopeGilEnsurer gil;
+  PyObject* module = Glue();
+  if (!module)
+  {
+    return index == 0 ? 0 : -1;
+  }
+  vtkSmartPyObject result(
+    PyObject_CallMethod(module, "refinement_info", "(s)", this->Key.c_str()));
+  if (!result || !PyTuple_Check(result) || PyTuple_Size(result) <= index)
+  {
+    if (PyErr_Occurred())
+    {
+      PyErr_Print();
+    }
+    return index == 0 ? 0 : -1;
+  }
+  return static_cast<int>(PyLong_AsLong(PyTuple_GET_ITEM(result.GetPointer(), index)));
+}
+
+int vtkMipcastRepresentation::GetMipcastRefining()
+{
+  return this->RefinementInfo(0);
+}
+
+int vtkMipcastRepresentation::GetMipcastRefinementStep()
+{
+  return this->RefinementInfo(1);
+}
+
+int vtkMipcastRepresentation::GetMipcastFramesDrawn()
+{
+  return this->RefinementInfo(2);
+}
+
+//----------------------------------------------------------------------------
 void vtkMipcastRepresentation::SetVisibility(bool val)
 {
   this->Superclass::SetVisibility(val);
