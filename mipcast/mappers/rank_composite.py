@@ -136,7 +136,7 @@ def _global_scalars(scalars, low: float, high: float):
 
 
 def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce,
-            rule: str) -> Tuple[Optional[np.ndarray], Optional[str]]:
+            rule: str, rank: Tuple[int, int] = (0, 1)) -> Tuple[Optional[np.ndarray], Optional[str]]:
     """This frame's final premultiplied RGBA (top row first), the same on every rank; or (None, why).
 
     Parameters
@@ -149,6 +149,8 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce,
     whole_stub : (whole extent, origin, spacing, direction 3x3 row-major)
     reduce : :data:`Reduce`
     rule : ``"demip"`` or ``"mean"``
+    rank : (this rank's index, the number of ranks)
+        For DEMIP's ordered projections (:mod:`mipcast.mappers.rank_ordered`: each rank's row of the pieces).
 
     Every rank must call this the same number of times per frame; it enters
     the same reductions whatever happens locally.
@@ -187,8 +189,10 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce,
     if entries:
         _clear_depth(renderer)
     if rule == "demip":
-        rgba, problem = _demip(mapper, volume, renderer, entries, whole_image, camera, shape, reduce, (low, high),
-                               local_problem)
+        from mipcast.mappers import rank_ordered  # every projection: "mip" by _demip, the others turn by turn
+
+        rgba, problem = rank_ordered.demip(mapper, volume, renderer, entries, whole_image, camera, shape, reduce,
+                                           (low, high), local_problem, rank)
     else:
         rgba, problem = _mean(mapper, volume, renderer, entries, whole_image, camera, shape, reduce, whole_scalars,
                               (low, high), local_problem)
@@ -247,8 +251,10 @@ def _demip(mapper, volume, renderer, entries, whole_image, camera, shape, reduce
     index = reduced[:-1].reshape(shape)
     index = np.where(index >= 0.5 * _HIGH, np.inf, index)
     params = {p.name: getattr(mapper, p.getter)() for p in DEMIP}
+    from mipcast.mappers.clip_uniforms import slab_of
+
     depth, rgb = demip_composite(whole_image, camera, mapper.GetSampleDistance(), values, index, params,
-                                 volume.GetProperty())
+                                 volume.GetProperty(), slab=slab_of(mapper, camera))
     return demip_premultiplied(values, rgb, volume.GetProperty()), None
 
 
