@@ -56,7 +56,7 @@ def _piece(whole, extent):
     return piece
 
 
-def _rank_main(rank, count, cases, conn):
+def _rank_main(rank, count, pieces, cases, conn):
     """One simulated rank: its piece, each case's compose in the StartEvent, the pictures to the parent."""
     try:
         from test_bricked_demip_projections import DEPTH
@@ -65,7 +65,7 @@ def _rank_main(rank, count, cases, conn):
 
         whole = make_fixture("vessels", size=48)
         whole.SetSpacing(1.0, 0.8, 1.2)  # as test_bricked_mapper's fixture
-        piece = _piece(whole, PIECES[rank])
+        piece = _piece(whole, pieces[rank])
 
         def reduce(array, op):
             conn.send(("reduce", np.asarray(array, dtype=np.float64), op))
@@ -121,18 +121,19 @@ def _rank_client(rank, count, address, key):
     from multiprocessing.connection import Client
 
     conn = Client(address, authkey=bytes.fromhex(key))
-    cases = conn.recv()
-    _rank_main(rank, count, cases, conn)
+    pieces, cases = conn.recv()
+    _rank_main(rank, count, pieces, cases, conn)
     os._exit(0)  # no VTK teardown (the parent has what it needs)
 
 
-def run_ranks(count, cases, timeout=150.0):
+def run_ranks(pieces, cases, timeout=150.0):
     """Each rank's (rgba, problem) per case, reducing the ranks' arrays as MPI's AllReduce would."""
     import os
     import subprocess
     import sys
     from multiprocessing.connection import Listener
 
+    count = len(pieces)
     key = os.urandom(16)
     here = os.path.dirname(os.path.abspath(__file__))
     with Listener(family="AF_UNIX", authkey=key) as listener:
@@ -146,7 +147,7 @@ def run_ranks(count, cases, timeout=150.0):
             for _ in range(count):  # the ranks connect in any order: each names itself by its first message
                 conns.append(listener.accept())
             for conn in conns:
-                conn.send(cases)
+                conn.send((pieces, cases))
             results, collectives = _coordinate(conns, len(cases), timeout)
         finally:
             for process in processes:
@@ -194,7 +195,7 @@ def test_ordered_projections_over_three_ranks_draw_the_single_texture_picture(im
     for parallel in (False, True):
         mapper, renderer, window = build(image, "mip", 0.0, parallel)
         mip[parallel] = picture(window)
-    results, collectives = run_ranks(len(PIECES), cases)
+    results, collectives = run_ranks(PIECES, cases)
     assert collectives > 0
     for (projection, slab, parallel, coloured, camera), one, ranks in zip(cases, singles, results):
         for rgba, problem in ranks:
