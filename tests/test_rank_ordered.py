@@ -225,3 +225,30 @@ def test_ordered_projections_over_three_ranks_draw_the_single_texture_picture(im
             composite = np.rint(255.0 * reference(image, view, projection, slab, "rgb"))
             hit = np.isfinite(composite).all(axis=-1)
             assert hit.mean() > 0.2 and (np.abs(rgb[hit] - composite[hit]).max(axis=-1) <= 1).mean() >= 0.999
+
+
+def test_pieces_no_plane_separates_are_refused():
+    """A pinwheel of five boxes (no axis plane splits it) has no order valid for every ray: refused, named."""
+    from mipcast.mappers.rank_ordered import front_to_back
+
+    pinwheel = [(0, 2, 0, 1, 0, 1), (2, 3, 0, 2, 0, 1), (1, 3, 2, 3, 0, 1), (0, 1, 1, 3, 0, 1), (1, 2, 1, 2, 0, 1)]
+    with pytest.raises(ValueError, match="cannot be ordered front to back"):
+        front_to_back(pinwheel, {"u_mc_rayDirection": [1.0, 0.5, 0.2], "u_mc_rayEye": [0.0, 0.0, 0.0, 0.0]})
+
+
+def test_a_wrong_rank_count_is_refused_not_drawn(image):
+    """compose told 2 ranks while one process reduces: the gathered count says 1, every rank gives up."""
+    mapper, renderer, window = build(image, "lmip", 0.0, False)
+    direction = image.GetDirectionMatrix()
+    stub = (tuple(image.GetExtent()), image.GetOrigin(), image.GetSpacing(),
+            [direction.GetElement(i, j) for i in range(3) for j in range(3)])
+    out = {}
+
+    def start(caller, event):
+        out["result"] = rank_composite.compose(mapper, mapper.GetAttachedVolume(), caller, image, stub,
+                                               rank_composite.single, "demip", rank=(0, 2))
+
+    renderer.AddObserver("StartEvent", start)
+    window.Render()
+    rgba, problem = out["result"]
+    assert rgba is None and "rank=(index, count)" in problem
