@@ -8,11 +8,10 @@ process, which reduces them when every rank has sent one and fails when the rank
 diverge (a hang under MPI). Rank 0's picture must be the single-texture picture within 1 grey level
 on >= 99.9 % of the pixels (MIDA with the opaque grey ramp also the float64 reference's composite),
 and LMIP / attenuated MIP must differ from MIP. Before this module, the route drew MIP for every
-projection. DEMIP's "mip" (rank_composite's MAX / MIN) with a slab is checked on a second frame: in
-a fresh window, the first frame's phase-1 MIP (a vtkOpenGLGPUVolumeRayCastMapper capturing the
-framebuffer's depth at the renderer's StartEvent) ends most rays early (0.13 low on average, 91 % of
-the rays; 65-76 % of the pixels within 1 grey), a known defect of that route not fixed here; the
-ordered projections' brick mappers read their state as the depth texture and are right at once.
+projection. DEMIP's "mip" (rank_composite's MAX / MIN) with a slab is checked too, on a fresh
+window's first frame: there the depth clear before the private renders was cut by the scissor box
+VTK had left, the phase-1 MIP (which ends its rays at the framebuffer's depth) ended most rays early
+(0.13 low on average on 91 % of the rays; 65-76 % of the pixels within 1 grey); fixed.
 """
 import traceback
 
@@ -105,8 +104,7 @@ def _rank_main(rank, count, pieces, cases, conn):
                                                        rank=(rank, count))
 
             renderer.AddObserver("StartEvent", start)
-            for _ in range(2 if projection == "mip" else 1):  # "mip": the first frame's phase 1 is wrong (module doc)
-                window.Render()
+            window.Render()  # a fresh window's first frame
             rgba, problem = out["result"]
             conn.send(("done", rgba, problem, rank))
     except Exception:  # noqa: BLE001
