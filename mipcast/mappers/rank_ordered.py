@@ -234,6 +234,8 @@ def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera,
 
     index, count = (int(v) for v in rank)
     own = None
+    if not 0 <= index < count and problem is None:
+        problem = f"this rank's index {index} is not in [0, {count}): pass rank=(index, count) to compose"
     if entries and problem is None:
         try:
             own = _ordered_entry(mapper, entries, whole_image.GetExtent(), projection)
@@ -242,15 +244,22 @@ def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera,
             problem, own = repr(error), None
     # 1: who draws which piece (a row per rank), how many ranks counted, anyone failed
     table = np.zeros((count, 7))
-    if own is not None and 0 <= index < count:
-        table[index] = [1.0, *own["extent"]]
-    gathered = reduce(np.concatenate([table.ravel(), [1.0, 1.0 if problem else 0.0]]), "sum")
+    claims = np.zeros(count)
+    if 0 <= index < count:
+        claims[index] = 1.0
+        if own is not None:
+            table[index] = [1.0, *own["extent"]]
+    gathered = reduce(np.concatenate([table.ravel(), claims, [1.0, 1.0 if problem else 0.0]]), "sum")
     if int(round(gathered[-2])) != count:
         return None, (f"the ranks disagree on their number ({int(round(gathered[-2]))} took part, this rank was "
                       f"told {count}): pass rank=(index, count) to rank_composite.compose")
     if gathered[-1] > 0.0:
         return None, problem or "a rank failed to prepare its piece"
-    table = gathered[:-2].reshape(count, 7)
+    claims = gathered[count * 7:-2]
+    if np.any(np.abs(claims - 1.0) > 0.5):
+        return None, (f"the ranks' indices are not 0 .. {count - 1} once each (rank rows {claims.tolist()}): "
+                      "pass rank=(index, count) to rank_composite.compose")
+    table = gathered[:count * 7].reshape(count, 7)
     drawn = [r for r in range(count) if table[r, 0] > 0.5]
     order, order_problem = list(drawn), None
     if whole_image is not None and drawn:
@@ -269,7 +278,9 @@ def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera,
     size = shape[0] * shape[1]
     for turn, owner in enumerate(order):
         contribution = np.zeros(len(names) * size + 1)
-        if owner == index and order_problem is None:
+        if order_problem is not None:  # every rank that could order sees it: all stop at the first turn
+            contribution[-1] = 1.0
+        elif owner == index:
             try:
                 _draw_turn(projection, mapper, volume, renderer, own, whole_image, camera, shape, state,
                            data_range, local)
@@ -278,11 +289,9 @@ def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera,
                 problem, contribution[-1] = repr(error), 1.0
         reduced = reduce(contribution, "sum")
         if reduced[-1] > 0.0:
-            return None, problem or "a rank failed to draw its piece"
+            return None, order_problem or problem or "a rank failed to order or draw the pieces"
         for k, name in enumerate(names):
             state[name] = reduced[k * size:(k + 1) * size].reshape(shape)
-    if order_problem is not None:
-        return None, order_problem
     # 3: LMIP's phase 2 (DEMIP's first same-material sample): MIN over the ranks
     values = np.full(shape, np.nan)
     if projection == "lmip":
