@@ -17,7 +17,9 @@ final picture:
   each piece's first sample of that GLOBAL maximum's material
   (:class:`mipcast.mappers.demip_brick.DEMIPBrickDepthMapper`), then depth,
   Eq. 1 and the colour sphere on the CPU
-  (:func:`mipcast.mappers.demip_composite.demip_composite`);
+  (:func:`mipcast.mappers.demip_composite.demip_composite`); DEMIP's ordered
+  projections (LMIP, attenuated MIP, MIDA) go rank after rank, front to
+  back (:mod:`mipcast.mappers.rank_ordered`, which needs ``rank``);
 - rule ``"mean"`` (``average``, ``analytic_average``): SUM over ranks of the
   pieces' counted samples / ray length and of their weighted means (the
   sampled average: of opacity and opacity x value), divided by the total.
