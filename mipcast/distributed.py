@@ -397,10 +397,11 @@ class DistributedView:
         set_parameters(self.depth_mapper, **settings)
         values = self.demip_parameters()
         if values["projection"] != "mip":
-            raise ValueError(f"distributed DEMIP composites projection 'mip' only, got {values['projection']!r} "
-                             "(LMIP, attenuated MIP and MIDA depend on the order along the whole ray: their "
-                             "bricks would be drawn one rank after another, front to back; the mapper draws "
-                             "them so in bricks beyond the texture limit on one GPU): set projection='mip' or "
+            raise ValueError(f"DistributedView's DEMIP composites projection 'mip' only, got {values['projection']!r} "
+                             "(LMIP, attenuated MIP and MIDA depend on the order along the whole ray): set "
+                             "projection='mip', show the volume with the mipcast representation in ParaView's "
+                             "render view on the same ranks (mpiexec -n N pvbatch / pvserver: it draws the "
+                             "pieces one rank after another, front to back, mipcast.mappers.rank_ordered), or "
                              "render the whole volume on one rank")
         # phase 1 clips with the same slab (its default centre and normal follow the same camera)
         slab = {name: values[name] for name in ("slab_thickness", "slab_centre", "slab_normal")}

@@ -10,7 +10,8 @@ y) must equal it within 1 grey level on >= 99.9 % of the pixels, for ``mip``
 and ``analytic`` (and, on 2 pvbatch ranks, ``minip`` and ``analytic_minip``; IceT's Z-buffer compositing of value-as-depth fragments,
 see plugin/README.md), and for DEMIP (with and without its colour sphere), two-pass DEMIP and the averages
 (reduced over the ranks, :mod:`mipcast.mappers.rank_composite`; 2 ranks along x and y, 4 along z, and
-DEMIP and the average through pvserver). The vessels cross the brick borders: every piece
+DEMIP and the average through pvserver), and DEMIP's ordered projections LMIP, attenuated MIP and MIDA on
+4 ranks along z (drawn rank after rank front to back, :mod:`mipcast.mappers.rank_ordered`). The vessels cross the brick borders: every piece
 holds lit pixels of the picture (checked).
 """
 import json
@@ -37,6 +38,8 @@ MINIP_METHODS = ("minip", "analytic_minip")
 REDUCED_METHODS = ("demip", "demip@depth_mode=eye_distance", "demip@depth_mode=eye_distance@sphere_weight=0.5",
                    "demip_two_pass@depth_mode=window", "demip_two_pass@depth_mode=window@sphere_weight=0.5",
                    "average", "analytic_average")
+#: DEMIP's ordered projections, drawn rank after rank front to back (mipcast.mappers.rank_ordered): 4 ranks along z.
+ORDERED_METHODS = ("demip@projection=lmip@local_threshold=0.15", "demip@projection=attenuated", "demip@projection=mida")
 #: Share of pixels within 1 grey level of the one-rank picture.
 MATCH = 0.999
 missing = [tool for tool in ("mpiexec", "pvbatch", "pvserver", "pvpython", "Xvfb", "cmake", "c++")
@@ -92,7 +95,7 @@ def load_png(path):
 @pytest.fixture(scope="module")
 def one_rank(plugin, display, work):
     """The reference: one pvbatch rank reads the whole volume."""
-    results = pvbatch(plugin, display, work, 1, 0, METHODS + MINIP_METHODS + REDUCED_METHODS)
+    results = pvbatch(plugin, display, work, 1, 0, METHODS + MINIP_METHODS + REDUCED_METHODS + ORDERED_METHODS)
     assert results["ranks"] == 1
     return {method: load_png(path) for method, path in results["pngs"].items()}
 
@@ -120,7 +123,8 @@ def test_two_pvbatch_ranks_split_along_x(plugin, display, work, one_rank):
 
 
 def test_four_pvbatch_ranks_split_along_z(plugin, display, work, one_rank):
-    methods = METHODS + REDUCED_METHODS
+    """Also DEMIP's LMIP, attenuated MIP and MIDA (each rank's piece drawn in its turn, front to back)."""
+    methods = METHODS + REDUCED_METHODS + ORDERED_METHODS
     check_parity(pvbatch(plugin, display, work, 4, 2, methods), one_rank, 4, "pvbatch", methods)
 
 

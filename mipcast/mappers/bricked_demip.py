@@ -115,22 +115,31 @@ _ORDERED_BRICKS = {"lmip": ("LMIPBrickMapper", {"u_mc_brickLocal": 1.0e30}),
 
 def ordered_bricks_of(mapper, limit: int, projection: str) -> list:
     """Per brick: the entry of ``projection``'s brick mapper ("lmip", "attenuated" or "mida"), drawn front to back."""
+    def make(piece, extent, whole):
+        return ordered_brick_entry(projection, piece, extent, whole, mapper.GetSampleDistance())
+    return cached_bricks(mapper, limit, f"demip_{projection}_bricks", make)
+
+
+def ordered_brick_entry(projection: str, piece, extent, whole, sample_distance: float) -> dict:
+    """A brick entry (:func:`mipcast.mappers.brick_rays.brick_entry`) of ``projection``'s brick mapper.
+
+    ``projection``: "lmip", "attenuated" or "mida"; ``piece`` the brick's
+    image (extent from 0), ``extent`` its place in the ``whole`` extent.
+    Also a rank's piece in :mod:`mipcast.mappers.rank_ordered`.
+    """
     from mipcast.mappers import demip_ordered_bricks
 
     name, start = _ORDERED_BRICKS[projection]
-    kind = getattr(demip_ordered_bricks, name)
-
-    def make(piece, extent, whole):
-        entry = brick_entry(kind, piece, extent, whole, piece.GetSpacing(), mapper.GetSampleDistance())
-        uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
-        uniforms.SetUniformf("u_mc_brickChannel", 0.0)
-        for uniform, value in start.items():
-            if isinstance(value, list):
-                uniforms.SetUniform4f(uniform, value)
-            else:
-                uniforms.SetUniformf(uniform, value)
-        return entry
-    return cached_bricks(mapper, limit, f"demip_{projection}_bricks", make)
+    entry = brick_entry(getattr(demip_ordered_bricks, name), piece, extent, whole, piece.GetSpacing(),
+                        sample_distance)
+    uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
+    uniforms.SetUniformf("u_mc_brickChannel", 0.0)
+    for uniform, value in start.items():
+        if isinstance(value, list):
+            uniforms.SetUniform4f(uniform, value)
+        else:
+            uniforms.SetUniformf(uniform, value)
+    return entry
 
 
 def follow_demip_brick(mapper, volume, entry, distance: float, demip: bool) -> None:

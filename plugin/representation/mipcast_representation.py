@@ -490,6 +490,14 @@ def process_count():
     return 1 if controller is None else controller.GetNumberOfProcesses()
 
 
+def process_index():
+    """This process's rank in its MPI job (ParaView's global controller; 0 without MPI)."""
+    from vtkmodules.vtkParallelCore import vtkMultiProcessController
+
+    controller = vtkMultiProcessController.GetGlobalController()
+    return 0 if controller is None else controller.GetLocalProcessId()
+
+
 def depth_composite_op(method):
     """How ``method``'s pieces composite exactly by depth: ``"max"``, ``"min"`` or None (ordered blending).
 
@@ -758,7 +766,7 @@ def _rank_start(entry):
         volume = mapper.GetAttachedVolume() if mapper is not None and hasattr(mapper, "GetAttachedVolume") else None
         try:
             rgba, problem = compose(mapper, volume, renderer, piece, getattr(entry, "rank_whole", None),
-                                    _all_reduce, entry.rank_rule)
+                                    _all_reduce, entry.rank_rule, rank=(process_index(), process_count()))
         except Exception as error:  # noqa: BLE001  (never into C++)
             rgba, problem = None, repr(error)
         entry.rank_picture = rgba
