@@ -283,6 +283,21 @@ def _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries
     return running
 
 
+def _above_floor(values: np.ndarray, volume_property, data_range) -> np.ndarray:
+    """Where the maximum (data units) is above the material window's floor: the rays with a DEMIP term.
+
+    Phase 2's test on the maximum (``shaders/demip_brick_hooks.glsl``: above the
+    floor by the floor tolerance of the window; none with constant transfer functions).
+    """
+    from mipcast.core.shading import FLOOR_TOLERANCE
+    from mipcast.core.transfer_bounds import constant_ends
+
+    floor, ceiling = constant_ends(volume_property, *data_range)
+    if not ceiling > floor:
+        return np.zeros(values.shape, dtype=bool)
+    return np.nan_to_num(values, nan=-np.inf) > floor + FLOOR_TOLERANCE * (ceiling - floor)
+
+
 def compose(mapper, volume, renderer, limit: int, image_sample_distance: float = 1.0, grid=None,
             kinds=None) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Both phases over every brick in view, then the CPU composite.
@@ -320,6 +335,7 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
     entries = bricks_of(mapper, limit, kinds)
     in_view = []
     values = np.full(shape, np.nan)
+    empty = np.zeros(shape, dtype=bool)  # rays a brick drew without a sample (mipcast.mappers.outline_rays)
     for first, second in entries:  # phase 1: MAX of the bricks' sampled MIP
         follow_demip_brick(mapper, volume, first, distance, demip=False, image_sample_distance=isd)
         if not box_in_view(first["volume"], renderer, shape):
@@ -330,10 +346,18 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
         if mapper.GetProjection() == "mida" and not object_state(mapper).get("exact_readout"):
             continue  # MIDA's picture needs no maximum (its compositing, below)
         found = _render(renderer, first, mapper, camera, shape, size=size)
+        empty |= np.abs(np.nan_to_num(found)) > 1.0e3
         scalars = first["mapper"].GetRenderedInput().GetPointData().GetScalars()
         brick = float_readout.to_data_units(np.where(np.abs(found) > 1.0e3, np.nan, found), scalars)
         values = np.fmax(values, brick)
     data_range = mapper.GetInput().GetPointData().GetScalars().GetRange(0)
+    completed = np.zeros(shape, dtype=bool)
+    if mapper.GetProjection() == "mip" and in_view:  # the outline rays no brick could sample: one sample each
+        from mipcast.mappers import outline_rays
+
+        before = np.isnan(values)
+        values = outline_rays.complete(values, empty, mapper.GetRenderedInput(), camera, size, distance)
+        completed = before & ~np.isnan(values)
     scan = {"isd": isd, "size": size}
     if mapper.GetProjection() == "lmip":
         values = _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range,
@@ -348,6 +372,8 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
         follow_demip_brick(mapper, volume, second, distance, demip=True, image_sample_distance=isd)
         bind_maximum(window, second["mapper"], values, data_range)
         index = np.minimum(index, match_index(_render(renderer, second, mapper, camera, shape, size=size)))
+    if completed.any():  # their one sample is the maximum: the first of its material, if it has a DEMIP term
+        index[completed & _above_floor(values, volume.GetProperty(), data_range)] = 0.0
     object_state(mapper)["bricks_drawn"] = len(in_view)
     params = {p.name: getattr(mapper, p.getter)() for p in DEMIP}
     depth, rgb = demip_composite(_whole(mapper.GetInput()), camera, distance, values, index, params,
