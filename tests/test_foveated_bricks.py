@@ -47,18 +47,18 @@ def test_bricked_levels_give_the_single_texture_foveated_picture(image, method, 
     assert one.mapper.GetLastPlan().layers == mapper.GetLastPlan().layers
     grey = np.abs(got - expected).max(axis=-1)
     assert got.max() > 200 and (got.max(axis=-1) > 10).mean() > 0.3  # a picture, not a black frame
-    assert (grey <= 1).mean() >= 0.999
+    assert (grey <= 1).all()
     if method == "analytic":  # bit for bit (cells lie whole in a brick)
         assert np.array_equal(got, expected)
-    else:  # sampled: a few silhouette rays the bricked draw misses (mipcast.mappers.bricked_draw)
-        assert (grey == 0).mean() >= 0.998
+    else:  # sampled: the outline rays no brick samples get their sample on the CPU (mipcast.mappers.outline_rays)
+        assert (grey == 0).mean() >= 0.998 and outline_rays(bricked).sum() >= 3
 
     # the float readout: the same blended values, and the float64 reference inside the fovea
     low, high = image.GetPointData().GetScalars().GetRange(0)
     values, unbricked = bricked.float_image(), one.float_image()
     assert np.array_equal(np.isnan(values), np.isnan(unbricked))
     agree = np.isnan(values) | (np.abs(values - unbricked) <= 1e-4 * (high - low))  # NaN where both are
-    assert agree.mean() >= 0.999 and (method == "mip" or agree.all())
+    assert agree.all()
     plan = mapper.GetLastPlan()
     fovea = foveation.eccentricity(SIZE, plan.gaze, plan.aspect) < plan.start
     reference = METHODS[method].reference(image, bricked.camera, bricked.size,
@@ -72,11 +72,12 @@ def test_bricked_levels_give_the_single_texture_foveated_picture(image, method, 
 
 
 def outline_rays(view) -> np.ndarray:
-    """Pixels whose level-0 ray the bricks cannot sample (mipcast.mappers.bricked_draw, "Grazing rays").
+    """Pixels whose level-0 ray no brick can sample on the GPU (mipcast.mappers.outline_rays).
 
     The whole box's chord is shorter than one step and lies in one brick, while its one
     sample (one step past the entry, clamped back onto the box) falls in a cell of the
-    neighbouring brick, which that ray never crosses.
+    neighbouring brick, which that ray never crosses.  (The float64 rays of the view: a
+    prediction, which the CPU's sample of these rays must make agree.)
     """
     from mipcast.core.camera_rays import camera_rays
     from mipcast.mappers.bricks import brick_extents
@@ -111,9 +112,8 @@ def test_a_demip_layer_beyond_the_limit_gives_the_single_texture_foveated_pictur
     assert got.max() > 200 and (got.max(axis=-1) > 10).mean() > 0.3  # a picture, not a black frame
     mip = foveated(image, "mip", 8.0).screenshot().astype(int)  # DEMIP's depth term shows: not MIP's picture
     assert (np.abs(got - mip).max(axis=-1) > 10).mean() > 0.1
-    assert (grey <= 1).mean() >= 0.999
-    # the only pixels off: level-0 outline rays no brick can sample, as with the mip layer
-    assert np.all(outline_rays(bricked)[grey > 1])
+    assert (grey <= 1).all()
+    assert outline_rays(bricked).sum() >= 3  # some rays whose one sample no brick holds: the CPU's (exact)
     # blended after compositing: where two levels mix, the picture is still the single texture's
     shares = foveation.blend_shares(plan)
     mixed = np.max(np.stack(list(shares.values())), axis=0) < 1.0 - 1e-6
@@ -135,7 +135,7 @@ def test_a_demip_layer_beyond_the_limit_gives_the_single_texture_foveated_pictur
     low, high = image.GetPointData().GetScalars().GetRange(0)
     values, unbricked = bricked.float_image(), one.float_image()
     agree = (np.isnan(values) & np.isnan(unbricked)) | (np.abs(values - unbricked) <= 1e-4 * (high - low))
-    assert agree.mean() >= 0.999 and np.all(outline_rays(bricked)[~agree])
+    assert agree.all()
 
 
 def test_a_demip_layer_without_one_brick_is_not_the_single_texture_picture(image, monkeypatch):
