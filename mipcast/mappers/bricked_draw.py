@@ -38,9 +38,11 @@ channels.  DEMIP (``BRICKS = "demip"``) is drawn in two phases by
 :mod:`mipcast.mappers.bricked_demip`; foveated (``BRICKS = "foveated"``) composites
 each level too large for one texture over its bricks before blending it
 (:mod:`mipcast.mappers.bricked_foveated`, :func:`compose` on the level's ray
-grid).  Methods whose composite is none of these (a new sampled projection,
-a foveated DEMIP layer) refuse such a volume with a message naming the limit
-and the fix (:func:`refusal`).  Cost: one render per brick in view per frame plus one
+grid).  Methods whose composite is none of these (a new sampled projection)
+refuse such a volume with a message naming the limit and the fix
+(:func:`refusal`).  The whole box's outline rays whose one (clamped) sample
+lies in a brick they do not cross get it on the CPU
+(:mod:`mipcast.mappers.outline_rays`, MAX and MIN).  Cost: one render per brick in view per frame plus one
 readback each (docs/reliability.md, "GPU limits and memory"); bricks whose box
 lies outside the view are skipped.
 

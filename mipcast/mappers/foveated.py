@@ -90,8 +90,8 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     samples of the last frame against full quality.  Each drawn level holds its
     own 3D texture; a level whose volume exceeds the GPU's 3D texture limit
     composites its rays over bricks first and is then masked and blended as
-    one texture (:mod:`mipcast.mappers.bricked_foveated`; MIP and analytic
-    layers, a DEMIP layer is refused; :meth:`GetNumberOfBricks`).
+    one texture (:mod:`mipcast.mappers.bricked_foveated`; MIP, analytic and
+    DEMIP layers; :meth:`GetNumberOfBricks`).
 
     Examples
     --------
@@ -112,7 +112,7 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
 
     #: The mapper's own (skipped) draw only needs the refusal piece (and its helper).
     #: Beyond one texture each level too large is composited over bricks first, then masked and
-    #: blended (:mod:`mipcast.mappers.bricked_foveated`); refused for layers that cannot brick (DEMIP).
+    #: blended (:mod:`mipcast.mappers.bricked_foveated`); refused for a layer that cannot brick.
     BRICKS = "foveated"
     PIECES = ("mip_globals", "refusal")
     #: Pieces every level adds to its method's own.
