@@ -96,8 +96,8 @@ class Method:
         ``"demip"`` distributed route); ``"mean"``, by their means weighted by
         the samples / ray length each brick counted (exact); ``"foveated"``, each
         level too large for one texture composited over its bricks by its layer
-        method's maximum, then masked and blended as one texture
-        (:mod:`mipcast.mappers.bricked_foveated`; DEMIP layers refused); None: such
+        method's maximum (a DEMIP layer: DEMIP's two phases), then masked and
+        blended as one texture (:mod:`mipcast.mappers.bricked_foveated`); None: such
         a volume is refused with a message naming the limit and the fix.
     bench : tuple of (label, samples_per_voxel, settings), optional
         Its rows in ``mipcast bench``: ``settings`` are ``(Name, value)``

@@ -45,7 +45,7 @@ def main() -> dict:
     out = {}
     for size, limit in ((48, 20), (64, 33)):
         image = make_fixture("vessels", size=size)
-        for method in ("mip", "analytic"):
+        for method in ("mip", "analytic", "demip"):
             for tolerance in (0.0, 8.0):
                 one, bricked = view(image, method, tolerance, 0), view(image, method, tolerance, limit)
                 a, b = one.screenshot().astype(int), bricked.screenshot().astype(int)

@@ -26,9 +26,9 @@ LIMIT = 20
 SIZE = (80, 72)
 DISTANCE = 0.7
 BRICKED = [name for name, m in METHODS.items() if m.bricks in ("max", "min", "mean")]  # DEMIP: test_bricked_demip
-#: (method, settings) refusing beyond the limit: methods without bricks, foveated with a DEMIP layer
-REFUSED = [(name, ()) for name, m in METHODS.items() if m.float_readout and m.bricks is None] + [
-    ("foveated", (("Method", "demip"),))]
+#: (method, settings) refusing beyond the limit: methods without bricks (a foveated DEMIP layer draws in
+#: bricks: tests/test_foveated_bricks.py)
+REFUSED = [(name, ()) for name, m in METHODS.items() if m.float_readout and m.bricks is None]
 
 
 @pytest.fixture(scope="module")

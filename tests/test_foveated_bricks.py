@@ -8,7 +8,6 @@ the float64 reference on the same rays.
 """
 import numpy as np
 import pytest
-from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
 
 from mipcast.core import foveation
 from mipcast.core.object_state import object_state
@@ -48,18 +47,18 @@ def test_bricked_levels_give_the_single_texture_foveated_picture(image, method, 
     assert one.mapper.GetLastPlan().layers == mapper.GetLastPlan().layers
     grey = np.abs(got - expected).max(axis=-1)
     assert got.max() > 200 and (got.max(axis=-1) > 10).mean() > 0.3  # a picture, not a black frame
-    assert (grey <= 1).mean() >= 0.999
+    assert (grey <= 1).all()
     if method == "analytic":  # bit for bit (cells lie whole in a brick)
         assert np.array_equal(got, expected)
-    else:  # sampled: a few silhouette rays the bricked draw misses (mipcast.mappers.bricked_draw)
-        assert (grey == 0).mean() >= 0.998
+    else:  # sampled: the outline rays no brick samples get their sample on the CPU (mipcast.mappers.outline_rays)
+        assert (grey == 0).mean() >= 0.998 and outline_rays(bricked).sum() >= 3
 
     # the float readout: the same blended values, and the float64 reference inside the fovea
     low, high = image.GetPointData().GetScalars().GetRange(0)
     values, unbricked = bricked.float_image(), one.float_image()
     assert np.array_equal(np.isnan(values), np.isnan(unbricked))
     agree = np.isnan(values) | (np.abs(values - unbricked) <= 1e-4 * (high - low))  # NaN where both are
-    assert agree.mean() >= 0.999 and (method == "mip" or agree.all())
+    assert agree.all()
     plan = mapper.GetLastPlan()
     fovea = foveation.eccentricity(SIZE, plan.gaze, plan.aspect) < plan.start
     reference = METHODS[method].reference(image, bricked.camera, bricked.size,
@@ -72,18 +71,89 @@ def test_bricked_levels_give_the_single_texture_foveated_picture(image, method, 
     assert cost["rays"] == one.mapper.GetLastFrameCost()["rays"] and cost["brick_rays"] > 0
 
 
-def test_a_demip_layer_beyond_the_limit_refuses_naming_the_limit_and_the_fix(image):
-    refused = foveated(image, "demip", limit=LIMIT)
-    captured, previous = vtkStringOutputWindow(), vtkOutputWindow.GetInstance()
-    vtkOutputWindow.SetInstance(captured)
-    try:
-        assert refused.screenshot().max() == 0
-    finally:
-        vtkOutputWindow.SetInstance(previous)
-    problem = refused.mapper.GetLastProblem()
-    assert "3D texture limit of 20" in problem and problem in captured.GetOutput()
-    assert "'demip'" in problem and "SetMethod" in problem and "resample" in problem
-    assert foveated(image, "demip").screenshot().max() > 100  # within one texture it draws
+def outline_rays(view) -> np.ndarray:
+    """Pixels whose level-0 ray no brick can sample on the GPU (mipcast.mappers.outline_rays).
+
+    The whole box's chord is shorter than one step and lies in one brick, while its one
+    sample (one step past the entry, clamped back onto the box) falls in a cell of the
+    neighbouring brick, which that ray never crosses.  (The float64 rays of the view: a
+    prediction, which the CPU's sample of these rays must make agree.)
+    """
+    from mipcast.core.camera_rays import camera_rays
+    from mipcast.mappers.bricks import brick_extents
+
+    image = view.image
+    dims = np.array(image.GetDimensions())
+    rays = camera_rays(image, view.camera, view.size)
+    step = view.sample_distance  # t is a world distance
+    short = rays.hit & (rays.t_exit - rays.t_enter < step)
+    ends = [rays.origin + t[..., None] * rays.direction for t in (rays.t_enter, rays.t_exit)]
+    sample = np.clip(ends[0] + step * rays.direction, 0, dims - 1)
+    cell = np.minimum(np.floor(sample), dims - 2)
+    boxes = [np.array(e).reshape(3, 2) for e in brick_extents(tuple(dims), LIMIT)]
+    crossed = np.zeros(short.shape, dtype=bool)
+    for box in boxes:
+        owns = np.all((cell >= box[:, 0]) & (cell + 1 <= box[:, 1]), axis=-1)
+        # the chord's middle in that brick's box: the ray crosses it (its fragment is drawn)
+        middle = 0.5 * (ends[0] + ends[1])
+        crossed |= owns & np.all((middle >= box[:, 0] - 1e-6) & (middle <= box[:, 1] + 1e-6), axis=-1)
+    return short & ~crossed
+
+
+def test_a_demip_layer_beyond_the_limit_gives_the_single_texture_foveated_picture(image):
+    one, bricked = foveated(image, "demip", 8.0), foveated(image, "demip", 8.0, LIMIT)
+    expected, got = one.screenshot().astype(int), bricked.screenshot().astype(int)
+    mapper = bricked.mapper
+    assert mapper.GetLastProblem() is None
+    assert mapper.GetNumberOfBricks() == 27 + 8 and one.mapper.GetNumberOfBricks() == 0
+    plan = mapper.GetLastPlan()
+    assert one.mapper.GetLastPlan().layers == plan.layers
+    grey = np.abs(got - expected).max(axis=-1)
+    assert got.max() > 200 and (got.max(axis=-1) > 10).mean() > 0.3  # a picture, not a black frame
+    mip = foveated(image, "mip", 8.0).screenshot().astype(int)  # DEMIP's depth term shows: not MIP's picture
+    assert (np.abs(got - mip).max(axis=-1) > 10).mean() > 0.1
+    assert (grey <= 1).all()
+    assert outline_rays(bricked).sum() >= 3  # some rays whose one sample no brick holds: the CPU's (exact)
+    # blended after compositing: where two levels mix, the picture is still the single texture's
+    shares = foveation.blend_shares(plan)
+    mixed = np.max(np.stack(list(shares.values())), axis=0) < 1.0 - 1e-6
+    assert mixed.sum() > 1000 and (grey[mixed] <= 1).mean() >= 0.999
+    # the blend weight is the level's (foveated_weight after the composited colour), never a brick's
+    bricked_levels = [entry for key, entry in object_state(mapper)["levels_drawn"].items()
+                      if isinstance(key, tuple) and key[-1] == "bricks"]
+    assert len(bricked_levels) == 2
+    for entry in bricked_levels:
+        pieces = entry["mapper"].GetShaderPieces()
+        assert pieces.index("foveated_brick_color") < pieces.index("foveated_weight")
+    source = object_state(mapper)["brick_sources"][0]["mapper"]
+    for pair in object_state(source)["demip_bricks"]["entries"]:
+        for entry in pair:
+            assert "foveated_weight" not in entry["mapper"].GetShaderPieces()
+            assert "foveated_skip" in entry["mapper"].GetShaderPieces()  # only the level's rays
+
+    # the float readout: the same blended maxima as the single texture's
+    low, high = image.GetPointData().GetScalars().GetRange(0)
+    values, unbricked = bricked.float_image(), one.float_image()
+    agree = (np.isnan(values) & np.isnan(unbricked)) | (np.abs(values - unbricked) <= 1e-4 * (high - low))
+    assert agree.all()
+
+
+def test_a_demip_layer_without_one_brick_is_not_the_single_texture_picture(image, monkeypatch):
+    """The agreement above is no accident: a level missing one brick's part is far off."""
+    from mipcast.mappers import bricked_demip
+
+    expected = foveated(image, "demip").screenshot().astype(int)
+    bricks_of = bricked_demip.bricks_of
+
+    def one_dropped(mapper, limit, kinds=None):
+        bricks = bricks_of(mapper, limit, kinds)
+        return bricks[:12] + bricks[13:] if len(bricks) == 27 else bricks  # one of level 0's, in the fovea
+    monkeypatch.setattr(bricked_demip, "bricks_of", one_dropped)
+    dropped = foveated(image, "demip", limit=LIMIT)
+    got = dropped.screenshot().astype(int)
+    assert dropped.mapper.GetLastProblem() is None and dropped.mapper.GetNumberOfBricks() == 26 + 8
+    grey = np.abs(got - expected).max(axis=-1)
+    assert (grey > 1).mean() > 0.015 and grey.max() > 100  # (the test above asks 99.9 % within 1 grey)
 
 
 def test_bricked_levels_follow_the_users_cropping_and_clipping(image):

@@ -7,7 +7,7 @@ clipping planes.  This covers orthographic and perspective cameras alike.
 """
 from __future__ import annotations
 
-from typing import Any, NamedTuple, Union
+from typing import Any, NamedTuple, Optional, Union
 
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
@@ -176,7 +176,7 @@ def box_interval(origin: np.ndarray, direction: np.ndarray, upper: np.ndarray,
     return t_near.max(axis=-1), t_far.min(axis=-1)
 
 
-def camera_rays(image: vtkImageData, camera: Any, size: tuple) -> Rays:
+def camera_rays(image: vtkImageData, camera: Any, size: tuple, aspect: Optional[float] = None) -> Rays:
     """Cast one ray per pixel centre, as VTK's GPU ray caster does.
 
     Parameters
@@ -190,6 +190,11 @@ def camera_rays(image: vtkImageData, camera: Any, size: tuple) -> Rays:
         The camera (read only).
     size : tuple of int
         Window size ``(width, height)`` in pixels.
+    aspect : float, optional
+        The camera's aspect ratio when it is not ``width / height``: a ray
+        grid coarser than the viewport (VTK's reduced framebuffer of an
+        image sample distance, whose size it truncates) spans the viewport,
+        whose aspect the projection keeps.
 
     Returns
     -------
@@ -223,7 +228,8 @@ def camera_rays(image: vtkImageData, camera: Any, size: tuple) -> Rays:
     if not isinstance(image, vtkImageData):
         raise TypeError(f"expected vtkImageData or pyvista.ImageData, got {type(image).__name__}")
     width, height = check_size(size)
-    world_to_ndc = matrix_array(camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
+    aspect = width / height if aspect is None else float(aspect)
+    world_to_ndc = matrix_array(camera.GetCompositeProjectionTransformMatrix(aspect, -1, 1))
     ndc_to_world = np.linalg.inv(world_to_ndc)
 
     x, y = pixel_centres(width, height)

@@ -96,12 +96,20 @@ def _whole(image) -> vtkImageData:
     return whole
 
 
-def bricks_of(mapper, limit: int) -> list:
-    """Per brick: a phase-1 MIP entry and a phase-2 depth entry (mapper, volume, matrix, extent)."""
+def bricks_of(mapper, limit: int, kinds=None) -> list:
+    """Per brick: a phase-1 MIP entry and a phase-2 depth entry (mapper, volume, matrix, extent).
+
+    ``kinds``: a function of a brick mapper class giving the class the
+    bricks use instead (a foveated level's bricks cast only its rays,
+    :func:`mipcast.mappers.bricked_foveated.source_class`); the mapper's
+    state keeps one set of bricks, so one mapper always passes the same.
+    """
     from mipcast.mappers.mip import MIPVolumeMapper
 
+    adapt = kinds or (lambda kind: kind)
+
     def make(piece, extent, whole):
-        return tuple(brick_entry(kind, piece, extent, whole, piece.GetSpacing(), mapper.GetSampleDistance())
+        return tuple(brick_entry(adapt(kind), piece, extent, whole, piece.GetSpacing(), mapper.GetSampleDistance())
                      for kind in (MIPVolumeMapper, DEMIPBrickDepthMapper))
     return cached_bricks(mapper, limit, "demip_bricks", make)
 
@@ -142,8 +150,12 @@ def ordered_brick_entry(projection: str, piece, extent, whole, sample_distance: 
     return entry
 
 
-def follow_demip_brick(mapper, volume, entry, distance: float, demip: bool) -> None:
-    """The brick's mapper as the user's: DEMIP's settings (phase 2), sampling, cropping, clipping, matrix."""
+def follow_demip_brick(mapper, volume, entry, distance: float, demip: bool,
+                       image_sample_distance: float = 1.0) -> None:
+    """The brick's mapper as the user's: DEMIP's settings (phase 2), sampling, cropping, clipping, matrix.
+
+    ``image_sample_distance``: the brick's rays (1: one per pixel; a foveated level's coarser grid).
+    """
     brick_mapper = entry["mapper"]
     if demip:
         for parameter in DEMIP:
@@ -156,21 +168,22 @@ def follow_demip_brick(mapper, volume, entry, distance: float, demip: bool) -> N
     brick_mapper.SetUseJittering(False)
     if brick_mapper.GetSampleDistance() != distance:
         brick_mapper.SetSampleDistance(distance)
-    if brick_mapper.GetImageSampleDistance() != 1.0:
-        brick_mapper.SetImageSampleDistance(1.0)
+    if brick_mapper.GetImageSampleDistance() != image_sample_distance:
+        brick_mapper.SetImageSampleDistance(image_sample_distance)
     follow_volume(mapper, volume, brick_mapper, entry["volume"], entry["matrix"])
     clip_uniforms.copy_clipping(mapper, brick_mapper)
 
 
-def _render(renderer, entry, mapper, camera, shape, raw: bool = False) -> np.ndarray:
+def _render(renderer, entry, mapper, camera, shape, raw: bool = False, size=None) -> np.ndarray:
     """One brick's float readout (normalised as the shader wrote it, NaN: none), top row first.
 
     ``raw``: the readout's float32 values as written (1.0, the clear value, where no ray was cast).
+    ``size``: the viewport's (width, height) when ``shape`` is a coarser ray grid (its aspect).
     """
 
     brick_mapper, brick_volume = entry["mapper"], entry["volume"]
     object_state(brick_mapper)["draw_camera"] = camera
-    push_rays(mapper, entry, camera, shape)
+    push_rays(mapper, entry, camera, shape, size)
     object_state(brick_mapper)["exact_readout"] = True
     brick_mapper.RenderToImageOn()
     brick_mapper.SetDepthImageScalarTypeToFloat()
@@ -194,17 +207,18 @@ def _render(renderer, entry, mapper, camera, shape, raw: bool = False) -> np.nda
     return found
 
 
-def _front_to_back(mapper, limit, camera, shape, entries, in_view, ordered) -> list:
+def _front_to_back(mapper, limit, camera, shape, entries, in_view, ordered, size=None) -> list:
     """The ``ordered`` entries (one per brick, as ``entries``) of the bricks in view, front to back."""
     from mipcast.mappers.brick_rays import ray_uniforms, visibility_order
 
     seen = {id(first) for first, _ in in_view}
     visible = [i for i, (first, _) in enumerate(entries) if id(first) in seen]
-    rays = ray_uniforms(_whole(mapper.GetInput()), camera, (shape[1], shape[0]))
+    rays = ray_uniforms(_whole(mapper.GetInput()), camera, (shape[1], shape[0]) if size is None else size)
     return [ordered[visible[p]] for p in visibility_order([ordered[i]["extent"] for i in visible], rays)]
 
 
-def _attenuated_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range):
+def _attenuated_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range,
+                     isd: float = 1.0, size=None):
     """Attenuated MIP over the bricks in view front to back (data units, NaN: miss)."""
     from mipcast.mappers.demip_ordered_bricks import attenuated_value, bind_crossed
 
@@ -212,14 +226,14 @@ def _attenuated_scan(mapper, volume, renderer, limit, camera, shape, distance, e
     best = np.full(shape, np.nan)
     window = renderer.GetRenderWindow()
     for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view,
-                                ordered_bricks_of(mapper, limit, "attenuated")):
-        follow_demip_brick(mapper, volume, entry, distance, demip=True)
+                                ordered_bricks_of(mapper, limit, "attenuated"), size):
+        follow_demip_brick(mapper, volume, entry, distance, demip=True, image_sample_distance=isd)
         bind_crossed(window, entry["mapper"], crossed, data_range)
         uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
-        found = _render(renderer, entry, mapper, camera, shape, raw=True)
+        found = _render(renderer, entry, mapper, camera, shape, raw=True, size=size)
         uniforms.SetUniformf("u_mc_brickChannel", 1.0)
         try:
-            after = _render(renderer, entry, mapper, camera, shape, raw=True)
+            after = _render(renderer, entry, mapper, camera, shape, raw=True, size=size)
         finally:
             uniforms.SetUniformf("u_mc_brickChannel", 0.0)
         best = np.fmax(best, np.where(found == 1.0, np.nan, -found.astype(np.float64)))
@@ -227,21 +241,23 @@ def _attenuated_scan(mapper, volume, renderer, limit, camera, shape, distance, e
     return attenuated_value(best, volume.GetProperty(), data_range)
 
 
-def _mida_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range):
+def _mida_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range,
+               isd: float = 1.0, size=None):
     """MIDA's picture over the bricks in view front to back: premultiplied float RGBA."""
     from mipcast.mappers.demip_ordered_bricks import MIDA_CHANNELS, bind_mida, mida_scan
 
     colour, opacity, material = np.zeros(shape + (3,)), np.zeros(shape), np.zeros(shape)
     window = renderer.GetRenderWindow()
-    for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view, ordered_bricks_of(mapper, limit, "mida")):
-        follow_demip_brick(mapper, volume, entry, distance, demip=True)
+    for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view, ordered_bricks_of(mapper, limit, "mida"),
+                                size):
+        follow_demip_brick(mapper, volume, entry, distance, demip=True, image_sample_distance=isd)
         bind_mida(window, entry["mapper"], material, opacity, data_range)
         uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
         readouts = {}
         try:
             for channel, name in enumerate(MIDA_CHANNELS):
                 uniforms.SetUniformf("u_mc_brickChannel", float(channel))
-                readouts[name] = _render(renderer, entry, mapper, camera, shape, raw=True)
+                readouts[name] = _render(renderer, entry, mapper, camera, shape, raw=True, size=size)
         finally:
             uniforms.SetUniformf("u_mc_brickChannel", 0.0)
         mida_scan(colour, opacity, material, readouts)
@@ -251,35 +267,59 @@ def _mida_scan(mapper, volume, renderer, limit, camera, shape, distance, entries
     return rgba
 
 
-def _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range):
+def _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range,
+               isd: float = 1.0, size=None):
     """LMIP's phase 1: the bricks in view front to back, each continuing the scan (data units, NaN: miss)."""
     from mipcast.mappers.demip_ordered_bricks import bind_running, local_threshold, scan
 
     local = local_threshold(volume.GetProperty(), data_range, mapper.GetLocalThreshold())
     running, ended = np.full(shape, np.nan), np.zeros(shape, dtype=bool)
     window = renderer.GetRenderWindow()
-    for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view, ordered_bricks_of(mapper, limit, "lmip")):
-        follow_demip_brick(mapper, volume, entry, distance, demip=True)
+    for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view, ordered_bricks_of(mapper, limit, "lmip"),
+                                size):
+        follow_demip_brick(mapper, volume, entry, distance, demip=True, image_sample_distance=isd)
         bind_running(window, entry["mapper"], running, local)
         uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
         scalars = entry["mapper"].GetRenderedInput().GetPointData().GetScalars()
-        found = _render(renderer, entry, mapper, camera, shape)
+        found = _render(renderer, entry, mapper, camera, shape, size=size)
         brick_max = float_readout.to_data_units(np.where(np.abs(found) > 1.0e3, np.nan, found), scalars)
         uniforms.SetUniformf("u_mc_brickChannel", 1.0)
         try:
-            brick_ended = _render(renderer, entry, mapper, camera, shape)
+            brick_ended = _render(renderer, entry, mapper, camera, shape, size=size)
         finally:
             uniforms.SetUniformf("u_mc_brickChannel", 0.0)
         scan(running, ended, brick_max, brick_ended)
     return running
 
 
-def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _above_floor(values: np.ndarray, volume_property, data_range) -> np.ndarray:
+    """Where the maximum (data units) is above the material window's floor: the rays with a DEMIP term.
+
+    Phase 2's test on the maximum (``shaders/demip_brick_hooks.glsl``: above the
+    floor by the floor tolerance of the window; none with constant transfer functions).
+    """
+    from mipcast.core.shading import FLOOR_TOLERANCE
+    from mipcast.core.transfer_bounds import constant_ends
+
+    floor, ceiling = constant_ends(volume_property, *data_range)
+    if not ceiling > floor:
+        return np.zeros(values.shape, dtype=bool)
+    return np.nan_to_num(values, nan=-np.inf) > floor + FLOOR_TOLERANCE * (ceiling - floor)
+
+
+def compose(mapper, volume, renderer, limit: int, image_sample_distance: float = 1.0, grid=None,
+            kinds=None) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Both phases over every brick in view, then the CPU composite.
+
+    ``image_sample_distance`` and ``grid`` (columns, rows): rays on a coarser
+    grid than the viewport's pixels (VTK's reduced framebuffer of that image
+    sample distance, the camera keeping the viewport's aspect; a foveated
+    level, :mod:`mipcast.mappers.bricked_foveated`): the results then have
+    ``grid``'s shape.  ``kinds``: the bricks' classes (:func:`bricks_of`).
 
     Returns
     -------
-    values : numpy.ndarray, (height, width) of the viewport
+    values : numpy.ndarray, (height, width) of the viewport (or ``grid``'s rows, columns)
         The whole-ray maximum in data units (NaN: miss), top row first.
     depth : numpy.ndarray
         DEMIP's depth in [0, 1] (NaN: no DEMIP term).
@@ -293,15 +333,20 @@ def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarra
     width, height, x0, y0 = [0], [0], [0], [0]
     renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
     shape = (max(height[0], 1), max(width[0], 1))
+    size = (shape[1], shape[0])  # the viewport's: the camera's aspect
+    if grid is not None:
+        shape = (int(grid[1]), int(grid[0]))
+    isd = float(image_sample_distance)
     camera = renderer.GetActiveCamera()
     distance = mapper.GetSampleDistance()
     if mapper.GetAutoAdjustSampleDistances():
         distance = auto_sample_distance(mapper.GetInput(), volume)
-    entries = bricks_of(mapper, limit)
+    entries = bricks_of(mapper, limit, kinds)
     in_view = []
     values = np.full(shape, np.nan)
+    empty = np.zeros(shape, dtype=bool)  # rays a brick drew without a sample (mipcast.mappers.outline_rays)
     for first, second in entries:  # phase 1: MAX of the bricks' sampled MIP
-        follow_demip_brick(mapper, volume, first, distance, demip=False)
+        follow_demip_brick(mapper, volume, first, distance, demip=False, image_sample_distance=isd)
         if not box_in_view(first["volume"], renderer, shape):
             continue
         in_view.append((first, second))
@@ -309,30 +354,43 @@ def compose(mapper, volume, renderer, limit: int) -> Tuple[np.ndarray, np.ndarra
             continue  # phase 1 of LMIP, attenuated MIP: the bricks front to back (below)
         if mapper.GetProjection() == "mida" and not object_state(mapper).get("exact_readout"):
             continue  # MIDA's picture needs no maximum (its compositing, below)
-        found = _render(renderer, first, mapper, camera, shape)
+        found = _render(renderer, first, mapper, camera, shape, size=size)
+        empty |= np.abs(np.nan_to_num(found)) > 1.0e3
         scalars = first["mapper"].GetRenderedInput().GetPointData().GetScalars()
         brick = float_readout.to_data_units(np.where(np.abs(found) > 1.0e3, np.nan, found), scalars)
         values = np.fmax(values, brick)
     data_range = mapper.GetInput().GetPointData().GetScalars().GetRange(0)
+    completed = np.zeros(shape, dtype=bool)
+    if mapper.GetProjection() == "mip" and in_view:  # the outline rays no brick could sample: one sample each
+        from mipcast.mappers import outline_rays
+
+        before = np.isnan(values)
+        values = outline_rays.complete(values, empty, mapper.GetRenderedInput(), camera, size, distance)
+        completed = before & ~np.isnan(values)
+    scan = {"isd": isd, "size": size}
     if mapper.GetProjection() == "lmip":
-        values = _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range)
+        values = _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range,
+                            **scan)
     elif mapper.GetProjection() == "attenuated":
         values = _attenuated_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view,
-                                  data_range)
+                                  data_range, **scan)
     values = values.astype(np.float32).astype(np.float64)  # as the float readout / MPI reduction carry it
     index = np.full(shape, np.inf)
     window = renderer.GetRenderWindow()
     for _, second in in_view if mapper.GetProjection() in ("mip", "lmip") else ():  # phase 2: MIN of the whole-ray index of the first same-material sample
-        follow_demip_brick(mapper, volume, second, distance, demip=True)
+        follow_demip_brick(mapper, volume, second, distance, demip=True, image_sample_distance=isd)
         bind_maximum(window, second["mapper"], values, data_range)
-        index = np.minimum(index, match_index(_render(renderer, second, mapper, camera, shape)))
+        index = np.minimum(index, match_index(_render(renderer, second, mapper, camera, shape, size=size)))
+    if completed.any():  # their one sample is the maximum: the first of its material, if it has a DEMIP term
+        index[completed & _above_floor(values, volume.GetProperty(), data_range)] = 0.0
     object_state(mapper)["bricks_drawn"] = len(in_view)
     params = {p.name: getattr(mapper, p.getter)() for p in DEMIP}
     depth, rgb = demip_composite(_whole(mapper.GetInput()), camera, distance, values, index, params,
-                                 volume.GetProperty(), slab=clip_uniforms.slab_of(mapper, camera))
+                                 volume.GetProperty(), slab=clip_uniforms.slab_of(mapper, camera),
+                                 aspect=size[0] / size[1])
     if mapper.GetProjection() == "mida":  # the picture: the bricks' compositing front to back
         if object_state(mapper).get("exact_readout"):
             return values, depth, None  # a float readout: MIDA's value is the sampled maximum (MAX above)
         return values, depth, _mida_scan(mapper, volume, renderer, limit, camera, shape, distance, entries,
-                                         in_view, data_range)
+                                         in_view, data_range, **scan)
     return values, depth, demip_premultiplied(values, rgb, volume.GetProperty())

@@ -38,9 +38,11 @@ channels.  DEMIP (``BRICKS = "demip"``) is drawn in two phases by
 :mod:`mipcast.mappers.bricked_demip`; foveated (``BRICKS = "foveated"``) composites
 each level too large for one texture over its bricks before blending it
 (:mod:`mipcast.mappers.bricked_foveated`, :func:`compose` on the level's ray
-grid).  Methods whose composite is none of these (a new sampled projection,
-a foveated DEMIP layer) refuse such a volume with a message naming the limit
-and the fix (:func:`refusal`).  Cost: one render per brick in view per frame plus one
+grid).  Methods whose composite is none of these (a new sampled projection)
+refuse such a volume with a message naming the limit and the fix
+(:func:`refusal`).  The whole box's outline rays whose one (clamped) sample
+lies in a brick they do not cross get it on the CPU
+(:mod:`mipcast.mappers.outline_rays`, MAX and MIN).  Cost: one render per brick in view per frame plus one
 readback each (docs/reliability.md, "GPU limits and memory"); bricks whose box
 lies outside the view are skipped.
 
@@ -334,16 +336,20 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
     if grid is not None:
         shape = (int(grid[1]), int(grid[0]))
     result = np.full(shape, np.nan)
+    empty = np.zeros(shape, dtype=bool)
     camera = renderer.GetActiveCamera()
     drawn = 0
+    step, sampled = None, False
     for entry in bricks_of(mapper, limit):
         brick_mapper, brick_volume = entry["mapper"], entry["volume"]
         follow_brick(mapper, volume, entry, image_sample_distance)
         if not box_in_view(brick_volume, renderer, shape):
             continue  # its box covers no pixel: nothing to draw, nothing to combine
         drawn += 1
+        step = brick_mapper.GetSampleDistance()
         object_state(brick_mapper)["draw_camera"] = camera
         push_rays(mapper, entry, camera, shape, aspect_size)
+        sampled = "global_phase" in brick_mapper.GetShaderPieces()
         object_state(brick_mapper)["exact_readout"] = True
         brick_mapper.RenderToImageOn()
         brick_mapper.SetDepthImageScalarTypeToFloat()
@@ -354,7 +360,15 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
                 if rule == "mean":
                     uniforms.SetUniformf("u_mc_brickChannel", float(channel))
                 brick_volume.RenderVolumetricGeometry(renderer)
-                read.append(brick_readout(brick_mapper, shape, raw=channel > 0))
+                if rule == "mean":
+                    read.append(brick_readout(brick_mapper, shape, raw=channel > 0))
+                else:  # and the rays it drew without a sample (mipcast.mappers.outline_rays)
+                    normalised = brick_readout(brick_mapper, shape, raw=True)
+                    empty |= np.abs(np.nan_to_num(normalised)) > _EMPTY
+                    read.append(float_readout.to_data_units(np.where(np.abs(normalised) > _EMPTY, np.nan,
+                                                                     normalised),
+                                                            brick_mapper.GetRenderedInput().GetPointData()
+                                                            .GetScalars()))
         finally:
             object_state(brick_mapper).pop("exact_readout", None)
             brick_mapper.RenderToImageOff()
@@ -366,6 +380,11 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
             result = combine(result, read[0])
     object_state(mapper)["bricks_drawn"] = drawn
     if rule != "mean":
+        if rule in ("max", "min") and sampled:  # a cell walk's rays have no clamped sample
+            from mipcast.mappers import outline_rays
+
+            result = outline_rays.complete(result, empty, mapper.GetRenderedInput(), camera, aspect_size, step,
+                                           combine)
         return result
     if not passes:
         return result

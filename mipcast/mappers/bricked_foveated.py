@@ -26,10 +26,21 @@ Such a level is drawn in two steps inside the same render:
    band and the blend weights are the level's own: the levels blend after
    compositing, never before (a maximum of blends is no blend of maxima).
 
-Levels whose volume fits one texture are drawn as usual.  The layers that
-can (:func:`refusal`): those whose method's ``BRICKS`` is ``"max"``; DEMIP
-(two phases, :mod:`mipcast.mappers.bricked_demip`) is refused as a
-foveation layer beyond the limit.
+A DEMIP layer (``BRICKS`` ``"demip"``) composites each too-large level over
+its bricks as the DEMIP mapper does beyond the limit
+(:func:`mipcast.mappers.bricked_demip.compose`, here on the level's ray grid
+and its sample distance, the bricks casting only the level's rays): the
+MAX of the bricks' maxima, the MIN of their whole-ray indices of the first
+same-material sample, then depth (over the level volume's whole box),
+Eq. 1 and the sphere on the CPU.  The level then draws from two float
+textures of its grid (``shaders/foveated_colour_brick_hooks.glsl``): the
+maximum (its float readout) and the premultiplied DEMIP colour
+(``shaders/foveated_brick_color.glsl``), masked and blended by the level's
+own pieces as the colour ``demip_color`` writes for one texture.
+
+Levels whose volume fits one texture are drawn as usual.  Every foveation
+layer draws in bricks (:func:`refusal` refuses a layer method whose
+``BRICKS`` is neither ``"max"`` nor ``"demip"``, should one be registered).
 
 Examples
 --------
@@ -56,6 +67,10 @@ from mipcast.mappers.private_draw import pixel_texture
 
 #: The hook piece of a level drawn from composited values.
 HOOKS = "foveated_brick_hooks"
+#: The hook and colour pieces of a DEMIP level drawn from composited values and colours.
+COLOUR_HOOKS, COLOUR = "foveated_colour_brick_hooks", "foveated_brick_color"
+#: The layer methods' ``BRICKS`` whose levels draw beyond the texture limit.
+BRICKED = ("max", "demip")
 #: The value a ray without any brick's sample gets (what the sampled loop starts from).
 _NO_VALUE = -1.0e30
 
@@ -78,26 +93,26 @@ def level_limit(mapper, level_input) -> int:
 def refusal(mapper, method: str) -> Optional[str]:
     """The message refusing ``mapper``'s input beyond the texture limit for a layer ``method`` that cannot brick.
 
-    None when the input fits one texture, or the layer's bricks combine by
-    the maximum (every foveation layer but DEMIP).
+    None when the input fits one texture, or the layer draws in bricks
+    (``BRICKS`` in :data:`BRICKED`: MIP, analytic MIP and DEMIP).
 
     Examples
     --------
     >>> from mipcast.mappers.foveated import FoveatedVolumeMapper
-    >>> refusal(FoveatedVolumeMapper(), "demip") is None   # no input yet
+    >>> refusal(FoveatedVolumeMapper(), "demip") is None
     True
     """
-    if getattr(FOVEATION_LAYERS[method].factory, "BRICKS", None) == "max":
+    if getattr(FOVEATION_LAYERS[method].factory, "BRICKS", None) in BRICKED:
         return None
     limit = bricked_draw.exceeds_limit(mapper)
     if not limit:
         return None
     dims = mapper.GetInputPreparer().GetInputDataObject(0, 0).GetDimensions()
     layers = ", ".join(name for name, entry in FOVEATION_LAYERS.items()
-                       if getattr(entry.factory, "BRICKS", None) == "max")
+                       if getattr(entry.factory, "BRICKS", None) in BRICKED)
     return (f"the volume's dimensions {dims} exceed this GPU's 3D texture limit of {limit} points per "
             f"axis, and the foveated mapper cannot draw its {method!r} levels in bricks (their ray value over "
-            "several bricks is not the bricks' maximum): resample the volume to at most "
+            "several bricks is not known from the bricks'): resample the volume to at most "
             f"{limit} points per axis (e.g. vtkImageResample), crop it (vtkExtractVOI), use foveation "
             f"layers that draw in bricks (SetMethod: {layers}), or the {method!r} method itself unfoveated")
 
@@ -181,6 +196,59 @@ def composite(source: dict, volume, renderer, limit: int, image_sample_distance:
         gl.Pop()
 
 
+def is_demip(method: str) -> bool:
+    """Whether the layer ``method`` composites its bricks as DEMIP (:mod:`mipcast.mappers.bricked_demip`).
+
+    Examples
+    --------
+    >>> is_demip("demip"), is_demip("mip")
+    (True, False)
+    """
+    return getattr(FOVEATION_LAYERS[method].factory, "BRICKS", None) == "demip"
+
+
+def demip_bricks(source: dict, limit: int) -> list:
+    """The DEMIP bricks (phase 1, phase 2 entries) of a level's source, casting only the level's rays."""
+    from mipcast.mappers import bricked_demip
+
+    return bricked_demip.bricks_of(source["mapper"], limit, source_class)
+
+
+def composite_demip(source: dict, volume, renderer, limit: int, image_sample_distance: float,
+                    grid: Sequence[int]):
+    """The level's DEMIP composited over its bricks on its ray grid: (values, premultiplied RGBA).
+
+    ``values``: the whole-ray maximum in data units (NaN: no value), (rows,
+    columns) top row first; ``rgba``: (rows, columns, 4), float, 0 where
+    the ray has no value.
+    """
+    from mipcast.mappers import bricked_demip
+
+    gl = renderer.GetRenderWindow().GetState()
+    gl.Push()  # the bricks' render-to-image passes set their own viewport and framebuffer
+    try:
+        values, _, rgba = bricked_demip.compose(source["mapper"], volume, renderer, limit,
+                                                image_sample_distance=image_sample_distance, grid=grid,
+                                                kinds=source_class)
+    finally:
+        gl.Pop()
+    return values, rgba
+
+
+def colours_texture(state, renderer, level: int, rgba: np.ndarray):
+    """The level's premultiplied colours as a nearest-filtered RGBA float texture (bottom row first)."""
+    textures = state.setdefault("colour_textures", {})
+    window = renderer.GetRenderWindow()
+    texture = textures.get(level)
+    if texture is None or texture.GetContext() is not window:
+        texture = pixel_texture(window)
+        textures[level] = texture
+    data = np.ascontiguousarray(np.nan_to_num(rgba)[::-1], dtype=np.float32)
+    rows, columns = data.shape[:2]
+    texture.Create2DFromRaw(columns, rows, 4, VTK_FLOAT, data)
+    return texture
+
+
 def normalised_values(values: np.ndarray, rendered) -> np.ndarray:
     """Composited values (data units) as the level's shader holds them: VTK's normalised scalar, float32.
 
@@ -206,9 +274,12 @@ def values_texture(state, renderer, level: int, normalised: np.ndarray):
 
 @calldata_type(VTK_OBJECT)
 def bind_values_sampler(level_mapper, event, program) -> None:
-    """UpdateShaderEvent: point ``u_mc_fovValues`` at the unit the level's value texture is bound to."""
+    """UpdateShaderEvent: point ``u_mc_fovValues`` (and a DEMIP level's ``u_mc_fovColours``) at their units."""
     level_state = object_state(level_mapper)
     unit = level_state.get("values_unit")
-    if program is not None and unit is not None and unit >= 0:
+    colours = level_state.get("colours_unit")
+    if program is not None and unit is not None and unit >= 0 and (colours is None or colours >= 0):
         program.SetUniformi("u_mc_fovValues", int(unit))
+        if colours is not None:
+            program.SetUniformi("u_mc_fovColours", int(colours))
         level_state["samplers_set"] = True

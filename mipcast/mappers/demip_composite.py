@@ -17,7 +17,7 @@ array([128,   0], dtype=uint8)
 """
 from __future__ import annotations
 
-from typing import Tuple
+from typing import Optional, Tuple
 
 import numpy as np
 
@@ -26,7 +26,7 @@ from mipcast.core.demip_depth import DepthGeometry, enhance
 
 
 def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, index: np.ndarray, params: dict,
-                    volume_property, slab=None) -> Tuple[np.ndarray, np.ndarray]:
+                    volume_property, slab=None, aspect: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray]:
     """(depth, straight RGB) of DEMIP from the bricks' maximum and first same-material sample index.
 
     Parameters
@@ -49,6 +49,10 @@ def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, i
         normalised over the box's part inside it and ``steps`` /
         ``entry_plus_length`` measure from the ray's slab entry, as the
         float64 reference (:meth:`mipcast.core.demip_depth.DepthGeometry.narrow_to_slab`).
+    aspect : float, optional
+        The viewport's aspect ratio when ``values`` lie on a coarser ray grid
+        than its pixels (a foveated level, whose grid VTK truncates): the
+        camera's projection keeps the viewport's.
 
     Returns
     -------
@@ -58,12 +62,13 @@ def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, i
         Straight colour in [0, 1] (0 on misses).
     """
     height, width = values.shape
-    rays = camera_rays(whole, camera, (width, height))
+    aspect = width / height if aspect is None else float(aspect)
+    rays = camera_rays(whole, camera, (width, height), aspect)
     entry = rays.origin + rays.t_enter[..., None] * rays.direction
     hit = ~np.isnan(values)
     term = hit & np.isfinite(index) & rays.hit
     where = entry + ((np.where(term, index, 0.0) + 1.0) * sample_distance)[..., None] * rays.direction
-    geometry = DepthGeometry(whole, camera, width / height)
+    geometry = DepthGeometry(whole, camera, aspect)
     if slab is not None and term.any():
         entry = entry.copy()
         entry[term] = geometry.narrow_to_slab(slab, entry[term], rays.direction[term])

@@ -90,8 +90,8 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     samples of the last frame against full quality.  Each drawn level holds its
     own 3D texture; a level whose volume exceeds the GPU's 3D texture limit
     composites its rays over bricks first and is then masked and blended as
-    one texture (:mod:`mipcast.mappers.bricked_foveated`; MIP and analytic
-    layers, a DEMIP layer is refused; :meth:`GetNumberOfBricks`).
+    one texture (:mod:`mipcast.mappers.bricked_foveated`; MIP, analytic and
+    DEMIP layers; :meth:`GetNumberOfBricks`).
 
     Examples
     --------
@@ -112,7 +112,7 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
 
     #: The mapper's own (skipped) draw only needs the refusal piece (and its helper).
     #: Beyond one texture each level too large is composited over bricks first, then masked and
-    #: blended (:mod:`mipcast.mappers.bricked_foveated`); refused for layers that cannot brick (DEMIP).
+    #: blended (:mod:`mipcast.mappers.bricked_foveated`); refused for a layer that cannot brick.
     BRICKS = "foveated"
     PIECES = ("mip_globals", "refusal")
     #: Pieces every level adds to its method's own.
@@ -532,12 +532,12 @@ def _draw(mapper, state, volume, renderer) -> None:
         level_input = _pyramid(state, image)[volume_level] if volume_level else image
         component = mapper.GetComponent() if not volume_level else -1  # coarse levels hold one component
         limit = bricked_foveated.level_limit(mapper, level_input)
-        values_texture = None
+        values_texture = colours_texture = None
         if limit:  # beyond one texture: composite the level's rays over its bricks first
             try:
-                level_input, values_texture = _composite_level(mapper, state, volume, renderer, level, volume_level,
-                                                               level_input, component, distance, plan, layer,
-                                                               silhouette if len(plan.layers) > 1 else None)
+                level_input, values_texture, colours_texture = _composite_level(
+                    mapper, state, volume, renderer, level, volume_level, level_input, component, distance, plan,
+                    layer, silhouette if len(plan.layers) > 1 else None)
             except Exception as error:  # noqa: BLE001  (an observer: reported as mipcast's refusals are)
                 _report_problem(mapper, state, f"drawing level {level} in bricks of {limit} points per axis "
                                                f"failed: {error!r}")
@@ -545,9 +545,9 @@ def _draw(mapper, state, volume, renderer) -> None:
                     depth.Deactivate()
                 return
             component = -1
-            bricks_drawn += object_state(state["brick_sources"][volume_level]["mapper"]).get("bricks_drawn", 0)
-            bricked_levels[level] = [brick["mapper"].GetInput() for brick in bricked_draw.bricks_of(
-                state["brick_sources"][volume_level]["mapper"], limit)]
+            source = state["brick_sources"][volume_level]
+            bricks_drawn += object_state(source["mapper"]).get("bricks_drawn", 0)
+            bricked_levels[level] = [brick["mapper"].GetInput() for brick in _level_bricks(source, limit)]
         key = level if not masked else (level, kind)
         key = (key, "bricks") if limit else key
         entry = drawn.get(key) or _new_level(params["method"], kind, bricks=bool(limit))
@@ -601,6 +601,9 @@ def _draw(mapper, state, volume, renderer) -> None:
         if values_texture is not None:
             values_texture.Activate()
             object_state(level_mapper)["values_unit"] = values_texture.GetTextureUnit()
+        if colours_texture is not None:  # a DEMIP level: its composited colours too
+            colours_texture.Activate()
+            object_state(level_mapper)["colours_unit"] = colours_texture.GetTextureUnit()
         try:
             if kind == "coarse" or values_texture is not None:
                 _render_coarse_level(level_mapper, level_volume, renderer, plan, layer,
@@ -610,6 +613,8 @@ def _draw(mapper, state, volume, renderer) -> None:
         finally:
             if values_texture is not None:
                 values_texture.Deactivate()
+            if colours_texture is not None:
+                colours_texture.Deactivate()
             if mask_texture is not None:
                 mask_texture.Deactivate()
             for texture in bound:
@@ -727,7 +732,7 @@ def _new_level(method: str, kind: Optional[str] = None, bricks: bool = False) ->
     ``bricks``: a level drawn from its rays' values composited over bricks
     (:mod:`mipcast.mappers.bricked_foveated`), whatever the layer method.
     """
-    base = _value_class() if bricks else FOVEATION_LAYERS[method].factory
+    base = _value_class(bricked_foveated.is_demip(method)) if bricks else FOVEATION_LAYERS[method].factory
     level_mapper = _level_class(base, kind)()
     level_volume = vtkVolume()
     level_mapper.Attach(level_volume)
@@ -751,24 +756,36 @@ def _bind_coarse_samplers(level_mapper, event, program) -> None:
         level_state["samplers_set"] = True
 
 
-_VALUE_CLASS: list = []
+_VALUE_CLASSES: dict = {}
 
 
-def _value_class():
-    """The mapper class of a level drawn from composited values (``shaders/foveated_brick_hooks.glsl``)."""
-    if not _VALUE_CLASS:
+def _value_class(colours: bool = False):
+    """The mapper class of a level drawn from composited values (``shaders/foveated_brick_hooks.glsl``).
+
+    ``colours``: a DEMIP level's, drawing the composited colours too
+    (``shaders/foveated_colour_brick_hooks.glsl``, ``shaders/foveated_brick_color.glsl``).
+    """
+    if colours not in _VALUE_CLASSES:
         from mipcast.mappers.mip import sampled_projection_mapper
 
-        _VALUE_CLASS.append(sampled_projection_mapper(bricked_foveated.HOOKS))
-    return _VALUE_CLASS[0]
+        _VALUE_CLASSES[colours] = (sampled_projection_mapper(bricked_foveated.COLOUR_HOOKS, bricked_foveated.COLOUR)
+                                   if colours else sampled_projection_mapper(bricked_foveated.HOOKS))
+    return _VALUE_CLASSES[colours]
+
+
+def _level_bricks(source, limit) -> list:
+    """A level source's brick entries (one per brick; a DEMIP layer's phase-1 and phase-2 entries both)."""
+    if bricked_foveated.is_demip(source["method"]):
+        return [entry for pair in bricked_foveated.demip_bricks(source, limit) for entry in pair]
+    return bricked_draw.bricks_of(source["mapper"], limit)
 
 
 def _composite_level(mapper, state, volume, renderer, level, volume_level, level_input, component, distance, plan,
                      layer, silhouette):
     """A level beyond the texture limit: its rays composited over its bricks, uploaded for its draw.
 
-    Returns (the 2 x 2 x 2 box the level draws, the values' texture); see
-    :mod:`mipcast.mappers.bricked_foveated`.
+    Returns (the 2 x 2 x 2 box the level draws, the values' texture, a DEMIP
+    layer's colours' texture or None); see :mod:`mipcast.mappers.bricked_foveated`.
     """
     source = bricked_foveated.level_source(state, volume_level, mapper._parameters()["method"])
     source_mapper = source["mapper"]
@@ -780,17 +797,24 @@ def _composite_level(mapper, state, volume, renderer, level, volume_level, level
                    layer.image_sample_distance)
     object_state(source_mapper)["draw_camera"] = renderer.GetActiveCamera()
     limit = bricked_foveated.level_limit(mapper, level_input)
-    for brick in bricked_draw.bricks_of(source_mapper, limit):  # they cast only the level's rays
+    for brick in _level_bricks(source, limit):  # they cast only the level's rays
         _set_uniforms(brick["volume"], plan, layer)
         _set_silhouette(brick["volume"], silhouette, layer.level)
-    values = bricked_foveated.composite(source, volume, renderer, limit, layer.image_sample_distance, layer.grid)
+    colours = None
+    if bricked_foveated.is_demip(source["method"]):
+        values, rgba = bricked_foveated.composite_demip(source, volume, renderer, limit, layer.image_sample_distance,
+                                                        layer.grid)
+        colours = bricked_foveated.colours_texture(state, renderer, level, rgba)
+    else:
+        values = bricked_foveated.composite(source, volume, renderer, limit, layer.image_sample_distance,
+                                            layer.grid)
     rendered = source_mapper.GetRenderedInput()
     boxes = state.setdefault("value_boxes", {})
     stamp = (rendered.GetAddressAsString("vtkObjectBase"), rendered.GetMTime())
     if boxes.get(volume_level, (None,))[0] != stamp:
         boxes[volume_level] = (stamp, bricked_foveated.value_box(rendered))
     normalised = bricked_foveated.normalised_values(values, rendered)
-    return boxes[volume_level][1], bricked_foveated.values_texture(state, renderer, level, normalised)
+    return boxes[volume_level][1], bricked_foveated.values_texture(state, renderer, level, normalised), colours
 
 
 def _render_coarse_level(level_mapper, level_volume, renderer, plan, layer, band_off: bool = False) -> None:

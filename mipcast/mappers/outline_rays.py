@@ -1,0 +1,107 @@
+"""The whole volume's outline rays that no brick can sample, sampled on the CPU.
+
+A ray grazing the whole box (its chord shorter than one sample step) has a
+single sample, one step past its entry, which lies OUTSIDE the box: the
+single texture reads it clamped back onto the box (texture clamp-to-edge;
+the ``global_phase`` piece clamps it the same way).  With bricks
+(:mod:`mipcast.mappers.bricked_draw`, :mod:`mipcast.mappers.bricked_demip`)
+that clamped sample's cell may lie in the neighbouring brick, which the ray
+never crosses: the only brick drawing the ray (its chord's) has no sample
+of its own, the owner of the cell draws no fragment, and the ray would be
+left without a value where the single texture shows one (a few pixels on
+the volume's outline, off by up to ~30 grey levels).
+
+:func:`complete` finds those rays (a brick drew a fragment, no brick had a
+sample) and gives them their one sample from the volume on the CPU: the
+``global_phase`` piece's ray (the same :func:`mipcast.mappers.brick_rays.ray_uniforms`),
+entry + one step, clamped to the whole box, interpolated trilinearly --
+what ``mcGlobalSample`` would have read had the owner drawn the ray.
+
+Examples
+--------
+>>> import numpy as np
+>>> trilinear(np.arange(8.0).reshape(2, 2, 2), np.array([[0.5, 0.5, 0.5]]))   # (z, y, x) array
+array([3.5])
+"""
+from __future__ import annotations
+
+from typing import Sequence
+
+import numpy as np
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+from mipcast.mappers.brick_rays import ray_uniforms, whole_geometry
+
+
+def trilinear(volume: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """``volume`` (z, y, x) interpolated at ``points`` ((n, 3) point indices x, y, z inside the box)."""
+    upper = np.array(volume.shape[::-1]) - 1
+    cell = np.clip(np.floor(points), 0, np.maximum(upper - 1, 0)).astype(int)
+    t = points - cell
+    nxt = np.minimum(cell + 1, upper)
+    out = np.zeros(len(points))
+    for dx in (0, 1):
+        for dy in (0, 1):
+            for dz in (0, 1):
+                x = np.where(dx, nxt[:, 0], cell[:, 0])
+                y = np.where(dy, nxt[:, 1], cell[:, 1])
+                z = np.where(dz, nxt[:, 2], cell[:, 2])
+                w = ((t[:, 0] if dx else 1 - t[:, 0]) * (t[:, 1] if dy else 1 - t[:, 1])
+                     * (t[:, 2] if dz else 1 - t[:, 2]))
+                out += w * volume[z, y, x]
+    return out
+
+
+def single_samples(image, camera, shape: Sequence[int], size: Sequence[int], sample_distance: float,
+                   pixels: np.ndarray) -> np.ndarray:
+    """The one sample (data units) of the grazing rays at ``pixels`` (bool (rows, columns), top row first).
+
+    ``image``: the one-component volume the bricks draw (scalars in data
+    units); ``shape``: the ray grid (rows, columns); ``size``: the viewport's
+    (width, height), the camera's aspect.  NaN where the ray is not a
+    single-sample ray outside the box (then the bricks' answer stands).
+    """
+    rows, columns = int(shape[0]), int(shape[1])
+    dims = image.GetDimensions()
+    whole = whole_geometry(((0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1), image.GetOrigin(),
+                            image.GetSpacing(), image.GetDirectionMatrix()))
+    rays = {name: np.array(value) for name, value in ray_uniforms(whole, camera, tuple(size)).items()}
+    r, c = np.nonzero(pixels)
+    x = 2.0 * (c + 0.5) / columns - 1.0
+    y = 2.0 * (rows - 1 - r + 0.5) / rows - 1.0  # top row first
+    point = rays["u_mc_rayPoint0"] + x[:, None] * rays["u_mc_rayPointX"] + y[:, None] * rays["u_mc_rayPointY"]
+    eye = rays["u_mc_rayEye"]
+    direction = (point - eye[:3]) if eye[3] > 0.5 else np.broadcast_to(rays["u_mc_rayDirection"], point.shape)
+    spacing = np.abs(np.array(image.GetSpacing()))
+    step = direction * (sample_distance / np.linalg.norm(direction * spacing, axis=1))[:, None]
+    upper = np.array(dims, dtype=float) - 1.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a, b = (0.0 - point) / step, (upper - point) / step
+    flat = step == 0.0
+    s_in = np.max(np.where(flat, -1.0e30, np.minimum(a, b)), axis=1)
+    s_out = np.min(np.where(flat, 1.0e30, np.maximum(a, b)), axis=1)
+    sample = np.clip(point + (s_in + 1.0)[:, None] * step, 0.0, upper)
+    scalars = vtk_to_numpy(image.GetPointData().GetScalars()).astype(np.float64)
+    volume = scalars.reshape(dims[2], dims[1], dims[0]) if scalars.ndim == 1 else scalars[:, 0].reshape(
+        dims[2], dims[1], dims[0])
+    values = trilinear(volume, sample)
+    out = np.full(len(r), np.nan)
+    grazing = s_out - s_in < 1.0  # one sample, past the exit: clamped onto the box
+    out[grazing] = values[grazing]
+    result = np.full((rows, columns), np.nan)
+    result[r, c] = out
+    return result
+
+
+def complete(values: np.ndarray, empty: np.ndarray, image, camera, size, sample_distance: float,
+             combine=np.fmax) -> np.ndarray:
+    """``values`` (bricks combined, NaN: none) with the grazing rays a brick drew but none sampled filled in.
+
+    ``empty``: the rays some brick drew a fragment for without a sample;
+    ``combine``: how a value joins the bricks' (the maximum; the minimum).
+    """
+    missing = empty & np.isnan(values)
+    if not missing.any():
+        return values
+    found = single_samples(image, camera, values.shape, size, sample_distance, missing)
+    return combine(values, found)
