@@ -10,9 +10,10 @@ view's interactor, every :data:`POLL_MS`) walks through the phases: wait
 until the picture has converged (no refining frame asked for, no timer
 pending), compare it with the same view with foveation off (bit for bit),
 turn the camera (the next frame drops back to the foveated one) and wait
-again, count the frames of a second with nothing changing, then switch progressive off, send a synthetic ``MouseMoveEvent`` to
-the view's interactor and compare the picture with mipcast's offscreen view
-gazing at that pixel.  Writes ``report.json`` and ends this ParaView
+again, count the frames of a second with nothing changing, then switch progressive off, move the real X pointer onto the view with
+``xdotool`` (a synthetic ``MouseMoveEvent`` on the interactor without it) and
+compare the picture with mipcast's offscreen view gazing at the pixel the
+interactor reports.  Writes ``report.json`` and ends this ParaView
 (``os._exit``); a watchdog ends it after :data:`WATCHDOG_S` with what it has.
 """
 import inspect
@@ -32,6 +33,9 @@ POLL_MS = 100
 IDLE_S = 1.0  # seconds watched for frames once converged
 WATCHDOG_S = 60.0
 MOUSE = (0.62, 0.45)  # where the mouse moves, as a share of the view's width and height (on the volume)
+#: Move the real X pointer (xdotool, when installed): Qt turns it into the interactor's MouseMoveEvent.
+POINTER = os.environ.get("MIPCAST_GUI_POINTER", "xdotool") == "xdotool" and bool(__import__("shutil").which("xdotool"))
+POINTER_WAIT_S = 5.0
 
 
 def main():
@@ -178,20 +182,69 @@ def main():
             state["phase"] = "mouse"
         elif phase == "mouse":
             display.foveated_progressive = 0
-            before = shot("mouse_before")
-            width, height = view.ViewSize
-            x, y = int(MOUSE[0] * width), int(MOUSE[1] * height)  # display pixels, origin bottom left
-            interactor.SetEventPosition(x, y)
-            t0 = time.perf_counter()
-            interactor.InvokeEvent("MouseMoveEvent")  # the mapper's observer renders the view
-            report["mouse_render_ms"] = 1000.0 * (time.perf_counter() - t0)
-            moved = shot("mouse_moved")
-            gaze = ((x + 0.5) / width, (y + 0.5) / height)
-            ref, _ = reference(image, "foveated", view, size=(width, height), gaze_point=gaze)
-            report["mouse"] = dict(vs_ref=compare(moved, ref), changed_share=changed_share(before, moved),
-                                   gaze=list(gaze), property=list(display.foveated_gaze_point),
-                                   source=mapper().GetGazeSource() if mapper() is not None else None)
-            finish("done")
+            state["before"] = shot("mouse_before")
+            if POINTER and move_pointer():
+                state.update(phase="pointer", pointer_t0=time.perf_counter(), moves_seen=moves[0])
+            else:  # no xdotool: a synthetic event at a chosen pixel
+                width, height = view.ViewSize
+                x, y = int(MOUSE[0] * width), int(MOUSE[1] * height)  # display pixels, origin bottom left
+                interactor.SetEventPosition(x, y)
+                t0 = time.perf_counter()
+                interactor.InvokeEvent("MouseMoveEvent")  # the mapper's observer renders the view
+                report["mouse_render_ms"] = 1000.0 * (time.perf_counter() - t0)
+                mouse_report("synthetic", (x, y))
+                finish("done")
+        elif phase == "pointer":  # the X server's motion event reaches the interactor through Qt
+            if moves[0] > state["moves_seen"] and frames and frames[-1][0] == "pointer":
+                report["mouse_render_ms"] = 1000.0 * (time.perf_counter() - state["pointer_t0"])
+                mouse_report("xdotool", tuple(interactor.GetEventPosition()))
+                finish("done")
+            elif time.perf_counter() - state["pointer_t0"] > POINTER_WAIT_S:
+                report["pointer"] = dict(moves=moves[0], seen=state["moves_seen"], targets=state.get("targets"))
+                mouse_report("xdotool (no event reached the view)", None)
+                finish("done")
+
+    moves = [0]
+
+    def count_move(caller, event):
+        moves[0] += 1
+
+    interactor.AddObserver("MouseMoveEvent", count_move, 100.0)
+
+    def move_pointer():
+        """Move the X pointer onto the render view with xdotool (real X motion events); False if it cannot."""
+        import subprocess
+
+        found = subprocess.run(["xdotool", "search", "--onlyvisible", "--name", "ParaView"], capture_output=True,
+                               text=True, timeout=10).stdout.split()
+        for window in found:
+            shell = subprocess.run(["xdotool", "getwindowgeometry", "--shell", window], capture_output=True,
+                                   text=True, timeout=10).stdout
+            geometry = dict(line.split("=", 1) for line in shell.split() if "=" in line)
+            if int(geometry.get("WIDTH", 0)) < 300:
+                continue
+            # the render view fills the main window's right part (the docks are on the left)
+            x = int(geometry["X"]) + int(0.62 * int(geometry["WIDTH"]))
+            y = int(geometry["Y"]) + int(0.55 * int(geometry["HEIGHT"]))
+            state["targets"] = [window, x, y, geometry]
+            subprocess.run(["xdotool", "mousemove", "--sync", str(x - 3), str(y - 3)], timeout=10)
+            subprocess.run(["xdotool", "mousemove", "--sync", str(x), str(y)], timeout=10)
+            return True
+        return False
+
+    def mouse_report(pointer, position):
+        width, height = view.ViewSize
+        report["mouse_position"] = list(position) if position is not None else None
+        if position is None:
+            report["mouse"] = dict(pointer=pointer, source=mapper().GetGazeSource() if mapper() is not None else None)
+            return
+        x, y = position
+        moved = shot("mouse_moved")
+        gaze = ((x + 0.5) / width, (y + 0.5) / height)
+        ref, _ = reference(image, "foveated", view, size=(width, height), gaze_point=gaze)
+        report["mouse"] = dict(vs_ref=compare(moved, ref), changed_share=changed_share(state["before"], moved),
+                               gaze=list(gaze), property=list(display.foveated_gaze_point), pointer=pointer,
+                               source=mapper().GetGazeSource() if mapper() is not None else None)
 
     interactor.AddObserver("TimerEvent", poll, -100.0)
     interactor.CreateRepeatingTimer(POLL_MS)

@@ -9,7 +9,7 @@ frames, no timer is left once converged, a camera change drops back to the
 foveated frame, no refining frame is rendered while a mouse button is held,
 ``refine(view)`` does the same for scripts, and the mouse
 moves the fovea (client-server: through the gaze point property the client
-writes; the GUI: the builtin mouse gaze with a synthetic mouse move).  After
+writes; the GUI: the real X pointer moved by xdotool, or a synthetic move without it).  After
 camera, opacity and data changes the timer asks for exactly the frames the
 (server's) mapper still needs, read from the representation's
 information-only properties before and after, and none after a change the
@@ -117,6 +117,8 @@ def test_paraview_gui_refines_by_itself_and_follows_the_mouse(plugin, tmp_path):
     assert report["after_camera_step"] == 0 and report["after_camera_needs"], report
     assert report["idle"]["frames"] == 0 and not report["idle"]["timer_left"], report["idle"]  # no idle cost
     mouse = report["mouse"]
+    if shutil.which("xdotool"):  # the X pointer moved (no button): Qt's motion event reached the fovea
+        assert mouse["pointer"] == "xdotool", (mouse, report.get("pointer"))
     assert mouse["source"] == "mouse" and mouse["vs_ref"]["within_1_share"] >= MATCH, mouse
     assert mouse["vs_ref"]["lit_share"] > 0.2 and mouse["changed_share"] > 0.05, mouse
 
@@ -147,5 +149,7 @@ def test_paraview_gui_client_refines_and_moves_the_server_fovea(plugin, tmp_path
     assert camera["asked"] <= FRAMES and after[2] - before[2] == FRAMES, camera
     assert report["idle"]["frames"] == 0 and not report["idle"]["timer_left"], report["idle"]
     mouse = report["mouse"]
+    if shutil.which("xdotool"):
+        assert mouse["pointer"] == "xdotool", (mouse, report.get("pointer"))
     assert mouse["property"] == pytest.approx(mouse["gaze"]), mouse  # written by the client
     assert mouse["vs_ref"]["within_1_share"] >= MATCH and mouse["changed_share"] > 0.05, mouse
