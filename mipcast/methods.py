@@ -86,7 +86,11 @@ class Method:
         of the bricks' float readouts is the whole volume's; ``"demip"``, the
         MAX of the bricks' sampled MIP, then the MIN of the whole-ray index of
         the first sample of the global maximum's material (depth, Eq. 1 and
-        sphere on the CPU); None: not distributed yet.
+        sphere on the CPU); ``"foveated"``, each foveated level's readouts reduced
+        with MAX over the ranks (its coarse pyramid levels reduced from the
+        pieces' shares), then blended (:mod:`mipcast.mappers.rank_foveated`;
+        ParaView's render view only, not a :mod:`mipcast.distributed` route;
+        DEMIP layers refused); None: not distributed yet.
     bricks : str, optional
         How its mapper draws a volume beyond the GPU's 3D texture limit inside
         one render (:mod:`mipcast.mappers.bricked_draw`; the mapper class's
@@ -289,7 +293,7 @@ for _method in (
            parameters=parameter_tables.DEMIP, distributed="demip", bricks="demip",
            bench=(("demip two passes", 1, ()),)),
     Method("foveated", "Foveated", "full quality around a gaze point, fewer rays and samples elsewhere",
-           FoveatedVolumeMapper, parameters=parameter_tables.FOVEATED, bricks="foveated",
+           FoveatedVolumeMapper, parameters=parameter_tables.FOVEATED, bricks="foveated", distributed="foveated",
            bench=(("foveated mip", 1, ()), ("foveated mip, gaze at a corner", 1, (("GazePoint", (0.1, 0.1)),)),
                   ("foveated analytic", None, (("Method", "analytic"),)))),
     Method("cpu", "VTK CPU MIP", "VTK's CPU ray caster (vtkFixedPointVolumeRayCastMapper), a peer",

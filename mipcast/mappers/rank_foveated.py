@@ -314,6 +314,10 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     if usable and problem is None:
         silhouette = foveated._silhouette(whole_image, volume, camera, viewport, float(mapper.GetImageSampleDistance()))
     state = object_state(mapper) if mapper is not None else {}
+    if usable and problem is None:
+        from mipcast.mappers.rank_composite import _clear_depth
+
+        _clear_depth(renderer)  # the rays end at the depth they find: the last frame's, before this one
     layer_values = []
     for index, (columns, rows, volume_level) in enumerate(layers):
         local = np.full((rows, columns), np.nan)

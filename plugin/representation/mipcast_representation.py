@@ -500,21 +500,22 @@ def rank_composite_rule(method):
     """How ``method``'s pieces composite exactly by reduction over the ranks: ``"demip"``, ``"mean"`` or None.
 
     ``"demip"`` for the method table's ``distributed="demip"`` entries (DEMIP,
-    two-pass DEMIP), ``"mean"`` for its mipcast mappers combined by their mean
-    (``bricks="mean"``: average, analytic average); None for the others
-    (foveated, ``stock*``, ``cpu``: ParaView's ordered blending).  See
+    two-pass DEMIP), ``"foveated"`` for ``distributed="foveated"`` (each level
+    reduced with MAX, then blended: :mod:`mipcast.mappers.rank_foveated`),
+    ``"mean"`` for its mipcast mappers combined by their mean
+    (``bricks="mean"``: average, analytic average); None for the others.  See
     :mod:`mipcast.mappers.rank_composite`.
 
     >>> [rank_composite_rule(m) for m in ("demip", "demip_two_pass", "average", "analytic_average", "mip",
     ...                                   "foveated", "stock_average")]
-    ['demip', 'demip', 'mean', 'mean', None, None, None]
+    ['demip', 'demip', 'mean', 'mean', None, 'foveated', None]
     """
     mipcast = _import_mipcast()
     entry = mipcast.METHODS.get(method)
     if entry is None or not entry.float_readout:
         return None
-    if entry.distributed == "demip":
-        return "demip"
+    if entry.distributed in ("demip", "foveated"):
+        return entry.distributed
     if entry.bricks == "mean":
         return "mean"
     return None
@@ -740,6 +741,11 @@ def _rank_start(entry):
         mapper = entry.mapper if entry.mapper_method == entry.method else None
         piece = entry.rank_piece if mapper is not None else None
         volume = mapper.GetAttachedVolume() if mapper is not None and hasattr(mapper, "GetAttachedVolume") else None
+        if entry.rank_rule == "foveated":
+            from mipcast.mappers.rank_foveated import compose as compose_foveated
+
+            def compose(mapper, volume, renderer, piece, whole, reduce, rule):
+                return compose_foveated(mapper, volume, renderer, piece, whole, reduce)
         try:
             rgba, problem = compose(mapper, volume, renderer, piece, getattr(entry, "rank_whole", None),
                                     _all_reduce, entry.rank_rule)
