@@ -90,7 +90,11 @@ class Method:
         with MAX over the ranks (its coarse pyramid levels reduced from the
         pieces' shares), then blended (:mod:`mipcast.mappers.rank_foveated`;
         ParaView's render view only, not a :mod:`mipcast.distributed` route;
-        DEMIP layers refused); None: not distributed yet.
+        DEMIP layers refused); ``"depth"``, VTK's own GPU MIP / MinIP writing its
+        ray's value as depth for IceT's Z-buffer compositing
+        (:mod:`mipcast.mappers.stock_depth`; render view only, VTK's per-piece
+        sampling kept); None: not distributed yet (refused in a parallel
+        render view).
     bricks : str, optional
         How its mapper draws a volume beyond the GPU's 3D texture limit inside
         one render (:mod:`mipcast.mappers.bricked_draw`; the mapper class's
@@ -273,7 +277,7 @@ def unregister(name: str) -> None:
 
 for _method in (
     Method("stock", "Stock VTK MIP", "VTK's own sampled GPU MIP (what users have today)", _stock_mip,
-           reference=sampled_mip_reference, float_readout=False, readout_by="mip",
+           reference=sampled_mip_reference, float_readout=False, readout_by="mip", distributed="depth",
            bench=(("stock 1x", 1, ()), ("stock 2x", 2, ()), ("stock 4x", 4, ()), ("stock 8x", 8, ()))),
     Method("mip", "MIP", "sampled MIP through mipcast's own loop (samples at entry + k * step)",
            MIPVolumeMapper, reference=sampled_mip_reference, reference_tolerance=1e-4,
@@ -300,6 +304,7 @@ for _method in (
            _cpu_mip, float_readout=False, in_view=True, bench=(("cpu 1x", 1, ()),)),
     Method("stock_minip", "Stock VTK MinIP", "VTK's own sampled GPU MinIP (MINIMUM_INTENSITY blend)", _stock_minip,
            reference=sampled_minip_reference, float_readout=False, readout_by="minip", projection="minip",
+           distributed="depth",
            bench=tuple((f"stock minip {n}x", n, ()) for n in (1, 2, 4, 8))),
     Method("minip", "MinIP", "sampled minimum intensity projection (stock's samples, mipcast's loop)",
            MinIPVolumeMapper, reference=sampled_minip_reference, reference_tolerance=1e-4,

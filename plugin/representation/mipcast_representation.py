@@ -480,10 +480,13 @@ def depth_composite_op(method):
     ``"max"`` for the method table's ``distributed="max"`` entries (the
     nearest fragment is the largest value), ``"min"`` for the mipcast
     mappers of the minimum projection (``projection="minip"`` with a float
-    readout: the nearest is the smallest); None for the others.
+    readout: the nearest is the smallest); for ``distributed="depth"``
+    (VTK's own MIP / MinIP, :mod:`mipcast.mappers.stock_depth`) by its
+    projection; None for the others.
 
-    >>> [depth_composite_op(m) for m in ("mip", "analytic", "minip", "analytic_minip", "stock_minip", "demip")]
-    ['max', 'max', 'min', 'min', None, None]
+    >>> [depth_composite_op(m) for m in ("mip", "analytic", "minip", "analytic_minip", "stock", "stock_minip",
+    ...                                  "demip", "stock_average")]
+    ['max', 'max', 'min', 'min', 'max', 'min', None, None]
     """
     mipcast = _import_mipcast()
     entry = mipcast.METHODS.get(method)
@@ -493,6 +496,8 @@ def depth_composite_op(method):
         return "max"
     if entry.projection == "minip" and entry.float_readout:
         return "min"
+    if entry.distributed == "depth":  # VTK's own mapper writing its value as depth (mipcast.mappers.stock_depth)
+        return {"mip": "max", "minip": "min"}.get(entry.projection)
     return None
 
 
@@ -578,7 +583,7 @@ def _depth_state(entry):
         from mipcast.core.object_state import object_state
 
         window = entry.render_window.Get()
-        volume = mapper.GetAttachedVolume()
+        volume = mapper.GetAttachedVolume() if hasattr(mapper, "GetAttachedVolume") else entry.own_volume.Get()
         entry.pushed = None
         if not object_state(mapper).get("depth_composite") or window is None or volume is None:
             return
@@ -620,7 +625,8 @@ def _ray_pusher(entry):
         from mipcast.core.object_state import object_state
         from mipcast.mappers.brick_rays import push_whole_rays, whole_geometry
 
-        renderer, volume = entry.renderer.Get(), mapper.GetAttachedVolume()
+        renderer = entry.renderer.Get()
+        volume = mapper.GetAttachedVolume() if hasattr(mapper, "GetAttachedVolume") else None  # VTK's own: none
         stub = getattr(entry, "whole_stub", None)
         if renderer is None or volume is None or stub is None or object_state(mapper).get("global_box") is None:
             return
@@ -662,8 +668,18 @@ def _set_composite(entry, volume, image, whole):
     elif state.pop("global_box", None) is not None:
         mapper.Modified()
     op = depth_composite_op(entry.mapper_method) if process_count() > 1 else None
+    own = not _import_mipcast().METHODS[entry.mapper_method].float_readout  # VTK's own mapper
+    if own:
+        from vtkmodules.vtkCommonCore import vtkWeakReference
+
+        from mipcast.mappers.stock_depth import install
+
+        install(volume, op)
+        if getattr(entry, "own_volume", None) is None:
+            entry.own_volume = vtkWeakReference()  # VTK's own mapper knows no attached volume
+        entry.own_volume.Set(volume)
     if op is not None:
-        rendered = mapper.GetRenderedInput()
+        rendered = mapper.GetInput() if own else mapper.GetRenderedInput()
         scalars = rendered.GetPointData().GetScalars() if rendered is not None else None
         if scalars is not None:
             scale, bias = depth_mapping(volume.GetProperty(), scalars, op)
