@@ -526,6 +526,33 @@ def rank_composite_rule(method):
     return None
 
 
+def rank_refusal(method, ranks=2):
+    """Why ``method`` cannot draw in a parallel render view of ``ranks`` processes, or None when it composites exactly.
+
+    A method of the table that composites neither by depth
+    (:func:`depth_composite_op`) nor by reduction (:func:`rank_composite_rule`)
+    would be blended by ParaView in visibility order, which is not its
+    projection of the whole volume: it is refused, naming the methods of the
+    same projection that are exact across ranks.
+
+    >>> rank_refusal("mip") is None
+    True
+    >>> "average" in rank_refusal("stock_average") and "mip" in rank_refusal("cpu")
+    True
+    """
+    mipcast = _import_mipcast()
+    entry = mipcast.METHODS.get(method)
+    if entry is None or depth_composite_op(method) is not None or rank_composite_rule(method) is not None:
+        return None
+    exact = [name for name, other in mipcast.METHODS.items()
+             if other.in_view and other.projection == entry.projection
+             and (depth_composite_op(name) is not None or rank_composite_rule(name) is not None)]
+    return (f"{method} cannot be drawn on {ranks} ranks: ParaView would blend the ranks' pieces in visibility order, "
+            f"which is not the {entry.projection} projection of the whole volume (a wrong picture where pieces "
+            f"overlap on screen); use {' or '.join(exact)}, which composite exactly over the ranks, "
+            "or render on one rank")
+
+
 @_guarded
 def depth_composited(key):
     """Called at REQUEST_UPDATE: True when this rank's piece is composited by depth, not by ordered blending.
@@ -837,6 +864,14 @@ def prepare(key, volume, assign, renderer, interactor, whole=None):
     image = assign.GetOutputDataObject(0)
     usable = image is not None and image.GetNumberOfPoints() > 0 and image.IsA("vtkImageData")
     _rank_frame(entry, image if usable else None, whole)  # before any return: every rank reduces
+    refused = rank_refusal(entry.method, process_count()) if process_count() > 1 else None
+    if refused is not None:  # never a silently wrong picture: hidden, said once per method
+        if getattr(entry, "refused", None) != entry.method:
+            _report(refused)
+            entry.refused = entry.method
+        entry.problem = refused
+        return False
+    entry.refused = None
     if not usable:
         _live_without_data(key, entry, interactor, renderer, image)
         return False
