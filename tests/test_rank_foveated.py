@@ -85,7 +85,8 @@ def test_pieces_reduced_draw_the_one_texture_foveated_picture(image, layer, axis
     share = (difference <= 1).mean()
     plan, values, volume_levels = object_state(mapper)["rank_foveated_values"]
     assert len(plan.layers) == 3 and max(volume_levels) > 0  # coarse pyramid levels reduced over the pieces
-    print(f"{layer} {count} pieces along {'xyz'[axis]}, volume levels {volume_levels}: {100 * share:.2f} % within 1 grey, max {difference.max()}")
+    print(f"{layer} {count} pieces along {'xyz'[axis]}, volume levels {volume_levels}: "
+          f"{100 * share:.2f} % within 1 grey, max {difference.max()}")
     assert share >= 0.999, (difference.max(), (difference > 1).sum())
 
 

@@ -18,11 +18,12 @@ Examples
 >>> import vtkmodules.vtkRenderingOpenGL2
 >>> volume = vtkVolume()
 >>> install(volume, "max")
+True
 >>> from mipcast.mappers import shader_pieces
 >>> shader_pieces.installed_tags(volume.GetShaderProperty())
 ['//VTK::DepthPass::Exit']
->>> install(volume, None); shader_pieces.installed_tags(volume.GetShaderProperty())
-[]
+>>> install(volume, "max"), install(volume, None), shader_pieces.installed_tags(volume.GetShaderProperty())
+(False, True, [])
 """
 from __future__ import annotations
 

@@ -480,7 +480,7 @@ def depth_composite_op(method):
     ``"max"`` for the method table's ``distributed="max"`` entries (the
     nearest fragment is the largest value), ``"min"`` for the mipcast
     mappers of the minimum projection (``projection="minip"`` with a float
-    readout: the nearest is the smallest); for ``distributed="depth"``
+    readout: the nearest is the smallest); for ``rank_view="depth"``
     (VTK's own MIP / MinIP, :mod:`mipcast.mappers.stock_depth`) by its
     projection; None for the others.
 
@@ -496,7 +496,7 @@ def depth_composite_op(method):
         return "max"
     if entry.projection == "minip" and entry.float_readout:
         return "min"
-    if entry.distributed == "depth":  # VTK's own mapper writing its value as depth (mipcast.mappers.stock_depth)
+    if entry.rank_view == "depth":  # VTK's own mapper writing its value as depth (mipcast.mappers.stock_depth)
         return {"mip": "max", "minip": "min"}.get(entry.projection)
     return None
 
@@ -505,7 +505,7 @@ def rank_composite_rule(method):
     """How ``method``'s pieces composite exactly by reduction over the ranks: ``"demip"``, ``"mean"`` or None.
 
     ``"demip"`` for the method table's ``distributed="demip"`` entries (DEMIP,
-    two-pass DEMIP), ``"foveated"`` for ``distributed="foveated"`` (each level
+    two-pass DEMIP), ``"foveated"`` for ``rank_view="foveated"`` (each level
     reduced with MAX, then blended: :mod:`mipcast.mappers.rank_foveated`),
     ``"mean"`` for its mipcast mappers combined by their mean
     (``bricks="mean"``: average, analytic average); None for the others.  See
@@ -519,8 +519,10 @@ def rank_composite_rule(method):
     entry = mipcast.METHODS.get(method)
     if entry is None or not entry.float_readout:
         return None
-    if entry.distributed in ("demip", "foveated"):
-        return entry.distributed
+    if entry.distributed == "demip":
+        return "demip"
+    if entry.rank_view == "foveated":
+        return "foveated"
     if entry.bricks == "mean":
         return "mean"
     return None
