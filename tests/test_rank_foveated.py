@@ -1,6 +1,6 @@
 """The foveated method's reduction over ranks (mipcast.mappers.rank_foveated) in one process, without MPI.
 
-Several ranks are simulated in one process: each "rank" composes with its own piece, and its
+Several ranks are simulated in one process (and one rank without data): each "rank" composes with its own piece, and its
 reductions combine its arrays with those the other ranks passed at the same collective (rounds
 until every collective has seen the others' final inputs: 3 collectives, 3 rounds).  The composed
 picture must match the one-texture GPU foveated picture of the whole volume.
@@ -35,8 +35,11 @@ def simulate(mapper, renderer, pieces, stub, rounds=3):
                 return out
 
             def start(caller, event, piece=piece, reduce=reduce, rank=rank):
-                results[rank] = rank_foveated.compose(mapper, mapper.GetAttachedVolume(), caller, piece, stub,
-                                                      reduce)
+                if piece is None:  # a rank without data: no mapper, no piece, no whole extent; it takes part
+                    results[rank] = rank_foveated.compose(None, None, caller, None, None, reduce)
+                else:
+                    results[rank] = rank_foveated.compose(mapper, mapper.GetAttachedVolume(), caller, piece, stub,
+                                                          reduce)
 
             tag = renderer.AddObserver("StartEvent", start)
             renderer.GetRenderWindow().Render()
@@ -74,7 +77,9 @@ def test_pieces_reduced_draw_the_one_texture_foveated_picture(image, layer, axis
         voi.SetVOI(*e)
         voi.Update()
         pieces.append(voi.GetOutput())
-    results = simulate(mapper, renderer, pieces, _stub(image))
+    results = simulate(mapper, renderer, pieces + [None], _stub(image))
+    assert results[-1] == (None, None)  # the rank without data took part and draws nothing
+    results = results[:-1]
     for rgba, problem in results:
         assert problem is None and rgba is not None
     final = [_grey(rgba) for rgba, _ in results]

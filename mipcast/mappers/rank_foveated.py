@@ -27,10 +27,9 @@ Per frame, on every rank, in the renderer's StartEvent
    :func:`mipcast.mappers.bricked_foveated.source_class`): level volume 0 from
    this rank's piece, coarser ones from the whole coarse level; reduced with
    MAX over the ranks;
-4. the reduced levels are blended on the CPU
-   (:func:`mipcast.core.foveation.composite_values`, as the foveated float
-   readout does) and coloured with the volume's transfer functions
-   (:func:`mipcast.mappers.bricked_draw.colour`): every rank draws the same
+4. the reduced levels are coloured with the volume's transfer functions
+   (:func:`mipcast.mappers.bricked_draw.colour`) and blended on the CPU as
+   the GPU blends them (:func:`blend_levels`): every rank draws the same
    picture (:func:`mipcast.mappers.rank_composite.draw`).
 
 Refused across ranks, with a message (every rank alike): DEMIP layers (two
@@ -213,7 +212,7 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     Every rank enters the same reductions whatever happens locally.
     """
     from mipcast.core.prepare import prepare_scalars
-    from mipcast.mappers import bricked_draw, foveated, volume_pyramid
+    from mipcast.mappers import foveated, volume_pyramid
     from mipcast.mappers.brick_rays import box_in_view, whole_geometry
     from mipcast.mappers.bricks import extract_brick
 
@@ -281,9 +280,12 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     if needed > 0:
         share = []
         if usable and prepared is not None and problem is None:
-            extent = piece.GetExtent()
-            offset = (extent[0] - whole_stub[0][0], extent[2] - whole_stub[0][2], extent[4] - whole_stub[0][4])
-            share = partial_pyramid(np.asarray(prepared.values), offset, whole_dims, needed + 1)
+            try:
+                extent = piece.GetExtent()
+                offset = (extent[0] - whole_stub[0][0], extent[2] - whole_stub[0][2], extent[4] - whole_stub[0][4])
+                share = partial_pyramid(np.asarray(prepared.values), offset, whole_dims, needed + 1)
+            except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
+                problem, share = repr(error), []
         buffers = []
         for level in range(1, needed + 1):
             nx, ny, nz = coarse_dims[level - 1]
@@ -295,29 +297,36 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
             buffers.append(full.ravel())
         reduced = reduce(np.concatenate(buffers), "max")
         if usable and problem is None:
-            spacing, dims = list(whole_image.GetSpacing()), list(whole_dims)
-            name = piece.GetPointData().GetScalars().GetName() or "scalars"
-            at = 0
-            for level in range(1, needed + 1):
-                nx, ny, nz = coarse_dims[level - 1]
-                values = reduced[at:at + nx * ny * nz].reshape(nz, ny, nx)
-                # a coarse point no rank covered (pieces that do not cover the whole): the lowest value
-                values = np.where(values <= 0.5 * _LOW, low_global, values)
-                at += nx * ny * nz
-                spacing = [s * ((f - 1) / (n - 1) if n > 1 else 1.0) for s, f, n in zip(spacing, dims, (nx, ny, nz))]
-                dims = [nx, ny, nz]
-                coarse_levels[level] = _image_of(values, whole_image.GetPoint(0), spacing,
-                                                 whole_image.GetDirectionMatrix(), prepared.values.dtype, name)
+            try:
+                spacing, dims = list(whole_image.GetSpacing()), list(whole_dims)
+                name = piece.GetPointData().GetScalars().GetName() or "scalars"
+                at = 0
+                for level in range(1, needed + 1):
+                    nx, ny, nz = coarse_dims[level - 1]
+                    values = reduced[at:at + nx * ny * nz].reshape(nz, ny, nx)
+                    # a coarse point no rank covered (pieces that do not cover the whole): the lowest value
+                    values = np.where(values <= 0.5 * _LOW, low_global, values)
+                    at += nx * ny * nz
+                    spacing = [s * ((f - 1) / (n - 1) if n > 1 else 1.0)
+                               for s, f, n in zip(spacing, dims, (nx, ny, nz))]
+                    dims = [nx, ny, nz]
+                    coarse_levels[level] = _image_of(values, whole_image.GetPoint(0), spacing,
+                                                     whole_image.GetDirectionMatrix(), prepared.values.dtype, name)
+            except Exception as error:  # noqa: BLE001
+                problem = repr(error)
     # 3: each level's readout of this rank's share of its rays, reduced with MAX
     values = {}
     silhouette = None
-    if usable and problem is None:
-        silhouette = foveated._silhouette(whole_image, volume, camera, viewport, float(mapper.GetImageSampleDistance()))
     state = object_state(mapper) if mapper is not None else {}
     if usable and problem is None:
         from mipcast.mappers.rank_composite import _clear_depth
 
-        _clear_depth(renderer)  # the rays end at the depth they find: the last frame's, before this one
+        try:
+            silhouette = foveated._silhouette(whole_image, volume, camera, viewport,
+                                              float(mapper.GetImageSampleDistance()))
+            _clear_depth(renderer)  # the rays end at the depth they find: the last frame's, before this one
+        except Exception as error:  # noqa: BLE001
+            problem = repr(error)
     layer_values = []
     for index, (columns, rows, volume_level) in enumerate(layers):
         local = np.full((rows, columns), np.nan)
