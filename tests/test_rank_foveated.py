@@ -11,7 +11,7 @@ import pytest
 from mipcast.core.object_state import object_state
 from mipcast.mappers import rank_foveated
 from vtkmodules.vtkImagingCore import vtkExtractVOI
-from test_bricked_mapper import image, picture, pipeline  # noqa: F401  (fixture)
+from test_bricked_mapper import DISTANCE, image, picture, pipeline  # noqa: F401  (fixture)
 
 _COMBINE = {"max": np.maximum, "min": np.minimum, "sum": np.add}
 
@@ -93,6 +93,18 @@ def test_pieces_reduced_draw_the_one_texture_foveated_picture(image, layer, axis
     print(f"{layer} {count} pieces along {'xyz'[axis]}, volume levels {volume_levels}: "
           f"{100 * share:.2f} % within 1 grey, max {difference.max()}")
     assert share >= 0.999, (difference.max(), (difference > 1).sum())
+    # the reduced full-resolution level against the float64 reference of the whole volume, where it cast
+    from mipcast.methods import METHODS
+
+    reference = METHODS[layer].reference(image, renderer.GetActiveCamera(), window.GetSize(),
+                                       sample_distance=DISTANCE)
+    level0 = values[0]
+    cast = np.isfinite(level0) & np.isfinite(reference)
+    low, high = image.GetPointData().GetScalars().GetRange(0)
+    assert cast.mean() > 0.05
+    error = np.abs(level0[cast] - reference[cast]).max() / (high - low)
+    print(f"  level 0 vs the float64 reference: {cast.sum()} rays, max error {error:.2e} of the range")
+    assert error <= METHODS[layer].reference_tolerance
 
 
 def test_demip_layers_are_refused_across_ranks(image):
