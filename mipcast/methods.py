@@ -87,6 +87,16 @@ class Method:
         MAX of the bricks' sampled MIP, then the MIN of the whole-ray index of
         the first sample of the global maximum's material (depth, Eq. 1 and
         sphere on the CPU); None: not distributed yet.
+    rank_view : str, optional
+        How a method without a ``distributed`` route composites exactly in a
+        parallel ParaView render view (plugin/representation, ranks' pieces):
+        ``"foveated"``, each foveated level's readouts reduced with MAX over the
+        ranks (its coarse pyramid levels reduced from the pieces' shares), then
+        blended (:mod:`mipcast.mappers.rank_foveated`; DEMIP layers refused);
+        ``"depth"``, VTK's own GPU MIP / MinIP writing its ray's value as depth
+        for IceT's Z-buffer compositing (:mod:`mipcast.mappers.stock_depth`;
+        VTK's per-piece sampling kept).  Methods with neither (and no
+        ``distributed`` route nor ``bricks="mean"``) are refused in such a view.
     bricks : str, optional
         How its mapper draws a volume beyond the GPU's 3D texture limit inside
         one render (:mod:`mipcast.mappers.bricked_draw`; the mapper class's
@@ -123,6 +133,7 @@ class Method:
     in_view: bool = True
     readout_by: Optional[str] = None
     distributed: Optional[str] = None
+    rank_view: Optional[str] = None
     bricks: Optional[str] = None
     bench: Optional[Tuple[Tuple[str, Any, tuple], ...]] = None
     projection: str = "mip"
@@ -269,7 +280,7 @@ def unregister(name: str) -> None:
 
 for _method in (
     Method("stock", "Stock VTK MIP", "VTK's own sampled GPU MIP (what users have today)", _stock_mip,
-           reference=sampled_mip_reference, float_readout=False, readout_by="mip",
+           reference=sampled_mip_reference, float_readout=False, readout_by="mip", rank_view="depth",
            bench=(("stock 1x", 1, ()), ("stock 2x", 2, ()), ("stock 4x", 4, ()), ("stock 8x", 8, ()))),
     Method("mip", "MIP", "sampled MIP through mipcast's own loop (samples at entry + k * step)",
            MIPVolumeMapper, reference=sampled_mip_reference, reference_tolerance=1e-4,
@@ -289,13 +300,14 @@ for _method in (
            parameters=parameter_tables.DEMIP, distributed="demip", bricks="demip",
            bench=(("demip two passes", 1, ()),)),
     Method("foveated", "Foveated", "full quality around a gaze point, fewer rays and samples elsewhere",
-           FoveatedVolumeMapper, parameters=parameter_tables.FOVEATED, bricks="foveated",
+           FoveatedVolumeMapper, parameters=parameter_tables.FOVEATED, bricks="foveated", rank_view="foveated",
            bench=(("foveated mip", 1, ()), ("foveated mip, gaze at a corner", 1, (("GazePoint", (0.1, 0.1)),)),
                   ("foveated analytic", None, (("Method", "analytic"),)))),
     Method("cpu", "VTK CPU MIP", "VTK's CPU ray caster (vtkFixedPointVolumeRayCastMapper), a peer",
            _cpu_mip, float_readout=False, in_view=True, bench=(("cpu 1x", 1, ()),)),
     Method("stock_minip", "Stock VTK MinIP", "VTK's own sampled GPU MinIP (MINIMUM_INTENSITY blend)", _stock_minip,
            reference=sampled_minip_reference, float_readout=False, readout_by="minip", projection="minip",
+           rank_view="depth",
            bench=tuple((f"stock minip {n}x", n, ()) for n in (1, 2, 4, 8))),
     Method("minip", "MinIP", "sampled minimum intensity projection (stock's samples, mipcast's loop)",
            MinIPVolumeMapper, reference=sampled_minip_reference, reference_tolerance=1e-4,

@@ -40,8 +40,17 @@ REDUCED_METHODS = ("demip", "demip@depth_mode=eye_distance", "demip@depth_mode=e
                    "average", "analytic_average")
 #: DEMIP's ordered projections, drawn rank after rank front to back (mipcast.mappers.rank_ordered): 4 ranks along z.
 ORDERED_METHODS = ("demip@projection=lmip@local_threshold=0.15", "demip@projection=attenuated", "demip@projection=mida")
+#: Also in the 2-rank (x) pvbatch run: foveated (each level reduced with MAX, then blended:
+#: mipcast.mappers.rank_foveated) and VTK's own MIP / MinIP writing their value as depth
+#: (mipcast.mappers.stock_depth); stock_average is refused there (hidden, with a message).
+OTHER_METHODS = ("foveated", "stock", "stock_minip")
 #: Share of pixels within 1 grey level of the one-rank picture.
 MATCH = 0.999
+#: Below MATCH, measured: foveated's one-rank picture spills its coarse levels' bilinear stretch up to a
+#: coarse texel beyond the volume's outline (<= 6 greys), where IceT composites no rank's pixels (each
+#: rank's draw covers its piece's box); the stock mappers sample from each piece's own ray entry, not the
+#: whole volume's (97.3 % and 93.7 % measured, against 90.9 % for stock with ordered blending).
+METHOD_MATCH = {"foveated": 0.985, "stock": 0.965, "stock_minip": 0.93}
 missing = [tool for tool in ("mpiexec", "pvbatch", "pvserver", "pvpython", "Xvfb", "cmake", "c++")
            if shutil.which(tool) is None]
 pytestmark = pytest.mark.skipif(bool(missing), reason="needs " + ", ".join(missing) + " (apt-get install "
@@ -77,7 +86,9 @@ def pvbatch(plugin, display, work, ranks, axis, methods=METHODS):
     done = subprocess.run(["mpiexec", "--oversubscribe", "-n", str(ranks), "pvbatch",
                            *_args(plugin, work, name, axis, ranks, methods)],
                           env=mpi_env(display), capture_output=True, text=True, timeout=240, cwd="/tmp")
-    return _results(done, work, name)
+    results = _results(done, work, name)
+    results["log"] = done.stdout + done.stderr
+    return results
 
 
 def load_png(path):
@@ -95,7 +106,8 @@ def load_png(path):
 @pytest.fixture(scope="module")
 def one_rank(plugin, display, work):
     """The reference: one pvbatch rank reads the whole volume."""
-    results = pvbatch(plugin, display, work, 1, 0, METHODS + MINIP_METHODS + REDUCED_METHODS + ORDERED_METHODS)
+    results = pvbatch(plugin, display, work, 1, 0, METHODS + MINIP_METHODS + REDUCED_METHODS + ORDERED_METHODS
+                      + OTHER_METHODS)
     assert results["ranks"] == 1
     return {method: load_png(path) for method, path in results["pngs"].items()}
 
@@ -109,22 +121,27 @@ def check_parity(results, one_rank, ranks, session, methods=METHODS):
         assert lit.mean() > 0.05, (method, "the reference picture is (nearly) black")
         grey = np.abs(picture - reference).max(axis=2)
         within = float((grey <= 1).mean())  # DEMIP too (composed on the CPU: within 1 of the GPU picture)
-        assert within >= MATCH, (method, ranks, session, f"{within:.4%} within 1 grey, max {grey.max()} off")
+        assert within >= METHOD_MATCH.get(method, MATCH), (method, ranks, session,
+                                                           f"{within:.4%} within 1 grey, max {grey.max()} off")
 
 
 def test_two_pvbatch_ranks_split_along_x(plugin, display, work, one_rank):
     """Also: DEMIP (reduced over the ranks) draws the same before and after the depth-composited methods."""
     methods = METHODS + MINIP_METHODS
-    results = pvbatch(plugin, display, work, 2, 0, ("demip",) + methods + REDUCED_METHODS[1:] + ("demip",))
-    check_parity(results, one_rank, 2, "pvbatch", methods + REDUCED_METHODS)
+    results = pvbatch(plugin, display, work, 2, 0, ("demip",) + methods + REDUCED_METHODS[1:] + OTHER_METHODS
+                      + ("stock_average", "demip"))
+    check_parity(results, one_rank, 2, "pvbatch", methods + REDUCED_METHODS + OTHER_METHODS)
+    refused = load_png(results["pngs"]["stock_average"])
+    assert refused.max() <= 1, "stock_average on 2 ranks must be refused (hidden), not blended wrongly"
+    assert "stock_average cannot be drawn on 2 ranks" in results["log"] and "use average" in results["log"]
     before, after = load_png(results["pngs"]["demip"]), load_png(results["pngs"]["demip-again"])
     assert (before.max(axis=2) > 8).mean() > 0.05
     assert np.array_equal(before, after), "switching to depth-composited methods and back changed DEMIP's picture"
 
 
 def test_four_pvbatch_ranks_split_along_z(plugin, display, work, one_rank):
-    """Also DEMIP's LMIP, attenuated MIP and MIDA (each rank's piece drawn in its turn, front to back)."""
-    methods = METHODS + REDUCED_METHODS + ORDERED_METHODS
+    """Also DEMIP's LMIP, attenuated MIP and MIDA (each rank's piece drawn in its turn, front to back), and foveated."""
+    methods = METHODS + REDUCED_METHODS + ORDERED_METHODS + ("foveated",)
     check_parity(pvbatch(plugin, display, work, 4, 2, methods), one_rank, 4, "pvbatch", methods)
 
 

@@ -445,6 +445,8 @@ def _draw_levels(mapper, event) -> None:
     state = object_state(mapper)
     if object_state(mapper).get("render_problem") is not None:  # MIPVolumeMapper's observer reported it
         return
+    if state.get("rank_own_draw") is not None:  # a parallel render view draws the levels reduced over its
+        return  # ranks instead (plugin/representation, mipcast.mappers.rank_foveated)
     volume = mapper.GetAttachedVolume()
     renderer = rendering_renderer(mapper, volume)
     if renderer is not None:

@@ -504,10 +504,13 @@ def depth_composite_op(method):
     ``"max"`` for the method table's ``distributed="max"`` entries (the
     nearest fragment is the largest value), ``"min"`` for the mipcast
     mappers of the minimum projection (``projection="minip"`` with a float
-    readout: the nearest is the smallest); None for the others.
+    readout: the nearest is the smallest); for ``rank_view="depth"``
+    (VTK's own MIP / MinIP, :mod:`mipcast.mappers.stock_depth`) by its
+    projection; None for the others.
 
-    >>> [depth_composite_op(m) for m in ("mip", "analytic", "minip", "analytic_minip", "stock_minip", "demip")]
-    ['max', 'max', 'min', 'min', None, None]
+    >>> [depth_composite_op(m) for m in ("mip", "analytic", "minip", "analytic_minip", "stock", "stock_minip",
+    ...                                  "demip", "stock_average")]
+    ['max', 'max', 'min', 'min', 'max', 'min', None, None]
     """
     mipcast = _import_mipcast()
     entry = mipcast.METHODS.get(method)
@@ -517,6 +520,8 @@ def depth_composite_op(method):
         return "max"
     if entry.projection == "minip" and entry.float_readout:
         return "min"
+    if entry.rank_view == "depth":  # VTK's own mapper writing its value as depth (mipcast.mappers.stock_depth)
+        return {"mip": "max", "minip": "min"}.get(entry.projection)
     return None
 
 
@@ -524,14 +529,15 @@ def rank_composite_rule(method):
     """How ``method``'s pieces composite exactly by reduction over the ranks: ``"demip"``, ``"mean"`` or None.
 
     ``"demip"`` for the method table's ``distributed="demip"`` entries (DEMIP,
-    two-pass DEMIP), ``"mean"`` for its mipcast mappers combined by their mean
-    (``bricks="mean"``: average, analytic average); None for the others
-    (foveated, ``stock*``, ``cpu``: ParaView's ordered blending).  See
+    two-pass DEMIP), ``"foveated"`` for ``rank_view="foveated"`` (each level
+    reduced with MAX, then blended: :mod:`mipcast.mappers.rank_foveated`),
+    ``"mean"`` for its mipcast mappers combined by their mean
+    (``bricks="mean"``: average, analytic average); None for the others.  See
     :mod:`mipcast.mappers.rank_composite`.
 
     >>> [rank_composite_rule(m) for m in ("demip", "demip_two_pass", "average", "analytic_average", "mip",
     ...                                   "foveated", "stock_average")]
-    ['demip', 'demip', 'mean', 'mean', None, None, None]
+    ['demip', 'demip', 'mean', 'mean', None, 'foveated', None]
     """
     mipcast = _import_mipcast()
     entry = mipcast.METHODS.get(method)
@@ -539,9 +545,38 @@ def rank_composite_rule(method):
         return None
     if entry.distributed == "demip":
         return "demip"
+    if entry.rank_view == "foveated":
+        return "foveated"
     if entry.bricks == "mean":
         return "mean"
     return None
+
+
+def rank_refusal(method, ranks=2):
+    """Why ``method`` cannot draw in a parallel render view of ``ranks`` processes, or None when it composites exactly.
+
+    A method of the table that composites neither by depth
+    (:func:`depth_composite_op`) nor by reduction (:func:`rank_composite_rule`)
+    would be blended by ParaView in visibility order, which is not its
+    projection of the whole volume: it is refused, naming the methods of the
+    same projection that are exact across ranks.
+
+    >>> rank_refusal("mip") is None
+    True
+    >>> "average" in rank_refusal("stock_average") and "mip" in rank_refusal("cpu")
+    True
+    """
+    mipcast = _import_mipcast()
+    entry = mipcast.METHODS.get(method)
+    if entry is None or depth_composite_op(method) is not None or rank_composite_rule(method) is not None:
+        return None
+    exact = [name for name, other in mipcast.METHODS.items()
+             if other.in_view and other.projection == entry.projection
+             and (depth_composite_op(name) is not None or rank_composite_rule(name) is not None)]
+    return (f"{method} cannot be drawn on {ranks} ranks: ParaView would blend the ranks' pieces in visibility order, "
+            f"which is not the {entry.projection} projection of the whole volume (a wrong picture where pieces "
+            f"overlap on screen); use {' or '.join(exact)}, which composite exactly over the ranks, "
+            "or render on one rank")
 
 
 @_guarded
@@ -601,7 +636,7 @@ def _depth_state(entry):
         from mipcast.core.object_state import object_state
 
         window = entry.render_window.Get()
-        volume = mapper.GetAttachedVolume()
+        volume = mapper.GetAttachedVolume() if hasattr(mapper, "GetAttachedVolume") else entry.own_volume.Get()
         entry.pushed = None
         if not object_state(mapper).get("depth_composite") or window is None or volume is None:
             return
@@ -643,7 +678,8 @@ def _ray_pusher(entry):
         from mipcast.core.object_state import object_state
         from mipcast.mappers.brick_rays import push_whole_rays, whole_geometry
 
-        renderer, volume = entry.renderer.Get(), mapper.GetAttachedVolume()
+        renderer = entry.renderer.Get()
+        volume = mapper.GetAttachedVolume() if hasattr(mapper, "GetAttachedVolume") else None  # VTK's own: none
         stub = getattr(entry, "whole_stub", None)
         if renderer is None or volume is None or stub is None or object_state(mapper).get("global_box") is None:
             return
@@ -685,8 +721,18 @@ def _set_composite(entry, volume, image, whole):
     elif state.pop("global_box", None) is not None:
         mapper.Modified()
     op = depth_composite_op(entry.mapper_method) if process_count() > 1 else None
+    own = not _import_mipcast().METHODS[entry.mapper_method].float_readout  # VTK's own mapper
+    if own:
+        from vtkmodules.vtkCommonCore import vtkWeakReference
+
+        from mipcast.mappers.stock_depth import install
+
+        install(volume, op)
+        if getattr(entry, "own_volume", None) is None:
+            entry.own_volume = vtkWeakReference()  # VTK's own mapper knows no attached volume
+        entry.own_volume.Set(volume)
     if op is not None:
-        rendered = mapper.GetRenderedInput()
+        rendered = mapper.GetInput() if own else mapper.GetRenderedInput()
         scalars = rendered.GetPointData().GetScalars() if rendered is not None else None
         if scalars is not None:
             scale, bias = depth_mapping(volume.GetProperty(), scalars, op)
@@ -759,14 +805,18 @@ def _rank_start(entry):
         if not getattr(entry, "rank_pending", False):
             return
         entry.rank_pending = False
-        from mipcast.mappers.rank_composite import compose
+        from mipcast.mappers import rank_composite, rank_foveated
 
         mapper = entry.mapper if entry.mapper_method == entry.method else None
         piece = entry.rank_piece if mapper is not None else None
         volume = mapper.GetAttachedVolume() if mapper is not None and hasattr(mapper, "GetAttachedVolume") else None
+        whole = getattr(entry, "rank_whole", None)
         try:
-            rgba, problem = compose(mapper, volume, renderer, piece, getattr(entry, "rank_whole", None),
-                                    _all_reduce, entry.rank_rule, rank=(process_index(), process_count()))
+            if entry.rank_rule == "foveated":
+                rgba, problem = rank_foveated.compose(mapper, volume, renderer, piece, whole, _all_reduce)
+            else:
+                rgba, problem = rank_composite.compose(mapper, volume, renderer, piece, whole, _all_reduce,
+                                                       entry.rank_rule, rank=(process_index(), process_count()))
         except Exception as error:  # noqa: BLE001  (never into C++)
             rgba, problem = None, repr(error)
         entry.rank_picture = rgba
@@ -839,6 +889,14 @@ def prepare(key, volume, assign, renderer, interactor, whole=None):
     image = assign.GetOutputDataObject(0)
     usable = image is not None and image.GetNumberOfPoints() > 0 and image.IsA("vtkImageData")
     _rank_frame(entry, image if usable else None, whole)  # before any return: every rank reduces
+    refused = rank_refusal(entry.method, process_count()) if process_count() > 1 else None
+    if refused is not None:  # never a silently wrong picture: hidden, said once per method
+        if getattr(entry, "refused", None) != entry.method:
+            _report(refused)
+            entry.refused = entry.method
+        entry.problem = refused
+        return False
+    entry.refused = None
     if not usable:
         _live_without_data(key, entry, interactor, renderer, image)
         return False

@@ -1,0 +1,454 @@
+"""The foveated method composited exactly over the ranks of one parallel render view.
+
+A foveated frame (:mod:`mipcast.mappers.foveated`) casts several levels
+(ray grids, each on a pyramid volume level) and blends them.  Across ranks
+the principle is that of :mod:`mipcast.mappers.bricked_foveated` beyond the
+texture limit: each level's rays are composited over the pieces FIRST, by
+the maximum (exact for the ``mip`` and ``analytic`` layers: the maximum
+over disjoint sample or cell sets is the maximum over their union), and
+only then blended.  Blending each rank's own foveated picture and
+compositing those is what goes wrong (a maximum of blends is no blend of
+maxima; ordered alpha blending of MIP pictures loses the far pieces).
+
+Per frame, on every rank, in the renderer's StartEvent
+(plugin/representation/mipcast_representation.py, as
+:mod:`mipcast.mappers.rank_composite`):
+
+1. the shape, the scalar range, the whole volume and the plan's sizes are
+   reduced first (a rank without data learns them and takes part);
+2. the coarse pyramid levels of the WHOLE volume: each rank max-reduces its
+   piece onto the whole coarse grid (:func:`partial_pyramid`; a coarse
+   point takes the maximum of the fine points in its window, a window cut by
+   a piece border gets the part on this piece), reduced with MAX over the
+   ranks, so every rank holds the whole volume's exact coarse levels (1/8,
+   1/64 ... of the voxels: the price of exactness);
+3. each level of the plan is read out privately (float, the level's grid,
+   the WHOLE volume's rays, cast range and silhouette band:
+   :func:`mipcast.mappers.bricked_foveated.source_class`): level volume 0 from
+   this rank's piece, coarser ones from the whole coarse level; reduced with
+   MAX over the ranks;
+4. the reduced levels are coloured with the volume's transfer functions
+   (:func:`mipcast.mappers.bricked_draw.colour`) and blended on the CPU as
+   the GPU blends them (:func:`blend_levels`): every rank draws the same
+   picture (:func:`mipcast.mappers.rank_composite.draw`).
+
+Refused across ranks, with a message (every rank alike): DEMIP layers (two
+phases per level), content-adaptive density (``content_tolerance`` > 0),
+progressive refinement, volumes with missing (NaN) values.
+
+Examples
+--------
+>>> import numpy as np
+>>> from mipcast.mappers.rank_foveated import partial_max_reduce_axis
+>>> whole = np.array([0, 0, 0, 9, 0, 0, 0.0])
+>>> first, part = partial_max_reduce_axis(whole[:4], 0, 0, 7)       # a piece of points 0..3
+>>> second, rest = partial_max_reduce_axis(whole[3:], 0, 3, 7)      # and 3..6 (one point shared)
+>>> full = np.full(4, -np.inf); full[first:first + len(part)] = part
+>>> full[second:second + len(rest)] = np.maximum(full[second:second + len(rest)], rest); full.tolist()
+[0.0, 9.0, 9.0, 0.0]
+"""
+from __future__ import annotations
+
+import math
+from typing import Callable, Optional, Sequence, Tuple
+
+import numpy as np
+
+from mipcast.core import foveation
+from mipcast.core.object_state import object_state
+from mipcast.core.parameter_tables import FOVEATION_LAYERS
+
+Reduce = Callable[[np.ndarray, str], np.ndarray]
+
+_LOW, _HIGH = -1.0e300, 1.0e300
+#: Most pyramid levels / plan layers the fixed-size head carries.
+_MAX_LEVELS = 12
+
+
+def partial_max_reduce_axis(values: np.ndarray, axis: int, start: int, whole: int) -> Tuple[int, np.ndarray]:
+    """A piece's share of one 2:1 max reduction of the whole axis (:func:`volume_pyramid.max_reduce_axis`).
+
+    ``values`` hold whole indices ``start .. start + len - 1`` along ``axis``
+    of an axis of ``whole`` points.  Returns (first coarse index, values) for
+    the coarse points whose window holds a point of the piece: the maximum of
+    those of its points; the maximum over pieces that cover the axis is the
+    whole's reduction exactly.
+    """
+    from mipcast.mappers.volume_pyramid import coarse_axis
+
+    m = coarse_axis(whole)
+    if m == whole:
+        return start, values
+    ratio = (whole - 1) / (m - 1)
+    stop = start + values.shape[axis] - 1
+    first = max(0, math.ceil((start - 0.5 * ratio - 1e-9) / ratio))
+    last = min(m - 1, math.floor((stop + 0.5 * ratio + 1e-9) / ratio))
+    parts = []
+    for c in range(first, last + 1):
+        centre = c * ratio
+        lo = max(start, math.ceil(centre - 0.5 * ratio - 1e-9))
+        hi = min(stop, math.floor(centre + 0.5 * ratio + 1e-9))
+        if hi < lo:  # the window holds no point of this piece (cannot happen between first and last)
+            shape = list(values.shape)
+            shape[axis] = 1
+            parts.append(np.full(shape, -np.inf))
+            continue
+        taken = np.take(values, np.arange(lo - start, hi - start + 1), axis=axis)
+        parts.append(taken.max(axis=axis, keepdims=True))
+    return first, np.concatenate(parts, axis=axis)
+
+
+def whole_coarse_dims(dims: Sequence[int], levels: int) -> list:
+    """The (nx, ny, nz) of the whole volume's coarse levels 1 .. (as :func:`volume_pyramid.build_max_pyramid`)."""
+    from mipcast.mappers.volume_pyramid import coarse_axis
+
+    out, current = [], list(dims)
+    for _ in range(1, max(int(levels), 1)):
+        nxt = [coarse_axis(n) for n in current]
+        if nxt == current:
+            break
+        out.append(tuple(nxt))
+        current = nxt
+    return out
+
+
+def partial_pyramid(values: np.ndarray, offset: Sequence[int], whole_dims: Sequence[int], levels: int) -> list:
+    """This piece's share of every coarse level: [(offset (x, y, z) in the coarse grid, values (z, y, x))]."""
+    out = []
+    array, start, dims = np.asarray(values, dtype=np.float64), [int(o) for o in offset], list(whole_dims)
+    for coarse in whole_coarse_dims(whole_dims, levels):
+        for axis in range(3):  # numpy axis 0 is z
+            index = 2 - axis
+            start[index], array = partial_max_reduce_axis(array, axis, start[index], dims[index])
+        dims = list(coarse)
+        out.append((tuple(start), array))
+    return out
+
+
+class _WholeBox:
+    """What the plan's helpers ask of a vtkVolume (bounds, centre, matrix), of the WHOLE volume."""
+
+    def __init__(self, volume, whole_image):
+        self._matrix = volume.GetMatrix()
+        b = whole_image.GetBounds()
+        corners = np.array([[x, y, z, 1.0] for x in b[0:2] for y in b[2:4] for z in b[4:6]])
+        m = np.array([[self._matrix.GetElement(r, c) for c in range(4)] for r in range(4)])
+        world = corners @ m.T
+        world = world[:, :3] / world[:, 3:]
+        low, high = world.min(axis=0), world.max(axis=0)
+        self._bounds = (low[0], high[0], low[1], high[1], low[2], high[2])
+        self._centre = tuple(0.5 * (low + high))
+
+    def GetBounds(self):
+        return self._bounds
+
+    def GetCenter(self):
+        return self._centre
+
+    def GetMatrix(self):
+        return self._matrix
+
+
+def refusal(mapper) -> Optional[str]:
+    """Why ``mapper``'s settings cannot be composited exactly over the ranks, or None.
+
+    >>> from mipcast.mappers.foveated import FoveatedVolumeMapper
+    >>> refusal(FoveatedVolumeMapper()) is None
+    True
+    >>> mapper = FoveatedVolumeMapper(); mapper.SetMethod("demip"); "demip" in refusal(mapper)
+    True
+    """
+    params = mapper._parameters()
+    method = params["method"]
+    if getattr(FOVEATION_LAYERS[method].factory, "BRICKS", None) != "max":
+        able = ", ".join(n for n, e in FOVEATION_LAYERS.items() if getattr(e.factory, "BRICKS", None) == "max")
+        return (f"foveated with {method!r} levels cannot be composited exactly over the ranks (a level's ray "
+                f"value over several pieces is not the pieces' maximum): use foveation layers {able}, or the "
+                f"{method!r} method itself unfoveated")
+    if float(params["content_tolerance"]) > 0.0:
+        return ("foveated content-adaptive density (content_tolerance > 0) is not composited over the ranks yet: "
+                "set content_tolerance to 0, or render on one rank")
+    if params["progressive"]:
+        return "foveated progressive refinement is not composited over the ranks yet: turn progressive off"
+    return None
+
+
+def _source_entry(state, key, kind, image, extent, whole, distance) -> dict:
+    """A private brick mapper of the layer method casting only a level's rays, cached per key."""
+    from mipcast.mappers.brick_rays import brick_entry
+    from mipcast.mappers.bricked_foveated import source_class
+
+    cache = state.setdefault("rank_foveated_sources", {})
+    cached = cache.get(key[0])
+    if cached is not None and cached[0] == key:
+        return cached[1]
+    entry = brick_entry(source_class(kind), image, extent, whole, image.GetSpacing(), distance)
+    object_state(entry["mapper"])["global_cells"] = False  # cells lie whole in a piece
+    cache[key[0]] = (key, entry)
+    return entry
+
+
+def _image_of(values: np.ndarray, origin, spacing, direction, dtype, name: str):
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    nz, ny, nx = values.shape
+    image = vtkImageData()
+    image.SetDimensions(nx, ny, nz)
+    image.SetOrigin(origin)
+    image.SetSpacing(spacing)
+    image.SetDirectionMatrix(direction)
+    array = numpy_to_vtk(np.ascontiguousarray(values.astype(dtype)).ravel(), deep=True)
+    array.SetName(name)
+    image.GetPointData().SetScalars(array)
+    return image
+
+
+def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tuple[Optional[np.ndarray], Optional[str]]:
+    """This frame's final premultiplied RGBA (top row first), the same on every rank; or (None, why).
+
+    As :func:`mipcast.mappers.rank_composite.compose` (the same arguments,
+    rule ``"foveated"``); ``mapper`` a :class:`~mipcast.mappers.foveated.FoveatedVolumeMapper`.
+    Every rank enters the same reductions whatever happens locally.
+    """
+    from mipcast.core.prepare import prepare_scalars
+    from mipcast.mappers import foveated, volume_pyramid
+    from mipcast.mappers.brick_rays import box_in_view, whole_geometry
+    from mipcast.mappers.bricks import extract_brick
+
+    width, height, x0, y0 = [0], [0], [0], [0]
+    renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
+    shape = (max(height[0], 1), max(width[0], 1))
+    viewport = (x0[0], y0[0], shape[1], shape[0])
+    problem = None
+    usable = (mapper is not None and piece is not None and piece.GetNumberOfPoints() > 0 and whole_stub is not None
+              and piece.GetPointData().GetScalars() is not None)
+    plan, prepared, sampling, whole_image, camera, params = None, None, [], None, renderer.GetActiveCamera(), None
+    low = high = 0.0
+    if usable:
+        try:
+            problem = refusal(mapper)
+            params = mapper._parameters()
+            state = object_state(mapper)
+            prepared = prepare_scalars(piece, mapper.GetComponent())
+            if prepared.missing:
+                problem = problem or ("foveated over the ranks cannot draw missing (NaN/Inf) values: fill them "
+                                      "(e.g. vtkImageMathematics) or render on one rank")
+            low, high = float(np.min(prepared.values)), float(np.max(prepared.values))
+            whole_image = whole_geometry(whole_stub)
+            box = _WholeBox(volume, whole_image)
+            base_isd = float(mapper.GetImageSampleDistance())
+            base_distance = float(mapper.GetSampleDistance())
+            gaze, radius = foveated._current_gaze(state, renderer, camera, viewport)
+            plan = foveation.plan_frame(viewport, gaze, radius, params["falloff"], params["number_of_levels"],
+                                        params["foveation"], foveated._level_cap(whole_image, box, camera, viewport),
+                                        base_isd)
+            cells = foveated._walks_cells(params["method"])
+            spacings = volume_pyramid.pyramid_voxel_sizes(whole_image, params["number_of_levels"])
+            world_per_pixel = foveated._world_per_pixel(camera, box, viewport)
+            for layer in plan.layers:
+                footprint = world_per_pixel * viewport[3] / max(layer.grid[1], 1)
+                sampling.append(volume_pyramid.level_sampling(layer.level, footprint, base_distance, spacings,
+                                                              cells, params["peripheral_sampling"]))
+        except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
+            problem, plan = repr(error), None
+    # 1: the head: shape, range, whole dims, the plan's layers (grid, volume level), a failure flag
+    head = np.full(8 + 3 + 1 + 3 * _MAX_LEVELS, _LOW)
+    head[:6] = [shape[0], shape[1], -shape[0], -shape[1], -low if usable else _LOW, high if usable else _LOW]
+    if whole_image is not None:
+        head[6:9] = whole_image.GetDimensions()
+    if plan is not None and len(plan.layers) <= _MAX_LEVELS:
+        head[11] = len(plan.layers)
+        for index, (layer, (volume_level, _)) in enumerate(zip(plan.layers, sampling)):
+            head[12 + 3 * index: 15 + 3 * index] = (layer.grid[0], layer.grid[1], volume_level)
+    head[9] = 1.0 if problem else 0.0
+    head[10] = float(params["number_of_levels"]) if params is not None else _LOW
+    head = reduce(head, "max")
+    if head[0] != -head[2] or head[1] != -head[3]:
+        return None, f"the ranks' viewports differ ({int(head[0])}x{int(head[1])} vs {int(-head[2])}x{int(-head[3])})"
+    if head[9] > 0.0:
+        return None, problem or "a rank refused or failed to plan the foveated frame"
+    if head[11] <= 0.5 * _LOW:
+        return None, "no rank has data"
+    low_global = float(-head[4])
+    whole_dims = tuple(int(v) for v in head[6:9])
+    layers = [tuple(int(v) for v in head[12 + 3 * i: 15 + 3 * i]) for i in range(int(head[11]))]
+    coarse_dims = whole_coarse_dims(whole_dims, int(head[10]))
+    needed = max([v for _, _, v in layers] + [0])
+    # 2: the whole volume's coarse levels, this piece's share reduced with MAX over the ranks
+    coarse_levels = {}
+    if needed > 0:
+        share = []
+        if usable and prepared is not None and problem is None:
+            try:
+                extent = piece.GetExtent()
+                offset = (extent[0] - whole_stub[0][0], extent[2] - whole_stub[0][2], extent[4] - whole_stub[0][4])
+                share = partial_pyramid(np.asarray(prepared.values), offset, whole_dims, needed + 1)
+            except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
+                problem, share = repr(error), []
+        buffers = []
+        for level in range(1, needed + 1):
+            nx, ny, nz = coarse_dims[level - 1]
+            full = np.full((nz, ny, nx), _LOW)
+            if len(share) >= level:
+                (ox, oy, oz), part = share[level - 1]
+                z, y, x = part.shape
+                full[oz:oz + z, oy:oy + y, ox:ox + x] = np.where(np.isfinite(part), part, _LOW)
+            buffers.append(full.ravel())
+        reduced = reduce(np.concatenate(buffers), "max")
+        if usable and problem is None:
+            try:
+                spacing, dims = list(whole_image.GetSpacing()), list(whole_dims)
+                name = piece.GetPointData().GetScalars().GetName() or "scalars"
+                at = 0
+                for level in range(1, needed + 1):
+                    nx, ny, nz = coarse_dims[level - 1]
+                    values = reduced[at:at + nx * ny * nz].reshape(nz, ny, nx)
+                    # a coarse point no rank covered (pieces that do not cover the whole): the lowest value
+                    values = np.where(values <= 0.5 * _LOW, low_global, values)
+                    at += nx * ny * nz
+                    spacing = [s * ((f - 1) / (n - 1) if n > 1 else 1.0)
+                               for s, f, n in zip(spacing, dims, (nx, ny, nz))]
+                    dims = [nx, ny, nz]
+                    coarse_levels[level] = _image_of(values, whole_image.GetPoint(0), spacing,
+                                                     whole_image.GetDirectionMatrix(), prepared.values.dtype, name)
+            except Exception as error:  # noqa: BLE001
+                problem = repr(error)
+    # 3: each level's readout of this rank's share of its rays, reduced with MAX
+    values = {}
+    silhouette = None
+    state = object_state(mapper) if mapper is not None else {}
+    if usable and problem is None:
+        from mipcast.mappers.rank_composite import _clear_depth
+
+        try:
+            silhouette = foveated._silhouette(whole_image, volume, camera, viewport,
+                                              float(mapper.GetImageSampleDistance()))
+            _clear_depth(renderer)  # the rays end at the depth they find: the last frame's, before this one
+        except Exception as error:  # noqa: BLE001
+            problem = repr(error)
+    layer_values = []
+    for index, (columns, rows, volume_level) in enumerate(layers):
+        local = np.full((rows, columns), np.nan)
+        if usable and problem is None:
+            try:
+                layer = plan.layers[index]
+                distance = sampling[index][1]
+                kind = FOVEATION_LAYERS[params["method"]].factory
+                if volume_level == 0:
+                    dims = piece.GetDimensions()
+                    stamp = (piece.GetAddressAsString("vtkObjectBase"), piece.GetMTime())
+                    cached = state.get("rank_foveated_piece")
+                    if cached is None or cached[0] != stamp:
+                        cached = (stamp, extract_brick(piece, (0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)))
+                        state["rank_foveated_piece"] = cached
+                    image, extent, whole, rays = cached[1], tuple(piece.GetExtent()), whole_stub[0], whole_image
+                    component = mapper.GetComponent()
+                else:
+                    image = coarse_levels[volume_level]
+                    extent = whole = tuple(image.GetExtent())
+                    rays, component = image, -1
+                key = (index, stamp if volume_level == 0 else image.GetAddressAsString("vtkObjectBase"),
+                       extent, tuple(whole), kind, volume_level)
+                entry = _source_entry(state, key, kind, image, extent, whole, distance)
+                brick_mapper, brick_volume = entry["mapper"], entry["volume"]
+                if brick_mapper.GetComponent() != component:
+                    brick_mapper.SetComponent(component)
+                foveated._copy_settings(mapper, volume, brick_mapper, brick_volume, entry["matrix"], distance,
+                                        layer.image_sample_distance)
+                foveated._set_uniforms(brick_volume, plan, layer)
+                foveated._set_silhouette(brick_volume, silhouette if len(plan.layers) > 1 else None, layer.level)
+                if box_in_view(brick_volume, renderer, (rows, columns)):
+                    local = _readout(renderer, entry, rays, camera, (rows, columns), (shape[1], shape[0]))
+            except Exception as error:  # noqa: BLE001
+                problem = repr(error)
+        layer_values.append(np.where(np.isnan(local), _LOW, local).ravel())
+    flag = np.array([1.0 if problem else 0.0])
+    reduced = reduce(np.concatenate(layer_values + [flag]), "max") if layers else flag
+    if reduced[-1] > 0.0:
+        return None, problem or "a rank failed to render its piece"
+    if not usable:
+        return None, None  # a rank without data: it took part, it draws nothing
+    at = 0
+    for (columns, rows, _), layer in zip(layers, plan.layers):
+        level_values = reduced[at:at + rows * columns].reshape(rows, columns)
+        at += rows * columns
+        values[layer.level] = np.where(level_values <= 0.5 * _LOW, np.nan, level_values)
+    # 4: blended after compositing, as the GPU draws the levels (coarsest first, "over", weights, upscale)
+    state["rank_foveated_values"] = (plan, values, [volume_level for _, _, volume_level in layers])
+    band = silhouette if len(plan.layers) > 1 else None
+    return blend_levels(plan, values, volume.GetProperty(), band), None
+
+
+def _stretch(rgba: np.ndarray, size) -> np.ndarray:
+    """A level's premultiplied RGBA grid over the viewport: VTK's image-sample quad (GL linear filtering,
+    clamped edges; rays without a value are transparent)."""
+    width, height = int(size[0]), int(size[1])
+    rows, columns = rgba.shape[:2]
+    if (rows, columns) == (height, width):
+        return rgba
+    grid = rgba[::-1]  # bottom row first, like GL
+    sx = (np.arange(width) + 0.5) * columns / width - 0.5
+    sy = (np.arange(height) + 0.5) * rows / height - 0.5
+    x0, y0 = np.floor(sx).astype(int), np.floor(sy).astype(int)
+    fx, fy = sx - x0, sy - y0
+    out = np.zeros((height, width, rgba.shape[2]))
+    for dy, wy in ((0, 1.0 - fy), (1, fy)):
+        for dx, wx in ((0, 1.0 - fx), (1, fx)):
+            texels = grid[np.clip(y0 + dy, 0, rows - 1)][:, np.clip(x0 + dx, 0, columns - 1)]
+            out += (wy[:, None] * wx[None, :])[..., None] * texels
+    return out[::-1]
+
+
+def blend_levels(plan, values: dict, volume_property, silhouette=None) -> np.ndarray:
+    """The foveated picture (premultiplied RGBA, top row first) from each level's composited values.
+
+    What the GPU draws (shaders/foveated_weight.glsl): coarsest level first,
+    each ray's premultiplied colour times its level weight (1 in level 0's
+    silhouette band), the level's grid stretched over the viewport (VTK's
+    image-sample quad) and drawn "over" the levels before.
+
+    >>> plan = foveation.plan_frame((0, 0, 8, 8), (0.5, 0.5), 10.0, 0.2)   # one level: the fovea covers all
+    >>> from mipcast.offscreen import grey_property
+    >>> rgba = blend_levels(plan, {0: np.full((8, 8), 1.0)}, grey_property((0.0, 1.0)))
+    >>> rgba.shape, float(rgba[4, 4, 0])
+    ((8, 8, 4), 1.0)
+    """
+    from mipcast.mappers import bricked_draw
+
+    _, _, width, height = plan.viewport
+    out = np.zeros((height, width, 4))
+    for layer in plan.layers:  # coarsest first
+        level_values = values.get(layer.level)
+        if level_values is None:
+            continue
+        rgba = bricked_draw.colour(level_values, volume_property).astype(np.float64)
+        lam = foveation.desired_level(foveation.eccentricity(layer.grid, plan.gaze, plan.aspect), plan)
+        weight = foveation.layer_weight(layer.level, lam, plan)
+        if silhouette is not None and layer.level == 0:
+            weight = np.where(foveation.silhouette_band(plan, silhouette, layer.grid), 1.0, weight)
+        drawn = _stretch(rgba * weight[..., None], (width, height))
+        out = drawn + (1.0 - drawn[..., 3:4]) * out
+    return out.astype(np.float32)
+
+
+def _readout(renderer, entry, rays, camera, shape, size) -> np.ndarray:
+    """One float readout (data units, NaN: none) of a level's brick on ``shape``'s grid, the whole's rays."""
+    from mipcast.mappers import bricked_draw
+    from mipcast.mappers.brick_rays import push_whole_rays
+
+    brick_mapper, brick_volume = entry["mapper"], entry["volume"]
+    object_state(brick_mapper)["draw_camera"] = camera
+    push_whole_rays(brick_volume, brick_mapper.GetSampleDistance(), rays, camera, size)
+    object_state(brick_mapper)["exact_readout"] = True
+    brick_mapper.RenderToImageOn()
+    brick_mapper.SetDepthImageScalarTypeToFloat()
+    gl = renderer.GetRenderWindow().GetState()
+    gl.Push()
+    try:
+        brick_volume.RenderVolumetricGeometry(renderer)
+        return bricked_draw.brick_readout(brick_mapper, shape)
+    finally:
+        gl.Pop()
+        object_state(brick_mapper).pop("exact_readout", None)
+        brick_mapper.RenderToImageOff()

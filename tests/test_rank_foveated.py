@@ -1,0 +1,140 @@
+"""The foveated method's reduction over ranks (mipcast.mappers.rank_foveated) in one process, without MPI.
+
+Several ranks are simulated in one process (and one rank without data): each "rank" composes with its own piece, and its
+reductions combine its arrays with those the other ranks passed at the same collective (rounds
+until every collective has seen the others' final inputs: 3 collectives, 3 rounds).  The composed
+picture must match the one-texture GPU foveated picture of the whole volume.
+"""
+import numpy as np
+import pytest
+
+from mipcast.core.object_state import object_state
+from mipcast.mappers import rank_foveated
+from vtkmodules.vtkImagingCore import vtkExtractVOI
+from test_bricked_mapper import DISTANCE, image, picture, pipeline  # noqa: F401  (fixture)
+
+_COMBINE = {"max": np.maximum, "min": np.minimum, "sum": np.add}
+
+
+def simulate(mapper, renderer, pieces, stub, rounds=3):
+    """Every piece's compose, its reductions combining all pieces' arrays of the same call."""
+    records = [[] for _ in pieces]
+    results = [None] * len(pieces)
+
+    for _ in range(rounds):
+        for rank, piece in enumerate(pieces):
+            calls = []
+
+            def reduce(array, op, rank=rank, calls=calls):
+                index = len(calls)
+                calls.append(np.asarray(array, dtype=np.float64).copy())
+                out = calls[-1]
+                for other, record in enumerate(records):
+                    if other != rank and index < len(record) and record[index].shape == out.shape:
+                        out = _COMBINE[op](out, record[index])
+                return out
+
+            def start(caller, event, piece=piece, reduce=reduce, rank=rank):
+                if piece is None:  # a rank without data: no mapper, no piece, no whole extent; it takes part
+                    results[rank] = rank_foveated.compose(None, None, caller, None, None, reduce)
+                else:
+                    results[rank] = rank_foveated.compose(mapper, mapper.GetAttachedVolume(), caller, piece, stub,
+                                                          reduce)
+
+            tag = renderer.AddObserver("StartEvent", start)
+            renderer.GetRenderWindow().Render()
+            renderer.RemoveObserver(tag)
+            records[rank] = calls
+    return results
+
+
+def _stub(image):
+    direction = image.GetDirectionMatrix()
+    return (tuple(image.GetExtent()), image.GetOrigin(), image.GetSpacing(),
+            [direction.GetElement(i, j) for i in range(3) for j in range(3)])
+
+
+def _grey(rgba):
+    return np.clip(rgba[..., :3] * 255.0 + 0.5, 0.0, 255.0).astype(int)
+
+
+@pytest.mark.parametrize("layer, axis, count", [("mip", 0, 2), ("analytic", 2, 3)])
+def test_pieces_reduced_draw_the_one_texture_foveated_picture(image, layer, axis, count):
+    mapper, renderer, window = pipeline(image, "foveated")
+    mapper.SetMethod(layer)
+    mapper.SetGazePoint(0.3, 0.6)
+    renderer.SetBackground(0.0, 0.0, 0.0)
+    one = picture(window)
+    extent = list(image.GetExtent())
+    n = extent[2 * axis + 1]
+    cuts = [round(n * k / count) for k in range(count + 1)]
+    pieces = []
+    for k in range(count):  # pieces sharing a layer of points, as ParaView's
+        e = list(extent)
+        e[2 * axis], e[2 * axis + 1] = cuts[k], cuts[k + 1]
+        voi = vtkExtractVOI()
+        voi.SetInputData(image)
+        voi.SetVOI(*e)
+        voi.Update()
+        pieces.append(voi.GetOutput())
+    results = simulate(mapper, renderer, pieces + [None], _stub(image))
+    assert results[-1] == (None, None)  # the rank without data took part and draws nothing
+    results = results[:-1]
+    for rgba, problem in results:
+        assert problem is None and rgba is not None
+    final = [_grey(rgba) for rgba, _ in results]
+    for other in final[1:]:
+        assert np.array_equal(other, final[0])  # every rank the same picture
+    assert (one.max(axis=-1) > 10).mean() > 0.2
+    difference = np.abs(final[0] - one).max(axis=-1)
+    share = (difference <= 1).mean()
+    plan, values, volume_levels = object_state(mapper)["rank_foveated_values"]
+    assert len(plan.layers) == 3 and max(volume_levels) > 0  # coarse pyramid levels reduced over the pieces
+    print(f"{layer} {count} pieces along {'xyz'[axis]}, volume levels {volume_levels}: "
+          f"{100 * share:.2f} % within 1 grey, max {difference.max()}")
+    assert share >= 0.999, (difference.max(), (difference > 1).sum())
+    # the reduced full-resolution level against the float64 reference of the whole volume, where it cast
+    from mipcast.methods import METHODS
+
+    reference = METHODS[layer].reference(image, renderer.GetActiveCamera(), window.GetSize(),
+                                       sample_distance=DISTANCE)
+    level0 = values[0]
+    cast = np.isfinite(level0) & np.isfinite(reference)
+    low, high = image.GetPointData().GetScalars().GetRange(0)
+    assert cast.mean() > 0.05
+    error = np.abs(level0[cast] - reference[cast]).max() / (high - low)
+    print(f"  level 0 vs the float64 reference: {cast.sum()} rays, max error {error:.2e} of the range")
+    assert error <= METHODS[layer].reference_tolerance
+
+
+def test_demip_layers_are_refused_across_ranks(image):
+    mapper, renderer, window = pipeline(image, "foveated")
+    mapper.SetMethod("demip")
+    results = simulate(mapper, renderer, [image], _stub(image), rounds=1)
+    rgba, problem = results[0]
+    assert rgba is None and "demip" in problem and "mip" in problem
+
+
+def test_pieces_partial_pyramids_reduce_to_the_whole_pyramid():
+    from mipcast.data_fixtures import make_fixture
+    from mipcast.mappers.volume_pyramid import build_max_pyramid
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    image = make_fixture("vessels", size=21)
+    dims = image.GetDimensions()
+    values = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(dims[::-1]).astype(np.float64)
+    whole = [vtk_to_numpy(level.GetPointData().GetScalars()).reshape(level.GetDimensions()[::-1])
+             for level in build_max_pyramid(image, 4)[1:]]
+    cuts = {0: (0, 7, 20), 1: (0, 12, 20), 2: (0, 5, 11, 20)}
+    reduced = [np.full(level.shape, -np.inf) for level in whole]
+    for i in range(len(cuts[0]) - 1):
+        for j in range(len(cuts[1]) - 1):
+            for k in range(len(cuts[2]) - 1):
+                (x0, x1), (y0, y1), (z0, z1) = ((cuts[a][n], cuts[a][n + 1]) for a, n in ((0, i), (1, j), (2, k)))
+                share = rank_foveated.partial_pyramid(values[z0:z1 + 1, y0:y1 + 1, x0:x1 + 1], (x0, y0, z0), dims, 4)
+                for level, ((ox, oy, oz), part) in zip(reduced, share):
+                    z, y, x = part.shape
+                    level[oz:oz + z, oy:oy + y, ox:ox + x] = np.maximum(level[oz:oz + z, oy:oy + y, ox:ox + x], part)
+    assert len(reduced) == len(whole) == 3
+    for mine, theirs in zip(reduced, whole):
+        assert np.array_equal(mine, theirs)
