@@ -15,8 +15,12 @@
 // honoured it, and with no sample marched the loop would discard every
 // ray): where the user crops (u_mc_fovNoValueDiscard 1) a ray without a
 // value is discarded, as the single texture discards a ray crossing hidden
-// regions only.
+// regions only. A DEMIP level's composited premultiplied colours arrive
+// the same way in u_mc_fovColours (bricked_demip's depth, Eq. 1 and sphere
+// on the CPU), which foveated_brick_color writes as the ray's colour; the
+// other layers' levels leave it unused.
 uniform sampler2D u_mc_fovValues;
+uniform sampler2D u_mc_fovColours;
 
 void mcBeginRay(inout int first, inout int count)
 {

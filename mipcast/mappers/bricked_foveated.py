@@ -33,7 +33,7 @@ and its sample distance, the bricks casting only the level's rays): the
 MAX of the bricks' maxima, the MIN of their whole-ray indices of the first
 same-material sample, then depth (over the level volume's whole box),
 Eq. 1 and the sphere on the CPU.  The level then draws from two float
-textures of its grid (``shaders/foveated_colour_brick_hooks.glsl``): the
+textures of its grid (``shaders/foveated_brick_hooks.glsl``): the
 maximum (its float readout) and the premultiplied DEMIP colour
 (``shaders/foveated_brick_color.glsl``), masked and blended by the level's
 own pieces as the colour ``demip_color`` writes for one texture.
@@ -65,10 +65,10 @@ from mipcast.core.parameter_tables import FOVEATION_LAYERS
 from mipcast.mappers import bricked_draw, float_readout
 from mipcast.mappers.private_draw import pixel_texture
 
-#: The hook piece of a level drawn from composited values.
+#: The hook piece of a level drawn from composited values (a DEMIP level's colours too).
 HOOKS = "foveated_brick_hooks"
-#: The hook and colour pieces of a DEMIP level drawn from composited values and colours.
-COLOUR_HOOKS, COLOUR = "foveated_colour_brick_hooks", "foveated_brick_color"
+#: The colour piece of a DEMIP level drawn from composited values and colours.
+COLOUR = "foveated_brick_color"
 #: The layer methods' ``BRICKS`` whose levels draw beyond the texture limit.
 BRICKED = ("max", "demip")
 #: The value a ray without any brick's sample gets (what the sampled loop starts from).
@@ -235,17 +235,21 @@ def composite_demip(source: dict, volume, renderer, limit: int, image_sample_dis
     return values, rgba
 
 
-def colours_texture(state, renderer, level: int, rgba: np.ndarray):
-    """The level's premultiplied colours as a nearest-filtered RGBA float texture (bottom row first)."""
-    textures = state.setdefault("colour_textures", {})
+def level_texture(state, renderer, level: int, data: np.ndarray, kind: str):
+    """A level's composited ``data`` (rows x columns [x 4], top row first) as a nearest-filtered float texture.
+
+    ``kind``: ``"values"`` (one channel: :func:`normalised_values`) or
+    ``"colours"`` (RGBA, premultiplied); one texture per level and kind.
+    """
+    textures = state.setdefault(f"{kind}_textures", {})
     window = renderer.GetRenderWindow()
     texture = textures.get(level)
     if texture is None or texture.GetContext() is not window:
         texture = pixel_texture(window)
         textures[level] = texture
-    data = np.ascontiguousarray(np.nan_to_num(rgba)[::-1], dtype=np.float32)
+    data = np.ascontiguousarray(np.nan_to_num(data)[::-1], dtype=np.float32)  # bottom row first
     rows, columns = data.shape[:2]
-    texture.Create2DFromRaw(columns, rows, 4, VTK_FLOAT, data)
+    texture.Create2DFromRaw(columns, rows, data.shape[2] if data.ndim == 3 else 1, VTK_FLOAT, data)
     return texture
 
 
@@ -256,20 +260,6 @@ def normalised_values(values: np.ndarray, rendered) -> np.ndarray:
     """
     normalised = float_readout.from_data_units(values, rendered.GetPointData().GetScalars())
     return np.where(np.isfinite(values), normalised, _NO_VALUE).astype(np.float32)
-
-
-def values_texture(state, renderer, level: int, normalised: np.ndarray):
-    """The level's values as a nearest-filtered one-channel float texture (bottom row first)."""
-    textures = state.setdefault("value_textures", {})
-    window = renderer.GetRenderWindow()
-    texture = textures.get(level)
-    if texture is None or texture.GetContext() is not window:
-        texture = pixel_texture(window)
-        textures[level] = texture
-    data = np.ascontiguousarray(normalised[::-1], dtype=np.float32)
-    rows, columns = data.shape
-    texture.Create2DFromRaw(columns, rows, 1, VTK_FLOAT, data)
-    return texture
 
 
 @calldata_type(VTK_OBJECT)

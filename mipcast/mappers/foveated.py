@@ -765,12 +765,12 @@ def _value_class(colours: bool = False):
     """The mapper class of a level drawn from composited values (``shaders/foveated_brick_hooks.glsl``).
 
     ``colours``: a DEMIP level's, drawing the composited colours too
-    (``shaders/foveated_colour_brick_hooks.glsl``, ``shaders/foveated_brick_color.glsl``).
+    (``shaders/foveated_brick_color.glsl``).
     """
     if colours not in _VALUE_CLASSES:
         from mipcast.mappers.mip import sampled_projection_mapper
 
-        _VALUE_CLASSES[colours] = (sampled_projection_mapper(bricked_foveated.COLOUR_HOOKS, bricked_foveated.COLOUR)
+        _VALUE_CLASSES[colours] = (sampled_projection_mapper(bricked_foveated.HOOKS, bricked_foveated.COLOUR)
                                    if colours else sampled_projection_mapper(bricked_foveated.HOOKS))
     return _VALUE_CLASSES[colours]
 
@@ -806,7 +806,7 @@ def _composite_level(mapper, state, volume, renderer, level, volume_level, level
     if bricked_foveated.is_demip(source["method"]):
         values, rgba = bricked_foveated.composite_demip(source, volume, renderer, limit, layer.image_sample_distance,
                                                         layer.grid)
-        colours = bricked_foveated.colours_texture(state, renderer, level, rgba)
+        colours = bricked_foveated.level_texture(state, renderer, level, rgba, "colours")
     else:
         values = bricked_foveated.composite(source, volume, renderer, limit, layer.image_sample_distance,
                                             layer.grid)
@@ -816,7 +816,7 @@ def _composite_level(mapper, state, volume, renderer, level, volume_level, level
     if boxes.get(volume_level, (None,))[0] != stamp:
         boxes[volume_level] = (stamp, bricked_foveated.value_box(rendered))
     normalised = bricked_foveated.normalised_values(values, rendered)
-    return boxes[volume_level][1], bricked_foveated.values_texture(state, renderer, level, normalised), colours
+    return boxes[volume_level][1], bricked_foveated.level_texture(state, renderer, level, normalised, "values"), colours
 
 
 def _render_coarse_level(level_mapper, level_volume, renderer, plan, layer, band_off: bool = False) -> None:
