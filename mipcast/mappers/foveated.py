@@ -577,7 +577,10 @@ def _draw(mapper, state, volume, renderer) -> None:
             object_state(level_mapper)["exact_readout"] = True
             level_mapper.RenderToImageOn()
             level_mapper.SetDepthImageScalarTypeToFloat()
-        scissor = layer.scissor if not readout and not band else None  # the band reaches the periphery
+        # the band reaches the periphery: no scissor, unless it lies wholly outside the view (the volume
+        # fills it), when every pixel the box leaves out is one the cast range discards anyway
+        band_in_view = band and foveation.band_reaches_view(silhouette, plan.aspect)
+        scissor = layer.scissor if not readout and not band_in_view else None
         if kind == "coarse" and layer.image_sample_distance != 1.0:
             # no scissor for a reduced GPU-masked level: it draws into VTK's own smaller
             # framebuffer, which the window-pixel box would clip (and clear) only in part, leaving
