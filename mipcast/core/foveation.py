@@ -541,6 +541,40 @@ def silhouette_band(plan: Plan, silhouette, grid: Sequence[int]) -> np.ndarray:
     return (lam > 0) & (inside >= 0) & (inside < (spacing + 1.0) * silhouette[1])
 
 
+#: Slack (viewport heights, ~1/100 of a pixel at 1024^2) :func:`band_reaches_view` keeps over float32
+#: rounding in the shader's band test.
+BAND_MARGIN = 1.0e-5
+
+
+def band_reaches_view(silhouette, aspect: float) -> bool:
+    """Whether level 0's silhouette band (``shaders/foveated_band_dec.glsl``) can touch the view at all.
+
+    The band holds pixels closer than ``(2^SILHOUETTE_LEVEL_CAP + 1) unit``
+    inside the box's outline (:func:`silhouette_edges`).  The distance inside
+    is the minimum of the edges' linear functions, so over the view's
+    rectangle it is smallest at a corner: if every corner lies deeper than
+    that (plus :data:`BAND_MARGIN`), no pixel is in the band -- as when the
+    volume fills the view -- and level 0 can keep its scissor box (the
+    pixels it would skip are discarded by its cast range anyway).
+    ``silhouette``: ``(edges, unit)`` or None.
+
+    Examples
+    --------
+    >>> square = np.array([[0.1, 0.1], [0.9, 0.1], [0.9, 0.9], [0.1, 0.9]])
+    >>> band_reaches_view((silhouette_edges(square, 1.0), 1 / 64), 1.0)
+    True
+    >>> huge = np.array([[-1.0, -1.0], [2.0, -1.0], [2.0, 2.0], [-1.0, 2.0]])
+    >>> band_reaches_view((silhouette_edges(huge, 1.0), 1 / 64), 1.0)
+    False
+    """
+    if silhouette is None:
+        return False
+    edges, unit = np.asarray(silhouette[0], float), float(silhouette[1])
+    corners = np.array([[0.0, 0.0], [aspect, 0.0], [0.0, 1.0], [aspect, 1.0]])
+    inside = float((edges[:, :2] @ corners.T + edges[:, 2:3]).min())
+    return inside < (2.0 ** SILHOUETTE_LEVEL_CAP + 1.0) * unit + BAND_MARGIN
+
+
 def outline_distance(plan: Plan, silhouette, grid: Sequence[int]) -> np.ndarray:
     """Distance (viewport heights, along the axes) of each texel centre of ``grid`` inside the
     box's outline (:func:`silhouette_edges`; negative outside), top row first.

@@ -18,7 +18,7 @@ from mipcast.core import content_adaptive, foveation, parameter_tables
 from mipcast.core.gaze import GazeStream
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
 from mipcast.core.parameters import parameter_accessors
-from mipcast.mappers import bricked_draw, bricked_foveated, float_readout, volume_pyramid
+from mipcast.mappers import bricked_draw, bricked_foveated, float_readout, refine_pass, volume_pyramid
 from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
 from mipcast.core.camera_rays import matrix_array
 from mipcast.mappers.corner_packing import CornerPacker
@@ -508,6 +508,7 @@ def _draw(mapper, state, volume, renderer) -> None:
     gl_state = renderer.GetRenderWindow().GetState()
     depth = _capture_depth(state, renderer)
     masks = {}
+    refine = None  # the refine pass's texture (GPU masks): the refinement test per coarse texel
     silhouette = _silhouette(image, volume, camera, viewport, base_isd)
     # masks on the GPU: the finer levels' shader reads the coarse picture as a texture (no readback)
     on_gpu = adaptive and not readout and _gpu_masks_possible(state, renderer)
@@ -523,6 +524,8 @@ def _draw(mapper, state, volume, renderer) -> None:
                 masks = content_adaptive.refinement_masks(after, np.zeros_like(after), plan, tolerance)
             elif on_gpu:
                 _copy_drawn(renderer, viewport, coarse, "after")
+                refine = refine_pass.run_refine_pass(state, renderer.GetRenderWindow(), coarse, viewport,
+                                                     plan.layers[0].grid, tolerance)
             else:
                 after = _read_texels(renderer, viewport, plan.layers[0].grid)
                 masks = content_adaptive.refinement_masks(after, before, plan, tolerance)
@@ -576,7 +579,10 @@ def _draw(mapper, state, volume, renderer) -> None:
             object_state(level_mapper)["exact_readout"] = True
             level_mapper.RenderToImageOn()
             level_mapper.SetDepthImageScalarTypeToFloat()
-        scissor = layer.scissor if not readout and not band else None  # the band reaches the periphery
+        # the band reaches the periphery: no scissor, unless it lies wholly outside the view (the volume
+        # fills it), when every pixel the box leaves out is one the cast range discards anyway
+        band_in_view = band and foveation.band_reaches_view(silhouette, plan.aspect)
+        scissor = layer.scissor if not readout and not band_in_view else None
         if kind == "coarse" and layer.image_sample_distance != 1.0:
             # no scissor for a reduced GPU-masked level: it draws into VTK's own smaller
             # framebuffer, which the window-pixel box would clip (and clear) only in part, leaving
@@ -588,9 +594,9 @@ def _draw(mapper, state, volume, renderer) -> None:
         mask_texture = None
         bound = ()
         if kind == "coarse":
-            bound = (coarse["after"], coarse["before"], _fovea_texture(state, renderer, plan, layer))
+            bound = (refine, _fovea_texture(state, renderer, plan, layer))
             _bind_coarse(level_mapper, level_volume, bound)
-            _set_coarse_uniforms(level_volume, plan, layer, viewport, tolerance)
+            _set_coarse_uniforms(level_volume, plan, layer)
         elif level in masks and (not readout or values_texture is not None):
             # (a level drawn from bricks reads one sampler more: its mask must be bound, readout or not)
             mask_texture = _mask_texture(state, renderer, level, masks[level])
@@ -749,11 +755,11 @@ def _new_level(method: str, kind: Optional[str] = None, bricks: bool = False) ->
 
 @calldata_type(VTK_OBJECT)
 def _bind_coarse_samplers(level_mapper, event, program) -> None:
-    """Point a GPU-masked level's samplers (coarse pictures, fovea spans) at their textures' units."""
+    """Point a GPU-masked level's samplers (the refine pass's texture, fovea spans) at their textures' units."""
     level_state = object_state(level_mapper)
     units = level_state.get("coarse_units")
     if program is not None and units is not None and min(units) >= 0:
-        for name, unit in zip(("u_mc_fovAfter", "u_mc_fovBefore", "u_mc_fovFovea"), units):
+        for name, unit in zip(("u_mc_fovRefine", "u_mc_fovFovea"), units):
             program.SetUniformi(name, int(unit))
         level_state["samplers_set"] = True
 
@@ -858,7 +864,7 @@ def _render_coarse_level(level_mapper, level_volume, renderer, plan, layer, band
 
 
 def _bind_coarse(level_mapper, level_volume, textures) -> None:
-    """Activate the coarse pictures and the fovea spans for a GPU-masked level; note their units.
+    """Activate the refine pass's texture and the fovea spans for a GPU-masked level; note their units.
 
     :func:`_bind_coarse_samplers` points the samplers at these units on
     every draw (see :func:`_render_coarse_level` for the draw that builds
@@ -869,16 +875,13 @@ def _bind_coarse(level_mapper, level_volume, textures) -> None:
     object_state(level_mapper)["coarse_units"] = tuple(texture.GetTextureUnit() for texture in textures)
 
 
-def _set_coarse_uniforms(level_volume, plan, layer, viewport, tolerance) -> None:
-    """The grids, viewport and tolerance ``foveated_coarse_dec``'s mask needs (integers where exact)."""
+def _set_coarse_uniforms(level_volume, plan, layer) -> None:
+    """The grids ``foveated_coarse_dec``'s mask lookup needs (the tolerance went to the refine pass)."""
     uniforms = level_volume.GetShaderProperty().GetFragmentCustomUniforms()
     coarse = plan.layers[0].grid
     for name, value in (("u_mc_fovCoarseW", coarse[0]), ("u_mc_fovCoarseH", coarse[1]),
-                        ("u_mc_fovLevelW", layer.grid[0]), ("u_mc_fovLevelH", layer.grid[1]),
-                        ("u_mc_fovViewW", viewport[2]), ("u_mc_fovViewH", viewport[3])):
+                        ("u_mc_fovLevelW", layer.grid[0]), ("u_mc_fovLevelH", layer.grid[1])):
         uniforms.SetUniformi(name, int(value))
-    # grey ranges are integers: range > tolerance  <=>  range >= floor(tolerance) + 1 (exact in float32)
-    uniforms.SetUniformf("u_mc_fovEdgeMin", float(math.floor(tolerance) + 1))
 
 
 def _gpu_masks_possible(state, renderer) -> bool:

@@ -1,0 +1,126 @@
+"""Content-adaptive foveation: the refinement test once per coarse texel, in its own small GPU pass.
+
+The finer levels of a GPU-masked foveated frame (``ContentTolerance > 0``)
+cast a ray only where :func:`mipcast.core.content_adaptive.refinement_masks`
+asks for one.  That rule depends on the coarsest level's picture in the
+3 x 3 neighbourhood of the ray's nearest coarse texel (and, for structure,
+on whether the ray lies in the fovea).  Each finer fragment evaluated the
+neighbourhood itself (18 texel fetches and 8 integer divisions) -- on
+llvmpipe as costly per fragment as a short ray, paid by every fragment of
+every finer level in its cast range, cast or not.  This pass evaluates it
+once per coarse texel (1/16 of the fragments of the full-resolution level
+alone, at the default three levels) into a texture of the coarse grid
+(``shaders/foveated_refine_pass.glsl``: red = the grey span exceeds the
+tolerance, green = structure above the floor); the finer levels read one
+texel (``shaders/foveated_coarse_dec.glsl``).  The decisions, and so the
+pictures, are the same bit for bit (``tests/test_content_adaptive_gpu.py``
+holds the GPU masks to the CPU definition).
+"""
+from __future__ import annotations
+
+import math
+
+from vtkmodules.vtkCommonCore import VTK_UNSIGNED_CHAR
+
+from mipcast.mappers.private_draw import pixel_texture
+from mipcast.mappers.shader_pieces import load_piece
+
+#: OpenGL enums the pass saves and restores.
+_GL_BLEND, _GL_DEPTH_TEST, _GL_SCISSOR_TEST, _GL_VIEWPORT = 0x0BE2, 0x0B71, 0x0C11, 0x0BA2
+#: The pass's one statement (a constant: the piece holds the code).
+_IMPL = "gl_FragData[0] = mcFovRefinePass(texCoord);"
+
+
+def _sources() -> tuple:
+    """(vertex, fragment) source of the pass: VTK's full-screen quad with the piece's code."""
+    from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLRenderUtilities
+
+    fragment = vtkOpenGLRenderUtilities.GetFullScreenQuadFragmentShaderTemplate()
+    fragment = fragment.replace("//VTK::FSQ::Decl", load_piece("foveated_refine_pass").text)
+    fragment = fragment.replace("//VTK::FSQ::Impl", _IMPL)
+    return vtkOpenGLRenderUtilities.GetFullScreenQuadVertexShader(), fragment
+
+
+def refine_target(state: dict, window, grid) -> dict:
+    """The pass's output (an RGBA8 texture of the coarse ``grid``, its framebuffer, the quad), cached in ``state``.
+
+    Made again for another window or grid.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkRenderWindow, vtkRenderer
+    >>> import vtkmodules.vtkRenderingOpenGL2
+    >>> window = vtkRenderWindow(); window.SetOffScreenRendering(True); window.AddRenderer(vtkRenderer())
+    >>> window.SetSize(8, 8); window.Render()
+    >>> target = refine_target({}, window, (4, 2))
+    >>> target["texture"].GetWidth(), target["texture"].GetHeight()
+    (4, 2)
+    """
+    from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLFramebufferObject, vtkOpenGLQuadHelper
+
+    entry = state.get("refine_target")
+    key = (window.GetAddressAsString("vtkObjectBase"), tuple(grid))
+    if entry is not None and entry["key"] == key:
+        return entry
+    if entry is not None:
+        entry["quad"].ReleaseGraphicsResources(entry["window"])
+    texture = pixel_texture(window)
+    texture.Allocate2D(int(grid[0]), int(grid[1]), 4, VTK_UNSIGNED_CHAR)
+    target = vtkOpenGLFramebufferObject()
+    target.SetContext(window)
+    gl_state = window.GetState()
+    gl_state.PushFramebufferBindings()
+    try:
+        target.Bind()  # creates it: attachments go only to an existing framebuffer
+        target.AddColorAttachment(0, texture)
+    finally:
+        gl_state.PopFramebufferBindings()
+    vertex, fragment = _sources()
+    quad = vtkOpenGLQuadHelper(window, vertex, fragment, "")
+    entry = state["refine_target"] = {"key": key, "window": window, "texture": texture, "framebuffer": target,
+                                      "quad": quad, "sources": (vertex, fragment)}
+    return entry
+
+
+def run_refine_pass(state: dict, window, coarse: dict, viewport, grid, tolerance: float):
+    """Evaluate the refinement test of every coarse texel into :func:`refine_target`'s texture; return it.
+
+    ``coarse``: the viewport's picture after and before the coarsest level
+    (``coarse["after"]``, ``coarse["before"]``, viewport-sized RGBA8
+    textures); ``grid``: the coarsest level's (columns, rows). The GL state
+    it touches (framebuffer, viewport, blending, depth and scissor tests)
+    is restored.
+    """
+    target = refine_target(state, window, grid)
+    gl_state = window.GetState()
+    saved_viewport = [0, 0, 0, 0]
+    gl_state.vtkglGetIntegerv(_GL_VIEWPORT, saved_viewport)
+    enabled = {flag: gl_state.GetEnumState(flag) for flag in (_GL_BLEND, _GL_DEPTH_TEST, _GL_SCISSOR_TEST)}
+    gl_state.PushFramebufferBindings()
+    try:
+        target["framebuffer"].Bind()
+        target["framebuffer"].ActivateDrawBuffer(0)
+        for flag in enabled:
+            gl_state.vtkglDisable(flag)
+        gl_state.vtkglViewport(0, 0, int(grid[0]), int(grid[1]))
+        coarse["after"].Activate()
+        coarse["before"].Activate()
+        program = window.GetShaderCache().ReadyShaderProgram(*target["sources"], "")
+        program.SetUniformi("u_mc_fovAfter", coarse["after"].GetTextureUnit())
+        program.SetUniformi("u_mc_fovBefore", coarse["before"].GetTextureUnit())
+        for name, value in (("u_mc_fovCoarseW", grid[0]), ("u_mc_fovCoarseH", grid[1]),
+                            ("u_mc_fovViewW", viewport[2]), ("u_mc_fovViewH", viewport[3])):
+            program.SetUniformi(name, int(value))
+        # grey ranges are integers: range > tolerance  <=>  range >= floor(tolerance) + 1 (exact in float32)
+        program.SetUniformf("u_mc_fovEdgeMin", float(math.floor(tolerance) + 1))
+        target["quad"].Render()
+    finally:
+        coarse["after"].Deactivate()
+        coarse["before"].Deactivate()
+        gl_state.PopFramebufferBindings()
+        gl_state.vtkglViewport(*saved_viewport)
+        for flag, on in enabled.items():
+            if on:
+                gl_state.vtkglEnable(flag)
+    state["refine_passes"] = state.get("refine_passes", 0) + 1
+    return target["texture"]

@@ -1,0 +1,45 @@
+"""Foveation overheads removed (issue 17): level 0's scissor box when the band misses the view; the refine pass."""
+import numpy as np
+
+from mipcast.bench.foveation_bench import framed_view
+from mipcast.bench.benchmark import apply_settings
+from mipcast.core import foveation
+from mipcast.core.object_state import object_state
+from mipcast.data_fixtures import make_fixture
+
+
+def test_band_reaches_view_is_exact_against_the_band_on_the_pixels():
+    """Where band_reaches_view says no, no pixel of any level-0 grid is in the silhouette band."""
+    rng = np.random.default_rng(7)
+    said_no = said_yes = 0
+    for _ in range(200):
+        aspect = float(rng.uniform(0.5, 2.0))
+        centre = rng.uniform(-0.5, 1.5, 2)
+        points = centre + rng.uniform(-2.5, 2.5, (8, 2))
+        edges = foveation.silhouette_edges(points, aspect)
+        if edges is None:
+            continue
+        height = 48
+        width = max(1, round(height * aspect))
+        plan = foveation.plan_frame((0, 0, width, height), tuple(rng.uniform(0, 1, 2)), 0.1, 0.2)
+        silhouette = (edges, 1.0 / height)
+        band = foveation.silhouette_band(plan, silhouette, (width, height))
+        if not foveation.band_reaches_view(silhouette, plan.aspect):
+            said_no += 1
+            assert not band.any()
+        else:
+            said_yes += 1
+    assert said_no > 10 and said_yes > 10  # both answers exercised
+
+
+def test_a_filled_view_keeps_level_0_in_its_box_and_gpu_masks_use_the_refine_pass():
+    view = framed_view(make_fixture("vessels", size=32), "foveated", 96, "fill", (0.25, 1.0))
+    apply_settings(view.mapper, (("Method", "mip"), ("ContentTolerance", 2.0), ("GazePoint", (0.5, 0.5))))
+    picture = view.screenshot()
+    assert picture.max() > 100, "something drawn"
+    state = object_state(view.mapper)
+    frame = state["frame"]
+    assert frame["silhouette"] is not None
+    assert not foveation.band_reaches_view(frame["silhouette"], frame["plan"].aspect)
+    assert state.get("refine_passes", 0) >= 1
+    view.render_window.Finalize()
