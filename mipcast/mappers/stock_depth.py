@@ -7,10 +7,12 @@ ordered alpha blending of those pieces is no maximum or minimum.  With the
 piece ``shaders/stock_depth_composite.glsl`` (``_min`` for MinIP) on the
 volume's shader property, the fragment's depth is the ray's value mapped as
 for mipcast's own mappers (the representation's ``depth_mapping``), and
-IceT's Z-buffer compositing keeps the right rank's fragment.  VTK's sampling
-is not changed: each piece's samples start at that piece's own ray entry, so
-the composited maximum is over slightly different sample positions than the
-one-rank picture's (see docs/methods.md for what that costs).
+IceT's Z-buffer compositing keeps the right rank's fragment.  With the
+whole volume's box given (``phase``), the piece ``shaders/stock_phase.glsl``
+moves each piece's samples onto the WHOLE volume's sample positions along
+the ray (VTK's loop otherwise starts at the piece's own entry), so that the
+composited maximum is over the one-rank picture's samples (see
+docs/methods.md for what it measures).
 
 Examples
 --------
@@ -24,28 +26,46 @@ True
 ['//VTK::DepthPass::Exit']
 >>> install(volume, "max"), install(volume, None), shader_pieces.installed_tags(volume.GetShaderProperty())
 (False, True, [])
+>>> install(volume, "min", ([0.01, 0.01, 0.01], [1.5, 0.99, 0.99]))
+True
+>>> shader_pieces.installed_tags(volume.GetShaderProperty())
+['//VTK::DepthPass::Exit', '//VTK::DepthPass::Init']
 """
 from __future__ import annotations
 
-from typing import Optional
+from typing import Optional, Sequence, Tuple
 
 from mipcast.mappers import shader_pieces
 
 #: The piece for each compositing op (the nearest fragment holds the largest / smallest value).
 PIECES = {"max": "stock_depth_composite", "min": "stock_depth_composite_min"}
+#: The piece that puts a piece's samples on the whole volume's positions (uniforms u_mc_globalTexMin/Max).
+PHASE_PIECE = "stock_phase"
 
 
-def install(volume, op: Optional[str]) -> bool:
-    """Put the depth piece of ``op`` (``"max"``, ``"min"``; None: none) on ``volume``; True if it changed."""
+def install(volume, op: Optional[str], phase: Optional[Tuple[Sequence[float], Sequence[float]]] = None) -> bool:
+    """Put the depth piece of ``op`` (``"max"``, ``"min"``; None: none) on ``volume``; True if it changed.
+
+    ``phase``: the whole volume's point bounds in this piece's texture
+    coordinates, ``(low, high)``
+    (:func:`mipcast.mappers.brick_rays.global_texture_box`), to take the
+    whole volume's sample positions too (the ``stock_phase`` piece; with
+    ``op`` only).
+    """
     prop = volume.GetShaderProperty()
-    wanted = PIECES.get(op) if op is not None else None
-    now = [text for tag, text in shader_pieces._fragment_replacements(prop) if shader_pieces.MARKER in text]
-    if wanted is not None and len(now) == 1 and shader_pieces.MARKER + wanted + "\n" in now[0]:
+    wanted = [PIECES[op]] if op is not None else []
+    if wanted and phase is not None:
+        low, high = phase
+        uniforms = prop.GetFragmentCustomUniforms()
+        uniforms.SetUniform3f("u_mc_globalTexMin", [float(v) for v in low])
+        uniforms.SetUniform3f("u_mc_globalTexMax", [float(v) for v in high])
+        wanted.append(PHASE_PIECE)
+    now = sorted(text.split(shader_pieces.MARKER, 1)[1].split("\n", 1)[0]
+                 for tag, text in shader_pieces._fragment_replacements(prop) if shader_pieces.MARKER in text)
+    if now == sorted(wanted):
         return False
-    if wanted is None and not now:
-        return False
-    if wanted is None:
+    if not wanted:
         shader_pieces.uninstall(prop)
     else:
-        shader_pieces.install(prop, [shader_pieces.load_piece(wanted)])
+        shader_pieces.install(prop, [shader_pieces.load_piece(name) for name in wanted])
     return True

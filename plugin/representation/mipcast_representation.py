@@ -727,7 +727,8 @@ def _set_composite(entry, volume, image, whole):
 
         from mipcast.mappers.stock_depth import install
 
-        install(volume, op)
+        # on several ranks also the whole volume's sample positions (stock_phase; one rank: VTK's own shader)
+        install(volume, op, global_texture_box(extent, whole) if op is not None else None)
         if getattr(entry, "own_volume", None) is None:
             entry.own_volume = vtkWeakReference()  # VTK's own mapper knows no attached volume
         entry.own_volume.Set(volume)
