@@ -11,7 +11,8 @@ and ``analytic`` (and, on 2 pvbatch ranks, ``minip`` and ``analytic_minip``; Ice
 see plugin/README.md), and for DEMIP (with and without its colour sphere), two-pass DEMIP and the averages
 (reduced over the ranks, :mod:`mipcast.mappers.rank_composite`; 2 ranks along x and y, 4 along z, and
 DEMIP and the average through pvserver), and DEMIP's ordered projections LMIP, attenuated MIP and MIDA on
-4 ranks along z (drawn rank after rank front to back, :mod:`mipcast.mappers.rank_ordered`). The vessels cross the brick borders: every piece
+4 ranks along z, and VTK's own ``stock`` / ``stock_minip`` on 2 ranks along x and 4 along z (on the whole
+volume's sample positions, the stock_phase piece) (drawn rank after rank front to back, :mod:`mipcast.mappers.rank_ordered`). The vessels cross the brick borders: every piece
 holds lit pixels of the picture (checked).
 """
 import json
@@ -142,8 +143,9 @@ def test_two_pvbatch_ranks_split_along_x(plugin, display, work, one_rank):
 
 
 def test_four_pvbatch_ranks_split_along_z(plugin, display, work, one_rank):
-    """Also DEMIP's LMIP, attenuated MIP and MIDA (each rank's piece drawn in its turn, front to back), and foveated."""
-    methods = METHODS + REDUCED_METHODS + ORDERED_METHODS + ("foveated",)
+    """Also DEMIP's LMIP, attenuated MIP and MIDA (each rank's piece drawn in its turn, front to back), foveated,
+    and VTK's own MIP / MinIP on the whole volume's sample positions (3 shared faces per ray)."""
+    methods = METHODS + REDUCED_METHODS + ORDERED_METHODS + ("foveated", "stock", "stock_minip")
     check_parity(pvbatch(plugin, display, work, 4, 2, methods), one_rank, 4, "pvbatch", methods)
 
 
