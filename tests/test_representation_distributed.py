@@ -11,8 +11,9 @@ and ``analytic`` (and, on 2 pvbatch ranks, ``minip`` and ``analytic_minip``; Ice
 see plugin/README.md), and for DEMIP (with and without its colour sphere), two-pass DEMIP and the averages
 (reduced over the ranks, :mod:`mipcast.mappers.rank_composite`; 2 ranks along x and y, 4 along z, and
 DEMIP and the average through pvserver), and DEMIP's ordered projections LMIP, attenuated MIP and MIDA on
-4 ranks along z, and VTK's own ``stock`` / ``stock_minip`` on 2 ranks along x and 4 along z (on the whole
-volume's sample positions, the stock_phase piece) (drawn rank after rank front to back, :mod:`mipcast.mappers.rank_ordered`). The vessels cross the brick borders: every piece
+4 ranks along z (drawn rank after rank front to back, :mod:`mipcast.mappers.rank_ordered`), and VTK's own
+``stock`` / ``stock_minip`` on 2 ranks along x and 4 along z (on the whole volume's sample positions, the
+stock_phase piece, :mod:`mipcast.mappers.stock_depth`). The vessels cross the brick borders: every piece
 holds lit pixels of the picture (checked).
 """
 import json
