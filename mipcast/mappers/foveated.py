@@ -495,6 +495,10 @@ def _draw(mapper, state, volume, renderer) -> None:
     plan = foveation.plan_frame(viewport, to_tile(gaze), radius * tile_scale, params["falloff"] * tile_scale,
                                 params["number_of_levels"], foveate, _level_cap(image, volume, whole_camera, whole),
                                 base_isd)
+    if tile_scale != 1.0:  # a tile the fovea's level 0 does not reach still casts its silhouette band
+        whole_plan = foveation.plan_frame(whole, gaze, radius, params["falloff"], params["number_of_levels"],
+                                          foveate, _level_cap(image, volume, whole_camera, whole), base_isd)
+        plan = foveated_tiles.band_layer(plan, whole_plan, base_isd)
     tolerance = float(params["content_tolerance"])
     adaptive = tolerance > 0 and len(plan.layers) > 1
     if adaptive:

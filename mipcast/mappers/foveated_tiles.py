@@ -75,6 +75,33 @@ def tile_margins(renderer, viewport, spacing: float) -> Optional[tuple]:
     return margins if any(margins) else None
 
 
+def band_layer(plan, whole_plan, base_sample_distance: float = 1.0):
+    """``plan`` (a tile's) with a level-0 layer casting only the silhouette band, where the whole
+    picture's plan draws level 0 with the band (more than one layer) and the tile's plan left
+    level 0 out (the fovea's cast range does not reach the tile); else ``plan`` itself.
+
+    Level 0 casts the volume's silhouette band whatever the eccentricity
+    (``shaders/foveated_band_dec.glsl``): untiled, it is drawn in every
+    corner of the picture the band crosses.
+
+    Examples
+    --------
+    >>> from mipcast.core.foveation import plan_frame
+    >>> whole = plan_frame((0, 0, 192, 144), (0.3, 0.6), 0.1, 0.1)
+    >>> tile = plan_frame((0, 0, 96, 72), (-0.4, 1.2), 0.2, 0.2)
+    >>> [layer.level for layer in tile.layers], [layer.level for layer in band_layer(tile, whole).layers]
+    ([2], [2, 0])
+    """
+    from mipcast.core.foveation import Layer, level_grid
+
+    if len(whole_plan.layers) < 2 or whole_plan.layers[-1].level != 0 or plan.layers[-1].level == 0:
+        return plan
+    width, height = plan.viewport[2:]
+    band = Layer(0, float(base_sample_distance), level_grid(width, height, 0, base_sample_distance), _FAR, _FAR,
+                 None)
+    return plan._replace(layers=tuple(plan.layers) + (band,))
+
+
 def draw_extended(state: dict, renderer, viewport, margins, level_volume, plan, layer, shared_depth, draw) -> None:
     """Call ``draw()`` (one level's ``RenderVolumetricGeometry``) over the tile extended by ``margins``.
 
