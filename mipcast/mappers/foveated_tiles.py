@@ -122,8 +122,9 @@ def draw_extended(state: dict, renderer, viewport, margins, level_volume, plan, 
     columns, rows = window.GetSize()
     tile = tuple(window.GetTileViewport())
     ex0, ey0 = tile[0] * columns + x0 - left, tile[1] * rows + y0 - bottom
-    entry = state.get("tile_target")
-    if entry is None or entry["window"] is not window or entry["size"] != (wide, high):
+    targets = state.setdefault("tile_targets", {})  # one per level size (they alternate every tile)
+    entry = targets.get((wide, high))
+    if entry is None or entry["window"] is not window:
         texture = pixel_texture(window)
         texture.Allocate2D(wide, high, 4, VTK_FLOAT)
         target = vtkOpenGLFramebufferObject()
@@ -135,8 +136,7 @@ def draw_extended(state: dict, renderer, viewport, margins, level_volume, plan, 
             target.AddDepthAttachment()
         finally:
             window.GetState().PopFramebufferBindings()
-        entry = state["tile_target"] = {"window": window, "size": (wide, high), "texture": texture,
-                                        "framebuffer": target}
+        entry = targets[(wide, high)] = {"window": window, "texture": texture, "framebuffer": target}
     depth = _extended_depth(state, window, viewport, margins)
     level_mapper = level_volume.GetMapper()
     saved = (camera.GetWindowCenter(), camera.GetViewAngle(), camera.GetParallelScale())
