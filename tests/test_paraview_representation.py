@@ -204,11 +204,10 @@ def test_representation_matches_offscreen_render(builtin, method):
 #: Methods not at parity in a tiled screenshot, and why (measured, see plugin/README.md).
 TILED_GAPS = {
     "cpu": "VTK's CPU ray caster leaves dark seams between the tiles",
-    "foveated": "99.6 %: each coarse level is VTK's reduced-resolution render (ImageSampleDistance "
-                "2^k) of one tile, magnified linearly within that tile: within half a coarse texel of a "
-                "seam it clamps to the tile's own edge texels (88 of the 89 pixels off by > 1 grey lie "
-                "within 2 px of the seams; foveation off in the same tiles: 1 pixel, as mip)",
 }
+# (``foveated`` was here at 99.6 %: each coarse level, VTK's reduced-resolution render of one tile,
+# was magnified within that tile, clamped at the seams; it is now drawn one coarse ray beyond the
+# tile's inner edges and cropped, mipcast.mappers.foveated_tiles, tests/test_foveated_tiles.py)
 
 
 @pytest.mark.parametrize("method", PARITY)

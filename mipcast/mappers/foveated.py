@@ -18,7 +18,8 @@ from mipcast.core import content_adaptive, foveation, parameter_tables
 from mipcast.core.gaze import GazeStream
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
 from mipcast.core.parameters import parameter_accessors
-from mipcast.mappers import bricked_draw, bricked_foveated, float_readout, refine_pass, volume_pyramid
+from mipcast.mappers import (bricked_draw, bricked_foveated, float_readout, foveated_tiles, refine_pass,
+                             volume_pyramid)
 from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
 from mipcast.core.camera_rays import matrix_array
 from mipcast.mappers.corner_packing import CornerPacker
@@ -494,6 +495,10 @@ def _draw(mapper, state, volume, renderer) -> None:
     plan = foveation.plan_frame(viewport, to_tile(gaze), radius * tile_scale, params["falloff"] * tile_scale,
                                 params["number_of_levels"], foveate, _level_cap(image, volume, whole_camera, whole),
                                 base_isd)
+    if tile_scale != 1.0:  # a tile the fovea's level 0 does not reach still casts its silhouette band
+        whole_plan = foveation.plan_frame(whole, gaze, radius, params["falloff"], params["number_of_levels"],
+                                          foveate, _level_cap(image, volume, whole_camera, whole), base_isd)
+        plan = foveated_tiles.band_layer(plan, whole_plan, base_isd)
     tolerance = float(params["content_tolerance"])
     adaptive = tolerance > 0 and len(plan.layers) > 1
     if adaptive:
@@ -583,6 +588,13 @@ def _draw(mapper, state, volume, renderer) -> None:
         # fills it), when every pixel the box leaves out is one the cast range discards anyway
         band_in_view = band and foveation.band_reaches_view(silhouette, plan.aspect)
         scissor = layer.scissor if not readout and not band_in_view else None
+        # a reduced level in a tile of a bigger picture: drawn one coarse ray beyond the tile's inner
+        # edges and cropped, so its magnification next to a seam blends the next tile's rays
+        # (mipcast.mappers.foveated_tiles); its own framebuffer is cleared whole: no scissor
+        margins = (foveated_tiles.tile_margins(renderer, viewport, layer.image_sample_distance)
+                   if kind is None and not readout and values_texture is None else None)
+        if margins is not None:
+            scissor = None
         if kind == "coarse" and layer.image_sample_distance != 1.0:
             # no scissor for a reduced GPU-masked level: it draws into VTK's own smaller
             # framebuffer, which the window-pixel box would clip (and clear) only in part, leaving
@@ -616,6 +628,9 @@ def _draw(mapper, state, volume, renderer) -> None:
             if kind == "coarse" or values_texture is not None:
                 _render_coarse_level(level_mapper, level_volume, renderer, plan, layer,
                                      band_off=values_texture is not None)
+            elif margins is not None:
+                foveated_tiles.draw_extended(state, renderer, viewport, margins, level_volume, plan, layer, depth,
+                                             lambda: level_volume.RenderVolumetricGeometry(renderer))
             else:
                 level_volume.RenderVolumetricGeometry(renderer)
         finally:
