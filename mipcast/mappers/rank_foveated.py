@@ -377,7 +377,12 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     # 4: blended after compositing, as the GPU draws the levels (coarsest first, "over", weights, upscale)
     state["rank_foveated_values"] = (plan, values, [volume_level for _, _, volume_level in layers])
     band = silhouette if len(plan.layers) > 1 else None
-    return blend_levels(plan, values, volume.GetProperty(), band), None
+    # the level volumes' scalar ranges (VTK's transfer-function textures span them): the whole volume's, the
+    # reduced coarse levels'
+    ranges = {layer.level: (coarse_levels[v].GetPointData().GetScalars().GetRange(0) if v else
+                            (low_global, float(head[5])))
+              for (_, _, v), layer in zip(layers, plan.layers)}
+    return blend_levels(plan, values, volume.GetProperty(), band, ranges), None
 
 
 def _stretch(rgba: np.ndarray, size) -> np.ndarray:
@@ -400,13 +405,18 @@ def _stretch(rgba: np.ndarray, size) -> np.ndarray:
     return out[::-1]
 
 
-def blend_levels(plan, values: dict, volume_property, silhouette=None) -> np.ndarray:
+def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: Optional[dict] = None) -> np.ndarray:
     """The foveated picture (premultiplied RGBA, top row first) from each level's composited values.
 
     What the GPU draws (shaders/foveated_weight.glsl): coarsest level first,
     each ray's premultiplied colour times its level weight (1 in level 0's
     silhouette band), the level's grid stretched over the viewport (VTK's
-    image-sample quad) and drawn "over" the levels before.
+    image-sample quad) and drawn "over" the levels before.  The GPU's arithmetic
+    is mirrored: the colours looked up in VTK's transfer-function textures
+    (:func:`gpu_colour`, over ``ranges[level]``, the level volume's scalar
+    range; default the colour function's range), a reduced level's rays
+    written to VTK's 8-bit image-sample framebuffer before the stretch, and
+    the result rounded to 8 bits.
 
     >>> plan = foveation.plan_frame((0, 0, 8, 8), (0.5, 0.5), 10.0, 0.2)   # one level: the fovea covers all
     >>> from mipcast.offscreen import grey_property
@@ -414,22 +424,82 @@ def blend_levels(plan, values: dict, volume_property, silhouette=None) -> np.nda
     >>> rgba.shape, float(rgba[4, 4, 0])
     ((8, 8, 4), 1.0)
     """
-    from mipcast.mappers import bricked_draw
-
     _, _, width, height = plan.viewport
     out = np.zeros((height, width, 4))
     for layer in plan.layers:  # coarsest first
         level_values = values.get(layer.level)
         if level_values is None:
             continue
-        rgba = bricked_draw.colour(level_values, volume_property).astype(np.float64)
+        rgba = gpu_colour(level_values, volume_property, (ranges or {}).get(layer.level))
         lam = foveation.desired_level(foveation.eccentricity(layer.grid, plan.gaze, plan.aspect), plan)
         weight = foveation.layer_weight(layer.level, lam, plan)
         if silhouette is not None and layer.level == 0:
             weight = np.where(foveation.silhouette_band(plan, silhouette, layer.grid), 1.0, weight)
-        drawn = _stretch(rgba * weight[..., None], (width, height))
+        # a reduced level's rays are written to VTK's 8-bit image-sample framebuffer, which is then
+        # stretched over the viewport (linear filtering) and blended
+        drawn = rgba * weight[..., None]
+        if drawn.shape[:2] != (height, width):
+            drawn = _stretch(_to_8bit(drawn) / 255.0, (width, height))
         out = drawn + (1.0 - drawn[..., 3:4]) * out
-    return out.astype(np.float32)
+    return (_to_8bit(out) / 255.0).astype(np.float32)
+
+
+def _to_8bit(rgba: np.ndarray) -> np.ndarray:
+    """A float colour written to an 8-bit target: clamped, rounded to the nearest of 0 .. 255."""
+    return np.floor(np.clip(rgba, 0.0, 1.0) * 255.0 + 0.5)
+
+
+#: VTK's transfer-function textures: at least this many texels (vtkOpenGLVolumeLookupTable), at most this.
+_TABLE_MIN, _TABLE_MAX = 1024, 16384
+
+
+def _table_width(function, low: float, high: float) -> int:
+    return int(min(max(_TABLE_MIN, function.EstimateMinNumberOfSamples(low, high)), _TABLE_MAX))
+
+
+def gpu_colour(values: np.ndarray, volume_property, value_range=None) -> np.ndarray:
+    """Data values -> premultiplied RGBA as VTK's ray caster looks them up; NaN: transparent.
+
+    VTK tabulates component 0's colour and scalar-opacity functions at
+    ``width`` points ``low + i (high - low) / (width - 1)`` (``GetTable``;
+    ``width`` at least 1024) into float textures and samples them, linearly
+    filtered, at ``u = (value - low) / (high - low)``, i.e. at texel
+    ``u width - 1/2``: not quite the function at the value (up to half a
+    table step off), which this reproduces. ``value_range``: (low, high), the
+    level volume's scalar range; default the colour function's range.
+
+    >>> from mipcast.offscreen import grey_property
+    >>> gpu_colour(np.array([[0.0, 0.5, np.nan]]), grey_property((0.0, 1.0)))[0, :, 0].round(3).tolist()
+    [0.0, 0.5, 0.0]
+    """
+    values = np.asarray(values, dtype=np.float64)
+    hit = np.isfinite(values)
+    out = np.zeros(values.shape + (4,))
+    if not hit.any():
+        return out
+    rgb_function = volume_property.GetRGBTransferFunction(0)
+    opacity_function = volume_property.GetScalarOpacity(0)
+    low, high = (float(v) for v in (value_range if value_range is not None else rgb_function.GetRange()))
+    if not high > low:
+        high = low + 1.0
+
+    def lookup(table, texels):
+        t = np.clip((values[hit] - low) / (high - low) * texels - 0.5, 0.0, texels - 1.0)
+        i = np.minimum(np.floor(t).astype(int), max(texels - 2, 0))
+        f = (t - i)[:, None]
+        return table[i] * (1.0 - f) + table[np.minimum(i + 1, texels - 1)] * f
+
+    texels = _table_width(rgb_function, low, high)
+    rgb_table = np.zeros(texels * 3)
+    rgb_function.GetTable(low, high, texels, rgb_table)
+    rgb = lookup(rgb_table.reshape(texels, 3), texels)
+    texels = _table_width(opacity_function, low, high)
+    opacity_table = np.zeros(texels)
+    opacity_function.GetTable(low, high, texels, opacity_table)
+    alpha = lookup(opacity_table[:, None], texels)[:, 0]
+    out[hit, :3] = rgb * alpha[:, None]
+    out[hit, 3] = alpha
+    return out
 
 
 def _readout(renderer, entry, rays, camera, shape, size) -> np.ndarray:
