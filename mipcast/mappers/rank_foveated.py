@@ -385,24 +385,33 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     return blend_levels(plan, values, volume.GetProperty(), band, ranges), None
 
 
-def _stretch(rgba: np.ndarray, size) -> np.ndarray:
-    """A level's premultiplied RGBA grid over the viewport: VTK's image-sample quad (GL linear filtering,
-    clamped edges; rays without a value are transparent)."""
+def _stretch(texels: np.ndarray, size) -> np.ndarray:
+    """A level's 8-bit premultiplied RGBA grid (0 .. 255, top row first) over the viewport, as the GPU
+    stretches VTK's image-sample framebuffer (GL linear filtering, clamped edges): texel coordinates in
+    fixed point with 8 fraction bits, the lerps along x then y each rounded to 8 bits (llvmpipe's
+    filtering of 8-bit textures; rays without a value are transparent)."""
     width, height = int(size[0]), int(size[1])
-    rows, columns = rgba.shape[:2]
+    rows, columns = texels.shape[:2]
     if (rows, columns) == (height, width):
-        return rgba
-    grid = rgba[::-1]  # bottom row first, like GL
-    sx = (np.arange(width) + 0.5) * columns / width - 0.5
-    sy = (np.arange(height) + 0.5) * rows / height - 0.5
-    x0, y0 = np.floor(sx).astype(int), np.floor(sy).astype(int)
-    fx, fy = sx - x0, sy - y0
-    out = np.zeros((height, width, rgba.shape[2]))
-    for dy, wy in ((0, 1.0 - fy), (1, fy)):
-        for dx, wx in ((0, 1.0 - fx), (1, fx)):
-            texels = grid[np.clip(y0 + dy, 0, rows - 1)][:, np.clip(x0 + dx, 0, columns - 1)]
-            out += (wy[:, None] * wx[None, :])[..., None] * texels
-    return out[::-1]
+        return texels
+    grid = np.asarray(texels[::-1], dtype=np.int64)  # bottom row first, like GL
+
+    def coordinates(n, m):
+        fixed = np.floor(((np.arange(n) + 0.5) * m / n - 0.5) * 256.0).astype(np.int64)
+        return fixed >> 8, fixed & 255
+
+    x0, fx = coordinates(width, columns)
+    y0, fy = coordinates(height, rows)
+
+    def texel(y, x):
+        return grid[np.clip(y, 0, rows - 1)][:, np.clip(x, 0, columns - 1)]
+
+    def lerp(a, b, weight):
+        return a + (((b - a) * weight + 128) >> 8)
+
+    below = lerp(texel(y0, x0), texel(y0, x0 + 1), fx[None, :, None])
+    above = lerp(texel(y0 + 1, x0), texel(y0 + 1, x0 + 1), fx[None, :, None])
+    return lerp(below, above, fy[:, None, None])[::-1].astype(np.float64)
 
 
 def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: Optional[dict] = None) -> np.ndarray:
@@ -414,9 +423,11 @@ def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: O
     image-sample quad) and drawn "over" the levels before.  The GPU's arithmetic
     is mirrored: the colours looked up in VTK's transfer-function textures
     (:func:`gpu_colour`, over ``ranges[level]``, the level volume's scalar
-    range; default the colour function's range), a reduced level's rays
-    written to VTK's 8-bit image-sample framebuffer before the stretch, and
-    the result rounded to 8 bits.
+    range; default the colour function's range), the rays written to an
+    8-bit target (VTK's image-sample framebuffer for a reduced level, then
+    stretched with 8-bit linear filtering: :func:`_stretch`) and blended in
+    8 bits, as the window's framebuffer blends.  On one rank this is the
+    GPU's picture bit for bit (tests/test_rank_foveated.py).
 
     >>> plan = foveation.plan_frame((0, 0, 8, 8), (0.5, 0.5), 10.0, 0.2)   # one level: the fovea covers all
     >>> from mipcast.offscreen import grey_property
@@ -435,13 +446,16 @@ def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: O
         weight = foveation.layer_weight(layer.level, lam, plan)
         if silhouette is not None and layer.level == 0:
             weight = np.where(foveation.silhouette_band(plan, silhouette, layer.grid), 1.0, weight)
-        # a reduced level's rays are written to VTK's 8-bit image-sample framebuffer, which is then
-        # stretched over the viewport (linear filtering) and blended
-        drawn = rgba * weight[..., None]
-        if drawn.shape[:2] != (height, width):
-            drawn = _stretch(_to_8bit(drawn) / 255.0, (width, height))
-        out = drawn + (1.0 - drawn[..., 3:4]) * out
-    return (_to_8bit(out) / 255.0).astype(np.float32)
+        # the level's rays are written to an 8-bit target: VTK's image-sample framebuffer for a reduced
+        # grid (then stretched over the viewport), else the window's; blended "over" in 8 bits
+        drawn = _stretch(_to_8bit(rgba * weight[..., None]), (width, height))
+        out = np.minimum(drawn + _times_8bit(out, 255.0 - drawn[..., 3:4]), 255.0)
+    return (out / 255.0).astype(np.float32)
+
+
+def _times_8bit(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The product of 8-bit normalised values (0 .. 255), rounded as an 8-bit target blends."""
+    return np.floor(a * b / 255.0 + 0.5)
 
 
 def _to_8bit(rgba: np.ndarray) -> np.ndarray:
