@@ -46,11 +46,11 @@ ORDERED_METHODS = ("demip@projection=lmip@local_threshold=0.15", "demip@projecti
 OTHER_METHODS = ("foveated", "stock", "stock_minip")
 #: Share of pixels within 1 grey level of the one-rank picture.
 MATCH = 0.999
-#: Below MATCH, measured: foveated's one-rank picture spills its coarse levels' bilinear stretch up to a
-#: coarse texel beyond the volume's outline (<= 6 greys), where IceT composites no rank's pixels (each
-#: rank's draw covers its piece's box); the stock mappers sample from each piece's own ray entry, not the
-#: whole volume's (97.3 % and 93.7 % measured, against 90.9 % for stock with ordered blending).
-METHOD_MATCH = {"foveated": 0.985, "stock": 0.965, "stock_minip": 0.93}
+#: Below MATCH, measured: the stock mappers sample from each piece's own ray entry, not the whole volume's
+#: (97.3 % and 93.7 % measured, against 90.9 % for stock with ordered blending).  (foveated: at MATCH, 100 %
+#: measured; its coarse levels' stretch beyond the volume's outline reaches IceT through the
+#: representation's spill prop, and the CPU blend is the GPU's 8-bit arithmetic.)
+METHOD_MATCH = {"stock": 0.965, "stock_minip": 0.93}
 missing = [tool for tool in ("mpiexec", "pvbatch", "pvserver", "pvpython", "Xvfb", "cmake", "c++")
            if shutil.which(tool) is None]
 pytestmark = pytest.mark.skipif(bool(missing), reason="needs " + ", ".join(missing) + " (apt-get install "

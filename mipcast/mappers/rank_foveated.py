@@ -149,6 +149,38 @@ class _WholeBox:
         return self._matrix
 
 
+def spill_bounds(bounds: Sequence[float], camera, height: int, texel_pixels: float) -> Tuple[float, ...]:
+    """World ``bounds`` enlarged so that their projection covers ``texel_pixels`` more pixels on every side.
+
+    A coarse level's rays stretched over the viewport (linear filtering)
+    reach up to one coarse texel (``texel_pixels``, its image sample distance
+    in pixels) beyond the volume's outline.  IceT keeps each rank's pixels
+    only inside the projection of the bounds of the props it shows
+    (``vtkIceTCompositePass``: ``ComputeVisiblePropBounds`` ->
+    ``icetBoundingBoxd``), so the representation shows a prop of these
+    bounds: each axis grows by the pixels times the world length of a pixel
+    at the box's farthest corner (the largest, so no corner moves fewer
+    pixels), which moves the projected outline out by at least that many
+    pixels (the enlarged box holds a ball of that radius round every point).
+
+    >>> from vtkmodules.vtkRenderingCore import vtkCamera
+    >>> camera = vtkCamera(); camera.ParallelProjectionOn(); camera.SetParallelScale(10.0)
+    >>> [round(v, 2) for v in spill_bounds((0, 1, 0, 1, 0, 1), camera, 100, 4)]   # 0.2 world per pixel
+    [-0.8, 1.8, -0.8, 1.8, -0.8, 1.8]
+    """
+    low, high = np.array(bounds[0::2], dtype=np.float64), np.array(bounds[1::2], dtype=np.float64)
+    height = max(int(height), 1)
+    if camera.GetParallelProjection():
+        world = 2.0 * camera.GetParallelScale() / height
+    else:
+        corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1])
+                            for z in (low[2], high[2])])
+        depth = (corners - np.array(camera.GetPosition())) @ np.array(camera.GetDirectionOfProjection())
+        world = 2.0 * max(float(depth.max()), 0.0) * math.tan(math.radians(camera.GetViewAngle()) / 2.0) / height
+    margin = world * float(texel_pixels)
+    return tuple(float(v) for pair in zip(low - margin, high + margin) for v in pair)
+
+
 def refusal(mapper) -> Optional[str]:
     """Why ``mapper``'s settings cannot be composited exactly over the ranks, or None.
 
@@ -221,6 +253,8 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     shape = (max(height[0], 1), max(width[0], 1))
     viewport = (x0[0], y0[0], shape[1], shape[0])
     problem = None
+    if mapper is not None:
+        object_state(mapper).pop("rank_foveated_bounds", None)
     usable = (mapper is not None and piece is not None and piece.GetNumberOfPoints() > 0 and whole_stub is not None
               and piece.GetPointData().GetScalars() is not None)
     plan, prepared, sampling, whole_image, camera, params = None, None, [], None, renderer.GetActiveCamera(), None
@@ -376,6 +410,11 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
         values[layer.level] = np.where(level_values <= 0.5 * _LOW, np.nan, level_values)
     # 4: blended after compositing, as the GPU draws the levels (coarsest first, "over", weights, upscale)
     state["rank_foveated_values"] = (plan, values, [volume_level for _, _, volume_level in layers])
+    # the bounds whose projection covers the coarse levels' stretch beyond the outline (spill_bounds):
+    # twice the coarsest texel, for the margin
+    state["rank_foveated_bounds"] = spill_bounds(
+        box.GetBounds(), camera, shape[0],
+        2.0 * max(layer.image_sample_distance for layer in plan.layers))
     band = silhouette if len(plan.layers) > 1 else None
     # the level volumes' scalar ranges (VTK's transfer-function textures span them): the whole volume's, the
     # reduced coarse levels'
