@@ -827,7 +827,8 @@ def _rank_start(entry):
         if entry.rank_rule == "foveated":
             from mipcast.core.object_state import object_state
 
-            bounds = object_state(mapper).get("rank_foveated_bounds") if mapper is not None and rgba is not None else None
+            drawn = mapper is not None and rgba is not None
+            bounds = object_state(mapper).get("rank_foveated_bounds") if drawn else None
             _spill_bounds(entry, bounds, renderer)
         from mipcast.mappers.rank_composite import projection
 
