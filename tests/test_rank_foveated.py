@@ -3,7 +3,8 @@
 Several ranks are simulated in one process (and one rank without data): each "rank" composes with its own piece, and its
 reductions combine its arrays with those the other ranks passed at the same collective (rounds
 until every collective has seen the others' final inputs: 3 collectives, 3 rounds).  The composed
-picture must match the one-texture GPU foveated picture of the whole volume.
+picture must match the one-texture GPU foveated picture of the whole volume: every pixel within 1 grey
+(the CPU blend mirrors the GPU's arithmetic; on Mesa llvmpipe it is equal, bit for bit).
 """
 import numpy as np
 import pytest
@@ -54,6 +55,21 @@ def _stub(image):
             [direction.GetElement(i, j) for i in range(3) for j in range(3)])
 
 
+def _projected_box(renderer, bounds, shape):
+    """Which pixels (top row first) the screen rectangle of the projected corners of ``bounds`` covers."""
+    xs, ys = [], []
+    for x in bounds[0:2]:
+        for y in bounds[2:4]:
+            for z in bounds[4:6]:
+                renderer.SetWorldPoint(x, y, z, 1.0)
+                renderer.WorldToDisplay()
+                point = renderer.GetDisplayPoint()
+                xs.append(point[0])
+                ys.append(point[1])
+    rows, columns = np.arange(shape[0])[::-1, None] + 0.5, np.arange(shape[1])[None, :] + 0.5
+    return (columns >= min(xs)) & (columns <= max(xs)) & (rows >= min(ys)) & (rows <= max(ys))
+
+
 def _grey(rgba):
     return np.clip(rgba[..., :3] * 255.0 + 0.5, 0.0, 255.0).astype(int)
 
@@ -87,12 +103,21 @@ def test_pieces_reduced_draw_the_one_texture_foveated_picture(image, layer, axis
         assert np.array_equal(other, final[0])  # every rank the same picture
     assert (one.max(axis=-1) > 10).mean() > 0.2
     difference = np.abs(final[0] - one).max(axis=-1)
-    share = (difference <= 1).mean()
+    share, exact = (difference <= 1).mean(), (difference == 0).mean()
     plan, values, volume_levels = object_state(mapper)["rank_foveated_values"]
     assert len(plan.layers) == 3 and max(volume_levels) > 0  # coarse pyramid levels reduced over the pieces
     print(f"{layer} {count} pieces along {'xyz'[axis]}, volume levels {volume_levels}: "
-          f"{100 * share:.2f} % within 1 grey, max {difference.max()}")
-    assert share >= 0.999, (difference.max(), (difference > 1).sum())
+          f"{100 * share:.2f} % within 1 grey ({100 * exact:.2f} % equal), max {difference.max()}")
+    # the CPU blend mirrors the GPU's arithmetic (VTK's transfer-function textures, the 8-bit image-sample
+    # framebuffer, 8-bit filtering and blending): every pixel within 1 grey (llvmpipe: equal)
+    assert difference.max() <= 1, (difference.max(), (difference > 1).sum())
+    # the spill: lit pixels beyond the whole volume's projected box, inside the spill prop's (IceT's box)
+    lit = results[0][0][..., 3] > 0
+    inside_box = _projected_box(renderer, image.GetBounds(), lit.shape)
+    inside_spill = _projected_box(renderer, object_state(mapper)["rank_foveated_bounds"], lit.shape)
+    print(f"  {(lit & ~inside_box).sum()} lit pixels beyond the volume's projected box, "
+          f"{(lit & ~inside_spill).sum()} beyond the spill bounds'")
+    assert (lit & ~inside_box).any() and not (lit & ~inside_spill).any()
     # the reduced full-resolution level against the float64 reference of the whole volume, where it cast
     from mipcast.methods import METHODS
 

@@ -49,12 +49,11 @@ ORDERED_METHODS = ("demip@projection=lmip@local_threshold=0.15", "demip@projecti
 OTHER_METHODS = ("foveated", "stock", "stock_minip")
 #: Share of pixels within 1 grey level of the one-rank picture.
 MATCH = 0.999
-#: Below MATCH, measured: foveated's one-rank picture spills its coarse levels' bilinear stretch up to a
-#: coarse texel beyond the volume's outline (<= 6 greys), where IceT composites no rank's pixels (each
-#: rank's draw covers its piece's box).  The stock mappers are at MATCH: each rank's piece samples the whole
-#: volume's sample positions (the stock_phase piece; 100 % measured, 97.3 % and 93.7 % when each piece sampled
-#: from its own ray entry, 90.9 % for stock with ordered blending).
-METHOD_MATCH = {"foveated": 0.985}
+#: Every method at MATCH.  Measured before: foveated 99.0 % (its coarse levels' stretch beyond the volume's
+#: outline did not reach IceT; now through the representation's spill prop, and the CPU blend is the GPU's
+#: 8-bit arithmetic); stock 97.3 % and stock_minip 93.7 % when each piece sampled from its own ray entry (now
+#: the whole volume's sample positions: the stock_phase piece), 90.9 % for stock with ordered blending.
+METHOD_MATCH = {}
 missing = [tool for tool in ("mpiexec", "pvbatch", "pvserver", "pvpython", "Xvfb", "cmake", "c++")
            if shutil.which(tool) is None]
 pytestmark = pytest.mark.skipif(bool(missing), reason="needs " + ", ".join(missing) + " (apt-get install "

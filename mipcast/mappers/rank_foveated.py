@@ -149,6 +149,38 @@ class _WholeBox:
         return self._matrix
 
 
+def spill_bounds(bounds: Sequence[float], camera, height: int, texel_pixels: float) -> Tuple[float, ...]:
+    """World ``bounds`` enlarged so that their projection covers ``texel_pixels`` more pixels on every side.
+
+    A coarse level's rays stretched over the viewport (linear filtering)
+    reach up to one coarse texel (``texel_pixels``, its image sample distance
+    in pixels) beyond the volume's outline.  IceT keeps each rank's pixels
+    only inside the projection of the bounds of the props it shows
+    (``vtkIceTCompositePass``: ``ComputeVisiblePropBounds`` ->
+    ``icetBoundingBoxd``), so the representation shows a prop of these
+    bounds: each axis grows by the pixels times the world length of a pixel
+    at the box's farthest corner (the largest, so no corner moves fewer
+    pixels), which moves the projected outline out by at least that many
+    pixels (the enlarged box holds a ball of that radius round every point).
+
+    >>> from vtkmodules.vtkRenderingCore import vtkCamera
+    >>> camera = vtkCamera(); camera.ParallelProjectionOn(); camera.SetParallelScale(10.0)
+    >>> [round(v, 2) for v in spill_bounds((0, 1, 0, 1, 0, 1), camera, 100, 4)]   # 0.2 world per pixel
+    [-0.8, 1.8, -0.8, 1.8, -0.8, 1.8]
+    """
+    low, high = np.array(bounds[0::2], dtype=np.float64), np.array(bounds[1::2], dtype=np.float64)
+    height = max(int(height), 1)
+    if camera.GetParallelProjection():
+        world = 2.0 * camera.GetParallelScale() / height
+    else:
+        corners = np.array([[x, y, z] for x in (low[0], high[0]) for y in (low[1], high[1])
+                            for z in (low[2], high[2])])
+        depth = (corners - np.array(camera.GetPosition())) @ np.array(camera.GetDirectionOfProjection())
+        world = 2.0 * max(float(depth.max()), 0.0) * math.tan(math.radians(camera.GetViewAngle()) / 2.0) / height
+    margin = world * float(texel_pixels)
+    return tuple(float(v) for pair in zip(low - margin, high + margin) for v in pair)
+
+
 def refusal(mapper) -> Optional[str]:
     """Why ``mapper``'s settings cannot be composited exactly over the ranks, or None.
 
@@ -221,6 +253,8 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     shape = (max(height[0], 1), max(width[0], 1))
     viewport = (x0[0], y0[0], shape[1], shape[0])
     problem = None
+    if mapper is not None:
+        object_state(mapper).pop("rank_foveated_bounds", None)
     usable = (mapper is not None and piece is not None and piece.GetNumberOfPoints() > 0 and whole_stub is not None
               and piece.GetPointData().GetScalars() is not None)
     plan, prepared, sampling, whole_image, camera, params = None, None, [], None, renderer.GetActiveCamera(), None
@@ -376,37 +410,63 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
         values[layer.level] = np.where(level_values <= 0.5 * _LOW, np.nan, level_values)
     # 4: blended after compositing, as the GPU draws the levels (coarsest first, "over", weights, upscale)
     state["rank_foveated_values"] = (plan, values, [volume_level for _, _, volume_level in layers])
+    # the bounds whose projection covers the coarse levels' stretch beyond the outline (spill_bounds):
+    # twice the coarsest texel, for the margin
+    state["rank_foveated_bounds"] = spill_bounds(
+        box.GetBounds(), camera, shape[0],
+        2.0 * max(layer.image_sample_distance for layer in plan.layers))
     band = silhouette if len(plan.layers) > 1 else None
-    return blend_levels(plan, values, volume.GetProperty(), band), None
+    # the level volumes' scalar ranges (VTK's transfer-function textures span them): the whole volume's, the
+    # reduced coarse levels'
+    ranges = {layer.level: (coarse_levels[v].GetPointData().GetScalars().GetRange(0) if v else
+                            (low_global, float(head[5])))
+              for (_, _, v), layer in zip(layers, plan.layers)}
+    return blend_levels(plan, values, volume.GetProperty(), band, ranges), None
 
 
-def _stretch(rgba: np.ndarray, size) -> np.ndarray:
-    """A level's premultiplied RGBA grid over the viewport: VTK's image-sample quad (GL linear filtering,
-    clamped edges; rays without a value are transparent)."""
+def _stretch(texels: np.ndarray, size) -> np.ndarray:
+    """A level's 8-bit premultiplied RGBA grid (0 .. 255, top row first) over the viewport, as the GPU
+    stretches VTK's image-sample framebuffer (GL linear filtering, clamped edges): texel coordinates in
+    fixed point with 8 fraction bits, the lerps along x then y each rounded to 8 bits (llvmpipe's
+    filtering of 8-bit textures; rays without a value are transparent)."""
     width, height = int(size[0]), int(size[1])
-    rows, columns = rgba.shape[:2]
+    rows, columns = texels.shape[:2]
     if (rows, columns) == (height, width):
-        return rgba
-    grid = rgba[::-1]  # bottom row first, like GL
-    sx = (np.arange(width) + 0.5) * columns / width - 0.5
-    sy = (np.arange(height) + 0.5) * rows / height - 0.5
-    x0, y0 = np.floor(sx).astype(int), np.floor(sy).astype(int)
-    fx, fy = sx - x0, sy - y0
-    out = np.zeros((height, width, rgba.shape[2]))
-    for dy, wy in ((0, 1.0 - fy), (1, fy)):
-        for dx, wx in ((0, 1.0 - fx), (1, fx)):
-            texels = grid[np.clip(y0 + dy, 0, rows - 1)][:, np.clip(x0 + dx, 0, columns - 1)]
-            out += (wy[:, None] * wx[None, :])[..., None] * texels
-    return out[::-1]
+        return texels
+    grid = np.asarray(texels[::-1], dtype=np.int64)  # bottom row first, like GL
+
+    def coordinates(n, m):
+        fixed = np.floor(((np.arange(n) + 0.5) * m / n - 0.5) * 256.0).astype(np.int64)
+        return fixed >> 8, fixed & 255
+
+    x0, fx = coordinates(width, columns)
+    y0, fy = coordinates(height, rows)
+
+    def texel(y, x):
+        return grid[np.clip(y, 0, rows - 1)][:, np.clip(x, 0, columns - 1)]
+
+    def lerp(a, b, weight):
+        return a + (((b - a) * weight + 128) >> 8)
+
+    below = lerp(texel(y0, x0), texel(y0, x0 + 1), fx[None, :, None])
+    above = lerp(texel(y0 + 1, x0), texel(y0 + 1, x0 + 1), fx[None, :, None])
+    return lerp(below, above, fy[:, None, None])[::-1].astype(np.float64)
 
 
-def blend_levels(plan, values: dict, volume_property, silhouette=None) -> np.ndarray:
+def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: Optional[dict] = None) -> np.ndarray:
     """The foveated picture (premultiplied RGBA, top row first) from each level's composited values.
 
     What the GPU draws (shaders/foveated_weight.glsl): coarsest level first,
     each ray's premultiplied colour times its level weight (1 in level 0's
     silhouette band), the level's grid stretched over the viewport (VTK's
-    image-sample quad) and drawn "over" the levels before.
+    image-sample quad) and drawn "over" the levels before.  The GPU's arithmetic
+    is mirrored: the colours looked up in VTK's transfer-function textures
+    (:func:`gpu_colour`, over ``ranges[level]``, the level volume's scalar
+    range; default the colour function's range), the rays written to an
+    8-bit target (VTK's image-sample framebuffer for a reduced level, then
+    stretched with 8-bit linear filtering: :func:`_stretch`) and blended in
+    8 bits, as the window's framebuffer blends.  On one rank this is the
+    GPU's picture bit for bit (tests/test_rank_foveated.py).
 
     >>> plan = foveation.plan_frame((0, 0, 8, 8), (0.5, 0.5), 10.0, 0.2)   # one level: the fovea covers all
     >>> from mipcast.offscreen import grey_property
@@ -414,22 +474,85 @@ def blend_levels(plan, values: dict, volume_property, silhouette=None) -> np.nda
     >>> rgba.shape, float(rgba[4, 4, 0])
     ((8, 8, 4), 1.0)
     """
-    from mipcast.mappers import bricked_draw
-
     _, _, width, height = plan.viewport
     out = np.zeros((height, width, 4))
     for layer in plan.layers:  # coarsest first
         level_values = values.get(layer.level)
         if level_values is None:
             continue
-        rgba = bricked_draw.colour(level_values, volume_property).astype(np.float64)
+        rgba = gpu_colour(level_values, volume_property, (ranges or {}).get(layer.level))
         lam = foveation.desired_level(foveation.eccentricity(layer.grid, plan.gaze, plan.aspect), plan)
         weight = foveation.layer_weight(layer.level, lam, plan)
         if silhouette is not None and layer.level == 0:
             weight = np.where(foveation.silhouette_band(plan, silhouette, layer.grid), 1.0, weight)
-        drawn = _stretch(rgba * weight[..., None], (width, height))
-        out = drawn + (1.0 - drawn[..., 3:4]) * out
-    return out.astype(np.float32)
+        # the level's rays are written to an 8-bit target: VTK's image-sample framebuffer for a reduced
+        # grid (then stretched over the viewport), else the window's; blended "over" in 8 bits
+        drawn = _stretch(_to_8bit(rgba * weight[..., None]), (width, height))
+        out = np.minimum(drawn + _times_8bit(out, 255.0 - drawn[..., 3:4]), 255.0)
+    return (out / 255.0).astype(np.float32)
+
+
+def _times_8bit(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The product of 8-bit normalised values (0 .. 255), rounded as an 8-bit target blends."""
+    return np.floor(a * b / 255.0 + 0.5)
+
+
+def _to_8bit(rgba: np.ndarray) -> np.ndarray:
+    """A float colour written to an 8-bit target: clamped, rounded to the nearest of 0 .. 255."""
+    return np.floor(np.clip(rgba, 0.0, 1.0) * 255.0 + 0.5)
+
+
+#: VTK's transfer-function textures: at least this many texels (vtkOpenGLVolumeLookupTable), at most this.
+_TABLE_MIN, _TABLE_MAX = 1024, 16384
+
+
+def _table_width(function, low: float, high: float) -> int:
+    return int(min(max(_TABLE_MIN, function.EstimateMinNumberOfSamples(low, high)), _TABLE_MAX))
+
+
+def gpu_colour(values: np.ndarray, volume_property, value_range=None) -> np.ndarray:
+    """Data values -> premultiplied RGBA as VTK's ray caster looks them up; NaN: transparent.
+
+    VTK tabulates component 0's colour and scalar-opacity functions at
+    ``width`` points ``low + i (high - low) / (width - 1)`` (``GetTable``;
+    ``width`` at least 1024) into float textures and samples them, linearly
+    filtered, at ``u = (value - low) / (high - low)``, i.e. at texel
+    ``u width - 1/2``: not quite the function at the value (up to half a
+    table step off), which this reproduces. ``value_range``: (low, high), the
+    level volume's scalar range; default the colour function's range.
+
+    >>> from mipcast.offscreen import grey_property
+    >>> gpu_colour(np.array([[0.0, 0.5, np.nan]]), grey_property((0.0, 1.0)))[0, :, 0].round(3).tolist()
+    [0.0, 0.5, 0.0]
+    """
+    values = np.asarray(values, dtype=np.float64)
+    hit = np.isfinite(values)
+    out = np.zeros(values.shape + (4,))
+    if not hit.any():
+        return out
+    rgb_function = volume_property.GetRGBTransferFunction(0)
+    opacity_function = volume_property.GetScalarOpacity(0)
+    low, high = (float(v) for v in (value_range if value_range is not None else rgb_function.GetRange()))
+    if not high > low:
+        high = low + 1.0
+
+    def lookup(table, texels):
+        t = np.clip((values[hit] - low) / (high - low) * texels - 0.5, 0.0, texels - 1.0)
+        i = np.minimum(np.floor(t).astype(int), max(texels - 2, 0))
+        f = (t - i)[:, None]
+        return table[i] * (1.0 - f) + table[np.minimum(i + 1, texels - 1)] * f
+
+    texels = _table_width(rgb_function, low, high)
+    rgb_table = np.zeros(texels * 3)
+    rgb_function.GetTable(low, high, texels, rgb_table)
+    rgb = lookup(rgb_table.reshape(texels, 3), texels)
+    texels = _table_width(opacity_function, low, high)
+    opacity_table = np.zeros(texels)
+    opacity_function.GetTable(low, high, texels, opacity_table)
+    alpha = lookup(opacity_table[:, None], texels)[:, 0]
+    out[hit, :3] = rgb * alpha[:, None]
+    out[hit, 3] = alpha
+    return out
 
 
 def _readout(renderer, entry, rays, camera, shape, size) -> np.ndarray:

@@ -784,6 +784,8 @@ def _rank_frame(entry, image, whole):
     rule = rank_composite_rule(entry.method) if process_count() > 1 else None
     entry.rank_rule = rule
     entry.rank_picture = None
+    if rule != "foveated":
+        _spill_bounds(entry, None)
     if rule is None:
         entry.rank_pending = False
         return
@@ -798,6 +800,8 @@ def _rank_frame(entry, image, whole):
         from vtkmodules.vtkCommonCore import vtkCommand
 
         renderer.AddObserver(vtkCommand.StartEvent, _rank_start(entry), -100.0)  # after the camera sync
+        # the spill prop only inside a render (IceT's box); outside, ResetCamera's bounds stay the data's
+        renderer.AddObserver(vtkCommand.EndEvent, lambda caller, event, entry=entry: _spill_bounds(entry, None))
         entry.rank_observed = renderer.GetAddressAsString("vtkObjectBase")
 
 
@@ -821,6 +825,12 @@ def _rank_start(entry):
         except Exception as error:  # noqa: BLE001  (never into C++)
             rgba, problem = None, repr(error)
         entry.rank_picture = rgba
+        if entry.rank_rule == "foveated":
+            from mipcast.core.object_state import object_state
+
+            drawn = mapper is not None and rgba is not None
+            bounds = object_state(mapper).get("rank_foveated_bounds") if drawn else None
+            _spill_bounds(entry, bounds, renderer)
         from mipcast.mappers.rank_composite import projection
 
         entry.rank_projection = projection(renderer)  # IceT shifts it for each rank's draw
@@ -829,6 +839,52 @@ def _rank_start(entry):
         entry.rank_problem = problem
         entry.rank_piece = None
     return start
+
+
+def _spill_bounds(entry, bounds, renderer=None) -> None:
+    """Show (``bounds``) or hide (None) the representation's spill prop: an actor of two vertices at the
+    corners of ``bounds``, which cover the foveated coarse levels' stretch beyond the volume's outline.  It
+    draws nothing: its mapper clips everything away (a clipping plane beyond the box; an actor's bounds
+    are its input's, whatever the planes, but only the points its cells use: vtkPolyData.GetCellsBounds).
+
+    IceT keeps each rank's pixels only inside the projection of the bounds of the props the rank shows
+    (vtkIceTCompositePass: the renderer's ComputeVisiblePropBounds -> icetBoundingBoxd), computed after the
+    renderer's StartEvent, where this runs: :func:`mipcast.mappers.rank_foveated.spill_bounds`.  Shown
+    only during the render (hidden again at the renderer's EndEvent): ParaView's ResetCamera reduces the
+    same visible prop bounds, and must see the data's.
+    """
+    actor = getattr(entry, "spill_actor", None)
+    if bounds is None:
+        if actor is not None:
+            actor.VisibilityOff()
+        return
+    from vtkmodules.vtkCommonCore import vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPlane, vtkPolyData
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
+
+    if actor is None:
+        actor, mapper, points, plane = vtkActor(), vtkPolyDataMapper(), vtkPoints(), vtkPlane()
+        points.SetNumberOfPoints(2)
+        data = vtkPolyData()
+        data.SetPoints(points)
+        verts = vtkCellArray()
+        verts.InsertNextCell(2, [0, 1])
+        data.SetVerts(verts)
+        mapper.SetInputData(data)
+        plane.SetNormal(1.0, 0.0, 0.0)  # keeps x >= its origin's: none of the box
+        mapper.AddClippingPlane(plane)
+        actor.SetMapper(mapper)
+        actor.PickableOff()
+        entry.spill_actor, entry.spill_points, entry.spill_plane = actor, points, plane
+    entry.spill_plane.SetOrigin(bounds[1] + 1.0 + abs(bounds[1] - bounds[0]), 0.0, 0.0)
+    if renderer is not None and not renderer.HasViewProp(actor):
+        renderer.AddViewProp(actor)
+    points = entry.spill_points
+    points.SetPoint(0, bounds[0], bounds[2], bounds[4])
+    points.SetPoint(1, bounds[1], bounds[3], bounds[5])
+    points.Modified()
+    actor.GetMapper().GetInput().Modified()
+    actor.VisibilityOn()
 
 
 def _rank_mapper(entry, mapper):
@@ -1005,6 +1061,10 @@ def release(key):
     entry = _REGISTRY.pop(key, None)
     if entry is not None and entry.mapper is not None and hasattr(entry.mapper, "Detach"):
         entry.mapper.Detach()
+    actor = getattr(entry, "spill_actor", None) if entry is not None else None
+    renderer = entry.renderer.Get() if actor is not None and getattr(entry, "renderer", None) is not None else None
+    if renderer is not None and renderer.HasViewProp(actor):
+        renderer.RemoveViewProp(actor)
     if "mipcast_representation_live" in sys.modules:
         sys.modules["mipcast_representation_live"].release(key)
     return True
