@@ -77,6 +77,7 @@ from mipcast.mappers.clip_uniforms import slab_of
 from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, first_match_index
 from mipcast.mappers.demip_composite import demip_composite, demip_picture  # noqa: F401  (demip_picture: public here)
 from mipcast.mappers.float_readout import read_normalised, texture_scale
+from mipcast.mappers.rank_ordered import ORDERED
 from mipcast.offscreen import OffscreenView, set_view
 
 Extent = Tuple[int, int, int, int, int, int]
@@ -339,6 +340,9 @@ class DistributedView:
         self._set_static_uniforms(self.local.volume)
         #: Phase 2 of the ``"demip"`` route (None for ``"max"``).
         self.depth_mapper = None
+        #: The DEMIP mapper of the ordered projections (``"demip"`` route, made when one is set).
+        self.ordered_mapper = None
+        self._piece = piece
         if self.route == "demip":
             self._make_depth_pass(piece, settings)
         elif settings:
@@ -396,16 +400,74 @@ class DistributedView:
             return
         set_parameters(self.depth_mapper, **settings)
         values = self.demip_parameters()
-        if values["projection"] != "mip":
-            raise ValueError(f"DistributedView's DEMIP composites projection 'mip' only, got {values['projection']!r} "
-                             "(LMIP, attenuated MIP and MIDA depend on the order along the whole ray): set "
-                             "projection='mip', show the volume with the mipcast representation in ParaView's "
-                             "render view on the same ranks (mpiexec -n N pvbatch / pvserver: it draws the "
-                             "pieces one rank after another, front to back, mipcast.mappers.rank_ordered), or "
-                             "render the whole volume on one rank")
         # phase 1 clips with the same slab (its default centre and normal follow the same camera)
         slab = {name: values[name] for name in ("slab_thickness", "slab_centre", "slab_normal")}
         set_parameters(self.local.mapper, **slab)
+        if values["projection"] in ORDERED or self.ordered_mapper is not None:
+            mapper = self._ordered_pass()
+            set_parameters(mapper, **values)
+
+    def _ordered_pass(self):
+        """The DEMIP mapper on this brick that :mod:`mipcast.mappers.rank_ordered` draws the ordered
+        projections from (hidden: rank_composite renders its private brick mappers in the StartEvent)."""
+        if self.ordered_mapper is None:
+            from mipcast.mappers.demip import DEMIPVolumeMapper
+
+            mapper = self.ordered_mapper = DEMIPVolumeMapper()
+            mapper.SetInputData(self._piece)
+            mapper.SetSampleDistance(self.local.sample_distance)
+            mapper.SetAutoAdjustSampleDistances(False)
+            mapper.SetUseJittering(False)
+            volume = self.ordered_volume = vtkVolume()
+            volume.SetProperty(self.local.volume.GetProperty())
+            mapper.Attach(volume)
+            volume.VisibilityOff()
+            self.local.renderer.AddVolume(volume)
+        return self.ordered_mapper
+
+    def reduce(self, array: np.ndarray, op: str) -> np.ndarray:
+        """``comm.Allreduce`` as the ``reduce(array, op)`` of :mod:`mipcast.mappers.rank_composite`:
+        float64, ``op`` ``"max"``, ``"min"`` or ``"sum"`` (the identity on :class:`OneRank`)."""
+        values = np.array(array, dtype=np.float64)  # a copy: nothing the caller passed is modified
+        if not isinstance(self.comm, OneRank):
+            from mpi4py import MPI
+
+            ops = {"max": MPI.MAX, "min": MPI.MIN, "sum": MPI.SUM}
+            self.comm.Allreduce(MPI.IN_PLACE, values, op=ops[op])
+        return values
+
+    def _ordered_frame(self) -> np.ndarray:
+        """Collective: LMIP / attenuated MIP / MIDA over the ranks, turn by turn front to back
+        (:func:`mipcast.mappers.rank_composite.compose`); the premultiplied RGBA, top row first."""
+        mapper, volume = self.ordered_mapper, self.ordered_volume
+        direction = self.stub.GetDirectionMatrix()
+        whole = (tuple(self.whole_extent), self.stub.GetOrigin(), self.stub.GetSpacing(),
+                 [direction.GetElement(i, j) for i in range(3) for j in range(3)])
+        out = {}
+
+        def start(renderer, event):
+            from mipcast.mappers import rank_composite
+
+            out["result"] = rank_composite.compose(mapper, volume, renderer, self._piece, whole, self.reduce,
+                                                   "demip", rank=(self.comm.rank, self.comm.size))
+
+        renderer = self.local.renderer
+        tag = renderer.AddObserver("StartEvent", start)
+        self.local.volume.VisibilityOff()
+        try:
+            self.local.render_window.Render()
+        finally:
+            renderer.RemoveObserver(tag)
+            self.local.volume.VisibilityOn()
+        if "result" not in out:
+            raise RuntimeError(f"rank {self.comm.rank}: the ordered DEMIP frame did not run (no renderer start)")
+        rgba, problem = out["result"]
+        if rgba is None:
+            # every rank gets here at the same collective (rank_ordered flags failures in its reductions)
+            raise RuntimeError(f"rank {self.comm.rank} of {self.comm.size}: DEMIP projection "
+                               f"{self.demip_parameters()['projection']!r} over the ranks failed: "
+                               f"{problem or 'no rank has data'}")
+        return np.asarray(rgba, dtype=np.float64)
 
     def demip_parameters(self) -> dict:
         """The DEMIP settings of the ``"demip"`` route (name -> value, from the phase-2 mapper)."""
@@ -458,6 +520,9 @@ class DistributedView:
         """
         if self.depth_mapper is None:
             raise ValueError(f"the {self.route!r} route has no same-material search")
+        if self._ordered_projection():
+            raise ValueError(f"projection {self.depth_mapper.GetProjection()!r} is composited turn by turn "
+                             "(demip_image); first_match is projection 'mip''s MIN reduction")
         if values is None:
             values = self.float_image()
         self.local.volume.VisibilityOff()
@@ -479,12 +544,25 @@ class DistributedView:
         straight colour (Eq. 1, sphere, chromadepth where there is a term,
         the transfer functions' colour of the maximum elsewhere; 0 on misses).
         """
+        if self._ordered_projection():
+            rgba = self._ordered_frame()
+            floats = object_state(self.ordered_mapper).get("rank_ordered_floats", {})
+            nan = np.full(rgba.shape[:2], np.nan)
+            alpha = rgba[..., 3:]
+            self.last_rgba = rgba
+            straight = np.where(alpha > 0.0, rgba[..., :3] / np.where(alpha > 0.0, alpha, 1.0), 0.0)
+            return (np.asarray(floats.get("value", nan), dtype=np.float64),
+                    np.asarray(floats.get("depth", nan), dtype=np.float64), straight)
         values = self.float_image()
         index = self.first_match(values)
         depth, rgb = demip_composite(self.stub, self.camera, self.sample_distance, values, index,
                                      self.demip_parameters(), self.local.volume.GetProperty(),
                                      slab=slab_of(self.depth_mapper, self.camera))
         return values.astype(np.float64), depth, rgb
+
+    def _ordered_projection(self) -> bool:
+        """Whether this frame's DEMIP projection is an ordered one (LMIP, attenuated MIP, MIDA)."""
+        return self.depth_mapper is not None and self.depth_mapper.GetProjection() in ORDERED
 
     def images(self) -> dict:
         """Collective: the route's float images by name (top row first), for shipping to a client.
@@ -508,6 +586,8 @@ class DistributedView:
         """Collective: the picture (uint8 RGB, top row first): the reduced float image coloured."""
         if self.route == "demip":
             values, _, rgb = self.demip_image()
+            if self._ordered_projection():  # the composite's premultiplied colour (MIDA has no single value)
+                return np.clip(np.rint(self.last_rgba[..., :3] * 255.0), 0, 255).astype(np.uint8)
             return demip_picture(values, rgb, self.local.volume.GetProperty())
         return colour(self.float_image(), self.local.volume.GetProperty())
 
