@@ -35,10 +35,18 @@ volume property's transfer functions.
   with :mod:`mipcast.core.demip_depth`, the maths of the float64 reference.
   A slab (``slab_thickness`` > 0) clips both phases of every rank to the
   same global slab, depth normalised over the box's part inside it.
-  Projection ``"mip"`` only (the others are refused with a message: they
-  need the bricks front to back, one rank after another; on one GPU beyond
-  its texture limit the mapper draws them so,
-  :mod:`mipcast.mappers.bricked_demip`).
+- DEMIP's ordered projections (``projection`` ``"lmip"``, ``"attenuated"``,
+  ``"mida"``, with or without the slab) depend on the order along the whole
+  ray: the ranks draw their bricks one after another, front to back, as the
+  render view's ranks do (:mod:`mipcast.mappers.rank_ordered`, through
+  :func:`mipcast.mappers.rank_composite.compose` in the renderer's
+  StartEvent, on a hidden DEMIP mapper of the brick), with
+  :meth:`DistributedView.reduce` (``comm.Allreduce``, float64) as the
+  reduction: at turn k the k-th brick's rank continues the scan from the
+  state so far and a SUM hands the new state to every rank.  LMIP's and
+  attenuated MIP's value and LMIP's depth come back as floats; MIDA gives
+  the picture only.  A rank failing in its turn makes every rank raise at
+  the same collective, with the reason.
 
 The method table's ``distributed`` entry names the route (:data:`ROUTES`);
 other methods are refused with a message. mpi4py provides the communicator
@@ -266,7 +274,8 @@ class DistributedView:
         readers, RedistributeDataSet with ghost cells).
     method : str, default: "mip"
         A method whose table entry has a ``distributed`` route (:data:`ROUTES`):
-        ``mip``, ``analytic`` (``"max"``), ``demip``, ``demip_two_pass`` (``"demip"``).
+        ``mip``, ``analytic`` (``"max"``), ``demip``, ``demip_two_pass`` (``"demip"``,
+        every projection: LMIP, attenuated MIP and MIDA rank after rank, front to back).
     size, view, sample_distance
         As :class:`mipcast.offscreen.OffscreenView`, for the whole volume
         (the camera frames the whole volume; default sample distance: the
@@ -543,6 +552,21 @@ class DistributedView:
         the whole volume's box, the table's depth mode) and the final
         straight colour (Eq. 1, sphere, chromadepth where there is a term,
         the transfer functions' colour of the maximum elsewhere; 0 on misses).
+        The ordered projections, turn by turn over the ranks: LMIP's value
+        and depth, attenuated MIP's value (depth NaN: no DEMIP term), MIDA's
+        colour (value and depth NaN); :attr:`last_rgba` holds the
+        composite's premultiplied RGBA.
+        Raises RuntimeError (on every rank alike) where a rank failed in the
+        ordered composite.
+
+        Examples
+        --------
+        >>> from mipcast.data_fixtures import make_fixture
+        >>> view = DistributedView(make_fixture("vessels", size=16), "demip", size=(16, 16), comm=OneRank(),
+        ...                        projection="attenuated")
+        >>> values, depth, rgb = view.demip_image()
+        >>> bool(np.isfinite(values).any()), bool(np.isnan(depth).all()), rgb.shape
+        (True, True, (16, 16, 3))
         """
         if self._ordered_projection():
             rgba = self._ordered_frame()
