@@ -318,6 +318,7 @@ class DistributedView:
                              f"use one of {able}, or render the whole volume on one rank")
         #: The composite route (:data:`ROUTES`), from the method table's ``distributed``.
         self.route = entry.distributed
+        self._method_mapper = entry.factory()  # not drawn: it validates the settings as the method does
         self.comm = world_communicator() if comm is None else comm
         self.whole_extent = whole_extent(piece, self.comm)
         points = int(np.prod([piece.GetExtent()[2 * a + 1] - piece.GetExtent()[2 * a] + 1 for a in range(3)]))
@@ -407,6 +408,8 @@ class DistributedView:
         if self.depth_mapper is None:
             set_parameters(self.local.mapper, **settings)
             return
+        # the method's own mapper checks the settings first (two-pass DEMIP refuses the ordered projections)
+        set_parameters(self._method_mapper, **settings)
         set_parameters(self.depth_mapper, **settings)
         values = self.demip_parameters()
         # phase 1 clips with the same slab (its default centre and normal follow the same camera)
@@ -463,6 +466,9 @@ class DistributedView:
         renderer = self.local.renderer
         tag = renderer.AddObserver("StartEvent", start)
         self.local.volume.VisibilityOff()
+        # vtkCamera.DeepCopy keeps the camera's old MTime, and VTK caches the camera's matrices on it: the
+        # private brick renders at the StartEvent (before VTK's own camera updates) would use the last view's
+        self.camera.Modified()
         try:
             self.local.render_window.Render()
         finally:
@@ -531,7 +537,7 @@ class DistributedView:
             raise ValueError(f"the {self.route!r} route has no same-material search")
         if self._ordered_projection():
             raise ValueError(f"projection {self.depth_mapper.GetProjection()!r} is composited turn by turn "
-                             "(demip_image); first_match is projection 'mip''s MIN reduction")
+                             "(demip_image); first_match is the MIN reduction of projection 'mip' only")
         if values is None:
             values = self.float_image()
         self.local.volume.VisibilityOff()
