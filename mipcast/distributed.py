@@ -601,12 +601,18 @@ class DistributedView:
         the ``"demip"`` route adds ``"demip_depth"`` (NaN: no DEMIP term) and
         the final straight colour ``"demip_red"``, ``"demip_green"``,
         ``"demip_blue"`` (in [0, 1]; :func:`demip_picture` makes the 8-bit picture).
+        The ordered projections add ``"demip_alpha"``, the composite's opacity
+        (the picture is the straight colour times it: MIDA's ``"mip_value"``
+        and ``"demip_depth"`` are NaN).
         """
         if self.route != "demip":
             return {"mip_value": self.float_image()}
         values, depth, rgb = self.demip_image()
-        return {"mip_value": values.astype(np.float32), "demip_depth": depth, "demip_red": rgb[..., 0],
-                "demip_green": rgb[..., 1], "demip_blue": rgb[..., 2]}
+        out = {"mip_value": values.astype(np.float32), "demip_depth": depth, "demip_red": rgb[..., 0],
+               "demip_green": rgb[..., 1], "demip_blue": rgb[..., 2]}
+        if self._ordered_projection():
+            out["demip_alpha"] = self.last_rgba[..., 3].copy()
+        return out
 
     def depth_image(self) -> np.ndarray:
         """Collective (``"demip"`` route): the DEMIP depth per pixel (NaN: no term), as ``render_depth``."""

@@ -9,8 +9,13 @@ the method's readout tolerance (its ``reference_tolerance`` in the method
 table); against the whole volume as ONE rank's brick (the same rays), the
 float images are bit-identical (sampled and analytic MIP). DEMIP (every depth mode, sphere on/off) and two-pass DEMIP:
 pictures, maximum, depth against one process and against the float64
-reference. Plus a rank's texture budget, ghost layers, and a rank that dies
-or raises: the job ends with a message, not a hang.
+reference. DEMIP's ordered projections (LMIP, attenuated MIP, MIDA, with
+and without the slab; ranks one after another, front to back) in the slab
+run: pictures against one process, values and LMIP's depth against one
+process, the float64 reference and one rank, a zoomed view with rank 0's
+brick out of view. Plus a rank's texture budget, ghost layers, and a rank
+that dies, raises, or fails in its ordered turn: the job ends with a
+message, not a hang.
 """
 import json
 import os
