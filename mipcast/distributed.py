@@ -35,10 +35,18 @@ volume property's transfer functions.
   with :mod:`mipcast.core.demip_depth`, the maths of the float64 reference.
   A slab (``slab_thickness`` > 0) clips both phases of every rank to the
   same global slab, depth normalised over the box's part inside it.
-  Projection ``"mip"`` only (the others are refused with a message: they
-  need the bricks front to back, one rank after another; on one GPU beyond
-  its texture limit the mapper draws them so,
-  :mod:`mipcast.mappers.bricked_demip`).
+- DEMIP's ordered projections (``projection`` ``"lmip"``, ``"attenuated"``,
+  ``"mida"``, with or without the slab) depend on the order along the whole
+  ray: the ranks draw their bricks one after another, front to back, as the
+  render view's ranks do (:mod:`mipcast.mappers.rank_ordered`, through
+  :func:`mipcast.mappers.rank_composite.compose` in the renderer's
+  StartEvent, on a hidden DEMIP mapper of the brick), with
+  :meth:`DistributedView.reduce` (``comm.Allreduce``, float64) as the
+  reduction: at turn k the k-th brick's rank continues the scan from the
+  state so far and a SUM hands the new state to every rank.  LMIP's and
+  attenuated MIP's value and LMIP's depth come back as floats; MIDA gives
+  the picture only.  A rank failing in its turn makes every rank raise at
+  the same collective, with the reason.
 
 The method table's ``distributed`` entry names the route (:data:`ROUTES`);
 other methods are refused with a message. mpi4py provides the communicator
@@ -77,6 +85,7 @@ from mipcast.mappers.clip_uniforms import slab_of
 from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, first_match_index
 from mipcast.mappers.demip_composite import demip_composite, demip_picture  # noqa: F401  (demip_picture: public here)
 from mipcast.mappers.float_readout import read_normalised, texture_scale
+from mipcast.mappers.rank_ordered import ORDERED
 from mipcast.offscreen import OffscreenView, set_view
 
 Extent = Tuple[int, int, int, int, int, int]
@@ -265,7 +274,8 @@ class DistributedView:
         readers, RedistributeDataSet with ghost cells).
     method : str, default: "mip"
         A method whose table entry has a ``distributed`` route (:data:`ROUTES`):
-        ``mip``, ``analytic`` (``"max"``), ``demip``, ``demip_two_pass`` (``"demip"``).
+        ``mip``, ``analytic`` (``"max"``), ``demip``, ``demip_two_pass`` (``"demip"``,
+        every projection: LMIP, attenuated MIP and MIDA rank after rank, front to back).
     size, view, sample_distance
         As :class:`mipcast.offscreen.OffscreenView`, for the whole volume
         (the camera frames the whole volume; default sample distance: the
@@ -308,6 +318,7 @@ class DistributedView:
                              f"use one of {able}, or render the whole volume on one rank")
         #: The composite route (:data:`ROUTES`), from the method table's ``distributed``.
         self.route = entry.distributed
+        self._method_mapper = entry.factory()  # not drawn: it validates the settings as the method does
         self.comm = world_communicator() if comm is None else comm
         self.whole_extent = whole_extent(piece, self.comm)
         points = int(np.prod([piece.GetExtent()[2 * a + 1] - piece.GetExtent()[2 * a] + 1 for a in range(3)]))
@@ -339,6 +350,9 @@ class DistributedView:
         self._set_static_uniforms(self.local.volume)
         #: Phase 2 of the ``"demip"`` route (None for ``"max"``).
         self.depth_mapper = None
+        #: The DEMIP mapper of the ordered projections (``"demip"`` route, made when one is set).
+        self.ordered_mapper = None
+        self._piece = piece
         if self.route == "demip":
             self._make_depth_pass(piece, settings)
         elif settings:
@@ -394,18 +408,81 @@ class DistributedView:
         if self.depth_mapper is None:
             set_parameters(self.local.mapper, **settings)
             return
+        # the method's own mapper checks the settings first (two-pass DEMIP refuses the ordered projections)
+        set_parameters(self._method_mapper, **settings)
         set_parameters(self.depth_mapper, **settings)
         values = self.demip_parameters()
-        if values["projection"] != "mip":
-            raise ValueError(f"DistributedView's DEMIP composites projection 'mip' only, got {values['projection']!r} "
-                             "(LMIP, attenuated MIP and MIDA depend on the order along the whole ray): set "
-                             "projection='mip', show the volume with the mipcast representation in ParaView's "
-                             "render view on the same ranks (mpiexec -n N pvbatch / pvserver: it draws the "
-                             "pieces one rank after another, front to back, mipcast.mappers.rank_ordered), or "
-                             "render the whole volume on one rank")
         # phase 1 clips with the same slab (its default centre and normal follow the same camera)
         slab = {name: values[name] for name in ("slab_thickness", "slab_centre", "slab_normal")}
         set_parameters(self.local.mapper, **slab)
+        if values["projection"] in ORDERED or self.ordered_mapper is not None:
+            mapper = self._ordered_pass()
+            set_parameters(mapper, **values)
+
+    def _ordered_pass(self):
+        """The DEMIP mapper on this brick that :mod:`mipcast.mappers.rank_ordered` draws the ordered
+        projections from (hidden: rank_composite renders its private brick mappers in the StartEvent)."""
+        if self.ordered_mapper is None:
+            from mipcast.mappers.demip import DEMIPVolumeMapper
+
+            mapper = self.ordered_mapper = DEMIPVolumeMapper()
+            mapper.SetInputData(self._piece)
+            mapper.SetSampleDistance(self.local.sample_distance)
+            mapper.SetAutoAdjustSampleDistances(False)
+            mapper.SetUseJittering(False)
+            volume = self.ordered_volume = vtkVolume()
+            volume.SetProperty(self.local.volume.GetProperty())
+            mapper.Attach(volume)
+            volume.VisibilityOff()
+            self.local.renderer.AddVolume(volume)
+        return self.ordered_mapper
+
+    def reduce(self, array: np.ndarray, op: str) -> np.ndarray:
+        """``comm.Allreduce`` as the ``reduce(array, op)`` of :mod:`mipcast.mappers.rank_composite`:
+        float64, ``op`` ``"max"``, ``"min"`` or ``"sum"`` (the identity on :class:`OneRank`)."""
+        values = np.array(array, dtype=np.float64)  # a copy: nothing the caller passed is modified
+        if not isinstance(self.comm, OneRank):
+            from mpi4py import MPI
+
+            ops = {"max": MPI.MAX, "min": MPI.MIN, "sum": MPI.SUM}
+            self.comm.Allreduce(MPI.IN_PLACE, values, op=ops[op])
+        return values
+
+    def _ordered_frame(self) -> np.ndarray:
+        """Collective: LMIP / attenuated MIP / MIDA over the ranks, turn by turn front to back
+        (:func:`mipcast.mappers.rank_composite.compose`); the premultiplied RGBA, top row first."""
+        mapper, volume = self.ordered_mapper, self.ordered_volume
+        direction = self.stub.GetDirectionMatrix()
+        whole = (tuple(self.whole_extent), self.stub.GetOrigin(), self.stub.GetSpacing(),
+                 [direction.GetElement(i, j) for i in range(3) for j in range(3)])
+        out = {}
+
+        def start(renderer, event):
+            from mipcast.mappers import rank_composite
+
+            out["result"] = rank_composite.compose(mapper, volume, renderer, self._piece, whole, self.reduce,
+                                                   "demip", rank=(self.comm.rank, self.comm.size))
+
+        renderer = self.local.renderer
+        tag = renderer.AddObserver("StartEvent", start)
+        self.local.volume.VisibilityOff()
+        # vtkCamera.DeepCopy keeps the camera's old MTime, and VTK caches the camera's matrices on it: the
+        # private brick renders at the StartEvent (before VTK's own camera updates) would use the last view's
+        self.camera.Modified()
+        try:
+            self.local.render_window.Render()
+        finally:
+            renderer.RemoveObserver(tag)
+            self.local.volume.VisibilityOn()
+        if "result" not in out:
+            raise RuntimeError(f"rank {self.comm.rank}: the ordered DEMIP frame did not run (no renderer start)")
+        rgba, problem = out["result"]
+        if rgba is None:
+            # every rank gets here at the same collective (rank_ordered flags failures in its reductions)
+            raise RuntimeError(f"rank {self.comm.rank} of {self.comm.size}: DEMIP projection "
+                               f"{self.demip_parameters()['projection']!r} over the ranks failed: "
+                               f"{problem or 'no rank has data'}")
+        return np.asarray(rgba, dtype=np.float64)
 
     def demip_parameters(self) -> dict:
         """The DEMIP settings of the ``"demip"`` route (name -> value, from the phase-2 mapper)."""
@@ -458,6 +535,9 @@ class DistributedView:
         """
         if self.depth_mapper is None:
             raise ValueError(f"the {self.route!r} route has no same-material search")
+        if self._ordered_projection():
+            raise ValueError(f"projection {self.depth_mapper.GetProjection()!r} is composited turn by turn "
+                             "(demip_image); first_match is the MIN reduction of projection 'mip' only")
         if values is None:
             values = self.float_image()
         self.local.volume.VisibilityOff()
@@ -478,13 +558,41 @@ class DistributedView:
         the whole volume's box, the table's depth mode) and the final
         straight colour (Eq. 1, sphere, chromadepth where there is a term,
         the transfer functions' colour of the maximum elsewhere; 0 on misses).
+        The ordered projections, turn by turn over the ranks: LMIP's value
+        and depth, attenuated MIP's value (depth NaN: no DEMIP term), MIDA's
+        colour (value and depth NaN); :attr:`last_rgba` holds the
+        composite's premultiplied RGBA.
+        Raises RuntimeError (on every rank alike) where a rank failed in the
+        ordered composite.
+
+        Examples
+        --------
+        >>> from mipcast.data_fixtures import make_fixture
+        >>> view = DistributedView(make_fixture("vessels", size=16), "demip", size=(16, 16), comm=OneRank(),
+        ...                        projection="attenuated")
+        >>> values, depth, rgb = view.demip_image()
+        >>> bool(np.isfinite(values).any()), bool(np.isnan(depth).all()), rgb.shape
+        (True, True, (16, 16, 3))
         """
+        if self._ordered_projection():
+            rgba = self._ordered_frame()
+            floats = object_state(self.ordered_mapper).get("rank_ordered_floats", {})
+            nan = np.full(rgba.shape[:2], np.nan)
+            alpha = rgba[..., 3:]
+            self.last_rgba = rgba
+            straight = np.where(alpha > 0.0, rgba[..., :3] / np.where(alpha > 0.0, alpha, 1.0), 0.0)
+            return (np.asarray(floats.get("value", nan), dtype=np.float64),
+                    np.asarray(floats.get("depth", nan), dtype=np.float64), straight)
         values = self.float_image()
         index = self.first_match(values)
         depth, rgb = demip_composite(self.stub, self.camera, self.sample_distance, values, index,
                                      self.demip_parameters(), self.local.volume.GetProperty(),
                                      slab=slab_of(self.depth_mapper, self.camera))
         return values.astype(np.float64), depth, rgb
+
+    def _ordered_projection(self) -> bool:
+        """Whether this frame's DEMIP projection is an ordered one (LMIP, attenuated MIP, MIDA)."""
+        return self.depth_mapper is not None and self.depth_mapper.GetProjection() in ORDERED
 
     def images(self) -> dict:
         """Collective: the route's float images by name (top row first), for shipping to a client.
@@ -493,12 +601,18 @@ class DistributedView:
         the ``"demip"`` route adds ``"demip_depth"`` (NaN: no DEMIP term) and
         the final straight colour ``"demip_red"``, ``"demip_green"``,
         ``"demip_blue"`` (in [0, 1]; :func:`demip_picture` makes the 8-bit picture).
+        The ordered projections add ``"demip_alpha"``, the composite's opacity
+        (the picture is the straight colour times it: MIDA's ``"mip_value"``
+        and ``"demip_depth"`` are NaN).
         """
         if self.route != "demip":
             return {"mip_value": self.float_image()}
         values, depth, rgb = self.demip_image()
-        return {"mip_value": values.astype(np.float32), "demip_depth": depth, "demip_red": rgb[..., 0],
-                "demip_green": rgb[..., 1], "demip_blue": rgb[..., 2]}
+        out = {"mip_value": values.astype(np.float32), "demip_depth": depth, "demip_red": rgb[..., 0],
+               "demip_green": rgb[..., 1], "demip_blue": rgb[..., 2]}
+        if self._ordered_projection():
+            out["demip_alpha"] = self.last_rgba[..., 3].copy()
+        return out
 
     def depth_image(self) -> np.ndarray:
         """Collective (``"demip"`` route): the DEMIP depth per pixel (NaN: no term), as ``render_depth``."""
@@ -508,6 +622,8 @@ class DistributedView:
         """Collective: the picture (uint8 RGB, top row first): the reduced float image coloured."""
         if self.route == "demip":
             values, _, rgb = self.demip_image()
+            if self._ordered_projection():  # the composite's premultiplied colour (MIDA has no single value)
+                return np.clip(np.rint(self.last_rgba[..., :3] * 255.0), 0, 255).astype(np.uint8)
             return demip_picture(values, rgb, self.local.volume.GetProperty())
         return colour(self.float_image(), self.local.volume.GetProperty())
 

@@ -29,6 +29,7 @@ import json
 import os
 import signal
 import sys
+import time
 
 import numpy as np
 
@@ -43,6 +44,8 @@ from mipcast.offscreen import OffscreenView
 from mipcast.reference.demip import render_demip
 from mipcast.core.clipping import slab_planes
 from mipcast.mappers.clip_uniforms import slab_of
+from mipcast.mappers.brick_rays import box_in_view
+from vtkmodules.vtkRenderingCore import vtkCamera
 
 AXES = {"x": 0, "y": 1, "z": 2, "d3": None}
 
@@ -125,7 +128,7 @@ def demip_cases(args, comm, image, window, span, axis, axis_number, extents, met
     else:
         cases = [(modes[axis_number % len(modes)], spheres[axis_number % len(spheres)])]
     for mode, sphere in cases:
-        case_settings = dict(settings, depth_mode=mode, sphere_weight=sphere)
+        case_settings = dict({"projection": "mip"}, **settings, depth_mode=mode, sphere_weight=sphere)
         view.set_parameters(**case_settings)
         values, depth, straight = view.demip_image()
         wins = _wins(comm, view, values)
@@ -176,6 +179,124 @@ def demip_cases(args, comm, image, window, span, axis, axis_number, extents, met
             save_png(args, f"{method}-{mode}-s{sphere:g}-single", single_rgb, single_float)
 
 
+def ordered_cases(args, comm, image, window, span, axis, extents, method, view, settings, keep, results):
+    """DEMIP's ordered projections (``--projections``) on this split, turn by turn over the ranks (collective).
+
+    One case per projection with ``settings`` (the first depth mode and sphere weight) and, where
+    ``settings`` has a slab, one without it: the picture against the single process's and (MIDA) the
+    float64 reference's composite; LMIP's and attenuated MIP's value and LMIP's depth against the single
+    process's readouts and the float64 reference, and against the whole volume as one rank's brick.
+    """
+    variants = [(dict(settings), False)]
+    if settings.get("slab_thickness", 0.0) > 0:
+        variants.append((dict(settings, slab_thickness=0.0), False))
+    ordered = [p for p in args.projections.split(",") if p and p != "mip"]
+    cases = [(projection, variant, False) for projection in ordered for variant, _ in variants]
+    if args.zoomed and ordered and AXES[axis] is not None:
+        cases.append((ordered[0], variants[-1][0], True))
+    saved = vtkCamera()
+    saved.DeepCopy(view.camera)
+    for projection, variant, zoomed in cases:
+        view.camera.DeepCopy(saved)
+        if zoomed:  # a parallel view of the high end of the split axis: the first bricks are out of view
+            bounds = image.GetBounds()
+            split, across = AXES[axis], (AXES[axis] + 1) % 3
+            focal = [0.5 * (bounds[2 * a] + bounds[2 * a + 1]) for a in range(3)]
+            focal[split] = bounds[2 * split + 1] - 4.0
+            position = list(focal)
+            position[across] += 200.0
+            up = [0.0, 0.0, 0.0]
+            up[3 - split - across] = 1.0
+            view.camera.SetFocalPoint(focal)
+            view.camera.SetPosition(position)
+            view.camera.SetViewUp(up)
+            view.camera.SetParallelProjection(True)
+            view.camera.SetParallelScale(12.0)
+            view.camera.SetClippingRange(1.0, 1000.0)
+        case_settings = dict(variant, projection=projection, depth_mode=args.demip_modes.split(",")[0],
+                             sphere_weight=float(args.spheres.split(",")[0]))
+        if args.fail_turn_rank == comm.rank:
+            from mipcast.mappers import rank_ordered
+
+            def failing(*_, **__):
+                raise RuntimeError("rank asked to fail in its turn (--fail-turn-rank)")
+
+            rank_ordered._draw_turn = failing
+        view.set_parameters(**case_settings)
+        started = time.perf_counter()
+        values, depth, _ = view.demip_image()
+        seconds = time.perf_counter() - started
+        in_view = np.zeros(comm.size)
+        in_view[comm.rank] = float(box_in_view(view.ordered_volume, view.local.renderer, values.shape))
+        if comm.size > 1:
+            from mpi4py import MPI
+
+            comm.Allreduce(MPI.IN_PLACE, in_view, op=MPI.SUM)
+        rgb = np.clip(np.rint(view.last_rgba[..., :3] * 255.0), 0, 255).astype(np.uint8)
+        if comm.rank != 0:
+            continue
+        single = _SINGLE.get(method)
+        if single is None:
+            single = _SINGLE[method] = OffscreenView(image, method, size=tuple(args.image), window=window)
+            keep.append(single)
+        set_parameters(single.mapper, **case_settings)
+        single.camera.DeepCopy(view.camera)
+        single_rgb = single.screenshot()
+        extra = {}
+        if case_settings.get("slab_thickness", 0.0) > 0:
+            slab = slab_of(view.depth_mapper, view.camera)
+            extra = {"slab": slab, "clip_planes": slab_planes(*slab)}
+
+        def reference(output):
+            return render_demip(image, view.camera, tuple(args.image), sample_distance=view.sample_distance,
+                                window=window, output=output, **case_settings, **extra)
+
+        grey = np.abs(rgb.astype(int) - single_rgb.astype(int)).max(axis=2)
+        case = {"axis": axis, "method": method, "projection": projection, "zoomed": zoomed,
+                "bricks_in_view": in_view.tolist(),
+                "slab_thickness": case_settings.get("slab_thickness", 0.0),
+                "depth_mode": case_settings["depth_mode"], "bricks": [list(e) for e in extents],
+                "seconds": seconds, "within_1_grey": float((grey <= 1).mean()), "max_grey_off": int(grey.max()),
+                "lit": float((single_rgb.max(axis=2) > 8).mean())}
+        if projection == "mida":
+            composite = np.rint(255.0 * reference("rgb"))
+            hit = np.isfinite(composite).all(axis=-1)
+            case["reference_hits"] = float(hit.mean())
+            case["reference_within_1_grey"] = float(
+                (np.abs(rgb[hit].astype(int) - composite[hit]).max(axis=-1) <= 1).mean()) if hit.any() else 0.0
+        else:
+            single_float = single.float_image()
+            single_depth = render_depth(single.render_window, single.mapper)
+            expected, expected_depth = reference("value"), reference("depth")
+            one = one_rank(method, image, args, window, view)
+            one.set_parameters(**case_settings)
+            one_values, one_depth, _ = one.demip_image()
+            for name, other in (("", single_float), ("reference_", expected), ("one_rank_", one_values)):
+                both = np.isfinite(values) & np.isfinite(other)
+                diff = np.abs(values[both] - other[both])
+                case[name + "misses_agree"] = float(np.mean(np.isnan(values) == np.isnan(other)))
+                case[name + "float_max_error"] = float(diff.max() / span) if diff.size else 0.0
+            for name, other in (("", single_depth), ("reference_", expected_depth), ("one_rank_", one_depth)):
+                both = np.isfinite(depth) & np.isfinite(other)
+                case[name + "term_agree"] = float(np.mean(np.isnan(depth) == np.isnan(other)))
+                case[name + "depth_within_1e-5"] = float((np.abs(depth[both] - other[both]) <= 1e-5).mean()) \
+                    if both.any() else 1.0
+            case["depth_terms"] = float(np.isfinite(depth).mean())
+            mip = render_demip(image, view.camera, tuple(args.image),
+                                               sample_distance=view.sample_distance, window=window,
+                                               output="value", **dict(case_settings, projection="mip"), **extra)
+            known = np.isfinite(values) & np.isfinite(mip)
+            case["differs_from_mip"] = float((np.abs(values[known] - mip[known]) > 1e-3 * span).mean()) \
+                if known.any() else 0.0
+        results["cases"].append(case)
+        print(json.dumps(case), flush=True) if os.environ.get("MIPCAST_CHECK_VERBOSE") else None
+        if args.png:
+            tag = f"{method}-{projection}-slab{case['slab_thickness']:g}{'-zoomed' if zoomed else ''}"
+            save_png(args, f"{tag}-{axis}-n{comm.size}", rgb, values)
+            save_png(args, f"{tag}-single", single_rgb, values)
+    view.camera.DeepCopy(saved)
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--out", required=True)
@@ -190,6 +311,13 @@ def main(argv=None):
     parser.add_argument("--sweep", default="demip",
                         help="'demip'-route methods that run every mode x sphere on every split; the others "
                              "run one case per split (split j: mode j, sphere j, cycling)")
+    parser.add_argument("--projections", default="mip",
+                        help="DEMIP projections: 'mip' (the depth mode x sphere cases) and / or the ordered ones "
+                             "(lmip, attenuated, mida: one case per split, with and without the slab)")
+    parser.add_argument("--zoomed", action="store_true",
+                        help="one more ordered case: a parallel view of the split axis's high end (bricks out of view)")
+    parser.add_argument("--fail-turn-rank", type=int, default=None,
+                        help="this rank raises in its ordered turn: every rank must end with a message")
     parser.add_argument("--ghost", type=int, default=0)
     parser.add_argument("--max-voxels", type=int, default=None)
     parser.add_argument("--die-rank", type=int, default=None)
@@ -221,8 +349,11 @@ def main(argv=None):
                     frame += 1
                     if args.raise_rank == comm.rank and frame == 1:
                         raise RuntimeError("rank asked to fail (--raise-rank)")
-                    demip_cases(args, comm, image, window, span, axis, axis_number, extents, method, view,
-                                settings, keep, results)
+                    if "mip" in args.projections.split(","):
+                        demip_cases(args, comm, image, window, span, axis, axis_number, extents, method, view,
+                                    settings, keep, results)
+                    ordered_cases(args, comm, image, window, span, axis, extents, method, view, settings, keep,
+                                  results)
                     continue
                 values = view.float_image()
                 wins = _wins(comm, view, values)

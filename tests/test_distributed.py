@@ -9,8 +9,13 @@ the method's readout tolerance (its ``reference_tolerance`` in the method
 table); against the whole volume as ONE rank's brick (the same rays), the
 float images are bit-identical (sampled and analytic MIP). DEMIP (every depth mode, sphere on/off) and two-pass DEMIP:
 pictures, maximum, depth against one process and against the float64
-reference. Plus a rank's texture budget, ghost layers, and a rank that dies
-or raises: the job ends with a message, not a hang.
+reference. DEMIP's ordered projections (LMIP, attenuated MIP, MIDA, with
+and without the slab; ranks one after another, front to back) in the slab
+run: pictures against one process, values and LMIP's depth against one
+process, the float64 reference and one rank, a zoomed view with rank 0's
+brick out of view. Plus a rank's texture budget, ghost layers, and a rank
+that dies, raises, or fails in its ordered turn: the job ends with a
+message, not a hang.
 """
 import json
 import os
@@ -114,11 +119,20 @@ def test_demip_composites_exactly(display, ranks):
 
 
 def test_demip_slab_composites_exactly(display):
-    """DEMIP with a tilted slab, 2 ranks split along z: both phases clip to the same global slab."""
+    """DEMIP with a tilted slab, 2 ranks split along z: both phases clip to the same global slab.
+
+    The same run composites DEMIP's ordered projections (LMIP, attenuated MIP, MIDA) with and without the
+    slab, turn by turn front to back (mipcast.mappers.rank_ordered over mpi4py's Allreduce), and LMIP once
+    more zoomed onto the high-z end, rank 0's brick out of view.
+    """
     done, results = run_check(display, 2, "--axes", "z", "--methods", "demip", "--demip-modes",
                               "steps,eye_distance", "--spheres", "0", "--set", "demip:slab_thickness=14",
-                              "--set", "demip:slab_normal=[0.3, 0.2, 1.0]")
+                              "--set", "demip:slab_normal=[0.3, 0.2, 1.0]", "--set", "demip:local_threshold=0.15",
+                              "--projections", "mip,lmip,attenuated,mida", "--zoomed")
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    ordered = [case for case in results["cases"] if "projection" in case]
+    check_ordered(ordered)
+    results["cases"] = [case for case in results["cases"] if "projection" not in case]
     for case in results["cases"]:
         label = f"{case['depth_mode']}: {case}"
         assert case["lit"] > 0.15 and case["within_1_grey"] >= 0.999, label
@@ -129,6 +143,29 @@ def test_demip_slab_composites_exactly(display):
     assert {case["depth_mode"] for case in results["cases"]} == {"steps", "eye_distance"}
 
 
+def check_ordered(cases):
+    """LMIP, attenuated MIP and MIDA over the ranks against one process, the float64 reference, one rank."""
+    seen = {(case["projection"], case["slab_thickness"] > 0, case["zoomed"]) for case in cases}
+    assert seen == {(p, s, False) for p in ("lmip", "attenuated", "mida") for s in (False, True)} | {
+        ("lmip", False, True)}, seen
+    for case in cases:
+        # zoomed onto the high end: rank 0's brick is out of view (it takes part with zeros, no hang)
+        assert case["bricks_in_view"] == ([0.0, 1.0] if case["zoomed"] else [1.0, 1.0]), case
+        label = f"{case['projection']} slab {case['slab_thickness']}: {case}"
+        assert case["lit"] > 0.15 and case["within_1_grey"] >= 0.999, label  # the single process's picture
+        if case["projection"] == "mida":  # the float64 reference's composite (opaque grey ramp)
+            assert case["reference_hits"] > 0.15 and case["reference_within_1_grey"] >= 0.999, label
+            continue
+        tolerance = methods.METHODS["demip"].reference_tolerance
+        for name in ("", "reference_", "one_rank_"):
+            assert case[name + "misses_agree"] >= 0.999 and case[name + "float_max_error"] <= tolerance, label
+            assert case[name + "term_agree"] >= 0.999 and case[name + "depth_within_1e-5"] >= 0.999, label
+        if case["projection"] == "lmip":
+            assert case["depth_terms"] > 0.15 and (case["zoomed"] or case["differs_from_mip"] > 0.005), label
+        else:  # attenuated MIP: no DEMIP term, a different picture from MIP's on most rays
+            assert case["depth_terms"] == 0.0 and case["differs_from_mip"] > 0.3, label
+
+
 def test_methods_without_a_route_are_refused():
     from mipcast.data_fixtures import make_fixture
     from mipcast.distributed import ROUTES, DistributedView
@@ -137,8 +174,11 @@ def test_methods_without_a_route_are_refused():
     image = make_fixture("vessels", size=16)
     with pytest.raises(ValueError, match="no exact distributed composite"):
         DistributedView(image, "foveated", size=(16, 16))
-    with pytest.raises(ValueError, match="projection 'mip' only"):
-        DistributedView(image, "demip", size=(16, 16), projection="lmip")
+    view = DistributedView(image, "demip", size=(16, 16), projection="lmip")  # composited turn by turn
+    with pytest.raises(ValueError, match="composited turn by turn"):
+        view.first_match()
+    with pytest.raises(ValueError, match="not available in two passes"):  # as the method's own mapper
+        DistributedView(image, "demip_two_pass", size=(16, 16), projection="mida")
 
 
 def test_ghost_layers_and_texture_budget(display):
@@ -154,13 +194,18 @@ def test_ghost_layers_and_texture_budget(display):
     assert "over this rank's texture budget" in done.stderr + done.stdout
 
 
-@pytest.mark.parametrize("how", ["--die-rank", "--raise-rank"])
+@pytest.mark.parametrize("how", ["--die-rank", "--raise-rank", "--fail-turn-rank"])
 def test_a_failing_rank_ends_the_job(display, how):
-    done, results = run_check(display, 2, "--axes", "z", "--methods", "mip,analytic", how, "1", timeout=90)
+    """A rank killed, raising, or failing in its ordered DEMIP turn (LMIP): every rank ends, with a message."""
+    args = ("--methods", "demip", "--projections", "lmip") if how == "--fail-turn-rank" else ("--methods", "mip,analytic")
+    done, results = run_check(display, 2, "--axes", "z", *args, how, "1", timeout=90)
     text = done.stdout + done.stderr
     assert done.returncode != 0 and results is None, text[-3000:]
     if how == "--raise-rank":
         assert "mipcast.distributed: rank 1 of 2 failed" in text, text[-3000:]
+    elif how == "--fail-turn-rank":  # both ranks give up at the same collective, each says why
+        assert "over the ranks failed" in text, text[-3000:]
+        assert "rank asked to fail in its turn" in text or "a rank failed to order or draw" in text, text[-3000:]
     else:
         assert "rank 1" in text and "signal 9" in text, text[-3000:]
 

@@ -226,6 +226,7 @@ def demip(mapper, volume, renderer, entries, whole_image, camera, shape, reduce,
 
 def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera, shape, reduce, data_range,
              problem, rank):
+    from mipcast.core.object_state import object_state
     from mipcast.mappers import clip_uniforms
     from mipcast.mappers.brick_rays import ray_uniforms
     from mipcast.mappers.bricked_demip import follow_demip_brick
@@ -318,6 +319,7 @@ def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera,
     if mapper is None or whole_image is None:
         return None, None  # a rank without data: it took part, it draws nothing
     if projection == "mida":
+        object_state(mapper)["rank_ordered_floats"] = {}
         rgba = np.zeros(shape + (4,), dtype=np.float32)
         rgba[..., 0], rgba[..., 1], rgba[..., 2] = (np.clip(state[c], 0.0, 1.0) for c in ("red", "green", "blue"))
         rgba[..., 3] = np.clip(state["opacity"], 0.0, 1.0)
@@ -326,6 +328,8 @@ def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera,
         best = np.where(state["best"] <= 0.5 * _LOW, np.nan, state["best"])
         values = attenuated_value(best, volume.GetProperty(), data_range).astype(np.float32).astype(np.float64)
     params = {p.name: getattr(mapper, p.getter)() for p in DEMIP}
-    _, rgb = demip_composite(whole_image, camera, mapper.GetSampleDistance(), values, found, params,
-                             volume.GetProperty(), slab=clip_uniforms.slab_of(mapper, camera))
+    depth, rgb = demip_composite(whole_image, camera, mapper.GetSampleDistance(), values, found, params,
+                                 volume.GetProperty(), slab=clip_uniforms.slab_of(mapper, camera))
+    # the frame's floats, for callers that offer them (mipcast.distributed.DistributedView)
+    object_state(mapper)["rank_ordered_floats"] = {"value": values, "depth": depth}
     return demip_premultiplied(values, rgb, volume.GetProperty()), None
