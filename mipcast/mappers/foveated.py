@@ -583,12 +583,6 @@ def _draw(mapper, state, volume, renderer) -> None:
         # fills it), when every pixel the box leaves out is one the cast range discards anyway
         band_in_view = band and foveation.band_reaches_view(silhouette, plan.aspect)
         scissor = layer.scissor if not readout and not band_in_view else None
-        if kind == "coarse" and layer.image_sample_distance != 1.0:
-            # no scissor for a reduced GPU-masked level: it draws into VTK's own smaller
-            # framebuffer, which the window-pixel box would clip (and clear) only in part, leaving
-            # earlier frames' rays in it. (The CPU mask path's glReadPixels turned the scissor
-            # test off for every finer level; the full-resolution level keeps it here.)
-            scissor = None
         if scissor is not None:
             gl_state.vtkglScissor(*scissor)
         mask_texture = None
