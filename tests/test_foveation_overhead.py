@@ -43,3 +43,31 @@ def test_a_filled_view_keeps_level_0_in_its_box_and_gpu_masks_use_the_refine_pas
     assert not foveation.band_reaches_view(frame["silhouette"], frame["plan"].aspect)
     assert state.get("refine_passes", 0) >= 1
     view.render_window.Finalize()
+
+
+def test_reduced_gpu_masked_levels_in_their_box_keep_no_rays_of_earlier_frames():
+    """The GPU-masked reduced levels draw in the plan's scissor box (VTK clears its reduced buffer under
+    that box only): after the gaze moves, the picture equals a fresh view's at the new gaze."""
+    image = make_fixture("vessels", size=32)
+    settings = (("Method", "mip"), ("ContentTolerance", 2.0))
+
+    def view_at(gaze):
+        view = framed_view(image, "foveated", 96, "fill", (0.25, 1.0))
+        apply_settings(view.mapper, settings + (("GazePoint", gaze),))
+        return view
+
+    moving = view_at((0.85, 0.85))
+    moving.screenshot()
+    for gaze in ((0.15, 0.2), (0.8, 0.25), (0.5, 0.5)):
+        moving.mapper.SetGazePoint(*gaze)
+        picture = moving.screenshot()
+        fresh = view_at(gaze)
+        assert np.array_equal(picture, fresh.screenshot()), gaze
+        assert picture.max() > 100, "something drawn"
+        frame = object_state(moving.mapper)["frame"]
+        boxed = [layer for layer in frame["plan"].layers[1:]
+                 if layer.image_sample_distance != 1.0 and layer.scissor is not None]
+        assert boxed, "a reduced GPU-masked level drawn in a scissor box"
+        fresh.render_window.Finalize()
+    assert object_state(moving.mapper).get("refine_passes", 0) >= 1
+    moving.render_window.Finalize()

@@ -595,12 +595,6 @@ def _draw(mapper, state, volume, renderer) -> None:
                    if kind is None and not readout and values_texture is None else None)
         if margins is not None:
             scissor = None
-        if kind == "coarse" and layer.image_sample_distance != 1.0:
-            # no scissor for a reduced GPU-masked level: it draws into VTK's own smaller
-            # framebuffer, which the window-pixel box would clip (and clear) only in part, leaving
-            # earlier frames' rays in it. (The CPU mask path's glReadPixels turned the scissor
-            # test off for every finer level; the full-resolution level keeps it here.)
-            scissor = None
         if scissor is not None:
             gl_state.vtkglScissor(*scissor)
         mask_texture = None

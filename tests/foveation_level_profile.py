@@ -1,0 +1,106 @@
+"""Where a foveated frame's time goes, level by level, and what a coarse ray costs on its own.
+
+``levels``: each level's draw timed alone (``glFinish`` before and after, process CPU time, which
+the other engineers' load disturbs less than wall time), full quality, acuity-only and
+content-adaptive (2 grey) foveation, 1024² fill, at a gaze point.  ``spacing``: full-quality MIP in
+a 1024² and a 256² window at 0.5, 1 and 2 times the base sample distance (the slope is the cost
+of the samples, the rest the cost per ray), and an empty window.  Medians of interleaved frames
+after a warm-up frame, auto-adjust off.
+
+Usage: python tests/foveation_level_profile.py levels [SCENE] [GAZE_X GAZE_Y]
+       python tests/foveation_level_profile.py spacing [SCENE]
+(prints JSON; figures in docs/foveation.md, "The coarsest level's cost").
+"""
+import json
+import statistics
+import sys
+import time
+
+from vtkmodules.vtkRenderingCore import vtkVolume
+
+import mipcast.mappers.foveated as foveated
+from mipcast.app.cli import _load_scene
+from mipcast.bench.foveation_bench import framed_view
+
+
+def _timed(view) -> float:
+    window = view.render_window
+    window.WaitForCompletion()
+    start = time.process_time()
+    window.Render()
+    window.WaitForCompletion()
+    return time.process_time() - start
+
+
+def levels(scene: str, gaze, rounds: int = 4) -> dict:
+    """ms a frame and per level draw (keyed by the level's image sample distance)."""
+    draws, current = {}, [None]
+
+    class TimedVolume(vtkVolume):  # the level volumes: their RenderVolumetricGeometry timed alone
+        def RenderVolumetricGeometry(self, renderer):
+            window = renderer.GetRenderWindow()
+            window.WaitForCompletion()
+            start = time.process_time()
+            result = vtkVolume.RenderVolumetricGeometry(self, renderer)
+            window.WaitForCompletion()
+            if current[0] is not None:
+                key = f"isd {getattr(self, 'isd', '?')}"
+                draws.setdefault(current[0], {}).setdefault(key, []).append(time.process_time() - start)
+            return result
+
+    copy_settings = foveated._copy_settings
+
+    def noting_isd(mapper, volume, level_mapper, level_volume, matrix, distance, isd):
+        level_volume.isd = isd
+        return copy_settings(mapper, volume, level_mapper, level_volume, matrix, distance, isd)
+
+    foveated.vtkVolume, foveated._copy_settings = TimedVolume, noting_isd
+    image, window = _load_scene(scene, 128)
+    views = {}
+    for name in ("full", "acuity", "content-adaptive"):
+        view = framed_view(image, "mip" if name == "full" else "foveated", 1024, "fill", window)
+        if name != "full":
+            view.mapper.SetGazePoint(*gaze)
+        if name == "content-adaptive":
+            view.mapper.SetContentTolerance(2.0)
+        views[name] = view
+    frames = {name: [] for name in views}
+    for index in range(rounds):
+        for name, view in views.items():
+            current[0] = name if index else None
+            frames[name].append(_timed(view))
+    ms = lambda values: round(1000 * statistics.median(values), 1)  # noqa: E731
+    return {"scene": scene, "gaze": list(gaze),
+            "frame_ms": {name: ms(values[1:]) for name, values in frames.items()},
+            "level_ms": {name: {key: ms(values) for key, values in found.items()} for name, found in draws.items()}}
+
+
+def spacing(scene: str, rounds: int = 5) -> dict:
+    """Full-quality MIP in 1024² and 256² windows at three sample distances, and empty windows."""
+    image, window = _load_scene(scene, 128)
+    views = {}
+    for size in (256, 1024):
+        for factor in (0.5, 1.0, 2.0):
+            view = framed_view(image, "mip", size, "fill", window)
+            view.mapper.SetAutoAdjustSampleDistances(False)
+            view.mapper.SetSampleDistance(factor * view.mapper.GetSampleDistance())
+            views[f"{size}² x{factor}"] = view
+        view = framed_view(image, "mip", size, "fill", window)
+        view.volume.VisibilityOff()
+        views[f"{size}² empty"] = view
+    frames = {name: [] for name in views}
+    for _ in range(rounds):
+        for name, view in views.items():
+            frames[name].append(_timed(view))
+    return {"scene": scene, "ms": {name: round(1000 * statistics.median(values[1:]), 1)
+                                   for name, values in frames.items()}}
+
+
+if __name__ == "__main__":
+    mode = sys.argv[1] if len(sys.argv) > 1 else "levels"
+    scene_name = sys.argv[2] if len(sys.argv) > 2 else "vessels@0.25,1"
+    if mode == "levels":
+        point = (float(sys.argv[3]), float(sys.argv[4])) if len(sys.argv) > 4 else (0.5, 0.5)
+        print(json.dumps(levels(scene_name, point), indent=1))
+    else:
+        print(json.dumps(spacing(scene_name), indent=1))
