@@ -365,14 +365,7 @@ class DistributedView:
     def _make_depth_pass(self, piece, settings) -> None:
         """The ``"demip"`` route's phase-2 mapper: DEMIP's settings, this brick, the whole volume's samples."""
         mapper = self.depth_mapper = DEMIPBrickDepthMapper()
-        mapper.SetInputData(piece)
-        mapper.SetSampleDistance(self.local.sample_distance)
-        mapper.SetUseJittering(False)
-        volume = self.depth_volume = vtkVolume()
-        volume.SetProperty(self.local.volume.GetProperty())
-        mapper.Attach(volume)
-        volume.VisibilityOff()
-        self.local.renderer.AddVolume(volume)
+        volume = self.depth_volume = self._hidden_volume(mapper, piece)
         self.set_parameters(**settings)
         _set_global_box(mapper, volume, self._global_box)
         self._set_static_uniforms(volume)
@@ -426,16 +419,21 @@ class DistributedView:
             from mipcast.mappers.demip import DEMIPVolumeMapper
 
             mapper = self.ordered_mapper = DEMIPVolumeMapper()
-            mapper.SetInputData(self._piece)
-            mapper.SetSampleDistance(self.local.sample_distance)
             mapper.SetAutoAdjustSampleDistances(False)
-            mapper.SetUseJittering(False)
-            volume = self.ordered_volume = vtkVolume()
-            volume.SetProperty(self.local.volume.GetProperty())
-            mapper.Attach(volume)
-            volume.VisibilityOff()
-            self.local.renderer.AddVolume(volume)
+            self.ordered_volume = self._hidden_volume(mapper, self._piece)
         return self.ordered_mapper
+
+    def _hidden_volume(self, mapper, piece) -> vtkVolume:
+        """A hidden volume of this brick in the renderer, drawn by ``mapper`` at the view's sample distance."""
+        mapper.SetInputData(piece)
+        mapper.SetSampleDistance(self.local.sample_distance)
+        mapper.SetUseJittering(False)
+        volume = vtkVolume()
+        volume.SetProperty(self.local.volume.GetProperty())
+        mapper.Attach(volume)
+        volume.VisibilityOff()
+        self.local.renderer.AddVolume(volume)
+        return volume
 
     def reduce(self, array: np.ndarray, op: str) -> np.ndarray:
         """``comm.Allreduce`` as the ``reduce(array, op)`` of :mod:`mipcast.mappers.rank_composite`:

@@ -53,7 +53,9 @@ def main():
                 try:
                     reader = OpenDataFile(path)
                     reader.PointArrayStatus = [check.ARRAY]
-                    view = check.plain_view()
+                    # the screenshot's size: no tiles (a tiled foveated frame beyond the texture limit keeps
+                    # each tile's own coarse levels, with seams: plugin/README.md, Limits)
+                    view = check.plain_view((check.WIDTH, check.HEIGHT))
                     with check.Messages() as captured:
                         if route == "representation":
                             check.show_mipcast(reader, view, method)
