@@ -66,8 +66,8 @@ from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms, float_readout
 from mipcast.mappers.brick_rays import box_in_view, brick_entry, cached_bricks, push_rays
 from mipcast.mappers.box_outline import box_corners, outline_ndc, outline_quads
-from mipcast.mappers.private_draw import (GL_BLEND, GL_DEPTH_TEST, GL_ONE, GL_ONE_MINUS_SRC_ALPHA,
-                                          auto_sample_distance, follow_volume, pixel_texture, rendering_renderer)
+from mipcast.mappers.private_draw import (auto_sample_distance, draw_over, follow_volume, kept_texture,
+                                          rendering_renderer)
 
 def _weighted_mean(values: list, weights: list) -> np.ndarray:
     """The bricks' means weighted by what each counted (NaN where none had a value).
@@ -517,31 +517,15 @@ def _draw_picture(state, renderer, volume, values, rgba=None, grey: bool = False
         rgba[hit, 3] = 1.0
     rgba = colour(values, volume.GetProperty()) if rgba is None else rgba
     height, width = values.shape
-    texture = state.get("brick_texture")  # kept: its copy program compiles once
-    if texture is None or texture.GetContext() is not window:
-        texture = pixel_texture(window)
-        state["brick_texture"] = texture
+    texture = kept_texture(state, "brick_texture", window)
     data = np.ascontiguousarray(rgba[::-1], dtype=np.float32)  # bottom row first
     texture.Create2DFromRaw(width, height, 4, VTK_FLOAT, data)
     width_, height_, x0, y0 = [0], [0], [0], [0]
     renderer.GetTiledSizeAndOrigin(width_, height_, x0, y0)
-    gl = window.GetState()
-    gl.Push()
-    try:
-        gl.vtkglViewport(x0[0], y0[0], width, height)
-        gl.vtkglScissor(x0[0], y0[0], width, height)
-        gl.vtkglEnable(GL_BLEND)
-        gl.vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA)
-        gl.vtkglDisable(GL_DEPTH_TEST)
-        gl.vtkglDepthMask(False)
-        polygon = outline_ndc(box_corners(image, volume), renderer) \
-            if image is not None and window.GetMultiSamples() > 1 else None
-        if polygon is None:
-            texture.CopyToFrameBuffer(None, None)  # the whole viewport
-        else:  # through the whole box's outline: its silhouette pixels get the box's MSAA coverage
-            for quad in outline_quads(polygon):
-                verts = [c for x, y in quad for c in (x, y, 0.0)]
-                tcoords = [c for x, y in quad for c in (0.5 * (x + 1.0), 0.5 * (y + 1.0))]
-                texture.CopyToFrameBuffer(tcoords, verts, None, None)
-    finally:
-        gl.Pop()
+    polygon = outline_ndc(box_corners(image, volume), renderer) \
+        if image is not None and window.GetMultiSamples() > 1 else None
+    quads = None  # the whole viewport; else through the whole box's outline (its MSAA coverage)
+    if polygon is not None:
+        quads = [([c for x, y in quad for c in (0.5 * (x + 1.0), 0.5 * (y + 1.0))],
+                  [c for x, y in quad for c in (x, y, 0.0)]) for quad in outline_quads(polygon)]
+    draw_over(window, texture, (x0[0], y0[0], width, height), quads)

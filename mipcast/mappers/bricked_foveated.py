@@ -63,7 +63,7 @@ from vtkmodules.vtkRenderingCore import vtkVolume
 from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
 from mipcast.mappers import bricked_draw, float_readout
-from mipcast.mappers.private_draw import pixel_texture
+from mipcast.mappers.private_draw import kept_texture
 
 #: The hook piece of a level drawn from composited values (a DEMIP level's colours too).
 HOOKS = "foveated_brick_hooks"
@@ -243,10 +243,7 @@ def level_texture(state, renderer, level: int, data: np.ndarray, kind: str):
     """
     textures = state.setdefault(f"{kind}_textures", {})
     window = renderer.GetRenderWindow()
-    texture = textures.get(level)
-    if texture is None or texture.GetContext() is not window:
-        texture = pixel_texture(window)
-        textures[level] = texture
+    texture = kept_texture(textures, level, window)
     data = np.ascontiguousarray(np.nan_to_num(data)[::-1], dtype=np.float32)  # bottom row first
     rows, columns = data.shape[:2]
     texture.Create2DFromRaw(columns, rows, data.shape[2] if data.ndim == 3 else 1, VTK_FLOAT, data)

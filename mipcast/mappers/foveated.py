@@ -26,7 +26,8 @@ from mipcast.mappers.corner_packing import CornerPacker
 from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms
-from mipcast.mappers.private_draw import auto_sample_distance, follow_volume, pixel_texture, rendering_renderer
+from mipcast.mappers.private_draw import (auto_sample_distance, follow_volume, kept_texture, pixel_texture,
+                                          rendering_renderer)
 from mipcast.core.ray_cost import grid_cost
 
 #: Stand-in for an unbounded eccentricity in the shader's uniforms.
@@ -1042,10 +1043,7 @@ def _mask_texture(state, renderer, level, mask):
     """A level's refinement mask as a nearest-filtered 2D texture (bottom row first)."""
     textures = state.setdefault("mask_textures", {})
     window = renderer.GetRenderWindow()
-    texture = textures.get(level)
-    if texture is None or texture.GetContext() is not window:
-        texture = pixel_texture(window)
-        textures[level] = texture
+    texture = kept_texture(textures, level, window)
     data = np.ascontiguousarray(mask[::-1], dtype=np.uint8) * np.uint8(255)
     rows, columns = data.shape
     texture.Create2DFromRaw(columns, rows, 1, VTK_UNSIGNED_CHAR, data)

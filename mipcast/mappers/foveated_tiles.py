@@ -31,8 +31,7 @@ import numpy as np
 from vtkmodules.vtkCommonCore import VTK_FLOAT
 
 from mipcast.core.object_state import object_state
-from mipcast.mappers.private_draw import (GL_BLEND, GL_DEPTH_TEST, GL_ONE, GL_ONE_MINUS_SRC_ALPHA,
-                                          GL_SCISSOR_TEST, pixel_texture)
+from mipcast.mappers.private_draw import GL_SCISSOR_TEST, draw_over, kept_texture, pixel_texture
 
 _FAR = 1.0e30
 _GL_COLOR_BUFFER_BIT, _GL_DEPTH_BUFFER_BIT = 0x4000, 0x0100
@@ -195,10 +194,7 @@ def _extended_depth(state: dict, window, viewport, margins):
     window.GetZbufferData(x0, y0, x0 + width - 1, y0 + height - 1, tile)
     depth = np.ones((high, wide), dtype=np.float32)
     depth[bottom:bottom + height, left:left + width] = tile.reshape(height, width)
-    texture = state.get("tile_depth")
-    if texture is None or texture.GetContext() is not window:
-        texture = pixel_texture(window)
-        state["tile_depth"] = texture
+    texture = kept_texture(state, "tile_depth", window)
     texture.CreateDepthFromRaw(wide, high, vtkTextureObject.Float32, VTK_FLOAT, np.ascontiguousarray(depth))
     texture.Deactivate()
     return texture
@@ -235,15 +231,4 @@ def _draw_part(window, texture, viewport, margins, size) -> None:
     t0, t1 = bottom / high, (bottom + height) / high
     tcoords = [s0, t0, s1, t0, s1, t1, s0, t1]
     verts = [-1.0, -1.0, 0.0, 1.0, -1.0, 0.0, 1.0, 1.0, 0.0, -1.0, 1.0, 0.0]
-    gl = window.GetState()
-    gl.Push()
-    try:
-        gl.vtkglViewport(x0, y0, width, height)
-        gl.vtkglScissor(x0, y0, width, height)
-        gl.vtkglEnable(GL_BLEND)
-        gl.vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA)
-        gl.vtkglDisable(GL_DEPTH_TEST)
-        gl.vtkglDepthMask(False)
-        texture.CopyToFrameBuffer(tcoords, verts, None, None)
-    finally:
-        gl.Pop()
+    draw_over(window, texture, viewport, [(tcoords, verts)])

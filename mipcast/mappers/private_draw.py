@@ -109,6 +109,48 @@ def pixel_texture(window):
     return texture
 
 
+def kept_texture(store: dict, key, window):
+    """``store[key]``: a :func:`pixel_texture` on ``window``, made anew when missing or of another window.
+
+    Kept between frames, so VTK's copy program for it compiles once.
+    """
+    texture = store.get(key)
+    if texture is None or texture.GetContext() is not window:
+        texture = pixel_texture(window)
+        store[key] = texture
+    return texture
+
+
+def draw_over(window, texture, viewport, quads=None, depth: bool = False) -> None:
+    """Draw ``texture`` over ``viewport`` (x, y, width, height) with premultiplied "over" blending.
+
+    ``quads``: (texture coordinates, NDC vertices) pairs as
+    ``vtkTextureObject.CopyToFrameBuffer`` takes them, or None for the whole
+    viewport.  ``depth``: depth-test and write the quad's depth (window depth
+    0.5), else neither.  The GL state is restored afterwards.
+    """
+    x, y, width, height = viewport
+    gl = window.GetState()
+    gl.Push()
+    try:
+        gl.vtkglViewport(x, y, width, height)
+        gl.vtkglScissor(x, y, width, height)
+        gl.vtkglEnable(GL_BLEND)
+        gl.vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA)
+        if depth:
+            gl.vtkglEnable(GL_DEPTH_TEST)
+        else:
+            gl.vtkglDisable(GL_DEPTH_TEST)
+        gl.vtkglDepthMask(depth)
+        if quads is None:
+            texture.CopyToFrameBuffer(None, None)
+        else:
+            for tcoords, verts in quads:
+                texture.CopyToFrameBuffer(tcoords, verts, None, None)
+    finally:
+        gl.Pop()
+
+
 def auto_sample_distance(image, volume) -> float:
     """VTK's auto-adjusted sample distance at full time: the smallest world spacing of ``image`` drawn by ``volume``.
 

@@ -48,7 +48,7 @@ import numpy as np
 from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import DEMIP
 from mipcast.mappers import bricked_draw, float_readout
-from mipcast.mappers.private_draw import GL_BLEND, GL_DEPTH_TEST, GL_ONE, GL_ONE_MINUS_SRC_ALPHA
+from mipcast.mappers.private_draw import draw_over, kept_texture
 from mipcast.mappers.brick_rays import box_in_view, brick_entry, push_whole_rays, whole_geometry
 
 #: Reduce(array, op) -> the array reduced over every rank; op is "max", "min" or "sum".
@@ -367,8 +367,6 @@ def draw(state, renderer, rgba: np.ndarray, ndc=(1.0, 0.0, 1.0, 0.0)) -> None:
     """
     from vtkmodules.vtkCommonCore import VTK_FLOAT
 
-    from mipcast.mappers.private_draw import pixel_texture
-
     hit = rgba[..., 3] > 0.0
     if not hit.any():
         return
@@ -376,10 +374,7 @@ def draw(state, renderer, rgba: np.ndarray, ndc=(1.0, 0.0, 1.0, 0.0)) -> None:
     top, bottom, left, right = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
     part = rgba[top:bottom, left:right]
     window = renderer.GetRenderWindow()
-    texture = state.get("rank_texture")
-    if texture is None or texture.GetContext() is not window:
-        texture = pixel_texture(window)
-        state["rank_texture"] = texture
+    texture = kept_texture(state, "rank_texture", window)
     height, width = part.shape[:2]
     data = np.ascontiguousarray(part[::-1], dtype=np.float32)  # bottom row first
     state["rank_rows"] = data
@@ -396,16 +391,4 @@ def draw(state, renderer, rgba: np.ndarray, ndc=(1.0, 0.0, 1.0, 0.0)) -> None:
     ya, yb = pixel(H - bottom, H, sy, ty), pixel(H - top, H, sy, ty)
     x, y = x0[0] + int(round(xa)), y0[0] + int(round(ya))
     w, h = max(int(round(xb - xa)), 1), max(int(round(yb - ya)), 1)
-    gl = window.GetState()
-    gl.Push()
-    try:
-        gl.vtkglViewport(x, y, w, h)
-        gl.vtkglScissor(x, y, w, h)
-        gl.vtkglEnable(GL_BLEND)
-        gl.vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA,
-                                  GL_ONE, GL_ONE_MINUS_SRC_ALPHA)
-        gl.vtkglEnable(GL_DEPTH_TEST)
-        gl.vtkglDepthMask(True)
-        texture.CopyToFrameBuffer(None, None)
-    finally:
-        gl.Pop()
+    draw_over(window, texture, (x, y, w, h), depth=True)
