@@ -47,10 +47,8 @@ def translucent(image):
     return prop
 
 
-def build(image, projection, slab, parallel, camera=None, coloured=False):
-    mapper, renderer, window = pipeline(image, "demip")
-    if coloured:
-        mapper.GetAttachedVolume().SetProperty(translucent(image))
+def set_demip(mapper, projection, slab):
+    """The cases' DEMIP settings: depth weight, depth mode, projection, local threshold, the slab."""
     mapper.SetDepthWeight(DEPTH)
     mapper.SetDepthMode("entry_plus_length")
     mapper.SetProjection(projection)
@@ -58,6 +56,13 @@ def build(image, projection, slab, parallel, camera=None, coloured=False):
     if slab:
         mapper.SetSlabThickness(slab)
         mapper.SetSlabNormal(*NORMAL)
+
+
+def build(image, projection, slab, parallel, camera=None, coloured=False):
+    mapper, renderer, window = pipeline(image, "demip")
+    if coloured:
+        mapper.GetAttachedVolume().SetProperty(translucent(image))
+    set_demip(mapper, projection, slab)
     if camera is not None:
         renderer.GetActiveCamera().DeepCopy(camera)
     renderer.GetActiveCamera().SetParallelProjection(parallel)

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 
 from mipcast.mappers import rank_composite
-from test_bricked_demip_projections import BACKGROUND, LOCAL, NORMAL, build, reference, translucent
+from test_bricked_demip_projections import BACKGROUND, build, reference, translucent
 from test_bricked_mapper import image, picture  # noqa: F401  (fixture)
 from vtk_png import write_png
 
@@ -58,7 +58,7 @@ def _piece(whole, extent):
 def _rank_main(rank, count, pieces, cases, conn):
     """One simulated rank: its piece, each case's compose in the StartEvent, the pictures to the parent."""
     try:
-        from test_bricked_demip_projections import DEPTH
+        from test_bricked_demip_projections import set_demip
         from mipcast.data_fixtures import make_fixture
         from test_bricked_mapper import pipeline
 
@@ -82,13 +82,7 @@ def _rank_main(rank, count, pieces, cases, conn):
                 from mipcast.offscreen import grey_property
 
                 volume.SetProperty(grey_property(whole.GetPointData().GetScalars().GetRange(0)))
-            mapper.SetDepthWeight(DEPTH)
-            mapper.SetDepthMode("entry_plus_length")
-            mapper.SetProjection(projection)
-            mapper.SetLocalThreshold(LOCAL)
-            if slab:
-                mapper.SetSlabThickness(slab)
-                mapper.SetSlabNormal(*NORMAL)
+            set_demip(mapper, projection, slab)
             view = renderer.GetActiveCamera()
             view.SetPosition(camera["position"])
             view.SetFocalPoint(camera["focal"])
