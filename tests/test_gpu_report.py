@@ -30,6 +30,7 @@ def test_quick_report_writes_three_files_with_the_expected_keys(quick_report):
     assert {p.name for p in out.iterdir()} >= {"gpu-report.json", "gpu-report.md", "gpu-report.png"}
     report = json.loads((out / "gpu-report.json").read_text(), parse_constant=pytest.fail)  # strict JSON
     assert TOP_KEYS <= set(report)
+    assert report["complete"] is True and report["sections_done"][-1] == "peers"
     assert report["software"] is True and report["quick"] is True
     assert set(report["parity"]) == {"mip_vs_stock", "analytic_vs_exact", "demip_vs_reference"}
     assert all(view["passed"] for check in report["parity"].values() for view in check.values())
@@ -61,6 +62,23 @@ def test_software_renderer_is_refused_with_exit_code_2(tmp_path, capsys):
     assert "OpenGL renderer: llvmpipe" in captured.out  # the renderer string is printed first
     assert "--allow-software" in captured.err and "software renderer" in captured.err
     assert not (tmp_path / "gpu-report.json").exists()
+
+
+def test_a_run_cut_short_keeps_the_sections_it_finished(tmp_path, monkeypatch):
+    """The files are rewritten after each section: a failure (or the device's time limit) later keeps them."""
+    monkeypatch.setattr(gpu_report, "parity_checks", lambda sizes: {"mip_vs_stock": {"oblique": {"passed": True}}})
+    monkeypatch.setattr(gpu_report, "_scenes", lambda sizes, notes: {"ct": ct_volume((8, 8, 8))})
+    monkeypatch.setattr(gpu_report, "speed_accuracy", lambda *args, **kwargs: [])
+
+    def fails(*args, **kwargs):
+        raise RuntimeError("cut short")
+    monkeypatch.setattr(gpu_report, "foveation_rows", fails)
+    with pytest.raises(RuntimeError, match="cut short"):
+        gpu_report.run_report(tmp_path, quick=True, allow_software=True)
+    report = json.loads((tmp_path / "gpu-report.json").read_text())
+    assert report["complete"] is False and report["sections_done"] == ["parity", "speed_accuracy ct"]
+    assert report["parity"]["mip_vs_stock"]["oblique"]["passed"] is True
+    assert "Incomplete: the run stopped after parity, speed_accuracy ct" in (tmp_path / "gpu-report.md").read_text()
 
 
 @pytest.mark.parametrize("renderer, software", [("llvmpipe (LLVM 15.0.6, 256 bits)", True), ("softpipe", True),

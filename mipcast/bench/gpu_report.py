@@ -428,6 +428,10 @@ def run_report(out: Path, quick: bool = False, allow_software: bool = False,
                log: Callable[[str], None] = lambda line: None) -> dict:
     """Run the whole suite and write ``gpu-report.json``, ``.md`` and ``.png`` into ``out``.
 
+    The three files are rewritten after every section (``sections_done``;
+    ``complete`` stays false until the last), so a run cut short by the
+    device's time limit or a failure keeps what it had measured.
+
     Parameters
     ----------
     out : Path
@@ -457,23 +461,33 @@ def run_report(out: Path, quick: bool = False, allow_software: bool = False,
         raise SoftwareRenderer(info["renderer"])
     sizes = QUICK if quick else FULL
     report: dict = {"renderer": info, "software": software, "quick": quick, "sizes": sizes._asdict(),
-                    "notes": []}
+                    "notes": [], "complete": False}
+
+    def done(section: str) -> None:  # every finished section is on disk: a run cut short keeps them
+        report["sections_done"] = report.get("sections_done", []) + [section]
+        report["elapsed_s"] = time.perf_counter() - started
+        write_report(report, out)
+
     log("parity and accuracy at small sizes")
     report["parity"] = parity_checks(sizes)
+    done("parity")
     scenes = _scenes(sizes, report["notes"])
     report["speed_accuracy"] = []
     for name, image in scenes.items():
         log(f"speed x accuracy: {name} {image.GetDimensions()}")
         report["speed_accuracy"] += speed_accuracy(image, name, sizes, (None, CLINICAL_WINDOW), progress=log)
+        done(f"speed_accuracy {name}")
     log("foveation: volume filling the view, gaze at the centre and a corner")
     report["foveation"] = foveation_rows(scenes["ct"], "ct", sizes, CLINICAL_WINDOW)
+    done("foveation")
     log("first frame and memory per method")
     report["first_frame"] = [first_frame(scenes["ct"], m, (sizes.images[0],) * 2, settle_s=0.2 if quick else 2.0)
                              for m in METHODS]
     report["first_frame_goal"] = _first_frame_goal(report["first_frame"])
+    done("first_frame")
     report["peers"] = _peer_rows(scenes, sizes, report["notes"], log)
-    report["elapsed_s"] = time.perf_counter() - started
-    write_report(report, out)
+    report["complete"] = True
+    done("peers")
     log(f"wrote {out}/gpu-report.json, gpu-report.md, gpu-report.png ({report['elapsed_s']:.0f} s)")
     return report
 
@@ -546,6 +560,9 @@ def report_markdown(report: dict) -> str:
         lines += ["**Software renderer (run with --allow-software): these are not GPU numbers.**", ""]
     if report.get("quick"):
         lines += ["Quick mode: tiny sizes, for checking the code paths only.", ""]
+    if not report.get("complete", True):
+        lines += [f"**Incomplete: the run stopped after {', '.join(report.get('sections_done', [])) or 'nothing'}.**",
+                  ""]
     lines += [f"- {note}" for note in report.get("notes", [])]
     if "parity" in report:
         lines += ["", "## Parity and accuracy (small sizes)", ""]

@@ -170,7 +170,7 @@ MISSING_RAMP_BELOW = 1.0 / 256.0
 
 def missing_as_background(mapper, volume_property, image: vtkImageData, component=None,
                           projection: str = "mip"):
-    """What a VTK mapper (stock, CPU) needs to draw a ray that saw only missing data as background.
+    r"""What a VTK mapper (stock, CPU) needs to draw a ray that saw only missing data as background.
 
     VTK's own mappers have no per-ray missing test: they draw the prepared
     copy (:func:`prepared_image`) and a ray that crossed only missing voxels
