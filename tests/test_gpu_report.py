@@ -19,13 +19,27 @@ ROW_KEYS = {"scene", "window", "size", "method", "median_ms", "ratio_to_stock", 
 
 @pytest.fixture(scope="module")
 def quick_report(tmp_path_factory):
+    """``mipcast bench --gpu-report --quick --allow-software`` end to end, in a fresh interpreter.
+
+    It also reports which of the packages a lent GPU machine lacks (no pyvista,
+    scipy or pydicom there) the report's code path imported.
+    """
     out = tmp_path_factory.mktemp("gpu-report")
-    code = main(["bench", "--gpu-report", "--quick", "--allow-software", "--out", str(out)])
-    return code, out
+    script = textwrap.dedent(f"""
+        import sys
+        from mipcast.app.cli import main
+        code = main(["bench", "--gpu-report", "--quick", "--allow-software", "--out", {str(out)!r}])
+        roots = {{name.split(".")[0] for name, module in sys.modules.items() if module is not None}}
+        print(code, sorted(roots & {{"pyvista", "scipy", "pydicom"}}))
+    """)
+    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=out, timeout=300)
+    assert run.returncode == 0, run.stderr[-2000:]
+    code, imported = run.stdout.strip().splitlines()[-1].split(" ", 1)
+    return int(code), out, imported
 
 
 def test_quick_report_writes_three_files_with_the_expected_keys(quick_report):
-    code, out = quick_report
+    code, out, _ = quick_report
     assert code == 0
     assert {p.name for p in out.iterdir()} >= {"gpu-report.json", "gpu-report.md", "gpu-report.png"}
     report = json.loads((out / "gpu-report.json").read_text(), parse_constant=pytest.fail)  # strict JSON
@@ -49,7 +63,7 @@ def test_quick_report_writes_three_files_with_the_expected_keys(quick_report):
 
 
 def test_quick_report_markdown_starts_with_the_renderer(quick_report):
-    _, out = quick_report
+    _, out, _ = quick_report
     text = (out / "gpu-report.md").read_text()
     assert text.splitlines()[2].startswith("OpenGL renderer: **")
     for section in ("## Parity", "## Speed x accuracy", "## Foveation", "## First frame and memory"):
@@ -88,23 +102,19 @@ def test_software_renderers_are_recognised(renderer, software):
     assert gpu_report.is_software(renderer) is software
 
 
-def test_report_path_imports_only_vtk_numpy_matplotlib_tqdm_and_mipcast(tmp_path):
-    """As on a lent GPU machine: no pyvista, scipy or pydicom (vispy blocked, as it is absent there)."""
-    script = textwrap.dedent(f"""
-        import sys
-        for name in ("vispy", "OpenGL"):
-            sys.modules[name] = None
-        from pathlib import Path
-        from mipcast.bench.gpu_report import run_report
-        run_report(Path({str(tmp_path)!r}), quick=True, allow_software=True)
-        roots = {{name.split(".")[0] for name, module in sys.modules.items() if module is not None}}
-        print(sorted(roots & {{"pyvista", "scipy", "pydicom", "vispy", "OpenGL"}}))
-    """)
-    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=tmp_path, timeout=300)
-    assert run.returncode == 0, run.stderr[-2000:]
-    assert run.stdout.strip().splitlines()[-1] == "[]"
-    report = json.loads((tmp_path / "gpu-report.json").read_text())
-    assert report["peers"] == [] and any("vispy" in note for note in report["notes"])
+def test_report_path_imports_only_vtk_numpy_matplotlib_tqdm_and_mipcast(quick_report):
+    """As on a lent GPU machine: no pyvista, scipy or pydicom (vispy and PyOpenGL travel in the kit)."""
+    _, _, imported = quick_report
+    assert imported == "[]"
+
+
+def test_without_vispy_the_report_has_no_peer_rows_and_says_why(monkeypatch):
+    import mipcast.bench.peers
+
+    monkeypatch.setattr(mipcast.bench.peers, "vispy_available", lambda: False)
+    notes = []
+    assert gpu_report._peer_rows({"ct": None}, gpu_report.QUICK, notes, print) == []
+    assert any("vispy" in note and "mipcast[bench]" in note for note in notes)
 
 
 def test_errors_on_a_ray_subset_are_the_full_reference_at_those_pixels():
