@@ -45,6 +45,9 @@ def test_quick_report_writes_three_files_with_the_expected_keys(quick_report):
     report = json.loads((out / "gpu-report.json").read_text(), parse_constant=pytest.fail)  # strict JSON
     assert TOP_KEYS <= set(report)
     assert report["complete"] is True and report["sections_done"][-1] == "peers"
+    assert report["gl_limits"]["max_texture_size_3d"] >= 256  # llvmpipe: 2048
+    assert report["gl_limits"]["free_mib"] is None  # llvmpipe lists neither memory extension: unknown, not a guess
+    assert all("gl_free_mib" in row for row in report["first_frame"])
     assert report["software"] is True and report["quick"] is True
     assert set(report["parity"]) == {"mip_vs_stock", "analytic_vs_exact", "demip_vs_reference"}
     assert all(view["passed"] for check in report["parity"].values() for view in check.values())

@@ -18,8 +18,10 @@ Sections, in order (:func:`run_report`):
    (texture upload, corner packing, shader build) per method, and whether
    analytic's is within 1.5x stock's (:data:`FIRST_FRAME_GOAL`).
 5. ``memory``: GPU memory per method, from the driver where it reports it
-   (``nvidia-smi``, device-wide used memory before and after the view),
-   and always the computed texture bytes (:func:`texture_bytes`).
+   (``nvidia-smi``, device-wide used memory before and after the view; the
+   free memory OpenGL reports, which mipcast's texture budget reads:
+   :func:`gl_limits`, with the 3D texture limit), and always the computed
+   texture bytes (:func:`texture_bytes`).
 6. ``peers``: vispy's rows (:mod:`mipcast.bench.peers`) when vispy imports.
 
 Only vtk (``vtkmodules``), numpy, matplotlib, tqdm and mipcast are imported,
@@ -43,6 +45,7 @@ from typing import Callable, NamedTuple, Optional, Sequence
 import numpy as np
 
 from mipcast.bench.report import renderer_info, strict_json
+from mipcast.mappers.gpu_limits import free_gpu_memory, max_texture_size_3d
 from mipcast.data_fixtures.ct_phantom import ct_volume
 
 #: Substrings of a GL_RENDERER string that mean a CPU renderer.
@@ -281,11 +284,40 @@ def first_frame(image, method: str, size: Sequence[int], window=None, settle_s: 
     while len(later) < 3 or time.perf_counter() < settled:
         later += view.frame_times(frames=1, warmup=0)
     after = driver_memory_used()
+    free = free_gpu_memory(view.render_window)
     view.render_window.Finalize()
     memory = after - before if before is not None and after is not None else None
     return {"method": method, "first_s": first, "next_s": statistics.median(later[-3:]),
             "slowest_next_s": max(later), "frames_after": len(later), "memory_mib": memory,
+            "gl_free_mib": None if free is None else free / 2 ** 20,
             "texture_bytes": texture_bytes(image, method)}
+
+
+def gl_limits() -> dict:
+    """What mipcast asks the driver before it draws (:mod:`mipcast.mappers.gpu_limits`), from a small window.
+
+    ``max_texture_size_3d`` (points per axis: beyond it mipcast draws bricks)
+    and ``free_mib`` (``GL_NVX_gpu_memory_info`` / ``GL_ATI_meminfo``; None
+    where the driver cannot say, as llvmpipe).
+
+    Examples
+    --------
+    >>> limits = gl_limits()
+    >>> limits["max_texture_size_3d"] > 0, sorted(limits)
+    (True, ['free_mib', 'max_texture_size_3d'])
+    """
+    from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow
+    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+
+    window = vtkRenderWindow()
+    window.SetOffScreenRendering(True)
+    window.AddRenderer(vtkRenderer())
+    window.SetSize(16, 16)
+    window.Render()
+    free = free_gpu_memory(window)
+    limits = {"max_texture_size_3d": max_texture_size_3d(window), "free_mib": None if free is None else free / 2 ** 20}
+    window.Finalize()
+    return limits
 
 
 def parity_checks(sizes: Sizes) -> dict:
@@ -461,7 +493,7 @@ def run_report(out: Path, quick: bool = False, allow_software: bool = False,
         raise SoftwareRenderer(info["renderer"])
     sizes = QUICK if quick else FULL
     report: dict = {"renderer": info, "software": software, "quick": quick, "sizes": sizes._asdict(),
-                    "notes": [], "complete": False}
+                    "gl_limits": gl_limits(), "notes": [], "complete": False}
 
     def done(section: str) -> None:  # every finished section is on disk: a run cut short keeps them
         report["sections_done"] = report.get("sections_done", []) + [section]
@@ -563,6 +595,11 @@ def report_markdown(report: dict) -> str:
     if not report.get("complete", True):
         lines += [f"**Incomplete: the run stopped after {', '.join(report.get('sections_done', [])) or 'nothing'}.**",
                   ""]
+    if "gl_limits" in report:
+        free = report["gl_limits"]["free_mib"]
+        lines.append(f"3D texture limit {report['gl_limits']['max_texture_size_3d']} points per axis; free GPU "
+                     f"memory as OpenGL reports it: {'unknown' if free is None else f'{free:.0f} MiB'}.")
+        lines.append("")
     lines += [f"- {note}" for note in report.get("notes", [])]
     if "parity" in report:
         lines += ["", "## Parity and accuracy (small sizes)", ""]
@@ -592,9 +629,11 @@ def report_markdown(report: dict) -> str:
                   "the first); slowest_next_s: the slowest of them (analytic: the frame that uploads the "
                   "packed corners made in the background after the first frame); memory_mib: the "
                   "driver's used memory after them minus before (nvidia-smi; empty where no driver "
-                  "reports it); texture_mib: computed volume textures (analytic: once packed).", "",
+                  "reports it); gl_free_mib: free memory as OpenGL reports it then (what mipcast's "
+                  "texture budget asks; empty where the driver cannot say); texture_mib: computed volume "
+                  "textures (analytic: once packed).", "",
                   markdown_table(rows, ["method", "first_s", "next_s", "slowest_next_s", "memory_mib",
-                                         "texture_mib"])]
+                                         "gl_free_mib", "texture_mib"])]
     if report.get("peers"):
         from mipcast.bench.peers import peers_table
 
