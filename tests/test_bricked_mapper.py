@@ -245,11 +245,13 @@ def test_the_sample_past_an_opaque_surface_just_before_a_brick_border_is_kept(na
     assert np.max(np.abs(bricked[hit] - one[hit])) <= 1e-4, np.max(np.abs(bricked[hit] - one[hit]))
 
 
-@pytest.mark.parametrize("name", ["mip", "analytic"])
+@pytest.mark.parametrize("name", ["mip", "analytic", "average"])
 def test_with_msaa_the_bricked_silhouette_gets_the_boxs_coverage(image, name, monkeypatch):
-    """8x MSAA: the bricked picture is drawn through the box's outline, so a silhouette pixel whose
-    centre the box covers is blended by the box's coverage as the single texture's is (drawn over
-    the whole viewport before: 97.2 % of those pixels within one level)."""
+    """8x MSAA: the bricked picture is drawn face by face through the box's front faces, so a silhouette
+    pixel is blended by the box's coverage as the single texture's is, and the pixels next to a face whose
+    centre lies off it (off the box, or on the next face) get that face's ray of the single texture:
+    every pixel within one level (drawn over the whole viewport before: 97.2 % of the covered pixels; then
+    through the outline: 76 pixels off the box off by up to 21 levels, 2-3 on the inner edges)."""
     def shot(samples):
         mapper, renderer, window = pipeline(image, name)
         window.SetMultiSamples(samples)
@@ -258,22 +260,20 @@ def test_with_msaa_the_bricked_silhouette_gets_the_boxs_coverage(image, name, mo
     plain_mapper, plain_window, plain = shot(0)
     covered = np.isfinite(render_float(plain_window, plain_mapper))  # pixel centres inside the box
     one = shot(8)[2]
-    blended = covered & (np.abs(one - plain).max(axis=-1) > 1)  # partly covered: MSAA changed them
+    blended = np.abs(one - plain).max(axis=-1) > 1  # MSAA changed them
     lowered(monkeypatch)
     mapper, _, bricked = shot(8)
-    assert mapper.GetNumberOfBricks() == 27 and blended.sum() >= 30
+    assert mapper.GetNumberOfBricks() == 27 and (blended & covered).sum() >= 30 and (blended & ~covered).sum() >= 30
     difference = np.abs(bricked - one).max(axis=-1)
-    assert (difference[covered] <= 1).mean() >= 0.995, (difference[covered] > 1).sum()
-    assert (difference[blended] <= 1).mean() >= 0.9, (difference[blended] > 1).sum()
+    assert difference.max() <= 1, [(int(y), int(x), int(difference[y, x])) for y, x in zip(*np.nonzero(difference > 1))]
 
 
 def test_the_pyvista_route_draws_it_in_bricks(image, monkeypatch):
     pyvista = pytest.importorskip("pyvista")
     import mipcast.filters  # noqa: F401  (registers grid.mip)
 
-    # pyvista's default 8x MSAA blends the single texture's silhouette pixels by their coverage;
-    # the bricked picture is drawn whole pixels (docs/reliability.md), so compare without MSAA
-    monkeypatch.setattr(pyvista.global_theme, "anti_aliasing", None)
+    # pyvista's default: 8x MSAA (the bricked picture is drawn through the box's faces, docs/reliability.md)
+    assert pyvista.global_theme.anti_aliasing == "msaa" and pyvista.global_theme.multi_samples == 8
     grid = pyvista.wrap(image)
     one = grid.mip.plot("analytic", off_screen=True, window_size=SIZE, screenshot=True).astype(int)
     lowered(monkeypatch)
@@ -283,7 +283,7 @@ def test_the_pyvista_route_draws_it_in_bricks(image, monkeypatch):
     assert volume.GetMapper().GetNumberOfBricks() == 27
     bricked = grid.mip.plot("analytic", off_screen=True, window_size=SIZE, screenshot=True).astype(int)
     for rgb in (got, bricked):
-        assert rgb.max() > 100 and (np.abs(rgb - one).max(axis=-1) <= 1).mean() >= 0.999
+        assert rgb.max() > 100 and np.abs(rgb - one).max() <= 1
 
 
 def test_every_method_of_the_table_draws_beyond_the_limit():
