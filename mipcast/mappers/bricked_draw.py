@@ -362,12 +362,10 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
                 if rule == "mean":
                     read.append(brick_readout(brick_mapper, shape, raw=channel > 0))
                 else:  # and the rays it drew without a sample (mipcast.mappers.outline_rays)
-                    normalised = brick_readout(brick_mapper, shape, raw=True)
-                    empty |= np.abs(np.nan_to_num(normalised)) > _EMPTY
-                    read.append(float_readout.to_data_units(np.where(np.abs(normalised) > _EMPTY, np.nan,
-                                                                     normalised),
-                                                            brick_mapper.GetRenderedInput().GetPointData()
-                                                            .GetScalars()))
+                    texels = brick_texels(brick_mapper, shape)
+                    empty |= np.abs(texels) > _EMPTY  # MIP's -1e30, MinIP's +1e30 (decoded as no fragment)
+                    read.append(_data_units(brick_mapper, np.where(np.abs(texels) > _EMPTY, np.nan,
+                                                                   float_readout.decode(texels))))
         finally:
             object_state(brick_mapper).pop("exact_readout", None)
             brick_mapper.RenderToImageOff()
@@ -388,10 +386,20 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
         return result
     if not passes:
         return result
+    counts = [read[channels.index(1)] for read, _ in passes]  # -n: the samples (ray length) each counted
     if channels == (1, 2, 3):
-        return _mean_grey(mapper, volume, passes)
-    mean = combine([read[0] for read, _ in passes], [np.nan_to_num(-read[1]) for read, _ in passes])
-    if readout:
+        mean = _mean_grey(mapper, volume, passes)
+    else:
+        mean = combine([read[0] for read, _ in passes], [np.nan_to_num(-n) for n in counts])
+    if sampled:  # a grazing ray whose one sample no brick drawing it holds: that sample, on the CPU
+        from mipcast.mappers import outline_rays
+
+        none = np.sum([np.nan_to_num(-n) for n in counts], axis=0) == 0.0  # (a brick's ray without one: discarded)
+        sample = outline_rays.single_samples(mapper.GetRenderedInput(), camera, shape, aspect_size, step, none)
+        found = sample if readout else _sample_grey(mapper, volume, sample[..., None])
+        low, high = mapper.GetAverageIPScalarRange()
+        mean = np.where(np.isfinite(found) & (sample >= low) & (sample <= high), found, mean)
+    if readout or channels == (1, 2, 3):
         return mean
     return _grey_of(mapper, volume, mean)
 
@@ -410,6 +418,18 @@ def _shade_map(mapper, volume) -> tuple:
         uniforms.GetUniformf("u_mc_shadeScale", scale)
         g0, g1 = (g0 - float(low)) * float(scale), g1 * float(scale)
     return g0, g1
+
+
+def _sample_grey(mapper, volume, samples: np.ndarray) -> np.ndarray:
+    """The sampled average's grey of a ray's samples (..., k) (NaN: none): the mean of opacity x grey over
+    those in ``AverageIPScalarRange`` (``shaders/average_hooks.glsl``); NaN where none counts."""
+    low, high = mapper.GetAverageIPScalarRange()
+    counted = (samples >= low) & (samples <= high)
+    g0, g1 = _shade_map(mapper, volume)
+    opacity = colour(np.where(counted, samples, np.nan), volume.GetProperty())[..., 3]
+    total = np.sum(np.where(counted, opacity * (g0 + g1 * np.nan_to_num(samples)), 0.0), axis=-1)
+    n = counted.sum(axis=-1)
+    return np.where(n > 0, total / np.maximum(n, 1), np.nan)
 
 
 def _grey_of(mapper, volume, mean: np.ndarray) -> np.ndarray:
@@ -440,27 +460,34 @@ def _mean_grey(mapper, volume, passes) -> np.ndarray:
     return np.where(count > 0.0, grey, np.nan)
 
 
+def brick_texels(brick_mapper, shape) -> np.ndarray:
+    """One brick's readout as its readout piece wrote it (top row first; 1: no fragment, see
+    :func:`mipcast.mappers.float_readout.decode`)."""
+    image = vtkImageData()
+    brick_mapper.GetDepthImage(image)
+    scalars = image.GetPointData().GetScalars()
+    if scalars is None:
+        return np.ones(shape)
+    columns, rows, _ = image.GetDimensions()
+    if (rows, columns) != tuple(shape):
+        raise RuntimeError(f"a brick's readout is {(rows, columns)}, the viewport {tuple(shape)}")
+    return vtk_to_numpy(scalars).reshape(rows, columns)[::-1].astype(np.float64)
+
+
 def brick_readout(brick_mapper, shape, raw: bool = False) -> np.ndarray:
     """One brick's readout in data units (top row first), NaN where its ray had no value.
 
     ``raw``: the decoded value as the readout piece wrote it (a weight channel), not mapped.
     """
-    image = vtkImageData()
-    brick_mapper.GetDepthImage(image)
-    scalars = image.GetPointData().GetScalars()
-    if scalars is None:
-        return np.full(shape, np.nan)
-    columns, rows, _ = image.GetDimensions()
-    normalised = float_readout.decode(vtk_to_numpy(scalars).reshape(rows, columns)[::-1])
+    normalised = float_readout.decode(brick_texels(brick_mapper, shape))
     if raw:
-        if normalised.shape != shape:
-            raise RuntimeError(f"a brick's readout is {normalised.shape}, the viewport {shape}")
         return normalised
-    normalised = np.where(np.abs(normalised) > _EMPTY, np.nan, normalised)
-    values = float_readout.to_data_units(normalised, brick_mapper.GetRenderedInput().GetPointData().GetScalars())
-    if values.shape != shape:
-        raise RuntimeError(f"a brick's readout is {values.shape}, the viewport {shape}")
-    return values
+    return _data_units(brick_mapper, np.where(np.abs(normalised) > _EMPTY, np.nan, normalised))
+
+
+def _data_units(brick_mapper, normalised: np.ndarray) -> np.ndarray:
+    """A brick's normalised readout in data units."""
+    return float_readout.to_data_units(normalised, brick_mapper.GetRenderedInput().GetPointData().GetScalars())
 
 
 # -- the picture ----------------------------------------------------------------
@@ -612,14 +639,8 @@ def _face_values(mapper, volume, renderer, values, face, pixels) -> np.ndarray:
             found = np.nanmax(samples, axis=1)
         elif rule == "min":
             found = np.nanmin(samples, axis=1)
-        else:  # the mean of opacity x grey over the counted samples
-            low, high = mapper.GetAverageIPScalarRange()
-            counted = (samples >= low) & (samples <= high)
-            g0, g1 = _shade_map(mapper, volume)
-            opacity = colour(np.where(counted, samples, np.nan), volume.GetProperty())[..., 3]
-            total = np.sum(np.where(counted, opacity * (g0 + g1 * np.nan_to_num(samples)), 0.0), axis=1)
-            n = counted.sum(axis=1)
-            found = np.where(n > 0, total / np.maximum(n, 1), np.nan)
+        else:
+            found = _sample_grey(mapper, volume, samples)
     out = values.copy()
     out[rows, columns] = found
     return out

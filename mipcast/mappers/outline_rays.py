@@ -92,8 +92,8 @@ def single_samples(image, camera, shape: Sequence[int], size: Sequence[int], sam
 
     ``image``: the one-component volume the bricks draw (scalars in data
     units); ``shape``: the ray grid (rows, columns); ``size``: the viewport's
-    (width, height), the camera's aspect.  NaN where the ray is not a
-    single-sample ray outside the box (then the bricks' answer stands).
+    (width, height), the camera's aspect.  NaN where the ray misses the box
+    or is not a single-sample ray (then the bricks' answer stands).
     """
     point, step, r, c = _pixel_rays(image, camera, shape, size, sample_distance, pixels)
     upper = np.array(image.GetDimensions(), dtype=float) - 1.0
@@ -105,7 +105,7 @@ def single_samples(image, camera, shape: Sequence[int], size: Sequence[int], sam
     sample = np.clip(point + (s_in + 1.0)[:, None] * step, 0.0, upper)
     values = trilinear(volume_array(image), sample)
     out = np.full(len(r), np.nan)
-    grazing = s_out - s_in < 1.0  # one sample, past the exit: clamped onto the box
+    grazing = (s_out >= s_in) & (s_out - s_in < 1.0)  # one sample, past the exit: clamped onto the box
     out[grazing] = values[grazing]
     result = np.full((int(shape[0]), int(shape[1])), np.nan)
     result[r, c] = out
