@@ -391,7 +391,7 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
         mean = _mean_grey(mapper, volume, passes)
     else:
         mean = combine([read[0] for read, _ in passes], [np.nan_to_num(-n) for n in counts])
-    if sampled:  # a grazing ray whose one sample no brick drawing it holds: that sample, on the CPU
+    if sampled and not _clips(mapper):  # a grazing ray whose one sample no brick drawing it holds: on the CPU
         from mipcast.mappers import outline_rays
 
         none = np.sum([np.nan_to_num(-n) for n in counts], axis=0) == 0.0  # (a brick's ray without one: discarded)
