@@ -205,6 +205,30 @@ def test_bricks_follow_the_users_cropping_clipping_opaque_geometry_and_camera(im
         assert np.max(np.abs(values[both] - one_values[both])) / (high - low) <= 1e-4
 
 
+@pytest.mark.parametrize("name", ["mip", "analytic", "demip"])
+def test_an_outline_ray_no_brick_draws_gets_the_single_texture_value(name):
+    """64^3 at limit 33 (8 bricks), 64 x 64: the whole box's raster covers the pixel centre (30, 7) on its
+    outline, while no brick's does (its faces are rastered from other corners): that ray is computed on the
+    CPU (sampled: its one clamped sample; the cell walk: its chord; DEMIP: its phase 1, index 0). It was the
+    background (off by 19, 22 and 50 levels)."""
+    from mipcast.core.object_state import object_state
+    from mipcast.offscreen import OffscreenView
+
+    volume = make_fixture("vessels", size=64)
+
+    def view(limit):
+        scene = OffscreenView(volume, name, size=(64, 64), view="perspective", window="full")
+        if limit:
+            object_state(scene.mapper)["texture_limit"] = limit
+        return scene, scene.screenshot().astype(int), scene.float_image()
+
+    _, one, one_values = view(0)
+    scene, got, values = view(33)
+    assert scene.mapper.GetNumberOfBricks() == 8 and got.max() > 200
+    assert np.isfinite(one_values[30, 7]) and (np.isnan(values) == np.isnan(one_values)).all()
+    assert np.abs(got - one).max() <= 1
+
+
 @pytest.mark.parametrize("name", ["mip", "average"])
 def test_the_sample_past_an_opaque_surface_just_before_a_brick_border_is_kept(name, monkeypatch):
     """VTK's loop takes one sample past opaque geometry (samples 0 .. ceil(T)). With the surface 0.3

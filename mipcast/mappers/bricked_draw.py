@@ -336,6 +336,7 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
         shape = (int(grid[1]), int(grid[0]))
     result = np.full(shape, np.nan)
     empty = np.zeros(shape, dtype=bool)
+    drawn_any = np.zeros(shape, dtype=bool)  # a brick drew a fragment
     camera = renderer.GetActiveCamera()
     drawn = 0
     step, sampled = None, False
@@ -364,6 +365,7 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
                 else:  # and the rays it drew without a sample (mipcast.mappers.outline_rays)
                     texels = brick_texels(brick_mapper, shape)
                     empty |= np.abs(texels) > _EMPTY  # MIP's -1e30, MinIP's +1e30 (decoded as no fragment)
+                    drawn_any |= texels != 1.0
                     read.append(_data_units(brick_mapper, np.where(np.abs(texels) > _EMPTY, np.nan,
                                                                    float_readout.decode(texels))))
         finally:
@@ -378,11 +380,19 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
     object_state(mapper)["bricks_drawn"] = drawn
     object_state(mapper)["brick_sampling"] = (step, sampled)  # for the rays off the box (_face_values)
     if rule != "mean":
-        if rule in ("max", "min") and sampled:  # a cell walk's rays have no clamped sample
-            from mipcast.mappers import outline_rays
+        from mipcast.mappers import outline_rays
 
+        undrawn = outline_rays.undrawn(mapper, renderer, drawn_any)
+        if sampled:
             result = outline_rays.complete(result, empty, mapper.GetRenderedInput(), camera, aspect_size, step,
-                                           combine)
+                                           combine, undrawn=undrawn)
+        elif undrawn is not None and (undrawn & np.isnan(result)).any():  # a walk's rays have no clamped sample;
+            # those the whole box's raster covers on its outline and no brick's does: walked on the CPU
+            from mipcast import reference
+
+            kernel = getattr(reference.mip, _WALKS[rule])
+            result = combine(result, outline_rays.walked(mapper.GetRenderedInput(), camera, shape, aspect_size,
+                                                         undrawn & np.isnan(result), kernel, step))
         return result
     if not passes:
         return result
@@ -391,7 +401,8 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
         mean = _mean_grey(mapper, volume, passes)
     else:
         mean = combine([read[0] for read, _ in passes], [np.nan_to_num(-n) for n in counts])
-    if sampled and not _clips(mapper):  # a grazing ray whose one sample no brick drawing it holds: on the CPU
+    if sampled and not clip_uniforms.cuts(mapper, camera):  # a grazing ray whose one sample no brick drawing it
+        # holds: on the CPU
         from mipcast.mappers import outline_rays
 
         none = np.sum([np.nan_to_num(-n) for n in counts], axis=0) == 0.0  # (a brick's ray without one: discarded)
@@ -546,8 +557,10 @@ def _draw_picture(mapper, renderer, volume, values, rgba=None) -> None:
     renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
     faces = front_faces(box_corners(mapper.GetInput(), volume), renderer) if window.GetMultiSamples() > 1 else None
     pictures, outlines = [values], [None]  # None: the whole viewport
-    if faces and rgba is None and not _clips(mapper):
-        clear = _far(window, (x0[0], y0[0], width[0], height[0]))  # no opaque geometry: rays end at the box
+    if faces and rgba is None and not clip_uniforms.cuts(mapper, renderer.GetActiveCamera()):
+        from mipcast.mappers.outline_rays import far
+
+        clear = far(renderer, values.shape)  # no opaque geometry: the rays end at the box
         pictures = [_face_values(mapper, volume, renderer, values, face, _next_to(quad, values.shape) & clear)
                     for face, quad in faces]
         outlines = [[quad] for _, quad in faces]
@@ -567,20 +580,6 @@ def _draw_picture(mapper, renderer, volume, values, rgba=None) -> None:
             ([c for x, y in quad for c in (0.5 * (x + 1.0), 0.5 * (y + 1.0))], [c for x, y in quad for c in (x, y, 0.0)])
             for quad in outline]
         draw_over(window, texture, (x0[0], y0[0], width[0], height[0]), quads)
-
-
-def _clips(mapper) -> bool:
-    """Whether the user's cropping or clipping planes cut the volume (the rays off the box are not cut here)."""
-    planes = mapper.GetClippingPlanes()
-    return bool(mapper.GetCropping()) or (planes is not None and planes.GetNumberOfItems() > 0)
-
-
-def _far(window, viewport) -> np.ndarray:
-    """The viewport's pixels (top row first) where the depth buffer holds no opaque geometry."""
-    x, y, width, height = viewport
-    depth = np.empty(width * height, dtype=np.float32)
-    window.GetZbufferData(x, y, x + width - 1, y + height - 1, depth)
-    return depth.reshape(height, width)[::-1] >= 1.0
 
 
 def _grey_rgba(grey: np.ndarray) -> np.ndarray:

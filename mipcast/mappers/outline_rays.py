@@ -25,7 +25,7 @@ array([3.5])
 """
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Optional, Sequence
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -86,6 +86,32 @@ def volume_array(image) -> np.ndarray:
     return (scalars if scalars.ndim == 1 else scalars[:, 0]).reshape(dims[2], dims[1], dims[0])
 
 
+def _chords(image, camera, shape, size, sample_distance: float, pixels: np.ndarray) -> tuple:
+    """:func:`_pixel_rays` and where each ray enters and leaves the whole box (in steps from its point)."""
+    point, step, r, c = _pixel_rays(image, camera, shape, size, sample_distance, pixels)
+    upper = np.array(image.GetDimensions(), dtype=float) - 1.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a, b = (0.0 - point) / step, (upper - point) / step
+    flat = step == 0.0
+    s_in = np.max(np.where(flat, -1.0e30, np.minimum(a, b)), axis=1)
+    s_out = np.min(np.where(flat, 1.0e30, np.maximum(a, b)), axis=1)
+    return point, step, r, c, s_in, s_out
+
+
+def walked(image, camera, shape: Sequence[int], size: Sequence[int], pixels: np.ndarray, kernel,
+           sample_distance: float) -> np.ndarray:
+    """The cell walk's value (``kernel``: :func:`mipcast.reference.mip.exact_maximum`, ...) of the rays at
+    ``pixels`` over their chord of the whole box, in float64; NaN where a ray misses the box or crosses one
+    sample distance or more of it (not an outline ray)."""
+    point, step, r, c, s_in, s_out = _chords(image, camera, shape, size, sample_distance, pixels)
+    hit = (s_out >= s_in) & (s_out - s_in < 1.0)
+    result = np.full((int(shape[0]), int(shape[1])), np.nan)
+    if hit.any():
+        entry = point[hit] + s_in[hit, None] * step[hit]
+        result[r[hit], c[hit]] = kernel(volume_array(image), entry, step[hit], s_out[hit] - s_in[hit])
+    return result
+
+
 def single_samples(image, camera, shape: Sequence[int], size: Sequence[int], sample_distance: float,
                    pixels: np.ndarray) -> np.ndarray:
     """The one sample (data units) of the grazing rays at ``pixels`` (bool (rows, columns), top row first).
@@ -95,13 +121,8 @@ def single_samples(image, camera, shape: Sequence[int], size: Sequence[int], sam
     (width, height), the camera's aspect.  NaN where the ray misses the box
     or is not a single-sample ray (then the bricks' answer stands).
     """
-    point, step, r, c = _pixel_rays(image, camera, shape, size, sample_distance, pixels)
+    point, step, r, c, s_in, s_out = _chords(image, camera, shape, size, sample_distance, pixels)
     upper = np.array(image.GetDimensions(), dtype=float) - 1.0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        a, b = (0.0 - point) / step, (upper - point) / step
-    flat = step == 0.0
-    s_in = np.max(np.where(flat, -1.0e30, np.minimum(a, b)), axis=1)
-    s_out = np.min(np.where(flat, 1.0e30, np.maximum(a, b)), axis=1)
     sample = np.clip(point + (s_in + 1.0)[:, None] * step, 0.0, upper)
     values = trilinear(volume_array(image), sample)
     out = np.full(len(r), np.nan)
@@ -149,14 +170,42 @@ def along(image, start: np.ndarray, step: np.ndarray, steps: np.ndarray) -> np.n
     return np.where(k[None, :] <= count[:, None], values, np.nan)
 
 
+def far(renderer, shape: Sequence[int]) -> np.ndarray:
+    """The rays of a grid of ``shape`` (rows, columns; top row first) over ``renderer``'s viewport whose pixel
+    holds no opaque geometry in the depth buffer (their ray ends at the box)."""
+    width, height, x0, y0 = [0], [0], [0], [0]
+    renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
+    width, height = max(width[0], 1), max(height[0], 1)
+    depth = np.empty(width * height, dtype=np.float32)
+    renderer.GetRenderWindow().GetZbufferData(x0[0], y0[0], x0[0] + width - 1, y0[0] + height - 1, depth)
+    clear = depth.reshape(height, width)[::-1] >= 1.0
+    rows = ((np.arange(int(shape[0])) + 0.5) * height / int(shape[0])).astype(int)
+    columns = ((np.arange(int(shape[1])) + 0.5) * width / int(shape[1])).astype(int)
+    return clear[np.ix_(rows, columns)]
+
+
+def undrawn(mapper, renderer, drawn: np.ndarray) -> Optional[np.ndarray]:
+    """The rays (``drawn``'s grid) no brick drew a fragment for that :func:`complete` may fill in: those whose
+    pixel holds no opaque geometry; None when the mapper's cropping, clipping planes or slab may have cut them."""
+    from mipcast.mappers import clip_uniforms
+
+    if clip_uniforms.cuts(mapper, renderer.GetActiveCamera()):
+        return None
+    return ~drawn & far(renderer, drawn.shape)
+
+
 def complete(values: np.ndarray, empty: np.ndarray, image, camera, size, sample_distance: float,
-             combine=np.fmax) -> np.ndarray:
+             combine=np.fmax, undrawn=None) -> np.ndarray:
     """``values`` (bricks combined, NaN: none) with the grazing rays a brick drew but none sampled filled in.
 
     ``empty``: the rays some brick drew a fragment for without a sample;
-    ``combine``: how a value joins the bricks' (the maximum; the minimum).
+    ``combine``: how a value joins the bricks' (the maximum; the minimum);
+    ``undrawn``: the rays no brick drew a fragment for (:func:`undrawn`),
+    filled in too where they graze the whole box (the whole box's raster may
+    cover a pixel centre on its outline that the bricks' faces, rastered from
+    other corners, do not).
     """
-    missing = empty & np.isnan(values)
+    missing = (empty if undrawn is None else empty | undrawn) & np.isnan(values)
     if not missing.any():
         return values
     found = single_samples(image, camera, values.shape, size, sample_distance, missing)
