@@ -164,7 +164,8 @@ def _opaque_sphere(renderer, image):
 
 @pytest.mark.parametrize("name, scene", [("mip", "cropped and clipped"), ("analytic", "opaque sphere"),
                                          ("mip", "zoomed in"), ("average", "cropped and clipped"),
-                                         ("analytic_average", "cropped and clipped")])
+                                         ("analytic_average", "cropped and clipped"), ("minip", "grazing ray"),
+                                         ("average", "grazing ray")])
 def test_bricks_follow_the_users_cropping_clipping_opaque_geometry_and_camera(image, name, scene, monkeypatch):
     def build():
         mapper, renderer, window = pipeline(image, name)
@@ -173,6 +174,10 @@ def test_bricks_follow_the_users_cropping_clipping_opaque_geometry_and_camera(im
         elif scene == "zoomed in":  # bricks out of the view are not drawn
             renderer.GetActiveCamera().Zoom(2.5)
             renderer.GetActiveCamera().Yaw(8.0)
+            renderer.ResetCameraClippingRange()
+        elif scene == "grazing ray":  # a ray shorter than a step whose one (clamped) sample no brick drawing it holds
+            renderer.GetActiveCamera().Azimuth(10.0)
+            renderer.GetActiveCamera().Elevation(5.0)
             renderer.ResetCameraClippingRange()
         else:
             _crop_and_clip(mapper, image)
@@ -185,6 +190,9 @@ def test_bricks_follow_the_users_cropping_clipping_opaque_geometry_and_camera(im
     rgb, values = picture(window), render_float(window, mapper)
     if scene == "zoomed in":
         assert 0 < mapper.GetNumberOfBricks() < 27 and np.isfinite(values).mean() > 0.9
+    elif scene == "grazing ray":  # its sample on the CPU (MinIP's was lost, and the averages' were not given one)
+        assert mapper.GetNumberOfBricks() == 27 and (np.isnan(values) == np.isnan(one_values)).all()
+        assert np.abs(rgb - one).max() <= 1
     else:
         assert mapper.GetNumberOfBricks() == 27
         assert 0.1 < np.isfinite(values).mean() < 0.45  # cut away, or stopped at the sphere
@@ -195,6 +203,30 @@ def test_bricks_follow_the_users_cropping_clipping_opaque_geometry_and_camera(im
         low, high = image.GetPointData().GetScalars().GetRange(0)
         both = np.isfinite(values) & np.isfinite(one_values)
         assert np.max(np.abs(values[both] - one_values[both])) / (high - low) <= 1e-4
+
+
+@pytest.mark.parametrize("name", ["mip", "analytic", "demip"])
+def test_an_outline_ray_no_brick_draws_gets_the_single_texture_value(name):
+    """64^3 at limit 33 (8 bricks), 64 x 64: the whole box's raster covers the pixel centre (30, 7) on its
+    outline, while no brick's does (its faces are rastered from other corners): that ray is computed on the
+    CPU (sampled: its one clamped sample; the cell walk: its chord; DEMIP: its phase 1, index 0). It was the
+    background (off by 19, 22 and 50 levels)."""
+    from mipcast.core.object_state import object_state
+    from mipcast.offscreen import OffscreenView
+
+    volume = make_fixture("vessels", size=64)
+
+    def view(limit):
+        scene = OffscreenView(volume, name, size=(64, 64), view="perspective", window="full")
+        if limit:
+            object_state(scene.mapper)["texture_limit"] = limit
+        return scene, scene.screenshot().astype(int), scene.float_image()
+
+    _, one, one_values = view(0)
+    scene, got, values = view(33)
+    assert scene.mapper.GetNumberOfBricks() == 8 and got.max() > 200
+    assert np.isfinite(one_values[30, 7]) and (np.isnan(values) == np.isnan(one_values)).all()
+    assert np.abs(got - one).max() <= 1
 
 
 @pytest.mark.parametrize("name", ["mip", "average"])
@@ -245,11 +277,13 @@ def test_the_sample_past_an_opaque_surface_just_before_a_brick_border_is_kept(na
     assert np.max(np.abs(bricked[hit] - one[hit])) <= 1e-4, np.max(np.abs(bricked[hit] - one[hit]))
 
 
-@pytest.mark.parametrize("name", ["mip", "analytic"])
+@pytest.mark.parametrize("name", ["mip", "analytic", "average"])
 def test_with_msaa_the_bricked_silhouette_gets_the_boxs_coverage(image, name, monkeypatch):
-    """8x MSAA: the bricked picture is drawn through the box's outline, so a silhouette pixel whose
-    centre the box covers is blended by the box's coverage as the single texture's is (drawn over
-    the whole viewport before: 97.2 % of those pixels within one level)."""
+    """8x MSAA: the bricked picture is drawn face by face through the box's front faces, so a silhouette
+    pixel is blended by the box's coverage as the single texture's is, and the pixels next to a face whose
+    centre lies off it (off the box, or on the next face) get that face's ray of the single texture:
+    every pixel within one level (drawn over the whole viewport before: 97.2 % of the covered pixels; then
+    through the outline: 76 pixels off the box off by up to 21 levels, 2-3 on the inner edges)."""
     def shot(samples):
         mapper, renderer, window = pipeline(image, name)
         window.SetMultiSamples(samples)
@@ -258,22 +292,20 @@ def test_with_msaa_the_bricked_silhouette_gets_the_boxs_coverage(image, name, mo
     plain_mapper, plain_window, plain = shot(0)
     covered = np.isfinite(render_float(plain_window, plain_mapper))  # pixel centres inside the box
     one = shot(8)[2]
-    blended = covered & (np.abs(one - plain).max(axis=-1) > 1)  # partly covered: MSAA changed them
+    blended = np.abs(one - plain).max(axis=-1) > 1  # MSAA changed them
     lowered(monkeypatch)
     mapper, _, bricked = shot(8)
-    assert mapper.GetNumberOfBricks() == 27 and blended.sum() >= 30
+    assert mapper.GetNumberOfBricks() == 27 and (blended & covered).sum() >= 30 and (blended & ~covered).sum() >= 30
     difference = np.abs(bricked - one).max(axis=-1)
-    assert (difference[covered] <= 1).mean() >= 0.995, (difference[covered] > 1).sum()
-    assert (difference[blended] <= 1).mean() >= 0.9, (difference[blended] > 1).sum()
+    assert difference.max() <= 1, [(int(y), int(x), int(difference[y, x])) for y, x in zip(*np.nonzero(difference > 1))]
 
 
 def test_the_pyvista_route_draws_it_in_bricks(image, monkeypatch):
     pyvista = pytest.importorskip("pyvista")
     import mipcast.filters  # noqa: F401  (registers grid.mip)
 
-    # pyvista's default 8x MSAA blends the single texture's silhouette pixels by their coverage;
-    # the bricked picture is drawn whole pixels (docs/reliability.md), so compare without MSAA
-    monkeypatch.setattr(pyvista.global_theme, "anti_aliasing", None)
+    # pyvista's default: 8x MSAA (the bricked picture is drawn through the box's faces, docs/reliability.md)
+    assert pyvista.global_theme.anti_aliasing == "msaa" and pyvista.global_theme.multi_samples == 8
     grid = pyvista.wrap(image)
     one = grid.mip.plot("analytic", off_screen=True, window_size=SIZE, screenshot=True).astype(int)
     lowered(monkeypatch)
@@ -283,7 +315,7 @@ def test_the_pyvista_route_draws_it_in_bricks(image, monkeypatch):
     assert volume.GetMapper().GetNumberOfBricks() == 27
     bricked = grid.mip.plot("analytic", off_screen=True, window_size=SIZE, screenshot=True).astype(int)
     for rgb in (got, bricked):
-        assert rgb.max() > 100 and (np.abs(rgb - one).max(axis=-1) <= 1).mean() >= 0.999
+        assert rgb.max() > 100 and np.abs(rgb - one).max() <= 1
 
 
 def test_every_method_of_the_table_draws_beyond_the_limit():

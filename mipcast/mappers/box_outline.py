@@ -57,6 +57,52 @@ def outline_ndc(corners: np.ndarray, renderer) -> Optional[List[Point]]:
     the window renders tiles (the camera's projection then depends on the
     tile); the caller draws over the whole viewport then.
     """
+    ndc = _projected(corners, renderer)
+    return None if ndc is None else _hull([(float(x), float(y)) for x, y in ndc])
+
+
+def _face_ring(axis: int, side: int) -> Tuple[int, int, int, int]:
+    """The corners (rows of :func:`box_corners`: row 4 i + 2 j + k) of a face, around it."""
+    u, v = [b for b in range(3) if b != axis]
+    return tuple((side << (2 - axis)) + (du << (2 - u)) + (dv << (2 - v))
+                 for du, dv in ((0, 0), (1, 0), (1, 1), (0, 1)))
+
+
+#: The box's six faces: (axis, side) (side 0 the low index) and their corners around them.
+FACES = tuple(((axis, side), _face_ring(axis, side)) for axis in range(3) for side in (0, 1))
+
+
+def front_faces(corners: np.ndarray, renderer) -> Optional[List[Tuple[Tuple[int, int], List[Point]]]]:
+    """The box's faces turned to the camera: ``((axis, side), corners in NDC counter-clockwise)``; None as for
+    :func:`outline_ndc`.
+
+    The faces the volume's own draw rasterises (VTK culls the back faces):
+    a face is turned to the camera when its corners, in the order whose
+    right-hand normal points out of the box, project counter-clockwise.
+    Together they tile :func:`outline_ndc`'s polygon.
+
+    Examples
+    --------
+    >>> FACES[0], FACES[5]
+    (((0, 0), (0, 2, 3, 1)), ((2, 1), (1, 5, 7, 3)))
+    """
+    ndc = _projected(corners, renderer)
+    if ndc is None:
+        return None
+    centre = corners.mean(axis=0)
+    faces = []
+    for face, ring in FACES:
+        quad = [(float(ndc[i, 0]), float(ndc[i, 1])) for i in ring]
+        area = sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(quad, quad[1:] + quad[:1]))
+        p = corners[list(ring)]
+        outward = float(np.dot(np.cross(p[1] - p[0], p[3] - p[0]), p.mean(axis=0) - centre))
+        if area * outward > 0.0:
+            faces.append((face, quad if area > 0.0 else quad[::-1]))
+    return faces
+
+
+def _projected(corners: np.ndarray, renderer) -> Optional[np.ndarray]:
+    """The corners in the renderer's NDC (x, y), shape (n, 2); None as for :func:`outline_ndc`."""
     window = renderer.GetRenderWindow()
     if window is not None and (tuple(window.GetTileScale()) != (1, 1)
                                or tuple(window.GetTileViewport()) != (0.0, 0.0, 1.0, 1.0)):
@@ -67,7 +113,7 @@ def outline_ndc(corners: np.ndarray, renderer) -> Optional[List[Point]]:
     clip = np.c_[corners, np.ones(len(corners))] @ projection.T
     if np.any(clip[:, 3] <= 0.0) or np.any(clip[:, 2] < -clip[:, 3]):
         return None
-    return _hull([(float(x), float(y)) for x, y in clip[:, :2] / clip[:, 3:]])
+    return clip[:, :2] / clip[:, 3:]
 
 
 def outline_quads(polygon: Sequence[Point]) -> List[Tuple[Point, Point, Point, Point]]:

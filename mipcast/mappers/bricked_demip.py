@@ -345,6 +345,7 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
     in_view = []
     values = np.full(shape, np.nan)
     empty = np.zeros(shape, dtype=bool)  # rays a brick drew without a sample (mipcast.mappers.outline_rays)
+    drawn_any = np.zeros(shape, dtype=bool)  # rays a brick drew a fragment for
     for first, second in entries:  # phase 1: MAX of the bricks' sampled MIP
         follow_demip_brick(mapper, volume, first, distance, demip=False, image_sample_distance=isd)
         if not box_in_view(first["volume"], renderer, shape):
@@ -356,6 +357,7 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
             continue  # MIDA's picture needs no maximum (its compositing, below)
         found = _render(renderer, first, mapper, camera, shape, size=size)
         empty |= np.abs(np.nan_to_num(found)) > 1.0e3
+        drawn_any |= ~np.isnan(found)
         scalars = first["mapper"].GetRenderedInput().GetPointData().GetScalars()
         brick = float_readout.to_data_units(np.where(np.abs(found) > 1.0e3, np.nan, found), scalars)
         values = np.fmax(values, brick)
@@ -365,7 +367,8 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
         from mipcast.mappers import outline_rays
 
         before = np.isnan(values)
-        values = outline_rays.complete(values, empty, mapper.GetRenderedInput(), camera, size, distance)
+        values = outline_rays.complete(values, empty, mapper.GetRenderedInput(), camera, size, distance,
+                                       undrawn=outline_rays.undrawn(mapper, renderer, drawn_any))
         completed = before & ~np.isnan(values)
     scan = {"isd": isd, "size": size}
     if mapper.GetProjection() == "lmip":

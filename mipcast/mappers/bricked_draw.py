@@ -65,7 +65,7 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms, float_readout
 from mipcast.mappers.brick_rays import box_in_view, brick_entry, cached_bricks, push_rays
-from mipcast.mappers.box_outline import box_corners, outline_ndc, outline_quads
+from mipcast.mappers.box_outline import box_corners, front_faces
 from mipcast.mappers.private_draw import (auto_sample_distance, draw_over, follow_volume, kept_texture,
                                           rendering_renderer)
 
@@ -223,8 +223,7 @@ def draw_bricks(mapper, event) -> None:
             if state.get("exact_readout"):
                 state["brick_readout"] = values
             else:
-                _draw_picture(state, renderer, volume, values, rgba, grey=type(mapper).BRICKS == "mean",
-                              image=mapper.GetInput())
+                _draw_picture(mapper, renderer, volume, values, rgba)
     except Exception as error:  # noqa: BLE001  (an observer: reported as mipcast's refusals are)
         from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 
@@ -337,6 +336,7 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
         shape = (int(grid[1]), int(grid[0]))
     result = np.full(shape, np.nan)
     empty = np.zeros(shape, dtype=bool)
+    drawn_any = np.zeros(shape, dtype=bool)  # a brick drew a fragment
     camera = renderer.GetActiveCamera()
     drawn = 0
     step, sampled = None, False
@@ -363,12 +363,11 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
                 if rule == "mean":
                     read.append(brick_readout(brick_mapper, shape, raw=channel > 0))
                 else:  # and the rays it drew without a sample (mipcast.mappers.outline_rays)
-                    normalised = brick_readout(brick_mapper, shape, raw=True)
-                    empty |= np.abs(np.nan_to_num(normalised)) > _EMPTY
-                    read.append(float_readout.to_data_units(np.where(np.abs(normalised) > _EMPTY, np.nan,
-                                                                     normalised),
-                                                            brick_mapper.GetRenderedInput().GetPointData()
-                                                            .GetScalars()))
+                    texels = brick_texels(brick_mapper, shape)
+                    empty |= np.abs(texels) > _EMPTY  # MIP's -1e30, MinIP's +1e30 (decoded as no fragment)
+                    drawn_any |= texels != 1.0
+                    read.append(_data_units(brick_mapper, np.where(np.abs(texels) > _EMPTY, np.nan,
+                                                                   float_readout.decode(texels))))
         finally:
             object_state(brick_mapper).pop("exact_readout", None)
             brick_mapper.RenderToImageOff()
@@ -379,19 +378,39 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
         else:
             result = combine(result, read[0])
     object_state(mapper)["bricks_drawn"] = drawn
+    object_state(mapper)["brick_sampling"] = (step, sampled)  # for the rays off the box (_face_values)
     if rule != "mean":
-        if rule in ("max", "min") and sampled:  # a cell walk's rays have no clamped sample
-            from mipcast.mappers import outline_rays
+        from mipcast.mappers import outline_rays
 
+        undrawn = outline_rays.undrawn(mapper, renderer, drawn_any)
+        if sampled:
             result = outline_rays.complete(result, empty, mapper.GetRenderedInput(), camera, aspect_size, step,
-                                           combine)
+                                           combine, undrawn=undrawn)
+        elif undrawn is not None and (undrawn & np.isnan(result)).any():  # a walk's rays have no clamped sample;
+            # those the whole box's raster covers on its outline and no brick's does: walked on the CPU
+            from mipcast import reference
+
+            kernel = getattr(reference.mip, _WALKS[rule])
+            result = combine(result, outline_rays.walked(mapper.GetRenderedInput(), camera, shape, aspect_size,
+                                                         undrawn & np.isnan(result), kernel, step))
         return result
     if not passes:
         return result
+    counts = [read[channels.index(1)] for read, _ in passes]  # -n: the samples (ray length) each counted
     if channels == (1, 2, 3):
-        return _mean_grey(mapper, volume, passes)
-    mean = combine([read[0] for read, _ in passes], [np.nan_to_num(-read[1]) for read, _ in passes])
-    if readout:
+        mean = _mean_grey(mapper, volume, passes)
+    else:
+        mean = combine([read[0] for read, _ in passes], [np.nan_to_num(-n) for n in counts])
+    if sampled and not clip_uniforms.cuts(mapper, camera):  # a grazing ray whose one sample no brick drawing it
+        # holds: on the CPU
+        from mipcast.mappers import outline_rays
+
+        none = np.sum([np.nan_to_num(-n) for n in counts], axis=0) == 0.0  # (a brick's ray without one: discarded)
+        sample = outline_rays.single_samples(mapper.GetRenderedInput(), camera, shape, aspect_size, step, none)
+        found = sample if readout else _sample_grey(mapper, volume, sample[..., None])
+        low, high = mapper.GetAverageIPScalarRange()
+        mean = np.where(np.isfinite(found) & (sample >= low) & (sample <= high), found, mean)
+    if readout or channels == (1, 2, 3):
         return mean
     return _grey_of(mapper, volume, mean)
 
@@ -410,6 +429,18 @@ def _shade_map(mapper, volume) -> tuple:
         uniforms.GetUniformf("u_mc_shadeScale", scale)
         g0, g1 = (g0 - float(low)) * float(scale), g1 * float(scale)
     return g0, g1
+
+
+def _sample_grey(mapper, volume, samples: np.ndarray) -> np.ndarray:
+    """The sampled average's grey of a ray's samples (..., k) (NaN: none): the mean of opacity x grey over
+    those in ``AverageIPScalarRange`` (``shaders/average_hooks.glsl``); NaN where none counts."""
+    low, high = mapper.GetAverageIPScalarRange()
+    counted = (samples >= low) & (samples <= high)
+    g0, g1 = _shade_map(mapper, volume)
+    opacity = colour(np.where(counted, samples, np.nan), volume.GetProperty())[..., 3]
+    total = np.sum(np.where(counted, opacity * (g0 + g1 * np.nan_to_num(samples)), 0.0), axis=-1)
+    n = counted.sum(axis=-1)
+    return np.where(n > 0, total / np.maximum(n, 1), np.nan)
 
 
 def _grey_of(mapper, volume, mean: np.ndarray) -> np.ndarray:
@@ -440,27 +471,34 @@ def _mean_grey(mapper, volume, passes) -> np.ndarray:
     return np.where(count > 0.0, grey, np.nan)
 
 
+def brick_texels(brick_mapper, shape) -> np.ndarray:
+    """One brick's readout as its readout piece wrote it (top row first; 1: no fragment, see
+    :func:`mipcast.mappers.float_readout.decode`)."""
+    image = vtkImageData()
+    brick_mapper.GetDepthImage(image)
+    scalars = image.GetPointData().GetScalars()
+    if scalars is None:
+        return np.ones(shape)
+    columns, rows, _ = image.GetDimensions()
+    if (rows, columns) != tuple(shape):
+        raise RuntimeError(f"a brick's readout is {(rows, columns)}, the viewport {tuple(shape)}")
+    return vtk_to_numpy(scalars).reshape(rows, columns)[::-1].astype(np.float64)
+
+
 def brick_readout(brick_mapper, shape, raw: bool = False) -> np.ndarray:
     """One brick's readout in data units (top row first), NaN where its ray had no value.
 
     ``raw``: the decoded value as the readout piece wrote it (a weight channel), not mapped.
     """
-    image = vtkImageData()
-    brick_mapper.GetDepthImage(image)
-    scalars = image.GetPointData().GetScalars()
-    if scalars is None:
-        return np.full(shape, np.nan)
-    columns, rows, _ = image.GetDimensions()
-    normalised = float_readout.decode(vtk_to_numpy(scalars).reshape(rows, columns)[::-1])
+    normalised = float_readout.decode(brick_texels(brick_mapper, shape))
     if raw:
-        if normalised.shape != shape:
-            raise RuntimeError(f"a brick's readout is {normalised.shape}, the viewport {shape}")
         return normalised
-    normalised = np.where(np.abs(normalised) > _EMPTY, np.nan, normalised)
-    values = float_readout.to_data_units(normalised, brick_mapper.GetRenderedInput().GetPointData().GetScalars())
-    if values.shape != shape:
-        raise RuntimeError(f"a brick's readout is {values.shape}, the viewport {shape}")
-    return values
+    return _data_units(brick_mapper, np.where(np.abs(normalised) > _EMPTY, np.nan, normalised))
+
+
+def _data_units(brick_mapper, normalised: np.ndarray) -> np.ndarray:
+    """A brick's normalised readout in data units."""
+    return float_readout.to_data_units(normalised, brick_mapper.GetRenderedInput().GetPointData().GetScalars())
 
 
 # -- the picture ----------------------------------------------------------------
@@ -500,32 +538,108 @@ def colour(values: np.ndarray, volume_property) -> np.ndarray:
     return out
 
 
-def _draw_picture(state, renderer, volume, values, rgba=None, grey: bool = False, image=None) -> None:
+def _draw_picture(mapper, renderer, volume, values, rgba=None) -> None:
     """Draw the coloured values (or the premultiplied ``rgba``) over the renderer's viewport, blended.
 
-    ``grey``: the values are an average's grey, drawn opaque (``shaders/average_color.glsl``).
-    With multisampling and the whole volume ``image`` given, the picture is
-    drawn through the box's outline (:mod:`mipcast.mappers.box_outline`), so
+    An average's values are its grey, drawn opaque (``shaders/average_color.glsl``).
+    With multisampling the picture is drawn face by face through the whole
+    box's front faces (:func:`mipcast.mappers.box_outline.front_faces`), so
     the silhouette's pixels are blended by the box's coverage as the single
-    texture's are; otherwise over the whole viewport.
+    texture's are, and each face's texture gives the pixels within a pixel of
+    the face whose centre lies off it (off the box, or on the next face) what
+    that face's fragment of the single texture reads there (:func:`_face_values`;
+    DEMIP's ``rgba``: drawn through the faces without them).  Otherwise (no
+    multisampling, tiles, a box reaching the camera) over the whole viewport.
     """
+    state = object_state(mapper)
     window = renderer.GetRenderWindow()
-    if grey and rgba is None:
-        hit = np.isfinite(values)
-        rgba = np.zeros(values.shape + (4,), dtype=np.float32)
-        rgba[hit, :3] = np.clip(values[hit], 0.0, 1.0)[:, None]
-        rgba[hit, 3] = 1.0
-    rgba = colour(values, volume.GetProperty()) if rgba is None else rgba
-    height, width = values.shape
-    texture = kept_texture(state, "brick_texture", window)
-    data = np.ascontiguousarray(rgba[::-1], dtype=np.float32)  # bottom row first
-    texture.Create2DFromRaw(width, height, 4, VTK_FLOAT, data)
-    width_, height_, x0, y0 = [0], [0], [0], [0]
-    renderer.GetTiledSizeAndOrigin(width_, height_, x0, y0)
-    polygon = outline_ndc(box_corners(image, volume), renderer) \
-        if image is not None and window.GetMultiSamples() > 1 else None
-    quads = None  # the whole viewport; else through the whole box's outline (its MSAA coverage)
-    if polygon is not None:
-        quads = [([c for x, y in quad for c in (0.5 * (x + 1.0), 0.5 * (y + 1.0))],
-                  [c for x, y in quad for c in (x, y, 0.0)]) for quad in outline_quads(polygon)]
-    draw_over(window, texture, (x0[0], y0[0], width, height), quads)
+    width, height, x0, y0 = [0], [0], [0], [0]
+    renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
+    faces = front_faces(box_corners(mapper.GetInput(), volume), renderer) if window.GetMultiSamples() > 1 else None
+    pictures, outlines = [values], [None]  # None: the whole viewport
+    if faces and rgba is None and not clip_uniforms.cuts(mapper, renderer.GetActiveCamera()):
+        from mipcast.mappers.outline_rays import far
+
+        clear = far(renderer, values.shape)  # no opaque geometry: the rays end at the box
+        pictures = [_face_values(mapper, volume, renderer, values, face, _next_to(quad, values.shape) & clear)
+                    for face, quad in faces]
+        outlines = [[quad] for _, quad in faces]
+    elif faces:
+        outlines = [[quad for _, quad in faces]]
+    if rgba is not None:
+        colours = [rgba]
+    elif type(mapper).BRICKS == "mean":
+        colours = [_grey_rgba(picture) for picture in pictures]
+    else:  # one colour table for all of them
+        colours = list(colour(np.stack(pictures), volume.GetProperty()))
+    for index, (rgba, outline) in enumerate(zip(colours, outlines)):
+        texture = kept_texture(state, ("brick_texture", index), window)
+        data = np.ascontiguousarray(rgba[::-1], dtype=np.float32)  # bottom row first
+        texture.Create2DFromRaw(values.shape[1], values.shape[0], 4, VTK_FLOAT, data)
+        quads = None if outline is None else [
+            ([c for x, y in quad for c in (0.5 * (x + 1.0), 0.5 * (y + 1.0))], [c for x, y in quad for c in (x, y, 0.0)])
+            for quad in outline]
+        draw_over(window, texture, (x0[0], y0[0], width[0], height[0]), quads)
+
+
+def _grey_rgba(grey: np.ndarray) -> np.ndarray:
+    """An average's grey as opaque RGBA (NaN: transparent)."""
+    hit = np.isfinite(grey)
+    rgba = np.zeros(grey.shape + (4,), dtype=np.float32)
+    rgba[hit, :3] = np.clip(grey[hit], 0.0, 1.0)[:, None]
+    rgba[hit, 3] = 1.0
+    return rgba
+
+
+def _next_to(quad, shape) -> np.ndarray:
+    """Pixels (rows, columns; top row first) whose centre lies outside the NDC ``quad`` (convex,
+    counter-clockwise) but within a pixel of it: multisampling may cover some of their samples."""
+    rows, columns = shape
+    y, x = np.mgrid[0:rows, 0:columns]
+    px, py = x + 0.5, rows - y - 0.5  # pixel units, from the viewport's lower left corner
+    corners = [(0.5 * (qx + 1.0) * columns, 0.5 * (qy + 1.0) * rows) for qx, qy in quad]
+    beyond = np.full(shape, -np.inf)  # the largest distance beyond an edge's line
+    for (ax, ay), (bx, by) in zip(corners, corners[1:] + corners[:1]):
+        length = np.hypot(bx - ax, by - ay)
+        if length > 0.0:
+            beyond = np.maximum(beyond, ((px - ax) * (by - ay) - (py - ay) * (bx - ax)) / length)
+    return (beyond > 0.0) & (beyond <= 1.0)
+
+
+#: The float64 kernels of the cell walks' rays off the box (extrapolated), per ``BRICKS``.
+_WALKS = {"max": "exact_maximum", "min": "exact_minimum", "mean": "exact_mean"}
+
+
+def _face_values(mapper, volume, renderer, values, face, pixels) -> np.ndarray:
+    """``values`` with the ``pixels``' as the single texture's fragment of ``face`` gives them.
+
+    The rays of :func:`mipcast.mappers.outline_rays.face_rays`, combined as
+    the method combines its samples (sampled: the maximum, the minimum, the
+    average's grey, opacity x grey over the samples in
+    ``AverageIPScalarRange`` as ``shaders/average_hooks.glsl``) or cells
+    (the float64 reference's exact kernels, extrapolating off the box).
+    """
+    from mipcast import reference
+    from mipcast.mappers import outline_rays
+
+    step, sampled = object_state(mapper)["brick_sampling"]
+    rule = type(mapper).BRICKS
+    image = mapper.GetRenderedInput()
+    rows, columns, start, ray_step, steps = outline_rays.face_rays(
+        image, renderer.GetActiveCamera(), values.shape, values.shape[::-1], step, face, pixels)
+    if not sampled:
+        kernel = getattr(reference.mip, _WALKS[rule])
+        found = kernel(outline_rays.volume_array(image), start, ray_step, np.maximum(steps, 0.0), extrapolate=True)
+        if rule == "mean":
+            found = _grey_of(mapper, volume, found)
+    else:
+        samples = outline_rays.along(image, start, ray_step, steps)
+        if rule == "max":
+            found = np.nanmax(samples, axis=1)
+        elif rule == "min":
+            found = np.nanmin(samples, axis=1)
+        else:
+            found = _sample_grey(mapper, volume, samples)
+    out = values.copy()
+    out[rows, columns] = found
+    return out

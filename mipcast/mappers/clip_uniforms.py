@@ -129,6 +129,12 @@ def world_planes(mapper, camera) -> tuple:
     return np.array(origins, float).reshape(-1, 3), np.array(normals, float).reshape(-1, 3)
 
 
+def cuts(mapper, camera=None) -> bool:
+    """Whether the mapper's cropping, clipping planes or slab (``camera``: its default centre and normal) cut the
+    volume."""
+    return bool(mapper.GetCropping()) or len(world_planes(mapper, camera)[0]) > 0
+
+
 def slab_of(mapper, camera) -> Optional[tuple]:
     """``(thickness, centre, normal)`` of the mapper's slab now, or ``None`` without one."""
     get = getattr(mapper, "_slab_settings", None)

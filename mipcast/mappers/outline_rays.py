@@ -25,7 +25,7 @@ array([3.5])
 """
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Optional, Sequence
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -34,7 +34,11 @@ from mipcast.mappers.brick_rays import ray_uniforms, whole_geometry
 
 
 def trilinear(volume: np.ndarray, points: np.ndarray) -> np.ndarray:
-    """``volume`` (z, y, x) interpolated at ``points`` ((n, 3) point indices x, y, z inside the box)."""
+    """``volume`` (z, y, x) interpolated at ``points`` ((n, 3) point indices x, y, z).
+
+    A point off the box is read from the nearest cell's interpolant, extrapolated (clamp it first for
+    the texture's clamped edge).
+    """
     upper = np.array(volume.shape[::-1]) - 1
     cell = np.clip(np.floor(points), 0, np.maximum(upper - 1, 0)).astype(int)
     t = points - cell
@@ -52,14 +56,12 @@ def trilinear(volume: np.ndarray, points: np.ndarray) -> np.ndarray:
     return out
 
 
-def single_samples(image, camera, shape: Sequence[int], size: Sequence[int], sample_distance: float,
-                   pixels: np.ndarray) -> np.ndarray:
-    """The one sample (data units) of the grazing rays at ``pixels`` (bool (rows, columns), top row first).
+def _pixel_rays(image, camera, shape: Sequence[int], size: Sequence[int], sample_distance: float,
+                pixels: np.ndarray) -> tuple:
+    """The ``global_phase`` rays of ``pixels`` (bool (rows, columns), top row first) in ``image``'s index space.
 
-    ``image``: the one-component volume the bricks draw (scalars in data
-    units); ``shape``: the ray grid (rows, columns); ``size``: the viewport's
-    (width, height), the camera's aspect.  NaN where the ray is not a
-    single-sample ray outside the box (then the bricks' answer stands).
+    Returns each ray's point (n, 3), its step of one sample distance (n, 3)
+    and the pixels' rows and columns.
     """
     rows, columns = int(shape[0]), int(shape[1])
     dims = image.GetDimensions()
@@ -74,33 +76,136 @@ def single_samples(image, camera, shape: Sequence[int], size: Sequence[int], sam
     direction = (point - eye[:3]) if eye[3] > 0.5 else np.broadcast_to(rays["u_mc_rayDirection"], point.shape)
     spacing = np.abs(np.array(image.GetSpacing()))
     step = direction * (sample_distance / np.linalg.norm(direction * spacing, axis=1))[:, None]
-    upper = np.array(dims, dtype=float) - 1.0
+    return point, step, r, c
+
+
+def volume_array(image) -> np.ndarray:
+    """``image``'s scalars (component 0) as a float64 (z, y, x) array."""
+    dims = image.GetDimensions()
+    scalars = vtk_to_numpy(image.GetPointData().GetScalars()).astype(np.float64)
+    return (scalars if scalars.ndim == 1 else scalars[:, 0]).reshape(dims[2], dims[1], dims[0])
+
+
+def _chords(image, camera, shape, size, sample_distance: float, pixels: np.ndarray) -> tuple:
+    """:func:`_pixel_rays` and where each ray enters and leaves the whole box (in steps from its point)."""
+    point, step, r, c = _pixel_rays(image, camera, shape, size, sample_distance, pixels)
+    upper = np.array(image.GetDimensions(), dtype=float) - 1.0
     with np.errstate(divide="ignore", invalid="ignore"):
         a, b = (0.0 - point) / step, (upper - point) / step
     flat = step == 0.0
     s_in = np.max(np.where(flat, -1.0e30, np.minimum(a, b)), axis=1)
     s_out = np.min(np.where(flat, 1.0e30, np.maximum(a, b)), axis=1)
+    return point, step, r, c, s_in, s_out
+
+
+def walked(image, camera, shape: Sequence[int], size: Sequence[int], pixels: np.ndarray, kernel,
+           sample_distance: float) -> np.ndarray:
+    """The cell walk's value (``kernel``: :func:`mipcast.reference.mip.exact_maximum`, ...) of the rays at
+    ``pixels`` over their chord of the whole box, in float64; NaN where a ray misses the box or crosses one
+    sample distance or more of it (not an outline ray)."""
+    point, step, r, c, s_in, s_out = _chords(image, camera, shape, size, sample_distance, pixels)
+    hit = (s_out >= s_in) & (s_out - s_in < 1.0)
+    result = np.full((int(shape[0]), int(shape[1])), np.nan)
+    if hit.any():
+        entry = point[hit] + s_in[hit, None] * step[hit]
+        result[r[hit], c[hit]] = kernel(volume_array(image), entry, step[hit], s_out[hit] - s_in[hit])
+    return result
+
+
+def single_samples(image, camera, shape: Sequence[int], size: Sequence[int], sample_distance: float,
+                   pixels: np.ndarray) -> np.ndarray:
+    """The one sample (data units) of the grazing rays at ``pixels`` (bool (rows, columns), top row first).
+
+    ``image``: the one-component volume the bricks draw (scalars in data
+    units); ``shape``: the ray grid (rows, columns); ``size``: the viewport's
+    (width, height), the camera's aspect.  NaN where the ray misses the box
+    or is not a single-sample ray (then the bricks' answer stands).
+    """
+    point, step, r, c, s_in, s_out = _chords(image, camera, shape, size, sample_distance, pixels)
+    upper = np.array(image.GetDimensions(), dtype=float) - 1.0
     sample = np.clip(point + (s_in + 1.0)[:, None] * step, 0.0, upper)
-    scalars = vtk_to_numpy(image.GetPointData().GetScalars()).astype(np.float64)
-    volume = scalars.reshape(dims[2], dims[1], dims[0]) if scalars.ndim == 1 else scalars[:, 0].reshape(
-        dims[2], dims[1], dims[0])
-    values = trilinear(volume, sample)
+    values = trilinear(volume_array(image), sample)
     out = np.full(len(r), np.nan)
-    grazing = s_out - s_in < 1.0  # one sample, past the exit: clamped onto the box
+    grazing = (s_out >= s_in) & (s_out - s_in < 1.0)  # one sample, past the exit: clamped onto the box
     out[grazing] = values[grazing]
-    result = np.full((rows, columns), np.nan)
+    result = np.full((int(shape[0]), int(shape[1])), np.nan)
     result[r, c] = out
     return result
 
 
+def face_rays(image, camera, shape: Sequence[int], size: Sequence[int], sample_distance: float,
+              face: Sequence[int], pixels: np.ndarray) -> tuple:
+    """The single texture's rays at ``pixels`` through the box face ``face`` ((axis, side), side 0 the low index).
+
+    With multisampling a pixel some of whose samples a front face of the box
+    covers gets that face's fragment, shaded at the pixel centre, even where
+    the centre lies off the face: its ray starts where the centre's ray
+    crosses the face's PLANE, off the box (VTK interpolates the face's
+    texture coordinates).  Returns the pixels' rows and columns, each ray's
+    start (n, 3) and step of one sample distance (n, 3) in point indices, and
+    the steps from the start to the nearest exit plane (negative: behind it).
+    Sampled methods take the samples ``start + k`` steps, ``k = 1 .. 1 +
+    floor(max(0, steps - 1))`` (:func:`along`); the cell walks the ray from
+    the start, ``max(0, steps)`` long, a part off the box read from its
+    clamped cell extrapolated (``shaders/sampled_loop.glsl``,
+    ``shaders/amip_cell.glsl``).
+    """
+    point, step, r, c = _pixel_rays(image, camera, shape, size, sample_distance, pixels)
+    axis, side = int(face[0]), int(face[1])
+    upper = np.array(image.GetDimensions(), dtype=float) - 1.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        start = point + ((side * upper[axis] - point[:, axis]) / step[:, axis])[:, None] * step
+        exits = (np.where(step > 0.0, upper, 0.0) - start) / step
+    return r, c, start, step, np.min(np.where(step == 0.0, 1.0e30, exits), axis=1)
+
+
+def along(image, start: np.ndarray, step: np.ndarray, steps: np.ndarray) -> np.ndarray:
+    """The samples (n, k) of :func:`face_rays`' rays in a sampled loop, read clamped onto the box; NaN past a
+    ray's last."""
+    count = 1 + np.floor(np.maximum(0.0, steps - 1.0)).astype(int)
+    k = np.arange(1, (count.max() if len(count) else 0) + 1)
+    upper = np.array(image.GetDimensions(), dtype=float) - 1.0
+    at = np.clip(start[:, None, :] + k[None, :, None] * step[:, None, :], 0.0, upper).reshape(-1, 3)
+    values = trilinear(volume_array(image), at).reshape(len(start), len(k))
+    return np.where(k[None, :] <= count[:, None], values, np.nan)
+
+
+def far(renderer, shape: Sequence[int]) -> np.ndarray:
+    """The rays of a grid of ``shape`` (rows, columns; top row first) over ``renderer``'s viewport whose pixel
+    holds no opaque geometry in the depth buffer (their ray ends at the box)."""
+    width, height, x0, y0 = [0], [0], [0], [0]
+    renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
+    width, height = max(width[0], 1), max(height[0], 1)
+    depth = np.empty(width * height, dtype=np.float32)
+    renderer.GetRenderWindow().GetZbufferData(x0[0], y0[0], x0[0] + width - 1, y0[0] + height - 1, depth)
+    clear = depth.reshape(height, width)[::-1] >= 1.0
+    rows = ((np.arange(int(shape[0])) + 0.5) * height / int(shape[0])).astype(int)
+    columns = ((np.arange(int(shape[1])) + 0.5) * width / int(shape[1])).astype(int)
+    return clear[np.ix_(rows, columns)]
+
+
+def undrawn(mapper, renderer, drawn: np.ndarray) -> Optional[np.ndarray]:
+    """The rays (``drawn``'s grid) no brick drew a fragment for that :func:`complete` may fill in: those whose
+    pixel holds no opaque geometry; None when the mapper's cropping, clipping planes or slab may have cut them."""
+    from mipcast.mappers import clip_uniforms
+
+    if clip_uniforms.cuts(mapper, renderer.GetActiveCamera()):
+        return None
+    return ~drawn & far(renderer, drawn.shape)
+
+
 def complete(values: np.ndarray, empty: np.ndarray, image, camera, size, sample_distance: float,
-             combine=np.fmax) -> np.ndarray:
+             combine=np.fmax, undrawn=None) -> np.ndarray:
     """``values`` (bricks combined, NaN: none) with the grazing rays a brick drew but none sampled filled in.
 
     ``empty``: the rays some brick drew a fragment for without a sample;
-    ``combine``: how a value joins the bricks' (the maximum; the minimum).
+    ``combine``: how a value joins the bricks' (the maximum; the minimum);
+    ``undrawn``: the rays no brick drew a fragment for (:func:`undrawn`),
+    filled in too where they graze the whole box (the whole box's raster may
+    cover a pixel centre on its outline that the bricks' faces, rastered from
+    other corners, do not).
     """
-    missing = empty & np.isnan(values)
+    missing = (empty if undrawn is None else empty | undrawn) & np.isnan(values)
     if not missing.any():
         return values
     found = single_samples(image, camera, values.shape, size, sample_distance, missing)

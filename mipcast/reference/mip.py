@@ -116,7 +116,7 @@ def _lerp_poly(low: list, high: list, w0: np.ndarray, dw: np.ndarray) -> list:
 
 
 def _cell_cubics(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-                 length: np.ndarray, crop=None, corner_minimum: bool = False) -> tuple:
+                 length: np.ndarray, crop=None, corner_minimum: bool = False, extrapolate: bool = False) -> tuple:
     """Per crossed cell segment, the cubic ``((a s + b) s + c) s + d`` (s in [0, 1]) of the interpolant.
 
     Returns ``(a, b, c, d, span, starts, visible)``: coefficients and length
@@ -126,6 +126,10 @@ def _cell_cubics(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
     also split at the cropping planes and a segment counts where its
     midpoint's cropping region is visible (all count without ``crop``); with
     ``corner_minimum`` also the smallest of each cell's 8 corners.
+    ``extrapolate``: a segment off the box is read from its cell (the
+    nearest, clamped) extrapolated, not clamped onto the box: what the GPU's
+    cell walk reads for a ray that starts off the box (a multisampled pixel
+    whose centre lies off it, :func:`mipcast.mappers.outline_rays.face_rays`).
     """
     bounds = _crossings(entry, direction, length, crop)
     valid = np.isfinite(bounds[:, 1:])
@@ -136,8 +140,8 @@ def _cell_cubics(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
     middle = 0.5 * (start + stop)
     cell = cells(values, middle)
     visible = np.ones(len(t0), bool) if crop is None else crop_visible(middle, *crop)
-    u0 = np.clip(start - cell, 0.0, 1.0)
-    du = np.clip(stop - cell, 0.0, 1.0) - u0
+    u0 = start - cell if extrapolate else np.clip(start - cell, 0.0, 1.0)
+    du = (stop - cell if extrapolate else np.clip(stop - cell, 0.0, 1.0)) - u0
 
     corners = gather(values, cell)
     poly = [corners]
@@ -152,10 +156,11 @@ def _cell_cubics(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
 
 
 def exact_maximum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-                  length: np.ndarray, crop=None) -> np.ndarray:
+                  length: np.ndarray, crop=None, extrapolate: bool = False) -> np.ndarray:
     """Exact maximum of the trilinear interpolant along each ray segment
-    (over its visible cropping regions' pieces with ``crop``; ``-inf`` where none is)."""
-    a, b, c, d, _, starts, visible = _cell_cubics(values, entry, direction, length, crop)
+    (over its visible cropping regions' pieces with ``crop``; ``-inf`` where none is;
+    ``extrapolate``: see :func:`_cell_cubics`)."""
+    a, b, c, d, _, starts, visible = _cell_cubics(values, entry, direction, length, crop, extrapolate=extrapolate)
     best = np.maximum(d, ((a + b) + c) + d)
     qa, qb = 3.0 * a, 2.0 * b
     disc = qb * qb - 4.0 * qa * c
@@ -169,14 +174,14 @@ def exact_maximum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
 
 
 def exact_minimum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-                  length: np.ndarray, crop=None) -> np.ndarray:
+                  length: np.ndarray, crop=None, extrapolate: bool = False) -> np.ndarray:
     """Exact minimum of the trilinear interpolant along each ray: minus the maximum of its negation
     (negation is exact, and the negated cubics are the cubics of the negated corners)."""
-    return -exact_maximum(-values, entry, direction, length, crop)
+    return -exact_maximum(-values, entry, direction, length, crop, extrapolate)
 
 
 def exact_mean(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-               length: np.ndarray, crop=None, floor: float = -np.inf) -> np.ndarray:
+               length: np.ndarray, crop=None, floor: float = -np.inf, extrapolate: bool = False) -> np.ndarray:
     """Exact mean of the trilinear interpolant along each ray inside the volume.
 
     The integral of each cell's cubic over its segment is
@@ -188,10 +193,10 @@ def exact_mean(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
     (missing data, filled below it): only the part of the ray where the
     interpolant is ``>= floor`` counts (its integral and its length;
     :func:`_covered_part`), the limit of :func:`sampled_mean`'s rule; NaN for
-    a ray with no such part.
+    a ray with no such part.  ``extrapolate``: see :func:`_cell_cubics`.
     """
     a, b, c, d, span, starts, visible, lowest = _cell_cubics(values, entry, direction, length, crop,
-                                                             corner_minimum=True)
+                                                             corner_minimum=True, extrapolate=extrapolate)
     part, covered = d + c / 2.0 + b / 3.0 + a / 4.0, np.ones_like(span)
     counts = visible.copy()
     if floor > -np.inf:
