@@ -230,6 +230,15 @@ def test_narrow_range_matches_offscreen_and_exact_reference(builtin, method):
         # (what stays: VTK's table interpolation of answers inside the range, silhouette pixels)
         assert result[against]["within_1_share"] >= 0.99, (against, result)
 
+
+@pytest.mark.parametrize("part", ["methods", "tiled"])
+def test_no_opengl_error_across_method_switches(builtin, part):
+    """Both parts draw ``cpu`` first, then every other method: VTK's OpenGL error reports in the
+    output window (before the fix 12 and 36, the packed exact projections' gradient-opacity samplers
+    after VTK's CPU ray caster had given the shared property a gradient-opacity function)."""
+    assert builtin[part]["_opengl_errors"] == [], builtin[part]["_opengl_errors"][:3]
+
+
 def test_each_method_draws_with_its_mipcast_mapper(builtin):
     mappers = {m: r["mapper"] for m, r in builtin["methods"].items() if not m.startswith("_")}
     assert mappers["mip"] == "MIPVolumeMapper"
@@ -348,6 +357,13 @@ def test_client_server_picture_equals_builtin(client_server, builtin, method):
 
     diff = np.abs(pixels(client_server["png_dir"]) - pixels(builtin["png_dir"])).max(axis=-1)
     assert np.mean(diff <= 1) >= MATCH
+
+
+def test_client_server_logs_no_opengl_error(client_server):
+    """The server drew every method, ``cpu`` first (paraview_representation_check.methods_part)."""
+    errors = [line for line in client_server["server_log"].splitlines()
+              if "OpenGL error" in line or "glGetError" in line]
+    assert errors == [], errors[:3]
 
 
 # -- the GUI -------------------------------------------------------------------------------------------
