@@ -302,13 +302,27 @@ def test_state_file_restores_method_and_parameters(builtin):
     assert result["loaded_vs_saved"]["within_1_share"] >= MATCH, result
 
 
-def test_multi_component_arrays_draw_their_magnitude(builtin):
-    """Three components are drawn as their magnitude (as ParaView does), not refused."""
-    assert builtin["bad"]["multi_component"]["lit"] > 0.25, builtin["bad"]["multi_component"]
+@pytest.mark.parametrize("method", PARITY)
+def test_multi_component_array_follows_the_colouring_choice(builtin, method):
+    """Colour by Magnitude, then by X: each picture equals the offscreen view drawing that component
+    (before: always the magnitude, whatever the choice), and the two differ."""
+    result = builtin["arrays"]["vector"][method]
+    for choice in ("Magnitude", "X"):
+        _matches(result[choice], _projection(method))
+    assert result["changed_share"] > 0.1, result
+
+
+@pytest.mark.parametrize("method", ["mip", "analytic", "stock", "cpu"])
+def test_cell_array_is_drawn_at_the_cell_centres(builtin, method):
+    """A cell array (next to a point array of the same name, which is not drawn) equals the offscreen
+    view of the cell data, drawn on the image of the cell centres (before: refused, nothing drawn)."""
+    result = builtin["arrays"]["cells"][method]
+    _matches(result)
+    assert result["changed_from_points"] > 0.05, result
 
 
 @pytest.mark.parametrize("case, words", [
-    ("cell_data", "cell scalars"),
+    ("cell_data_one_slice", "at least 2 cells"),
     ("nan_voxels", "NaN"),
     ("out_of_range", "must be in [0, 1]"),
     ("unknown_method", "unknown method"),
@@ -316,7 +330,7 @@ def test_multi_component_arrays_draw_their_magnitude(builtin):
 def test_bad_input_gives_a_message_and_a_defined_picture(builtin, case, words):
     result = builtin["bad"][case]
     assert any(words in line for line in result["message"]), result
-    if case in ("cell_data", "nan_voxels"):
+    if case in ("cell_data_one_slice", "nan_voxels"):
         assert result["lit"] == 0.0, result  # refused: nothing drawn
     else:
         assert result["lit"] > 0.25, result  # the previous value / method keeps drawing
