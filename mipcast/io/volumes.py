@@ -213,7 +213,7 @@ def _run(reader, path: Path, what: str) -> vtkImageData:
     output = reader.GetOutput()
     failed = ("ERROR" in messages or "File operation failed" in messages
               or reader.GetErrorCode() != 0 or output is None or output.GetNumberOfPoints() == 0
-              or output.GetPointData().GetScalars() is None)
+              or (output.GetPointData().GetScalars() is None and output.GetCellData().GetScalars() is None))
     if failed:
         detail = " ".join(line.strip() for line in messages.splitlines()
                           if line.strip() and not line.startswith(("ERROR: In", "Warning: In",
