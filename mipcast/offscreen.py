@@ -26,6 +26,7 @@ from mipcast import methods
 from mipcast.mappers.float_readout import render_float
 from mipcast.mappers.input_preparer import missing_as_background, prepared_image
 from mipcast.core.patient_views import PATIENT_VIEWS, set_patient_view
+from mipcast.core.prepare import scalar_image
 from mipcast.core.windowing import resolve_window
 from mipcast.core.validation import check_choice, check_image, check_positive, check_size
 
@@ -164,7 +165,7 @@ class OffscreenView:
         self.render_window.SetMultiSamples(0)  # MSAA would blend silhouette pixels with the background
         self.render_window.AddRenderer(self.renderer)
         self.render_window.SetSize(*self.size)
-        set_view(self.renderer, image, view)
+        set_view(self.renderer, scalar_image(image), view)  # frames what is drawn (cell data: the centres)
 
     def set_input(self, image, component=None) -> None:
         """Draw ``image`` from now on (same mapper, window and camera).

@@ -18,7 +18,8 @@ method of the Method list), ``narrow`` (narrow colour ranges, also against the f
 reference), ``parameter`` (a DEMIP parameter changed: the
 picture changes, no new shader program), ``eye`` (Hide/Show), ``trace`` (a
 traced property change replayed), ``state`` (.pvsm saved, session reset,
-loaded), ``bad`` (multi-component, cell data, NaN voxels, out-of-range
+loaded), ``arrays`` (a multi-component array by Magnitude and X in every method, a
+cell array), ``bad`` (a cell array with no cell along an axis, NaN voxels, out-of-range
 values), ``bench`` (frame time against the offscreen view).  With
 ``--server HOST:PORT`` it connects to a running pvserver first and runs
 ``methods`` there.  Prints one JSON object on the last line of stdout; used by
@@ -92,15 +93,15 @@ def camera_of(view):
     return camera
 
 
-def reference(image, method, view, size=(WIDTH, HEIGHT), **settings):
-    """mipcast's own offscreen render with ParaView's camera and functions."""
+def reference(image, method, view, size=(WIDTH, HEIGHT), array=ARRAY, component=None, **settings):
+    """mipcast's own offscreen render with ParaView's camera and functions (those of ``array``)."""
     from mipcast.core.parameters import set_parameters
     from paraview.simple import GetColorTransferFunction, GetOpacityTransferFunction
 
-    scene = OffscreenView(image, method, size=size)
+    scene = OffscreenView(image, method, size=size, component=component)
     set_parameters(scene.mapper, **settings)
-    scene.volume.SetProperty(reference_property(GetColorTransferFunction(ARRAY),
-                                                GetOpacityTransferFunction(ARRAY)))
+    scene.volume.SetProperty(reference_property(GetColorTransferFunction(array),
+                                                GetOpacityTransferFunction(array)))
     scene.renderer.GetActiveCamera().DeepCopy(camera_of(view))
     pixels = scene.screenshot()
     return pixels, scene
@@ -170,22 +171,56 @@ def lit(pixels):
     return float(np.mean(pixels.max(axis=-1) > 8))
 
 
+def gl_errors(text):
+    """The OpenGL error reports in VTK's output-window text (ParaView's VTK checks glGetError after
+    every state call: "Error glActiveTexture1 OpenGL errors detected ...")."""
+    return [line for line in text.splitlines() if "OpenGL error" in line or "glGetError" in line]
+
+
+def cpu_first(methods):
+    """``methods`` with ``cpu`` first: VTK's CPU ray caster gives the view's volume property a
+    gradient-opacity function (``GetGradientOpacity`` creates one), so every later method draws
+    after a switch from ``cpu`` with that property (it once logged OpenGL errors: plugin/README.md)."""
+    return sorted(methods, key=lambda method: method != "cpu")
+
+
 # -- parts --------------------------------------------------------------------------------------
-def projection_range(display, image, method):
-    """Colour the array over the data range, the average projection over its default window
-    (its picture is dark over the data range); returns the range set."""
+def projection_range(display, image, method, array=ARRAY, component=None):
+    """Colour the array (its magnitude or ``component``) over the data range, the average projection
+    over its default window (its picture is dark over the data range); returns the range set."""
     import mipcast
     from mipcast.core.windowing import default_window
+    from mipcast.mappers.input_preparer import prepared_image
     from paraview.simple import GetColorTransferFunction, GetOpacityTransferFunction
 
     projection = mipcast.METHODS[method].projection
+    drawn = prepared_image(image, component)  # one component, on the cell centres for cell data
     if projection == "average":
-        low, high = default_window(image, projection)
+        low, high = default_window(drawn, projection)
     else:
-        low, high = image.GetPointData().GetScalars().GetRange()
-    GetColorTransferFunction(ARRAY).RescaleTransferFunction(low, high)
-    GetOpacityTransferFunction(ARRAY).RescaleTransferFunction(low, high)
+        low, high = drawn.GetPointData().GetScalars().GetRange()
+    GetColorTransferFunction(array).RescaleTransferFunction(low, high)
+    GetOpacityTransferFunction(array).RescaleTransferFunction(low, high)
     return low, high
+
+
+def each_method(display, image, view, png, methods, tag, stats=False):
+    """Each method (``cpu`` first) drawn at (WIDTH, HEIGHT) and compared with the offscreen view
+    (pictures ``rep_<tag><method>``, ``ref_<tag><method>``); ``_opengl_errors``: VTK's OpenGL error
+    reports meanwhile."""
+    report = {}
+    with Messages() as messages:
+        for method in cpu_first(methods):
+            display.MipcastMethod = method
+            projection_range(display, image, method)
+            pv = screenshot(view, png(f"rep_{tag}{method}"))
+            ref, _ = reference(image, method, view)
+            write_png(png(f"ref_{tag}{method}"), ref)
+            report[method] = compare(pv, ref)
+            if stats:
+                report[method]["mapper"] = glue_stats()[0]["mapper"]
+        report["_opengl_errors"] = gl_errors(messages.text())
+    return report
 
 
 def methods_part(reader, image, view, png, methods, stats=True):
@@ -193,19 +228,9 @@ def methods_part(reader, image, view, png, methods, stats=True):
     a bigger screenshot makes ParaView render tiles, see ``tiled_part``)."""
     import mipcast
 
-    report = {}
     display = show_mipcast(reader, view)
     set_camera(view)
-    for method in methods:
-        display.MipcastMethod = method
-        projection_range(display, image, method)
-        pv = screenshot(view, png(f"rep_{method}"))
-        ref, _ = reference(image, method, view)
-        write_png(png(f"ref_{method}"), ref)
-        result = compare(pv, ref)
-        if stats:
-            result["mapper"] = glue_stats()[0]["mapper"]
-        report[method] = result
+    report = each_method(display, image, view, png, methods, "", stats)
     report["_listed"] = sorted(display.GetProperty("MipcastMethod").SMProperty.GetDomain("list")
                                .GetString(i) for i in range(
         display.GetProperty("MipcastMethod").SMProperty.GetDomain("list").GetNumberOfStrings()))
@@ -262,15 +287,91 @@ def tiled_part(reader, image, png, methods):
     view = plain_view((WIDTH // 2 + 32, HEIGHT // 2 + 32))  # 112 x 96: 2 x 2 tiles of 80 x 64
     display = show_mipcast(reader, view)
     set_camera(view)
-    report = {}
-    for method in methods:
-        display.MipcastMethod = method
-        projection_range(display, image, method)
-        pv = screenshot(view, png(f"rep_tiled_{method}"))
-        ref, _ = reference(image, method, view)
-        write_png(png(f"ref_tiled_{method}"), ref)
-        report[method] = compare(pv, ref)
+    report = each_method(display, image, view, png, methods, "tiled_")
     from paraview.simple import Delete
+    Delete(view)
+    return report
+
+
+#: The arrays part's view: smaller than the others (two pictures per method).
+ARRAYS_SIZE = (96, 80)
+
+
+def vector_image(size=32):
+    """The vessels as a three-component point array "vec" = (vessels, spheres, vessels / 2): its
+    magnitude, X and Y draw different pictures."""
+    image = make_fixture("vessels", size=size)
+    vessels = vtk_to_numpy(image.GetPointData().GetScalars()).astype(np.float32)
+    spheres = vtk_to_numpy(make_fixture("spheres", size=size).GetPointData().GetScalars()).astype(np.float32)
+    array = numpy_to_vtk(np.stack([vessels, spheres, 0.5 * vessels], axis=1), deep=True)
+    array.SetName("vec")
+    image.GetPointData().SetScalars(array)
+    return image
+
+
+def cell_image(image):
+    """``image``'s point scalars as cell data (VTK's point-to-cell average), with the point array kept."""
+    from vtkmodules.vtkFiltersCore import vtkPointDataToCellData
+
+    convert = vtkPointDataToCellData()
+    convert.SetInputData(image)
+    convert.PassPointDataOn()
+    convert.Update()
+    cells = convert.GetOutput()
+    only = cells.NewInstance()
+    only.DeepCopy(cells)
+    only.GetPointData().Initialize()  # the reference: the cell array alone
+    return cells, only
+
+
+def arrays_part(directory, png, methods):
+    """Colour by a multi-component array's Magnitude and by its X component in every method, and by
+    a cell array (alone, and next to a point array of the same name): each picture against the
+    offscreen view of the same component / of the cell data (drawn at the cell centres)."""
+    from paraview.simple import ColorBy, Delete, Hide, OpenDataFile, Show
+
+    view = plain_view(ARRAYS_SIZE)
+    report = {"vector": {}, "cells": {}}
+    vectors = vector_image()
+    path = os.path.join(directory, "vectors.vti")
+    write_vti(vectors, path)
+    source = OpenDataFile(path)
+    display = Show(source, view)
+    display.SetRepresentationType("mipcast")
+    ColorBy(display, ("POINTS", "vec", "Magnitude"))
+    set_camera(view)
+    for method in cpu_first(methods):
+        display.MipcastMethod = method
+        result, pictures = {}, {}
+        for name, component in (("Magnitude", None), ("X", 0)):
+            ColorBy(display, ("POINTS", "vec", name))
+            projection_range(display, vectors, method, "vec", component)
+            pictures[name] = screenshot(view, png(f"rep_vec_{method}_{name}"), ARRAYS_SIZE)
+            ref, _ = reference(vectors, method, view, ARRAYS_SIZE, "vec", component)
+            write_png(png(f"ref_vec_{method}_{name}"), ref)
+            result[name] = compare(pictures[name], ref)
+        result["changed_share"] = changed_share(pictures["Magnitude"], pictures["X"])
+        report["vector"][method] = result
+    Hide(source, view)
+    both, alone = cell_image(make_fixture("vessels", size=24))
+    path = os.path.join(directory, "cells.vti")
+    write_vti(both, path)
+    source = OpenDataFile(path)
+    display = Show(source, view)
+    display.SetRepresentationType("mipcast")
+    ColorBy(display, ("POINTS", ARRAY))
+    set_camera(view)
+    display.MipcastMethod = "mip"
+    projection_range(display, both, "mip")
+    points = screenshot(view, png("rep_cells_points"), ARRAYS_SIZE)
+    for method in ("mip", "analytic", "stock", "cpu"):
+        display.MipcastMethod = method
+        ColorBy(display, ("CELLS", ARRAY))  # the point array of the same name is not drawn
+        projection_range(display, alone, method)
+        pixels = screenshot(view, png(f"rep_cells_{method}"), ARRAYS_SIZE)
+        ref, _ = reference(alone, method, view, ARRAYS_SIZE)
+        write_png(png(f"ref_cells_{method}"), ref)
+        report["cells"][method] = dict(compare(pixels, ref), changed_from_points=changed_share(points, pixels))
     Delete(view)
     return report
 
@@ -450,7 +551,7 @@ def state_part(reader_path, view_size, png, plugin):
 
 
 def bad_part(directory, view, png):
-    from paraview.simple import Calculator, ColorBy, OpenDataFile, PointDatatoCellData, Show, Hide
+    from paraview.simple import ColorBy, OpenDataFile, PointDatatoCellData, Show, Hide
 
     report = {}
     image = make_fixture("vessels", size=24)
@@ -481,11 +582,16 @@ def bad_part(directory, view, png):
         report[name] = dict(message=[line for line in text.splitlines() if line.strip()][:3],
                             lit=lit(pixels))
 
-    good = OpenDataFile(good_path)
-    case("multi_component", lambda: Calculator(Input=good, ResultArrayName="vec",
-                                               Function=f"{ARRAY}*iHat+{ARRAY}*jHat"),
-         ("POINTS", "vec", "Magnitude"))
-    case("cell_data", lambda: PointDatatoCellData(Input=good), ("CELLS", ARRAY))
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    thin = vtkImageData()
+    thin.SetDimensions(24, 24, 1)  # one slice: no cell along z
+    ramp = numpy_to_vtk(np.linspace(0.0, 1.0, 24 * 24).astype(np.float32), deep=True)
+    ramp.SetName(ARRAY)
+    thin.GetPointData().SetScalars(ramp)
+    thin_path = os.path.join(directory, "thin.vti")
+    write_vti(thin, thin_path)
+    case("cell_data_one_slice", lambda: PointDatatoCellData(Input=OpenDataFile(thin_path)), ("CELLS", ARRAY))
     case("nan_voxels", lambda: OpenDataFile(nan_path), ("POINTS", ARRAY))
 
     def out_of_range(display):
@@ -577,7 +683,8 @@ def main():
     parser.add_argument("--png-dir")
     parser.add_argument("--server", help="HOST:PORT of a running pvserver")
     parser.add_argument("--methods", help="comma-separated methods (default: all of mipcast.METHODS)")
-    parser.add_argument("--parts", default="methods,tiled,narrow,parameter,slab,gaze,eye,trace,state,bad,bench")
+    parser.add_argument("--parts", default="methods,tiled,narrow,parameter,slab,gaze,eye,trace,state,arrays,bad,"
+                                         "bench")
     parser.add_argument("--bench-methods", help="comma-separated methods to time (default: every in-view method)")
     parser.add_argument("--bench-size", type=int, default=512, help="square view size of the bench")
     args = parser.parse_args()
@@ -628,6 +735,9 @@ def main():
             reader, view = fresh()
             report[name] = part(reader, image, view, png)
             Delete(view)
+    if "arrays" in parts:
+        report["arrays"] = arrays_part(directory, png, args.methods.split(",") if args.methods
+                                       else [n for n, m in mipcast.METHODS.items() if m.in_view])
     if "bad" in parts:
         report["bad"] = bad_part(directory, plain_view((WIDTH, HEIGHT)), png)
     if "bench" in parts:

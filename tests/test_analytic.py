@@ -257,3 +257,30 @@ def test_packed_corners_follow_a_pipeline_and_dependent_components():
         vtkOutputWindow.SetInstance(previous)
     assert "IndependentComponents is Off" in log.GetOutput()
     assert "compile" not in log.GetOutput()
+
+
+@pytest.mark.parametrize("method", ["analytic", "analytic_minip"])
+def test_packed_corners_with_a_gradient_opacity_function(method):
+    """A gradient-opacity function on component 0 (a user's, or the one VTK's CPU ray caster and
+    ``GetGradientOpacity()`` create) applies as on the one-component volume: the packed picture
+    equals the unpacked one, and VTK's samplers of the corner components are not in the program
+    (VTK gave them texture unit -1: GL_INVALID_VALUE at every frame)."""
+    from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+
+    image = make_fixture("vessels", size=24)
+    low, high = image.GetScalarRange()
+    pictures = {}
+    for packed in (True, False):
+        view = OffscreenView(image, method, size=(48, 48))
+        view.mapper.SetPackedCorners(packed)
+        plain = view.screenshot()
+        function = vtkPiecewiseFunction()
+        function.AddPoint(0.0, 0.1)
+        function.AddPoint(0.5 * (high - low), 1.0)
+        view.volume.GetProperty().SetGradientOpacity(0, function)
+        pictures[packed] = view.screenshot()
+        assert np.mean(np.abs(plain.astype(int) - pictures[packed]).max(axis=-1) > 1) > 0.1  # it applies
+        program = view.render_window.GetShaderCache().GetLastShaderBound()
+        used = [program.IsUniformUsed(f"in_gradientTransferFunc_0[{i}]") for i in range(4)]
+        assert used == [True, False, False, False], (packed, used)
+    assert np.array_equal(pictures[True], pictures[False])

@@ -95,10 +95,13 @@ def no_scalars():
     return image
 
 
-def cell_scalars():
+def cell_scalars(cells=(N, N, N)):
+    """Cell scalars only (BASE's values on ``cells`` cells): drawn on the image of the cell centres."""
     image = vtkImageData()
-    image.SetDimensions(4, 4, 4)
-    image.GetCellData().SetScalars(numpy_to_vtk(np.ones(27, np.float32), deep=True))
+    image.SetDimensions(cells[2] + 1, cells[1] + 1, cells[0] + 1)
+    image.SetSpacing(1.0, 0.8, 1.25)
+    values = BASE[:cells[0], :cells[1], :cells[2]].astype(np.float32)
+    image.GetCellData().SetScalars(numpy_to_vtk(values.ravel(), deep=True))
     return image
 
 
@@ -156,7 +159,8 @@ CASES = {
     "sheared_direction": (lambda: image_of(BASE.astype(np.float32), direction=[[1, 0.5, 0], [0, 1, 0], [0, 0, 1]]),
                           None, ["orthonormal", "vtkImageReslice"]),
     "no_scalars": (no_scalars, None, ["no active point scalars"]),
-    "cell_scalars_only": (cell_scalars, None, ["cell scalars", "vtkCellDataToPointData"]),
+    "cell_scalars_only": (cell_scalars, None, "picture"),
+    "cell_scalars_one_cell_thick": (lambda: cell_scalars((N, 1, N)), None, ["at least 2 cells", "vtkCellDataToPointData"]),
     "empty": (lambda: vtkImageData(), None, ["empty"]),
 }
 

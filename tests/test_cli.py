@@ -48,6 +48,29 @@ def test_render_a_vti_file(tmp_path):
     assert picture.shape[:2] == (40, 48) and picture[..., :3].max() > 0.5
 
 
+def test_render_a_cell_array_as_the_image_of_its_cell_centres(tmp_path):
+    """A .vti whose scalars are cell data draws the picture of the same values as point data on the
+    image of the cell centres (mipcast.core.prepare.cell_centres); before, the file was refused."""
+    from vtkmodules.vtkFiltersCore import vtkPointDataToCellData
+
+    from mipcast.core.prepare import cell_centres
+
+    convert = vtkPointDataToCellData()
+    convert.SetInputData(make_fixture("vessels", size=24))
+    convert.Update()
+    cells = convert.GetOutput()
+    pictures = []
+    for name, image in (("cells", cells), ("centres", cell_centres(cells))):
+        source, out = tmp_path / f"{name}.vti", tmp_path / f"{name}.png"
+        writer = vtkXMLImageDataWriter()
+        writer.SetFileName(str(source))
+        writer.SetInputData(image)
+        writer.Write()
+        assert main(["render", str(source), "--method", "analytic", "--out", str(out), "--size", "48", "40"]) == 0
+        pictures.append(pyplot.imread(out))
+    assert pictures[0][..., :3].max() > 0.5 and np.array_equal(pictures[0], pictures[1])
+
+
 def test_render_with_auto_sampling_reports_and_uses_its_choice(tmp_path, capsys):
     source = tmp_path / "vessels.vti"
     writer = vtkXMLImageDataWriter()

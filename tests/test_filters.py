@@ -75,15 +75,18 @@ def test_scalars_chooses_the_array_without_modifying_the_grid(grid):
     plotter.close()
 
 
-def test_scalars_that_are_not_a_point_array_are_refused(grid):
+def test_scalars_that_are_not_an_array_are_refused_cell_arrays_drawn(grid):
     both = _two_arrays(grid)
     both.cell_data["cells"] = np.zeros(both.n_cells)
     with pytest.raises(ValueError, match=r"'nope' is not a numeric point array.*flipped"):
         render(both, scalars="nope")
     plotter = pv.Plotter(off_screen=True, window_size=(32, 32))
-    with pytest.raises(ValueError, match="cell_data_to_point_data"):
-        add_volume(plotter, both, scalars="cells")
-    assert plotter.renderer.GetVolumes().GetNumberOfItems() == 0
+    # a cell array is drawn, on the image of the cell centres (mipcast.core.prepare.cell_centres)
+    active = both.point_data.active_scalars_name
+    drawn = add_volume(plotter, both, scalars="cells").mapper.GetInput()
+    assert drawn.GetPointData().GetScalars().GetName() == "cells"
+    assert drawn.GetDimensions() == tuple(n - 1 for n in both.dimensions)
+    assert both.point_data.active_scalars_name == active and "cells" not in both.point_data
     plotter.close()
 
 

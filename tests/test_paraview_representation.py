@@ -230,6 +230,15 @@ def test_narrow_range_matches_offscreen_and_exact_reference(builtin, method):
         # (what stays: VTK's table interpolation of answers inside the range, silhouette pixels)
         assert result[against]["within_1_share"] >= 0.99, (against, result)
 
+
+@pytest.mark.parametrize("part", ["methods", "tiled"])
+def test_no_opengl_error_across_method_switches(builtin, part):
+    """Both parts draw ``cpu`` first, then every other method: VTK's OpenGL error reports in the
+    output window (before the fix 12 and 36, the packed exact projections' gradient-opacity samplers
+    after VTK's CPU ray caster had given the shared property a gradient-opacity function)."""
+    assert builtin[part]["_opengl_errors"] == [], builtin[part]["_opengl_errors"][:3]
+
+
 def test_each_method_draws_with_its_mipcast_mapper(builtin):
     mappers = {m: r["mapper"] for m, r in builtin["methods"].items() if not m.startswith("_")}
     assert mappers["mip"] == "MIPVolumeMapper"
@@ -293,13 +302,27 @@ def test_state_file_restores_method_and_parameters(builtin):
     assert result["loaded_vs_saved"]["within_1_share"] >= MATCH, result
 
 
-def test_multi_component_arrays_draw_their_magnitude(builtin):
-    """Three components are drawn as their magnitude (as ParaView does), not refused."""
-    assert builtin["bad"]["multi_component"]["lit"] > 0.25, builtin["bad"]["multi_component"]
+@pytest.mark.parametrize("method", PARITY)
+def test_multi_component_array_follows_the_colouring_choice(builtin, method):
+    """Colour by Magnitude, then by X: each picture equals the offscreen view drawing that component
+    (before: always the magnitude, whatever the choice), and the two differ."""
+    result = builtin["arrays"]["vector"][method]
+    for choice in ("Magnitude", "X"):
+        _matches(result[choice], _projection(method))
+    assert result["changed_share"] > 0.1, result
+
+
+@pytest.mark.parametrize("method", ["mip", "analytic", "stock", "cpu"])
+def test_cell_array_is_drawn_at_the_cell_centres(builtin, method):
+    """A cell array (next to a point array of the same name, which is not drawn) equals the offscreen
+    view of the cell data, drawn on the image of the cell centres (before: refused, nothing drawn)."""
+    result = builtin["arrays"]["cells"][method]
+    _matches(result)
+    assert result["changed_from_points"] > 0.05, result
 
 
 @pytest.mark.parametrize("case, words", [
-    ("cell_data", "cell scalars"),
+    ("cell_data_one_slice", "at least 2 cells"),
     ("nan_voxels", "NaN"),
     ("out_of_range", "must be in [0, 1]"),
     ("unknown_method", "unknown method"),
@@ -307,7 +330,7 @@ def test_multi_component_arrays_draw_their_magnitude(builtin):
 def test_bad_input_gives_a_message_and_a_defined_picture(builtin, case, words):
     result = builtin["bad"][case]
     assert any(words in line for line in result["message"]), result
-    if case in ("cell_data", "nan_voxels"):
+    if case in ("cell_data_one_slice", "nan_voxels"):
         assert result["lit"] == 0.0, result  # refused: nothing drawn
     else:
         assert result["lit"] > 0.25, result  # the previous value / method keeps drawing
@@ -348,6 +371,13 @@ def test_client_server_picture_equals_builtin(client_server, builtin, method):
 
     diff = np.abs(pixels(client_server["png_dir"]) - pixels(builtin["png_dir"])).max(axis=-1)
     assert np.mean(diff <= 1) >= MATCH
+
+
+def test_client_server_logs_no_opengl_error(client_server):
+    """The server drew every method, ``cpu`` first (paraview_representation_check.methods_part)."""
+    errors = [line for line in client_server["server_log"].splitlines()
+              if "OpenGL error" in line or "glGetError" in line]
+    assert errors == [], errors[:3]
 
 
 # -- the GUI -------------------------------------------------------------------------------------------

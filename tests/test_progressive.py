@@ -58,6 +58,9 @@ def test_still_frames_refine_until_the_picture_is_full_quality_bit_for_bit(vesse
     fov.render_window.Render()
     fov.render_window.Render()
     assert fov.mapper.GetRefinementStep() == 1
+    # the refinement's property stamp reads the user's property and creates nothing on it (it once
+    # made a gradient-opacity function, which every later packed exact draw then had: OpenGL errors)
+    assert not fov.volume.GetProperty().HasGradientOpacity(0)
 
 
 def test_converged_analytic_readout_is_full_quality_within_float_rounding(vessels):

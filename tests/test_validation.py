@@ -35,13 +35,50 @@ def test_bad_volumes(make, error, words):
         check_image(make())
 
 
-def test_cell_scalars_only_names_the_fix():
+def _cell_image(dims, values):
     image = vtkImageData()
-    image.SetDimensions(3, 3, 3)
-    array = numpy_to_vtk(np.ones(8, np.float32), deep=True)
+    image.SetDimensions(*dims)
+    array = numpy_to_vtk(np.asarray(values, np.float32).ravel(), deep=True)
+    array.SetName("c")
     image.GetCellData().SetScalars(array)
-    with pytest.raises(ValueError, match="cell_data_to_point_data"):
-        check_image(image)
+    return image
+
+
+def test_cell_scalars_are_drawn_at_the_cell_centres():
+    """Known answer: 2 x 2 x 2 cells valued 1..8 (x fastest), seen along z in parallel projection: the
+    interpolant between the cell centres (0.5 and 1.5 on each axis), so the maximum along a ray is the
+    upper layer's bilinear value 5 + (x - 0.5) + 2 (y - 0.5), and rays outside the centres' box miss."""
+    from vtkmodules.vtkRenderingCore import vtkCamera
+
+    from mipcast.core.prepare import cell_centres
+
+    image = _cell_image((3, 3, 3), np.arange(1.0, 9.0))
+    camera = vtkCamera()
+    camera.ParallelProjectionOn()
+    camera.SetFocalPoint(1.0, 1.0, 1.0)
+    camera.SetPosition(1.0, 1.0, 10.0)
+    camera.SetParallelScale(1.0)  # 4 x 4 pixels over [0, 2]^2: centres at 0.25, 0.75, 1.25, 1.75
+    centre = np.array([0.25, 0.75, 1.25, 1.75])
+    x, y = np.meshgrid(centre, centre[::-1])  # row 0 is the top row
+    expected = np.where((x > 0.5) & (x < 1.5) & (y > 0.5) & (y < 1.5), 5.0 + (x - 0.5) + 2.0 * (y - 0.5), np.nan)
+    found = reference.render(image, camera, (4, 4), method="analytic")
+    assert np.allclose(found, expected, equal_nan=True), found
+    drawn = cell_centres(image)  # the definition: no value copied, the image given untouched
+    assert drawn.GetPointData().GetScalars().GetAddressAsString("vtkObjectBase") == \
+        image.GetCellData().GetScalars().GetAddressAsString("vtkObjectBase")
+    assert image.GetPointData().GetNumberOfArrays() == 0 and image.GetDimensions() == (3, 3, 3)
+    # the GPU draws the same values: exact methods stay exact against the reference
+    view = OffscreenView(image, "analytic", size=(4, 4))
+    view.renderer.GetActiveCamera().DeepCopy(camera)
+    assert np.allclose(view.float_image(), expected, atol=1e-5, equal_nan=True), view.float_image()
+    assert view.mapper.GetInput().GetDimensions() == (2, 2, 2)
+
+
+def test_cell_scalars_with_one_cell_along_an_axis_name_the_fix():
+    with pytest.raises(ValueError, match="at least 2 cells.*vtkCellDataToPointData"):
+        check_image(_cell_image((2, 3, 3), np.ones(4)))
+    with pytest.raises(ValueError, match="at least 2 cells"):
+        check_image(_cell_image((4, 4, 1), np.ones(9)))
 
 
 @pytest.mark.parametrize("dtype", [np.uint8, np.int16, np.uint16, np.float32, np.float64])

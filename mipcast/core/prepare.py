@@ -16,6 +16,10 @@ the float64 references, so both compare like with like:
   saw no finite data: background, NaN in the float readout.  A finite
   maximum is therefore never a missing voxel, and a sample or cell touching
   a missing voxel is pulled down towards ``fill`` (never up).
+* **cell data**: an image with cell scalars and no point scalars is drawn
+  as the image of its cell centres (:func:`cell_centres`): the cell values
+  are point values there, interpolated between the centres as VTK's GPU
+  ray caster interpolates cell data.
 * **types**: int8 ... uint32, float32 and float64 go to VTK as they are
   (VTK's textures hold 32/64-bit values as float32: exact up to 2**24);
   int64/uint64, which VTK's GPU ray caster does not upload, are copied to
@@ -87,6 +91,9 @@ class PreparedScalars:
         With ``fill_side="above"`` (minimum projections): ray results above
         this saw no finite data (``inf`` otherwise, and ``missing_below`` is
         then ``-inf``).
+    cells : bool
+        The values are the image's cell scalars, shaped and placed as the
+        points of :func:`cell_centres` (:func:`scalar_image`), not of the image.
     """
 
     values: np.ndarray
@@ -99,6 +106,7 @@ class PreparedScalars:
     missing_below: float
     component: str
     missing_above: float = float("inf")
+    cells: bool = False
 
 
 #: Where missing voxels are filled: below every finite value (maximum and
@@ -168,6 +176,81 @@ def check_geometry(image: vtkImageData) -> None:
             "(vtkImageReslice) or put the scale into the spacing")
 
 
+def cell_centres(image: vtkImageData, name: Optional[str] = None) -> vtkImageData:
+    """The image of ``image``'s cell centres, its cell arrays as point arrays (no value copied).
+
+    A cell array of an image with dimensions (nx, ny, nz) is drawn as point
+    data on the image of the cell centres: dimensions (nx-1, ny-1, nz-1)
+    (extent one less at the top of each axis), the same spacing and
+    direction, the origin moved by half a spacing along each axis of the
+    direction matrix.  That is where VTK's GPU ray caster puts each cell's
+    value (interpolated between the centres); the outer half cell, which VTK
+    fills with the edge values, is outside this box.  The active scalars are
+    the cell array ``name``, or the active cell scalars.  ``image`` is not
+    modified; the arrays are shared.
+
+    Raises
+    ------
+    InputError
+        Fewer than 2 cells (3 points) along an axis, or no such cell array.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from vtkmodules.util.numpy_support import numpy_to_vtk
+    >>> image = vtkImageData()
+    >>> image.SetDimensions(4, 3, 3)
+    >>> image.SetSpacing(2.0, 1.0, 1.0)
+    >>> _ = image.GetCellData().SetScalars(numpy_to_vtk(np.arange(12.0)))
+    >>> centres = cell_centres(image)
+    >>> centres.GetDimensions(), centres.GetOrigin(), centres.GetPointData().GetScalars().GetValue(5)
+    ((3, 2, 2), (1.0, 0.5, 0.5), 5.0)
+    """
+    cells = image.GetCellData()
+    array = cells.GetScalars() if name is None else cells.GetArray(name)
+    if array is None:
+        raise InputError(f"the volume has no cell array {name!r}; cell arrays: "
+                         f"{[cells.GetArrayName(i) for i in range(cells.GetNumberOfArrays())]}")
+    dims = image.GetDimensions()
+    if min(dims) < 3:
+        raise InputError(
+            f"the cell array '{array.GetName()}' of a volume with dimensions {dims} has fewer than 2 cells "
+            "along an axis: cell values are drawn at the cell centres and interpolated between them, which "
+            "needs at least 2 cells (3 points) along every axis; convert it to point data "
+            "(vtkCellDataToPointData; pyvista: image.cell_data_to_point_data()) or pad the volume")
+    spacing = np.array(image.GetSpacing())
+    direction = np.array([[image.GetDirectionMatrix().GetElement(r, c) for c in range(3)] for r in range(3)])
+    extent = list(image.GetExtent())
+    out = vtkImageData()
+    out.SetExtent(extent[0], extent[1] - 1, extent[2], extent[3] - 1, extent[4], extent[5] - 1)
+    out.SetSpacing(*spacing)
+    out.SetDirectionMatrix(image.GetDirectionMatrix())
+    out.SetOrigin(*(np.array(image.GetOrigin()) + direction @ (0.5 * spacing)))
+    points = out.GetPointData()
+    points.ShallowCopy(cells)
+    address = array.GetAddressAsString("vtkObjectBase")  # by object: the array may have no name
+    points.SetActiveAttribute(next(i for i in range(points.GetNumberOfArrays()) if points.GetAbstractArray(i)
+                                   .GetAddressAsString("vtkObjectBase") == address), points.SCALARS)
+    return out
+
+
+def scalar_image(image: Any) -> Any:
+    """The image whose point scalars are drawn: ``image``, or :func:`cell_centres` of an image that has
+    cell scalars and no point scalars (anything else is returned as it is).
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> points = make_fixture("spheres", size=8)
+    >>> scalar_image(points) is points, scalar_image(None) is None   # a cell image: see cell_centres
+    (True, True)
+    """
+    if isinstance(image, vtkImageData) and image.GetPointData().GetScalars() is None \
+            and image.GetCellData().GetScalars() is not None and image.GetNumberOfPoints() > 0:
+        return cell_centres(image)
+    return image
+
+
 def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str = "below") -> PreparedScalars:
     """The values the GPU draws from ``image`` (validated; ``image`` is not modified).
 
@@ -187,7 +270,7 @@ def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str =
     TypeError
         Not image data, or an unsupported scalar type.
     InputError
-        Empty, thinner than 2 points, no point scalars, no finite value,
+        Empty, thinner than 2 points (cell scalars: 2 cells), no scalars, no finite value,
         a component out of range, bad spacing or direction, or 32/64-bit values
         whose offset float32 textures cannot resolve.
 
@@ -204,9 +287,11 @@ def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str =
             f"expected vtkImageData or pyvista.ImageData, got {type(image).__name__}; "
             "convert the data set to image data first (e.g. vtkImageReslice or "
             "pyvista's sample/voxelize)")
-    dims = image.GetDimensions()
     if image.GetNumberOfPoints() == 0:
         raise InputError("the volume is empty (0 points); load or generate data first")
+    drawn = scalar_image(image)
+    cells, image = drawn is not image, drawn
+    dims = image.GetDimensions()
     if min(dims) < 2:
         raise InputError(
             f"the volume has dimensions {dims}: at least 2 points are needed along "
@@ -214,12 +299,8 @@ def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str =
             "slice) or use a 2D viewer")
     array = image.GetPointData().GetScalars()
     if array is None:
-        if image.GetCellData().GetScalars() is not None:
-            raise InputError(
-                "the volume has cell scalars but no point scalars; convert them with "
-                "vtkCellDataToPointData (pyvista: image.cell_data_to_point_data())")
         raise InputError(
-            "the volume has no active point scalars; set one with "
+            "the volume has no active point scalars (nor cell scalars); set one with "
             "image.GetPointData().SetActiveScalars(name) (pyvista: image.set_active_scalars)")
     check_geometry(image)
     chosen = check_component(component)
@@ -283,4 +364,5 @@ def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str =
                 "flat); subtract the offset first (e.g. values - values.min())")
     view = values.reshape(dims[2], dims[1], dims[0])
     view.flags.writeable = False
-    return PreparedScalars(view, changed, missing, infinite, low, high, fill, missing_below, what, missing_above)
+    return PreparedScalars(view, changed, missing, infinite, low, high, fill, missing_below, what, missing_above,
+                           cells)

@@ -40,6 +40,7 @@ from vtkmodules.vtkIOImage import vtkMetaImageReader, vtkNIFTIImageReader, vtkNr
 from vtkmodules.vtkIOXML import vtkXMLImageDataReader
 
 from mipcast.core.camera_rays import matrix_array
+from mipcast.core.prepare import cell_centres
 from mipcast.io.dicom import integer_dtype
 from mipcast.core.validation import check_image
 
@@ -212,7 +213,7 @@ def _run(reader, path: Path, what: str) -> vtkImageData:
     output = reader.GetOutput()
     failed = ("ERROR" in messages or "File operation failed" in messages
               or reader.GetErrorCode() != 0 or output is None or output.GetNumberOfPoints() == 0
-              or output.GetPointData().GetScalars() is None)
+              or (output.GetPointData().GetScalars() is None and output.GetCellData().GetScalars() is None))
     if failed:
         detail = " ".join(line.strip() for line in messages.splitlines()
                           if line.strip() and not line.startswith(("ERROR: In", "Warning: In",
@@ -392,6 +393,10 @@ def _nrrd_header(path: Path) -> dict:
 def with_scalars(image, scalars: Optional[str] = None):
     """``image``, or a shallow copy of it whose active point scalars are ``scalars``.
 
+    A cell array (and no point array) of that name: the image of the cell
+    centres carrying it (:func:`mipcast.core.prepare.cell_centres`), which is
+    how a cell array is drawn.
+
     The copy shares the arrays; the image given is not modified.  It is a
     snapshot of the image's array *list*: values changed in place show, but
     an array replaced or added later does not (render or add again).
@@ -401,13 +406,13 @@ def with_scalars(image, scalars: Optional[str] = None):
     image : vtkImageData
         The volume (a pyvista.ImageData is one).
     scalars : str, optional
-        Name of a point array of ``image``; ``None`` returns ``image`` itself.
+        Name of a point (or cell) array of ``image``; ``None`` returns ``image`` itself.
 
     Raises
     ------
     ValueError
-        If ``image`` has no point array of that name (the message lists the
-        point arrays, and says how to convert a cell array).
+        If ``image`` has no numeric point or cell array of that name (the
+        message lists the point arrays).
 
     Examples
     --------
@@ -426,11 +431,11 @@ def with_scalars(image, scalars: Optional[str] = None):
     if scalars is None:
         return image
     points, cells = image.GetPointData(), image.GetCellData()
+    if points.GetArray(scalars) is None and cells.GetArray(scalars) is not None:
+        return cell_centres(image, scalars)
     if points.GetArray(scalars) is None:
         names = [points.GetArrayName(i) for i in range(points.GetNumberOfArrays()) if points.GetArray(i)]
-        if cells.GetArray(scalars) is not None:
-            fix = "it is a cell array: convert it with grid.cell_data_to_point_data()"
-        elif points.GetAbstractArray(scalars) is not None:
+        if points.GetAbstractArray(scalars) is not None:
             fix = f"it is not numeric; numeric point arrays: {names}"
         else:
             fix = f"point arrays: {names}"

@@ -63,6 +63,8 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     PIECES = ("mip_globals", "refusal", "amip_corners", "amip_cell", "amip_max_hooks", "amip_loop",
               "no_stock_sample", "mip_color")
     PARAMETERS = parameter_tables.ANALYTIC
+    #: Replacements of pieces while the packed four-component copy is drawn.
+    PACKED = {"amip_corners": "amip_corners_packed", "mip_color": "mip_color_packed"}
 
     #: Cells per edge of a skipping block (the coarse level is 1/BLOCK^3 the size).
     BLOCK = 8
@@ -365,10 +367,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         Without a floor the check costs more than it saves on llvmpipe, so
         the plain loop is used.
         """
-        names = super().GetShaderPieces()
-        if self._packing_active():
-            packed = {"amip_corners": "amip_corners_packed", "mip_color": "mip_color_packed"}
-            names = tuple(packed.get(n, n) for n in names)
+        names = self._packed_pieces(super().GetShaderPieces())
         state = object_state(self)
         # a brick walking the whole volume's ray (global_cells): the plain walk
         distributed = state.get("global_box") is not None and state.get("global_cells", True)
@@ -377,6 +376,14 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         if object_state(self).get("stat") is not None:  # mipcast.mappers.amip_stats reads work counters
             names = tuple("amip_stats_readout" if n == "float_readout" else n for n in names)
         return names
+
+    def _packed_pieces(self, names) -> tuple:
+        """``names`` with the packed-corner variants (:data:`PACKED`) while packing is active, plus
+        ``gradient_opacity_packed`` (VTK's gradient opacity of component 0 only: the corner
+        components have no function, and VTK gave their samplers texture unit -1)."""
+        if not self._packing_active():
+            return tuple(names)
+        return tuple(self.PACKED.get(n, n) for n in names) + ("gradient_opacity_packed",)
 
     def _transfer_floor_ceiling(self) -> tuple:
         """Normalised (floor, ceiling) of the attached volume's transfer functions."""

@@ -702,9 +702,11 @@ def _refine(state, params, image, volume, camera, viewport, gaze, radius):
 
 
 def _property_stamp(prop) -> tuple:
-    """What of a volume property changes the picture (its own MTime moves at the first render)."""
+    """What of a volume property changes the picture (its own MTime moves at the first render).
+    Reads only: ``GetGradientOpacity`` would create a function on the user's property."""
+    gradient = prop.GetGradientOpacity(0).GetMTime() if prop.HasGradientOpacity(0) else None
     return (prop.GetRGBTransferFunction(0).GetMTime(), prop.GetScalarOpacity(0).GetMTime(),
-            prop.GetGradientOpacity(0).GetMTime(), prop.GetInterpolationType(), prop.GetShade(0),
+            gradient, prop.GetInterpolationType(), prop.GetShade(0),
             prop.GetScalarOpacityUnitDistance(0))
 
 

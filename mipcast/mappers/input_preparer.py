@@ -17,7 +17,7 @@ from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.core.errors import InputError, InputWarning
-from mipcast.core.prepare import PreparedScalars, check_component, prepare_scalars, shade_range
+from mipcast.core.prepare import PreparedScalars, check_component, prepare_scalars, scalar_image, shade_range
 
 
 #: Arrays (address, modification time) already warned about.
@@ -81,6 +81,8 @@ class InputPreparer(VTKPythonAlgorithmBase):
             target.GetPointData().SetScalars(numpy_to_vtk(np.zeros(8, np.float32), deep=True))
             return 1
         self._problem, self._prepared = None, prepared
+        if prepared.cells:  # drawn on the image of the cell centres (mipcast.core.prepare.cell_centres)
+            source = scalar_image(source)
         if not prepared.changed:
             target.ShallowCopy(source)
             return 1
@@ -112,7 +114,8 @@ def fill_side(projection: str) -> str:
 
 def prepared_image(image: vtkImageData, component=None, missing_allowed: bool = True,
                    projection: str = "mip") -> vtkImageData:
-    """A new image holding what the GPU draws from ``image`` (``image`` itself if nothing changes).
+    """A new image holding what the GPU draws from ``image`` (``image`` itself if nothing changes; cell
+    scalars: the image of the cell centres, :func:`mipcast.core.prepare.cell_centres`).
 
     For VTK's own mappers (stock, CPU), which have no preparer inside.
     ``missing_allowed=False``: refuse missing values.  ``projection``
@@ -136,6 +139,7 @@ def prepared_image(image: vtkImageData, component=None, missing_allowed: bool = 
     if prepared.missing and not missing_allowed:
         raise InputError(f"{prepared.missing} NaN/Inf voxels: missing data cannot be drawn here; "
                          "replace them first (e.g. numpy.nan_to_num)")
+    image = scalar_image(image)  # cell scalars: the image of the cell centres
     if projection == "average" and not prepared.missing and not prepared.high > prepared.low:
         _warn_constant_average(image)
     if not prepared.changed:

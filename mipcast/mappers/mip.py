@@ -7,7 +7,9 @@ from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
 from mipcast.core import parameter_tables
 from mipcast.core.object_state import object_state
+from mipcast.core.errors import InputError
 from mipcast.core.parameters import defaults, parameter_accessors, uniform_values
+from mipcast.core.prepare import scalar_image
 from mipcast.mappers import bricked_draw, clip_uniforms, shader_pieces
 from mipcast.mappers.float_readout import from_data_units
 from mipcast.mappers.input_preparer import InputPreparer
@@ -113,12 +115,18 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         self._route_input()
 
     def GetInput(self):
-        """Your input image (not the prepared copy the GPU may draw), or None."""
+        """Your input image (not the prepared copy the GPU may draw), or None.
+
+        An image with cell scalars and no point scalars: the image of its cell
+        centres carrying them (:func:`mipcast.core.prepare.cell_centres`, no
+        value copied; the same object while your image is unchanged), whose
+        geometry the drawing follows.
+        """
         self._adopt_direct_input()
         preparer = self.GetInputPreparer()
         if preparer.GetNumberOfInputConnections(0) == 0:
             return None
-        return preparer.GetInputDataObject(0, 0)
+        return _cell_centres_of(self, preparer.GetInputDataObject(0, 0))
 
     def GetInputPreparer(self) -> InputPreparer:
         """The filter between your input and VTK (:class:`~mipcast.mappers.input_preparer.InputPreparer`)."""
@@ -158,7 +166,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         preparer = self.GetInputPreparer()
         preparer.Update()
         prepared = preparer.GetPrepared()
-        if prepared is not None and not prepared.changed:
+        if prepared is not None and not prepared.changed and not prepared.cells:
             return preparer.GetInputConnection(0, 0)
         return preparer.GetOutputPort()
 
@@ -479,6 +487,20 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         names = object_state(self).get("installed", ())
         wanted = {shader_pieces.load_piece(n).vtk_tag for n in names}
         return wanted <= set(shader_pieces.installed_tags(volume.GetShaderProperty()))
+
+
+def _cell_centres_of(mapper, image):
+    """``image``, or for an image with cell scalars only its cell-centre image (one per image and MTime)."""
+    if image is None or image.GetPointData().GetScalars() is not None or image.GetCellData().GetScalars() is None:
+        return image
+    key = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime())
+    cached = object_state(mapper).get("cell_centres")
+    if cached is None or cached[0] != key:
+        try:
+            cached = object_state(mapper)["cell_centres"] = (key, scalar_image(image))
+        except InputError:
+            return image  # refused with the reason by the preparer (GetRenderProblem)
+    return cached[1]
 
 
 def same_port(a, b) -> bool:

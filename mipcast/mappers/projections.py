@@ -136,17 +136,13 @@ class _ExactProjection(AnalyticMIPVolumeMapper):
     #: Over bricks: none by default (the average's sum of integrals over the ray's length is not
     #: a maximum); the exact MinIP takes the minimum.
     BRICKS = None
-    #: Replacements of the packed-corner pieces (the average's colour needs no component index).
-    PACKED = {"amip_corners": "amip_corners_packed", "mip_color": "mip_color_packed"}
 
     def _update_block_maxima(self, image) -> None:
         """No coarse level: block maxima bound only a maximum (amip_loop_blocks is MIP's)."""
 
     def GetShaderPieces(self) -> tuple:
         """:data:`PIECES` (packed-corner variants when packing is active), never block skipping."""
-        names = MIPVolumeMapper.GetShaderPieces(self)
-        if self._packing_active():
-            names = tuple(self.PACKED.get(n, n) for n in names)
+        names = self._packed_pieces(MIPVolumeMapper.GetShaderPieces(self))
         if object_state(self).get("stat") is not None:  # mipcast.mappers.amip_stats reads work counters
             names = tuple("amip_stats_readout" if n == "float_readout" else n for n in names)
         return names
@@ -205,4 +201,4 @@ class AnalyticAverageVolumeMapper(_ExactProjection):
         _push_shade(self, uniforms)
 
     PIECES = _exact_pieces("amip_average_hooks", color="average_color")
-    PACKED = {"amip_corners": "amip_corners_packed"}
+    PACKED = {"amip_corners": "amip_corners_packed"}  # the average's colour needs no component index

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
-from mipcast.core.prepare import prepare_scalars
+from mipcast.core.prepare import prepare_scalars, scalar_image
 from mipcast.core.validation import check_choice, check_positive, check_size
 from mipcast.reference.demip import render_demip
 from mipcast.reference.mip import (exact_maximum, exact_mean, exact_minimum, sampled_maximum, sampled_mean,
@@ -44,7 +44,9 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
         below the finite minimum; rays whose result lies below the finite
         minimum are NaN, like misses; minimum projections fill them above the
         finite maximum instead; the average is the mean over the ray's finite
-        part: docs/methods.md, "Missing values").
+        part: docs/methods.md, "Missing values").  Cell scalars (and no point
+        scalars): point values of the image of the cell centres
+        (:func:`mipcast.core.prepare.cell_centres`).
     camera : vtkCamera
         The view (not modified); orthographic or perspective.
     size : tuple of int
@@ -138,6 +140,7 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     """
     component = params.pop("component", None)
     minimum = method in ("minip", "analytic_minip")
+    image = scalar_image(image)  # cell scalars: drawn on the image of the cell centres
     prepared = prepare_scalars(image, component, "above" if minimum else "below")
     width, height = check_size(size)
     method = check_choice("method", method, tuple(METHODS))

@@ -20,7 +20,7 @@ from mipcast.core.clipping import crop_visible
 from mipcast.core.parameters import check_values
 from mipcast.core.demip_depth import DepthGeometry, enhance
 from mipcast.core.shading import FLOOR_TOLERANCE
-from mipcast.core.prepare import prepare_scalars
+from mipcast.core.prepare import prepare_scalars, scalar_image
 from mipcast.core.validation import check_choice, check_positive, check_size
 from mipcast.reference.rays import BUDGET, clip_interval, cropping_setup, hit_rays, scatter, trilinear
 
@@ -117,6 +117,7 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
     >>> bool(near < far)
     True
     """
+    image = scalar_image(image)  # cell scalars: drawn on the image of the cell centres
     prepared = prepare_scalars(image, params.pop("component", None))
     width, height = check_size(size)
     scene = {name: params[name] for name in SCENE_PARAMETERS if name in params}

@@ -339,6 +339,7 @@ class _Entry:
         self.programs = []  # addresses of the shader programs seen after the volume drew
         self.renders = 0
         self.problem = None
+        self.preparer = None  # VTK's own mapper's InputPreparer (mipcast mappers have their own)
         from vtkmodules.vtkCommonCore import vtkWeakReference
 
         self.render_window = vtkWeakReference()
@@ -447,7 +448,7 @@ def _apply(entry, values):
                     f"kept the previous value (allowed: {description.get('range') or description.get('choices') or description['doc']})")
 
 
-def _new_mapper(entry, volume, assign):
+def _new_mapper(entry, volume, port):
     from mipcast.methods import attach, create_mapper
     from vtkmodules.vtkCommonCore import vtkCommand
 
@@ -458,7 +459,15 @@ def _new_mapper(entry, volume, assign):
     mapper.SetAutoAdjustSampleDistances(False)
     if hasattr(mapper, "SetUseJittering"):
         mapper.SetUseJittering(False)
-    mapper.SetInputConnection(assign.GetOutputPort())
+    entry.preparer = None
+    if _import_mipcast().METHODS[entry.method].float_readout:  # a mipcast mapper: its own preparer
+        mapper.SetInputConnection(port)
+    else:  # VTK's own: a preparer in front (one component; routed in _prepare_own)
+        from mipcast.mappers.input_preparer import InputPreparer, fill_side
+
+        entry.preparer = InputPreparer(fill_side(_import_mipcast().METHODS[entry.method].projection))
+        entry.preparer.SetInputConnection(port)
+        mapper.SetInputConnection(port)
     entry.mapper, entry.mapper_method, entry.applied = mapper, entry.method, {}
     _apply(entry, entry.values.get(entry.method, {}))
     attach(mapper, volume)
@@ -927,14 +936,16 @@ def _rank_mapper(entry, mapper):
 
 
 @_guarded
-def prepare(key, volume, assign, renderer, interactor, whole=None):
+def prepare(key, volume, assign, renderer, interactor, whole=None, cells=False):
     """Before a frame: the volume's mapper for the current method, up to date; False hides it.
 
     ``assign`` is the C++ representation's ``vtkAssignAttribute`` (the
     coloured array made the active scalars) fed by ParaView's delivered
-    piece.  A process without data (a client of a remote server) hides the
-    volume quietly; unusable data is refused by the mipcast mapper itself
-    with a message.
+    piece; ``cells``: that array is a cell array (drawn at the cell centres,
+    :func:`mipcast.core.prepare.cell_centres`).  A multi-component array is
+    drawn as ParaView colours it (:func:`coloured_component`).  A process
+    without data (a client of a remote server) hides the volume quietly;
+    unusable data is refused by the mipcast mapper itself with a message.
     """
     _import_mipcast()
     entry = _entry(key)
@@ -947,6 +958,10 @@ def prepare(key, volume, assign, renderer, interactor, whole=None):
     usable = image is not None and image.GetNumberOfPoints() > 0 and image.IsA("vtkImageData")
     _rank_frame(entry, image if usable else None, whole)  # before any return: every rank reduces
     refused = rank_refusal(entry.method, process_count()) if process_count() > 1 else None
+    if refused is None and cells and process_count() > 1:
+        refused = (f"a cell array cannot be drawn on {process_count()} ranks: each rank's piece is drawn between "
+                   "its own cell centres, which leaves a seam half a cell wide on each side of every boundary "
+                   "between pieces; colour by a point array (Cell Data to Point Data) or render on one rank")
     if refused is not None:  # never a silently wrong picture: hidden, said once per method
         if getattr(entry, "refused", None) != entry.method:
             _report(refused)
@@ -957,12 +972,20 @@ def prepare(key, volume, assign, renderer, interactor, whole=None):
     if not usable:
         _live_without_data(key, entry, interactor, renderer, image)
         return False
+    port = _source_port(entry, assign, cells)
+    image = port.GetProducer().GetOutputDataObject(port.GetIndex())
     if entry.mapper is None or entry.mapper_method != entry.method:
-        _new_mapper(entry, volume, assign)
+        _new_mapper(entry, volume, port)
     elif volume.GetMapper() is not entry.mapper:
         from mipcast.methods import attach
         attach(entry.mapper, volume)
     mapper = entry.mapper
+    _connect(entry, port)
+    component = coloured_component(volume.GetProperty(), image)
+    if entry.preparer is not None and not _prepare_own(entry, port, component):
+        return False
+    if entry.preparer is None and mapper.GetComponent() != (-1 if component is None else component):
+        mapper.SetComponent(component)
     # no per-frame _apply: set_value applies a value of the drawing method at once and
     # _new_mapper applies all of a method's values (a refused value is reported once, not
     # at every frame)
@@ -980,6 +1003,81 @@ def prepare(key, volume, assign, renderer, interactor, whole=None):
     if hasattr(mapper, "FollowMouse"):
         _gaze_source(entry, mapper, interactor, common)
         _live().watch_refinement(key, entry, interactor)
+    return True
+
+
+def coloured_component(volume_property, image):
+    """What ParaView colours of a multi-component array: None (*Magnitude*) or the component (*X*, *Y*, ...).
+
+    Read from the colour map on ``volume_property`` (ParaView's lookup table:
+    ``VectorMode`` Magnitude or Component, ``VectorComponent``), which
+    ``ColorBy(display, ("POINTS", "vec", "X"))`` and the colouring menu set.
+    One-component arrays: None (drawn as they are).
+    """
+    data = image.GetPointData().GetScalars() or image.GetCellData().GetScalars()
+    colours = volume_property.GetRGBTransferFunction(0)
+    if data is None or data.GetNumberOfComponents() < 2 or not hasattr(colours, "GetVectorMode"):
+        return None
+    if colours.GetVectorMode() == colours.COMPONENT:
+        return int(colours.GetVectorComponent())  # one the array lacks is refused by the preparer
+    return None
+
+
+def _source_port(entry, assign, cells):
+    """The port the mapper draws from: ``assign``'s (the coloured array made the active scalars); for a
+    cell array, that array alone (``vtkPassArrays``: no point array left to draw instead, so it is
+    drawn at the cell centres), brought up to date."""
+    if not cells:
+        return assign.GetOutputPort()
+    keep = getattr(entry, "cells_only", None)
+    if keep is None:
+        from vtkmodules.vtkCommonDataModel import vtkDataObject
+        from vtkmodules.vtkFiltersGeneral import vtkPassArrays
+
+        keep = entry.cells_only = vtkPassArrays()  # shares the array
+        keep.UseFieldTypesOn()
+        keep.AddFieldType(vtkDataObject.POINT)  # no point array is listed: none passes
+        keep.AddFieldType(vtkDataObject.CELL)
+        keep.SetInputConnection(assign.GetOutputPort())
+        entry.cells_only_name = None
+    scalars = assign.GetOutputDataObject(0).GetCellData().GetScalars()
+    name = scalars.GetName() if scalars is not None else None
+    if entry.cells_only_name != name:
+        keep.ClearArrays()
+        keep.AddCellDataArray(name or "")
+        entry.cells_only_name = name
+    keep.Update()
+    return keep.GetOutputPort()
+
+
+def _connect(entry, port):
+    """Feed the mapper (VTK's own: its preparer) from ``port``, when that changed."""
+    from mipcast.mappers.mip import same_port
+
+    preparer = entry.preparer if entry.preparer is not None else entry.mapper.GetInputPreparer()
+    if not (preparer.GetNumberOfInputConnections(0) and same_port(preparer.GetInputConnection(0, 0), port)):
+        (entry.preparer if entry.preparer is not None else entry.mapper).SetInputConnection(port)
+
+
+def _prepare_own(entry, source, component):
+    """VTK's own mapper (stock, cpu): the preparer's one component when the data needs it, else the
+    delivered data itself (the same pipeline as ParaView's); False (reported once) when unusable."""
+    from mipcast.mappers.mip import same_port
+
+    preparer = entry.preparer
+    preparer.SetComponent(component)
+    preparer.Update()
+    problem = preparer.GetProblem()
+    if problem is not None:
+        if entry.problem != problem:
+            _report(f"{entry.method}: {problem}")
+        entry.problem = problem
+        return False
+    entry.problem = None
+    prepared = preparer.GetPrepared()
+    port = source if not (prepared.changed or prepared.cells) else preparer.GetOutputPort()
+    if not same_port(entry.mapper.GetInputConnection(0, 0), port):
+        entry.mapper.SetInputConnection(port)
     return True
 
 

@@ -284,9 +284,9 @@ int vtkMipcastRepresentation::ProcessViewRequest(
       vtkPythonScopeGilEnsurer gil;
       const int* whole = this->WholeExtent; // the whole volume's extent (this rank draws a piece)
       visible = Call("prepare",
-        Py_BuildValue("(sNNNN(iiiiii))", this->Key.c_str(), Wrap(this->MipcastVolume),
+        Py_BuildValue("(sNNNN(iiiiii)i)", this->Key.c_str(), Wrap(this->MipcastVolume),
           Wrap(this->Assign), Wrap(renderer), Wrap(interactor), whole[0], whole[1], whole[2],
-          whole[3], whole[4], whole[5]));
+          whole[3], whole[4], whole[5], association == vtkDataObject::FIELD_ASSOCIATION_CELLS));
     }
     this->MipcastVolume->SetVisibility(visible && this->GetVisibility());
     // ParaView's own volume stays out of the picture
