@@ -68,6 +68,20 @@ class InputPreparer(VTKPythonAlgorithmBase):
 
         Missing values are then filled relative to it, as in the whole volume
         (:func:`~mipcast.core.prepare.prepare_scalars`' ``whole_range``).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from vtkmodules.util.numpy_support import numpy_to_vtk
+        >>> piece = vtkImageData()
+        >>> piece.SetDimensions(2, 2, 2)
+        >>> _ = piece.GetPointData().SetScalars(numpy_to_vtk(np.array([0, 1, 2, 3, 4, 5, 6, np.nan]), deep=True))
+        >>> preparer = InputPreparer()
+        >>> preparer.SetInputDataObject(piece)
+        >>> preparer.SetWholeRange((-4.0, 6.0))
+        >>> _ = preparer.Update()
+        >>> preparer.GetPrepared().fill, preparer.GetPrepared().low   # the whole's fill, the piece's own range
+        (-14.0, 0.0)
         """
         whole_range = None if whole_range is None else (float(whole_range[0]), float(whole_range[1]))
         if whole_range != self._whole_range:
