@@ -95,8 +95,12 @@ class Method:
         blended (:mod:`mipcast.mappers.rank_foveated`; DEMIP layers refused);
         ``"depth"``, VTK's own GPU MIP / MinIP writing its ray's value as depth
         for IceT's Z-buffer compositing (:mod:`mipcast.mappers.stock_depth`;
-        VTK's per-piece sampling kept).  Methods with neither (and no
-        ``distributed`` route nor ``bricks="mean"``) are refused in such a view.
+        on the whole volume's sample positions); ``"mean"``, VTK's own average
+        composited by the reduction of the pieces' sample counts and sums
+        (:mod:`mipcast.mappers.rank_composite`, rule ``"mean"``), each piece
+        read out by its ``readout_by`` mapper (the same samples and weights).
+        Methods with none (and no ``distributed`` route nor ``bricks="mean"``)
+        are refused in such a view.
     bricks : str, optional
         How its mapper draws a volume beyond the GPU's 3D texture limit inside
         one render (:mod:`mipcast.mappers.bricked_draw`; the mapper class's
@@ -319,7 +323,7 @@ for _method in (
            bench=(("analytic minip", None, ()),)),
     Method("stock_average", "Stock VTK average", "VTK's own sampled GPU average (AVERAGE_INTENSITY blend)",
            _stock_average, reference=sampled_average_reference, float_readout=False, readout_by="average",
-           projection="average", bench=tuple((f"stock average {n}x", n, ()) for n in (1, 2, 4, 8))),
+           projection="average", rank_view="mean", bench=tuple((f"stock average {n}x", n, ()) for n in (1, 2, 4, 8))),
     Method("average", "Average", "sampled average intensity projection (stock's samples and weighting)",
            AverageVolumeMapper, reference=sampled_average_reference, reference_tolerance=1e-4,
            parameters=parameter_tables.MIP, projection="average", bricks="mean",

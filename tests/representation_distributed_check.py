@@ -9,7 +9,10 @@ own Volume representation with BlendMode MIP (``paraview-mip``, for the
 contrast), and saves each picture (``SaveScreenshot``) as
 ``<png-dir>/<method>-n<ranks>-axis<a>.png`` (a method listed twice:
 ``<method>-again-...``, e.g. to check that switching methods keeps each
-method's compositing). The test
+method's compositing). Flags after the method: ``+nan`` shows it on a second
+copy of the phantom whose box :data:`NAN_BOX` holds missing values (NaN),
+crossing every piece border of the splits the test uses; ``+inside`` moves
+the camera inside the volume for that picture (:data:`INSIDE`). The test
 (tests/test_representation_distributed.py) compares the pictures of N ranks
 with those of one rank.
 
@@ -25,11 +28,21 @@ pvserver behind a pvpython client::
 """
 import argparse
 import json
+import math
 import os
 
 ARRAY = "scalars"
 #: MinIP's grey window: the lowest part of the data range (its minima lie there).
 MINIP_WINDOW = 0.25
+#: The NaN voxels of the ``+nan`` copy (x, y, z index ranges, inclusive): across the borders of 2 slabs along
+#: x or y (31/32) and of 4 along z (15/16, 31/32, 47/48), vessels on every side.
+NAN_BOX = ((27, 36), (12, 50), (10, 52))
+#: The NaN-holding copy's values at its first and last point (the corners (0, 0, 0) and (n-1, n-1, n-1)), beyond
+#: the phantom's range: its pieces' finite ranges differ (missing values are filled per piece, relative to it).
+NAN_CORNERS = (2.0, -1.0)
+#: ``+inside``: the camera this fraction of the box's x width from the focal point (the box's centre), towards
+#: where it was: inside the volume, the near plane cutting every piece's box.
+INSIDE = 0.3
 #: The ProgrammableFilter's script (--axis 0, 1, 2): this rank's slab, the piece file of its rank.
 SLAB_SCRIPT = """
 from vtkmodules.vtkIOXML import vtkXMLImageDataReader
@@ -43,20 +56,28 @@ self.GetOutputDataObject(0).ShallowCopy(piece.GetOutput())
 """
 
 
-def write_pieces(folder, size, axis, pieces):
-    """The phantom as ``vessels-axis<a>-p<pieces>.pvti`` (pieces sharing a point layer); its path."""
+def write_pieces(folder, size, axis, pieces, nan=False):
+    """The phantom as ``vessels-axis<a>-p<pieces>.pvti`` (pieces sharing a point layer); its path.
+
+    ``nan``: the copy whose :data:`NAN_BOX` is NaN (``vessels-nan-...``)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
     from vtkmodules.vtkIOXML import vtkXMLImageDataWriter
 
     from mipcast.data_fixtures import make_fixture
     from mipcast.distributed import extract_piece, split_extents
 
-    name = f"vessels{size}-axis{axis}-p{pieces}"
+    name = f"vessels{size}{'-nan' if nan else ''}-axis{axis}-p{pieces}"
     path = os.path.join(folder, name + ".pvti")
     if os.path.exists(path):
         return path
     image = make_fixture("vessels", size=size)
     scalars = image.GetPointData().GetScalars()
     scalars.SetName(ARRAY)
+    if nan:
+        (x0, x1), (y0, y1), (z0, z1) = NAN_BOX
+        values = vtk_to_numpy(scalars)
+        values.reshape(size, size, size)[z0:z1 + 1, y0:y1 + 1, x0:x1 + 1] = float("nan")
+        values[0], values[-1] = NAN_CORNERS
     whole = image.GetExtent()
     lines = []
     for index, extent in enumerate(split_extents(whole, pieces, axis=axis)):
@@ -78,6 +99,12 @@ def write_pieces(folder, size, axis, pieces):
         handle.write(text)
     os.replace(path + ".tmp", path)
     return path
+
+
+def bounds_width(reader):
+    """The x width of the reader's whole volume."""
+    bounds = reader.GetDataInformation().GetBounds()
+    return bounds[1] - bounds[0]
 
 
 def main():
@@ -108,17 +135,23 @@ def main():
     simple.LoadPlugin(args.plugin, remote=False, ns=globals())
     os.makedirs(args.data, exist_ok=True)
     os.makedirs(args.png_dir, exist_ok=True)
-    path = write_pieces(args.data, args.size, max(args.axis, 0), args.pieces)
-    reader = simple.OpenDataFile(path)  # XML Partitioned Image Data Reader
-    reader.UpdatePipeline()
-    source = reader
-    if args.axis >= 0:
-        # every rank takes the slab of the file's pieces that is its own (the reader's request
-        # would re-split the whole extent its own way); the whole extent stays the reader's
-        source = simple.ProgrammableFilter(Input=reader)
-        source.OutputDataSetType = "vtkImageData"
-        source.Script = SLAB_SCRIPT.replace("PIECES", repr(path[:-len(".pvti")]))
-        source.UpdatePipeline()
+    split_axis = max(args.axis, 0)  # here: the plugin's names (ns=globals()) shadow builtins later
+
+    def open_pieces(nan=False):
+        path = write_pieces(args.data, args.size, split_axis, args.pieces, nan)
+        reader = simple.OpenDataFile(path)  # XML Partitioned Image Data Reader
+        reader.UpdatePipeline()
+        source = reader
+        if args.axis >= 0:
+            # every rank takes the slab of the file's pieces that is its own (the reader's request
+            # would re-split the whole extent its own way); the whole extent stays the reader's
+            source = simple.ProgrammableFilter(Input=reader)
+            source.OutputDataSetType = "vtkImageData"
+            source.Script = SLAB_SCRIPT.replace("PIECES", repr(path[:-len(".pvti")]))
+            source.UpdatePipeline()
+        return reader, source
+
+    reader, source = open_pieces()
     ranks = simple.servermanager.ActiveConnection.GetNumberOfDataPartitions()
     low, high = reader.PointData[ARRAY].GetRange()
     view = simple.CreateView("RenderView")
@@ -132,6 +165,7 @@ def main():
     view.UseToneMapping = 0
     display = simple.Show(source, view)
     simple.ColorBy(display, ("POINTS", ARRAY))
+    displays = {False: display}  # the NaN copy's display (True) made at its first method
     lut = simple.GetColorTransferFunction(ARRAY)
     lut.ApplyPreset("Grayscale", True)
     lut.AutomaticRescaleRangeMode = "Never"
@@ -154,7 +188,20 @@ def main():
                "pieces": args.pieces, "pngs": {}}
     first = True
     applied = []
+    shown = False
     for method in args.methods.split(","):
+        token, *flags = method.split("+")
+        nan, inside = "nan" in flags, "inside" in flags
+        if nan != shown:  # show the volume this method is drawn on, hide the other
+            if nan not in displays:
+                displays[nan] = simple.Show(open_pieces(nan=True)[1], view)
+                simple.ColorBy(displays[nan], ("POINTS", ARRAY))
+            simple.Hide(displays[shown].Input, view)
+            simple.Show(displays[nan].Input, view)
+            for prop in applied:  # the previous entry's settings back to their defaults
+                display.GetProperty(prop).SMProperty.ResetToDefault()
+            display.UpdateVTKObjects()
+            applied, display, shown = [], displays[nan], nan
         if method == "paraview-mip":
             display.SetRepresentationType("Volume")
             # 5.11's domain lists Composite, Isosurface, Slice; the value reaches
@@ -163,7 +210,7 @@ def main():
             display.UpdateVTKObjects()
         else:
             # "demip@sphere_weight=0.5@depth_mode=eye_distance": the method and some of its parameters
-            name, *settings = method.split("@")
+            name, *settings = token.split("@")
             display.SetRepresentationType("mipcast")
             display.MipcastMethod = name
             for prop in applied:  # the previous entry's settings back to their defaults
@@ -204,10 +251,18 @@ def main():
                 camera.SetPosition(*[p + d for p, d in zip(camera.GetPosition(), shift)])
                 camera.Zoom(args.zoom)
             first = False
+        camera = view.GetActiveCamera()
+        outside = camera.GetPosition()
+        if inside:
+            focal, width = camera.GetFocalPoint(), bounds_width(reader)
+            away = [p - f for p, f in zip(outside, focal)]
+            norm = math.hypot(*away)  # not sum(): the plugin's names (ns=globals()) shadow the builtins
+            camera.SetPosition(*[f + INSIDE * width * a / norm for f, a in zip(focal, away)])
         simple.Render(view)
         key = method + "-again" if method in results["pngs"] else method  # a method shown twice
         shot = os.path.join(args.png_dir, f"{key}-n{ranks}-axis{args.axis}.png")
         simple.SaveScreenshot(shot, view, ImageResolution=list(args.image), TransparentBackground=0)
+        camera.SetPosition(*outside)
         results["pngs"][key] = shot
         print(json.dumps({"method": method, "png": shot}), flush=True)
     with open(args.out, "w") as handle:

@@ -45,7 +45,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Optional
+from typing import Any, Optional, Tuple
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -251,7 +251,8 @@ def scalar_image(image: Any) -> Any:
     return image
 
 
-def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str = "below") -> PreparedScalars:
+def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str = "below",
+                    whole_range: Optional[Tuple[float, float]] = None) -> PreparedScalars:
     """The values the GPU draws from ``image`` (validated; ``image`` is not modified).
 
     Parameters
@@ -264,6 +265,14 @@ def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str =
     fill_side : {"below", "above"}
         Fill missing voxels below every finite value (``low - span``: maximum
         and average projections) or above (``high + span``: minimum projections).
+    whole_range : (low, high), optional
+        ``image`` is a piece of a larger volume (an MPI rank's piece) whose
+        finite range this is: the fill and the missing thresholds are the
+        whole volume's (``low``, ``high`` and ``span`` of this range), so a
+        sample near a missing voxel takes the value it has in the whole
+        volume, on every piece; a piece holding only missing values is then
+        filled entirely (it draws nothing).  ``low`` and ``high`` of the
+        result stay the piece's own finite range.
 
     Raises
     ------
@@ -279,6 +288,13 @@ def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str =
     >>> from mipcast.data_fixtures import make_fixture
     >>> prepare_scalars(make_fixture("spheres", size=8)).changed
     False
+    >>> import numpy as np
+    >>> from vtkmodules.util.numpy_support import numpy_to_vtk
+    >>> piece = vtkImageData()
+    >>> piece.SetDimensions(2, 2, 2)
+    >>> _ = piece.GetPointData().SetScalars(numpy_to_vtk(np.array([0, 1, 2, 3, 4, 5, 6, np.nan]), deep=True))
+    >>> prepare_scalars(piece).fill, prepare_scalars(piece, whole_range=(-2.0, 8.0)).fill
+    (-6.0, -12.0)
     """
     if fill_side not in MISSING_SIDES:
         raise ValueError(f"fill_side must be one of {MISSING_SIDES}, got {fill_side!r}")
@@ -338,18 +354,21 @@ def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str =
         missing = int(values.size - np.count_nonzero(finite))
         if missing:
             infinite = int(np.count_nonzero(np.isinf(values)))
-            if missing == values.size:
+            if missing == values.size and whole_range is None:
                 raise InputError(
                     f"all {missing} values of '{array.GetName()}' are NaN/Inf (missing): there is "
                     "nothing to draw; check the data or choose another array")
-            low, high = float(values[finite].min()), float(values[finite].max())
-            span = high - low if high > low else max(abs(low), 1.0)
+            wlow, whigh = (float(v) for v in whole_range) if whole_range is not None else (
+                float(values[finite].min()), float(values[finite].max()))
+            low, high = (float(values[finite].min()), float(values[finite].max())) if missing < values.size \
+                else (wlow, whigh)
+            span = whigh - wlow if whigh > wlow else max(abs(wlow), 1.0)
             if fill_side == "below":
-                fill = float(np.asarray(low - span, dtype=values.dtype))
-                missing_below = low - MISSING_TOLERANCE * span
+                fill = float(np.asarray(wlow - span, dtype=values.dtype))
+                missing_below = wlow - MISSING_TOLERANCE * span
             else:
-                fill = float(np.asarray(high + span, dtype=values.dtype))
-                missing_above = high + MISSING_TOLERANCE * span
+                fill = float(np.asarray(whigh + span, dtype=values.dtype))
+                missing_above = whigh + MISSING_TOLERANCE * span
             values, changed = np.where(finite, values, values.dtype.type(fill)), True
     low, high = (float(values.min()), float(values.max())) if not missing else (low, high)
     if values.dtype.kind in "iu" and low == high:

@@ -192,6 +192,39 @@ def box_in_view(brick_volume, renderer, shape) -> bool:
     return not (np.any(np.all(ndc < -1.0 - spare, axis=0)) or np.any(np.all(ndc > 1.0 + spare, axis=0)))
 
 
+def near_plane_cuts(whole, camera) -> bool:
+    """Whether ``camera``'s near clipping plane cuts the ``whole`` volume's box (the camera is inside it).
+
+    VTK's ray caster then starts the rays that cross the plane there (it
+    clips its box with the plane, moved a thousandth of the near-far
+    distance into the view), not at the box: the pieces' and bricks' whole
+    volume's sample positions (:func:`ray_uniforms`, ``global_phase``,
+    ``stock_phase``) count from the box's entry, so sampled methods differ
+    from one texture there.  ``whole``: :func:`whole_geometry`'s image (its
+    corners in world coordinates through the index-to-physical matrix).
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkCamera
+    >>> whole = whole_geometry(((0, 10, 0, 10, 0, 10), (0.0, 0.0, 0.0), (1.0, 1.0, 1.0), [1, 0, 0, 0, 1, 0, 0, 0, 1]))
+    >>> camera = vtkCamera()
+    >>> camera.SetFocalPoint(5, 5, 5); camera.SetPosition(5, 5, 40); camera.SetClippingRange(1.0, 100.0)
+    >>> near_plane_cuts(whole, camera)
+    False
+    >>> camera.SetPosition(5, 5, 8); near_plane_cuts(whole, camera)
+    True
+    """
+    extent = whole.GetExtent()
+    corners = np.array([[i, j, k, 1.0] for i in extent[0:2] for j in extent[2:4] for k in extent[4:6]])
+    world = corners @ matrix_array(whole.GetIndexToPhysicalMatrix()).T
+    position, focal = np.array(camera.GetPosition()), np.array(camera.GetFocalPoint())
+    direction = (focal - position) / np.linalg.norm(focal - position)
+    near, far = camera.GetClippingRange()
+    depth = (world[:, :3] / world[:, 3:]) @ direction - position @ direction - near
+    # VTK's cap sits (far - near) / 1000 beyond the plane: a box that close is cut too
+    return bool(depth.min() <= 1.0e-3 * (far - near) and depth.max() > 0.0)
+
+
 def brick_entry(kind, piece, extent: Sequence[int], whole: Sequence[int], spacing: Sequence[float],
                 sample_distance: float) -> dict:
     """A private mapper of class ``kind`` on its own vtkVolume drawing ``piece``, a brick of ``whole``.

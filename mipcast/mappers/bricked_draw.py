@@ -283,12 +283,14 @@ def follow_brick(mapper, volume, entry, image_sample_distance: float = 1.0) -> N
     ``image_sample_distance``: the brick's rays (1: one per pixel; a foveated level's coarser grid).
     """
     brick_mapper, brick_volume = entry["mapper"], entry["volume"]
-    for parameter in type(mapper).PARAMETERS:
+    for parameter in getattr(type(mapper), "PARAMETERS", ()):  # none on VTK's own (stock_average's pieces)
         value = getattr(mapper, parameter.getter)()
         if getattr(brick_mapper, parameter.getter)() != value:
             getattr(brick_mapper, parameter.setter)(value)
-    if brick_mapper.GetComponent() != mapper.GetComponent():
+    if hasattr(mapper, "GetComponent") and brick_mapper.GetComponent() != mapper.GetComponent():
         brick_mapper.SetComponent(mapper.GetComponent())
+    if brick_mapper.GetAverageIPScalarRange() != mapper.GetAverageIPScalarRange():  # the averages' counted values
+        brick_mapper.SetAverageIPScalarRange(mapper.GetAverageIPScalarRange())
     brick_mapper.SetAutoAdjustSampleDistances(False)
     distance = mapper.GetSampleDistance()
     if mapper.GetAutoAdjustSampleDistances():  # VTK's automatic distance without time-based reduction

@@ -50,6 +50,7 @@ class InputPreparer(VTKPythonAlgorithmBase):
         self._component: Optional[int] = None
         self._problem: Optional[str] = None
         self._prepared: Optional[PreparedScalars] = None
+        self._whole_range: Optional[tuple] = None
 
     def SetComponent(self, component) -> None:
         """Component of multi-component scalars to draw (int >= 0), or -1 / None / "magnitude"."""
@@ -61,6 +62,35 @@ class InputPreparer(VTKPythonAlgorithmBase):
     def GetComponent(self) -> int:
         """The drawn component, -1 for the magnitude (the default)."""
         return -1 if self._component is None else self._component
+
+    def SetWholeRange(self, whole_range) -> None:
+        """The finite (low, high) of the whole volume the input is a piece of (an MPI rank's), or None.
+
+        Missing values are then filled relative to it, as in the whole volume
+        (:func:`~mipcast.core.prepare.prepare_scalars`' ``whole_range``).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from vtkmodules.util.numpy_support import numpy_to_vtk
+        >>> piece = vtkImageData()
+        >>> piece.SetDimensions(2, 2, 2)
+        >>> _ = piece.GetPointData().SetScalars(numpy_to_vtk(np.array([0, 1, 2, 3, 4, 5, 6, np.nan]), deep=True))
+        >>> preparer = InputPreparer()
+        >>> preparer.SetInputDataObject(piece)
+        >>> preparer.SetWholeRange((-4.0, 6.0))
+        >>> _ = preparer.Update()
+        >>> preparer.GetPrepared().fill, preparer.GetPrepared().low   # the whole's fill, the piece's own range
+        (-14.0, 0.0)
+        """
+        whole_range = None if whole_range is None else (float(whole_range[0]), float(whole_range[1]))
+        if whole_range != self._whole_range:
+            self._whole_range = whole_range
+            self.Modified()
+
+    def GetWholeRange(self) -> Optional[tuple]:
+        """What :meth:`SetWholeRange` set (None: the input is the whole volume)."""
+        return self._whole_range
 
     def GetProblem(self) -> Optional[str]:
         """Why the last input cannot be drawn, or None."""
@@ -74,7 +104,7 @@ class InputPreparer(VTKPythonAlgorithmBase):
         source = vtkImageData.GetData(in_info[0])
         target = vtkImageData.GetData(out_info)
         try:
-            prepared = prepare_scalars(source, self._component, self._fill_side)
+            prepared = prepare_scalars(source, self._component, self._fill_side, self._whole_range)
         except (TypeError, InputError) as error:
             self._problem, self._prepared = str(error), None
             target.SetDimensions(2, 2, 2)

@@ -20,9 +20,11 @@ final picture:
   (:func:`mipcast.mappers.demip_composite.demip_composite`); DEMIP's ordered
   projections (LMIP, attenuated MIP, MIDA) go rank after rank, front to
   back (:mod:`mipcast.mappers.rank_ordered`, which needs ``rank``);
-- rule ``"mean"`` (``average``, ``analytic_average``): SUM over ranks of the
-  pieces' counted samples / ray length and of their weighted means (the
-  sampled average: of opacity and opacity x value), divided by the total.
+- rule ``"mean"`` (``average``, ``analytic_average``, and VTK's own
+  ``stock_average``, its pieces read out by ``average``'s mapper: VTK's
+  samples and weights): SUM over ranks of the pieces' counted samples / ray
+  length and of their weighted means (the sampled average: of opacity and
+  opacity x value), divided by the total.
 
 Every rank enters every reduction of its rule, also a rank whose piece is
 out of view, empty or failed to render (it contributes nothing: -inf, +inf
@@ -49,11 +51,18 @@ from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import DEMIP
 from mipcast.mappers import bricked_draw, float_readout
 from mipcast.mappers.private_draw import draw_over, kept_texture
-from mipcast.mappers.brick_rays import box_in_view, brick_entry, push_whole_rays, whole_geometry
+from mipcast.mappers.brick_rays import box_in_view, brick_entry, near_plane_cuts, push_whole_rays, whole_geometry
 
 #: Reduce(array, op) -> the array reduced over every rank; op is "max", "min" or "sum".
 Reduce = Callable[[np.ndarray, str], np.ndarray]
 
+#: Why VTK's own mappers are not drawn over ranks when a piece holds missing values (see plugin/README.md).
+OWN_MISSING = ("VTK's own ray caster leaves missing (NaN/Inf) values to the GPU's NaN arithmetic, which is not "
+               "the same on the pieces as on the whole volume")
+#: Why sampled methods are not drawn over ranks while the camera's near plane cuts the volume (see
+#: :func:`mipcast.mappers.brick_rays.near_plane_cuts` and plugin/README.md).
+CAMERA_INSIDE = ("the camera is inside the volume: one rank's samples start at the near plane there, the pieces' "
+                 "at the whole volume's box")
 #: Stand-ins for "nothing on this rank" in the reductions (float64 carries them exactly).
 _LOW, _HIGH = -1.0e300, 1.0e300
 _GL_DEPTH_BUFFER_BIT, _GL_SCISSOR_TEST = 0x00000100, 0x0C11
@@ -76,14 +85,46 @@ def combine_mean(total: np.ndarray, weighted: np.ndarray, plain: np.ndarray, hit
     return np.where(hits > 0.0, mean, np.nan)
 
 
-def _entries(mapper, piece, whole, rule: str) -> list:
-    """This rank's private brick entries of its piece (cached on ``mapper``'s state)."""
+def piece_range(piece) -> Tuple[float, float, bool]:
+    """(low, high, missing): the finite range of ``piece``'s scalars and whether it holds missing (NaN/Inf) values.
+
+    Kept per array and modification time (every frame asks).  An empty piece, or one holding only missing
+    values: ``(+big, -big, missing)``, nothing to the range reductions.
+
+    >>> import numpy as np
+    >>> from vtkmodules.util.numpy_support import numpy_to_vtk
+    >>> from vtkmodules.vtkCommonDataModel import vtkImageData
+    >>> piece = vtkImageData()
+    >>> piece.SetDimensions(2, 1, 1)
+    >>> _ = piece.GetPointData().SetScalars(numpy_to_vtk(np.array([2.0, np.nan]), deep=True))
+    >>> piece_range(piece)
+    (2.0, 2.0, True)
+    """
+    scalars = piece.GetPointData().GetScalars() if piece is not None and piece.GetNumberOfPoints() else None
+    if scalars is None:
+        return _HIGH, _LOW, False
+    state = object_state(scalars)
+    cached = state.get("piece_range")
+    if cached is not None and cached[0] == scalars.GetMTime():
+        return cached[1]
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    values = vtk_to_numpy(scalars)
+    finite = np.isfinite(values) if values.dtype.kind == "f" else np.ones(values.shape, dtype=bool)
+    found = (float(values[finite].min()), float(values[finite].max())) if finite.any() else (_HIGH, _LOW)
+    result = found + (not finite.all(),)
+    state["piece_range"] = (scalars.GetMTime(), result)
+    return result
+
+
+def _entries(mapper, piece, whole, rule: str, kind) -> list:
+    """This rank's private brick entries of its piece, drawn by ``kind`` (cached on ``mapper``'s state)."""
     from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper
     from mipcast.mappers.mip import MIPVolumeMapper
 
     state = object_state(mapper)
     extent = tuple(piece.GetExtent())
-    key = (piece.GetAddressAsString("vtkObjectBase"), piece.GetMTime(), extent, tuple(whole), rule, type(mapper))
+    key = (piece.GetAddressAsString("vtkObjectBase"), piece.GetMTime(), extent, tuple(whole), rule, kind)
     cached = state.get("rank_bricks")
     if cached is not None and cached[0] == key:
         return cached[1]
@@ -94,10 +135,10 @@ def _entries(mapper, piece, whole, rule: str) -> list:
     piece = extract_brick(piece, (0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1))
     distance = mapper.GetSampleDistance()
     if rule == "demip":
-        entries = [brick_entry(kind, piece, extent, whole, piece.GetSpacing(), distance)
-                   for kind in (MIPVolumeMapper, DEMIPBrickDepthMapper)]
+        entries = [brick_entry(phase, piece, extent, whole, piece.GetSpacing(), distance)
+                   for phase in (MIPVolumeMapper, DEMIPBrickDepthMapper)]
     else:
-        entry = brick_entry(type(mapper), piece, extent, whole, piece.GetSpacing(), distance)
+        entry = brick_entry(kind, piece, extent, whole, piece.GetSpacing(), distance)
         object_state(entry["mapper"])["global_cells"] = False  # cells lie whole in a piece
         object_state(entry["mapper"])["brick_mean"] = True
         entry["volume"].GetShaderProperty().GetFragmentCustomUniforms().SetUniformf("u_mc_brickChannel", 0.0)
@@ -138,7 +179,7 @@ def _global_scalars(scalars, low: float, high: float):
 
 
 def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce,
-            rule: str, rank: Tuple[int, int] = (0, 1)) -> Tuple[Optional[np.ndarray], Optional[str]]:
+            rule: str, rank: Tuple[int, int] = (0, 1), brick=None) -> Tuple[Optional[np.ndarray], Optional[str]]:
     """This frame's final premultiplied RGBA (top row first), the same on every rank; or (None, why).
 
     Parameters
@@ -153,6 +194,10 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce,
     rule : ``"demip"`` or ``"mean"``
     rank : (this rank's index, the number of ranks)
         For DEMIP's ordered projections (:mod:`mipcast.mappers.rank_ordered`: each rank's row of the pieces).
+    brick : class, optional
+        The mipcast mapper class that reads the piece out (default: ``mapper``'s own class); for VTK's own
+        mapper (``stock_average``) the method that reproduces its samples (the method table's ``readout_by``:
+        :class:`~mipcast.mappers.projections.AverageVolumeMapper`).
 
     Every rank must call this the same number of times per frame; it enters
     the same reductions whatever happens locally.
@@ -165,21 +210,33 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce,
     if usable:
         scalars = piece.GetPointData().GetScalars()
         usable = scalars is not None
-    low, high = scalars.GetRange(0) if usable else (_HIGH, _LOW)
-    # 1: shape and range (every rank); a mismatch makes every rank give up alike
-    head = reduce(np.array([shape[0], shape[1], -shape[0], -shape[1], -low, high], dtype=np.float64), "max")
+    low, high, missing = piece_range(piece if usable else None)
+    camera = renderer.GetActiveCamera()
+    kind = brick if brick is not None else type(mapper)
+    whole_image = whole_geometry(whole_stub) if whole_stub is not None else None
+    from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
+
+    samples = rule == "demip" or not issubclass(kind, AnalyticMIPVolumeMapper)  # the cell walks need no phase
+    inside = samples and whole_image is not None and near_plane_cuts(whole_image, camera)
+    # 1: shape, finite range, missing values, the camera inside (every rank); a mismatch: all give up alike
+    head = reduce(np.array([shape[0], shape[1], -shape[0], -shape[1], -low, high, float(missing), float(inside)],
+                           dtype=np.float64), "max")
     if head[0] != -head[2] or head[1] != -head[3]:
         return None, f"the ranks' viewports differ ({int(head[0])}x{int(head[1])} vs {int(-head[2])}x{int(-head[3])})"
-    low, high = float(-head[4]), float(head[5])
+    low, high, missing = float(-head[4]), float(head[5]), bool(head[6] > 0.0)
     if not high >= low:
         return None, "no rank has data"
-    camera = renderer.GetActiveCamera()
-    whole_image = whole_geometry(whole_stub) if whole_stub is not None else None
+    if missing and brick is not None:
+        return None, OWN_MISSING
+    if head[7] > 0.0:
+        return None, CAMERA_INSIDE
     entries, local_problem = [], None
     usable = usable and mapper is not None and whole_image is not None
     if usable:
         try:
-            entries = _entries(mapper, piece, whole_stub[0], rule)
+            entries = _entries(mapper, piece, whole_stub[0], rule, kind)
+            for entry in entries:  # missing values filled as in the whole volume (none: the piece as it is)
+                entry["mapper"].GetInputPreparer().SetWholeRange((low, high) if missing else None)
             for entry in entries:
                 bricked_draw.follow_brick(mapper, volume, entry) if rule == "mean" else _follow_demip(
                     mapper, volume, entry, entry is entries[1])
@@ -194,10 +251,10 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce,
         from mipcast.mappers import rank_ordered  # every projection: "mip" by _demip, the others turn by turn
 
         rgba, problem = rank_ordered.demip(mapper, volume, renderer, entries, whole_image, camera, shape, reduce,
-                                           (low, high), local_problem, rank)
+                                           (low, high), local_problem, rank, missing)
     else:
         rgba, problem = _mean(mapper, volume, renderer, entries, whole_image, camera, shape, reduce, whole_scalars,
-                              (low, high), local_problem)
+                              (low, high), local_problem, getattr(kind, "BRICK_READOUT", None) == "average_brick_readout")
     return rgba, problem
 
 
@@ -267,8 +324,7 @@ def _demip(mapper, volume, renderer, entries, whole_image, camera, shape, reduce
 
 
 def _mean(mapper, volume, renderer, entries, whole_image, camera, shape, reduce, whole_scalars, data_range,
-          problem):
-    sampled = mapper is not None and type(mapper).BRICK_READOUT == "average_brick_readout"
+          problem, sampled):
     size = shape[0] * shape[1]
     local = np.zeros((4, size))
     if entries:
