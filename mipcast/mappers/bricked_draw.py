@@ -406,7 +406,9 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
         from mipcast.mappers import outline_rays
 
         none = np.sum([np.nan_to_num(-n) for n in counts], axis=0) == 0.0  # (a brick's ray without one: discarded)
-        sample = outline_rays.single_samples(mapper.GetRenderedInput(), camera, shape, aspect_size, step, none)
+        image = mapper.GetRenderedInput()
+        none &= outline_rays.unhidden(renderer, image, shape, aspect_size, step, none)  # not behind opaque geometry
+        sample = outline_rays.single_samples(image, camera, shape, aspect_size, step, none)
         found = sample if readout else _sample_grey(mapper, volume, sample[..., None])
         low, high = mapper.GetAverageIPScalarRange()
         mean = np.where(np.isfinite(found) & (sample >= low) & (sample <= high), found, mean)

@@ -170,18 +170,41 @@ def along(image, start: np.ndarray, step: np.ndarray, steps: np.ndarray) -> np.n
     return np.where(k[None, :] <= count[:, None], values, np.nan)
 
 
-def far(renderer, shape: Sequence[int]) -> np.ndarray:
-    """The rays of a grid of ``shape`` (rows, columns; top row first) over ``renderer``'s viewport whose pixel
-    holds no opaque geometry in the depth buffer (their ray ends at the box)."""
+def scene_depth(renderer, shape: Sequence[int]) -> np.ndarray:
+    """The depth buffer (0 .. 1; 1: no opaque geometry) at the pixel of each ray of a grid of ``shape`` (rows,
+    columns; top row first) over ``renderer``'s viewport."""
     width, height, x0, y0 = [0], [0], [0], [0]
     renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
     width, height = max(width[0], 1), max(height[0], 1)
     depth = np.empty(width * height, dtype=np.float32)
     renderer.GetRenderWindow().GetZbufferData(x0[0], y0[0], x0[0] + width - 1, y0[0] + height - 1, depth)
-    clear = depth.reshape(height, width)[::-1] >= 1.0
     rows = ((np.arange(int(shape[0])) + 0.5) * height / int(shape[0])).astype(int)
     columns = ((np.arange(int(shape[1])) + 0.5) * width / int(shape[1])).astype(int)
-    return clear[np.ix_(rows, columns)]
+    return depth.reshape(height, width)[::-1][np.ix_(rows, columns)]
+
+
+def far(renderer, shape: Sequence[int]) -> np.ndarray:
+    """The rays of a grid of ``shape`` (rows, columns; top row first) over ``renderer``'s viewport whose pixel
+    holds no opaque geometry in the depth buffer (their ray ends at the box)."""
+    return scene_depth(renderer, shape) >= 1.0
+
+
+def unhidden(renderer, image, shape: Sequence[int], size: Sequence[int], sample_distance: float,
+             pixels: np.ndarray) -> np.ndarray:
+    """The rays at ``pixels`` whose entry into the whole box of ``image`` lies in front of the depth buffer's
+    opaque geometry: the single texture draws them (it discards a fragment of its box behind the scene depth).
+    ``shape``, ``size``: as :func:`single_samples`."""
+    from mipcast.core.camera_rays import matrix_array
+
+    camera = renderer.GetActiveCamera()
+    point, step, r, c, s_in, _ = _chords(image, camera, shape, size, sample_distance, pixels)
+    entry = np.append(point + s_in[:, None] * step, np.ones((len(r), 1)), axis=1)
+    to_clip = (matrix_array(camera.GetCompositeProjectionTransformMatrix(size[0] / size[1], -1, 1))
+               @ matrix_array(image.GetIndexToPhysicalMatrix()))
+    clip = entry @ to_clip.T
+    out = np.zeros(pixels.shape, dtype=bool)
+    out[r, c] = 0.5 * (clip[:, 2] / clip[:, 3] + 1.0) < scene_depth(renderer, shape)[r, c]
+    return out
 
 
 def undrawn(mapper, renderer, drawn: np.ndarray) -> Optional[np.ndarray]:
