@@ -559,11 +559,8 @@ def _draw_picture(mapper, renderer, volume, values, rgba=None) -> None:
     renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
     faces = front_faces(box_corners(mapper.GetInput(), volume), renderer) if window.GetMultiSamples() > 1 else None
     pictures, outlines = [values], [None]  # None: the whole viewport
-    if faces and rgba is None and not clip_uniforms.cuts(mapper, renderer.GetActiveCamera()):
-        from mipcast.mappers.outline_rays import far
-
-        clear = far(renderer, values.shape)  # no opaque geometry: the rays end at the box
-        pictures = [_face_values(mapper, volume, renderer, values, face, _next_to(quad, values.shape) & clear)
+    if faces and rgba is None:
+        pictures = [_face_values(mapper, volume, renderer, values, face, _next_to(quad, values.shape))
                     for face, quad in faces]
         outlines = [[quad] for _, quad in faces]
     elif faces:
@@ -579,9 +576,10 @@ def _draw_picture(mapper, renderer, volume, values, rgba=None) -> None:
         data = np.ascontiguousarray(rgba[::-1], dtype=np.float32)  # bottom row first
         texture.Create2DFromRaw(values.shape[1], values.shape[0], 4, VTK_FLOAT, data)
         quads = None if outline is None else [
-            ([c for x, y in quad for c in (0.5 * (x + 1.0), 0.5 * (y + 1.0))], [c for x, y in quad for c in (x, y, 0.0)])
+            ([c for x, y, _ in quad for c in (0.5 * (x + 1.0), 0.5 * (y + 1.0))], [c for point in quad for c in point])
             for quad in outline]
-        draw_over(window, texture, (x0[0], y0[0], width[0], height[0]), quads)
+        # the faces at their own depth: opaque geometry in front hides their samples, as the single texture's
+        draw_over(window, texture, (x0[0], y0[0], width[0], height[0]), quads, depth_test=outline is not None)
 
 
 def _grey_rgba(grey: np.ndarray) -> np.ndarray:
@@ -594,12 +592,12 @@ def _grey_rgba(grey: np.ndarray) -> np.ndarray:
 
 
 def _next_to(quad, shape) -> np.ndarray:
-    """Pixels (rows, columns; top row first) whose centre lies outside the NDC ``quad`` (convex,
+    """Pixels (rows, columns; top row first) whose centre lies outside the NDC ``quad`` ((x, y, z) corners, convex,
     counter-clockwise) but within a pixel of it: multisampling may cover some of their samples."""
     rows, columns = shape
     y, x = np.mgrid[0:rows, 0:columns]
     px, py = x + 0.5, rows - y - 0.5  # pixel units, from the viewport's lower left corner
-    corners = [(0.5 * (qx + 1.0) * columns, 0.5 * (qy + 1.0) * rows) for qx, qy in quad]
+    corners = [(0.5 * (qx + 1.0) * columns, 0.5 * (qy + 1.0) * rows) for qx, qy, *_ in quad]
     beyond = np.full(shape, -np.inf)  # the largest distance beyond an edge's line
     for (ax, ay), (bx, by) in zip(corners, corners[1:] + corners[:1]):
         length = np.hypot(bx - ax, by - ay)
@@ -620,28 +618,46 @@ def _face_values(mapper, volume, renderer, values, face, pixels) -> np.ndarray:
     average's grey, opacity x grey over the samples in
     ``AverageIPScalarRange`` as ``shaders/average_hooks.glsl``) or cells
     (the float64 reference's exact kernels, extrapolating off the box).
+    Each ends where the single texture's ray ends at opaque geometry (VTK's
+    unsigned length from the start + one step; none where the face lies
+    behind the depth buffer), and is clipped as the loops clip
+    (:func:`mipcast.mappers.outline_rays.cut_by`: the sampled loop keeps the
+    samples between the planes and in visible cropping regions, the cell walk
+    walks the part between the planes, over the visible regions).
     """
     from mipcast import reference
     from mipcast.mappers import outline_rays
+    from mipcast.reference.rays import clip_interval
 
     step, sampled = object_state(mapper)["brick_sampling"]
     rule = type(mapper).BRICKS
     image = mapper.GetRenderedInput()
+    camera = renderer.GetActiveCamera()
     rows, columns, start, ray_step, steps = outline_rays.face_rays(
-        image, renderer.GetActiveCamera(), values.shape, values.shape[::-1], step, face, pixels)
+        image, camera, values.shape, values.shape[::-1], step, face, pixels)
+    out = values.copy()
+    if not len(rows):
+        return out
+    surface = outline_rays.surface_steps(renderer, image, values.shape, values.shape[::-1], start, ray_step, rows,
+                                         columns)
+    end = np.abs(surface - 1.0) + 1.0  # VTK's length to the surface from its start (one step in), unsigned
+    planes, crop = outline_rays.cut_by(mapper, camera, image)
     if not sampled:
+        lo, hi = clip_interval(image, start, ray_step, np.maximum(np.minimum(steps, end), 0.0), planes)
         kernel = getattr(reference.mip, _WALKS[rule])
-        found = kernel(outline_rays.volume_array(image), start, ray_step, np.maximum(steps, 0.0), extrapolate=True)
+        found = kernel(outline_rays.volume_array(image), start + lo[:, None] * ray_step, ray_step,
+                       np.maximum(hi - lo, 0.0), crop=crop, extrapolate=True)
+        found[lo > hi] = np.nan
         if rule == "mean":
             found = _grey_of(mapper, volume, found)
     else:
-        samples = outline_rays.along(image, start, ray_step, steps)
+        keep = clip_interval(image, start, ray_step, steps, planes, within_box=False) if planes is not None else None
+        samples = outline_rays.along(image, start, ray_step, np.minimum(steps, np.ceil(end)), keep, crop)
         if rule == "max":
-            found = np.nanmax(samples, axis=1)
+            found = np.fmax.reduce(samples, axis=1)
         elif rule == "min":
-            found = np.nanmin(samples, axis=1)
+            found = np.fmin.reduce(samples, axis=1)
         else:
             found = _sample_grey(mapper, volume, samples)
-    out = values.copy()
-    out[rows, columns] = found
+    out[rows, columns] = np.where((surface > 0.0) & np.isfinite(found), found, np.nan)
     return out

@@ -159,15 +159,34 @@ def face_rays(image, camera, shape: Sequence[int], size: Sequence[int], sample_d
     return r, c, start, step, np.min(np.where(step == 0.0, 1.0e30, exits), axis=1)
 
 
-def along(image, start: np.ndarray, step: np.ndarray, steps: np.ndarray) -> np.ndarray:
+def along(image, start: np.ndarray, step: np.ndarray, steps: np.ndarray, keep=None, crop=None) -> np.ndarray:
     """The samples (n, k) of :func:`face_rays`' rays in a sampled loop, read clamped onto the box; NaN past a
-    ray's last."""
+    ray's last, and where clipping drops a sample: ``keep = (lo, hi)`` (n,) keeps the samples ``lo <= k <= hi``
+    steps from the start, ``crop`` those in a visible cropping region (:func:`cut_by`)."""
     count = 1 + np.floor(np.maximum(0.0, steps - 1.0)).astype(int)
     k = np.arange(1, (count.max() if len(count) else 0) + 1)
     upper = np.array(image.GetDimensions(), dtype=float) - 1.0
-    at = np.clip(start[:, None, :] + k[None, :, None] * step[:, None, :], 0.0, upper).reshape(-1, 3)
-    values = trilinear(volume_array(image), at).reshape(len(start), len(k))
-    return np.where(k[None, :] <= count[:, None], values, np.nan)
+    at = start[:, None, :] + k[None, :, None] * step[:, None, :]
+    values = trilinear(volume_array(image), np.clip(at, 0.0, upper).reshape(-1, 3)).reshape(len(start), len(k))
+    kept = k[None, :] <= count[:, None]
+    if keep is not None:
+        kept &= (k[None, :] >= keep[0][:, None]) & (k[None, :] <= keep[1][:, None])
+    if crop is not None:
+        from mipcast.core.clipping import crop_visible
+
+        kept &= crop_visible(at.reshape(-1, 3), *crop).reshape(kept.shape)
+    return np.where(kept, values, np.nan)
+
+
+def cut_by(mapper, camera, image) -> tuple:
+    """The mapper's clipping planes, slab and cropping as :func:`mipcast.reference.render` takes them:
+    ``(clip_planes, crop)`` (:func:`mipcast.reference.rays.cropping_setup`; None: none)."""
+    from mipcast.mappers.clip_uniforms import world_planes
+    from mipcast.reference.rays import cropping_setup
+
+    planes = world_planes(mapper, camera)
+    cropping = (mapper.GetCroppingRegionPlanes(), mapper.GetCroppingRegionFlags()) if mapper.GetCropping() else None
+    return cropping_setup(image, cropping, planes if len(planes[0]) else None)
 
 
 def scene_depth(renderer, shape: Sequence[int]) -> np.ndarray:
@@ -189,21 +208,31 @@ def far(renderer, shape: Sequence[int]) -> np.ndarray:
     return scene_depth(renderer, shape) >= 1.0
 
 
+def surface_steps(renderer, image, shape: Sequence[int], size: Sequence[int], start: np.ndarray, step: np.ndarray,
+                  rows: np.ndarray, columns: np.ndarray) -> np.ndarray:
+    """Along each ray ``start + t step`` (point indices of ``image``) of the pixels ``rows``, ``columns`` of a
+    grid of ``shape``: t where it meets the depth buffer's value at its pixel (the opaque geometry there, or
+    the far plane).  ``size``: the viewport's (width, height), the camera's aspect."""
+    from mipcast.core.camera_rays import matrix_array
+
+    camera = renderer.GetActiveCamera()
+    to_clip = (matrix_array(camera.GetCompositeProjectionTransformMatrix(size[0] / size[1], -1, 1))
+               @ matrix_array(image.GetIndexToPhysicalMatrix()))
+    a = np.append(start, np.ones((len(start), 1)), axis=1) @ to_clip.T
+    b = np.append(step, np.zeros((len(step), 1)), axis=1) @ to_clip.T
+    z = 2.0 * scene_depth(renderer, shape)[rows, columns].astype(np.float64) - 1.0  # NDC depth
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return (z * a[:, 3] - a[:, 2]) / (b[:, 2] - z * b[:, 3])
+
+
 def unhidden(renderer, image, shape: Sequence[int], size: Sequence[int], sample_distance: float,
              pixels: np.ndarray) -> np.ndarray:
     """The rays at ``pixels`` whose entry into the whole box of ``image`` lies in front of the depth buffer's
     opaque geometry: the single texture draws them (it discards a fragment of its box behind the scene depth).
     ``shape``, ``size``: as :func:`single_samples`."""
-    from mipcast.core.camera_rays import matrix_array
-
-    camera = renderer.GetActiveCamera()
-    point, step, r, c, s_in, _ = _chords(image, camera, shape, size, sample_distance, pixels)
-    entry = np.append(point + s_in[:, None] * step, np.ones((len(r), 1)), axis=1)
-    to_clip = (matrix_array(camera.GetCompositeProjectionTransformMatrix(size[0] / size[1], -1, 1))
-               @ matrix_array(image.GetIndexToPhysicalMatrix()))
-    clip = entry @ to_clip.T
+    point, step, r, c, s_in, _ = _chords(image, renderer.GetActiveCamera(), shape, size, sample_distance, pixels)
     out = np.zeros(pixels.shape, dtype=bool)
-    out[r, c] = 0.5 * (clip[:, 2] / clip[:, 3] + 1.0) < scene_depth(renderer, shape)[r, c]
+    out[r, c] = surface_steps(renderer, image, shape, size, point + s_in[:, None] * step, step, r, c) > 0.0
     return out
 
 
