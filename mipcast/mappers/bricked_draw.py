@@ -550,27 +550,35 @@ def _draw_picture(mapper, renderer, volume, values, rgba=None) -> None:
     texture's are, and each face's texture gives the pixels within a pixel of
     the face whose centre lies off it (off the box, or on the next face) what
     that face's fragment of the single texture reads there (:func:`_face_values`;
-    DEMIP's ``rgba``: drawn through the faces without them).  Otherwise (no
-    multisampling, tiles, a box reaching the camera) over the whole viewport.
+    DEMIP's ``rgba``: :func:`mipcast.mappers.bricked_demip.face_picture`).  The faces are drawn at their own depth with the
+    depth test, so opaque geometry hides their samples as it hides the single
+    texture's.  Otherwise (no multisampling, tiles, a box reaching the camera)
+    over the whole viewport.
     """
     state = object_state(mapper)
     window = renderer.GetRenderWindow()
     width, height, x0, y0 = [0], [0], [0], [0]
     renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
     faces = front_faces(box_corners(mapper.GetInput(), volume), renderer) if window.GetMultiSamples() > 1 else None
-    pictures, outlines = [values], [None]  # None: the whole viewport
-    if faces and rgba is None:
-        pictures = [_face_values(mapper, volume, renderer, values, face, _next_to(quad, values.shape))
-                    for face, quad in faces]
-        outlines = [[quad] for _, quad in faces]
-    elif faces:
-        outlines = [[quad for _, quad in faces]]
-    if rgba is not None:
+    outlines = [None]  # None: the whole viewport
+    if rgba is not None:  # DEMIP's picture
         colours = [rgba]
-    elif type(mapper).BRICKS == "mean":
-        colours = [_grey_rgba(picture) for picture in pictures]
-    else:  # one colour table for all of them
-        colours = list(colour(np.stack(pictures), volume.GetProperty()))
+        if faces:
+            from mipcast.mappers.bricked_demip import face_picture
+
+            colours = [face_picture(mapper, volume, renderer, rgba, face, _next_to(quad, values.shape))
+                       for face, quad in faces]
+            outlines = [[quad] for _, quad in faces]
+    else:
+        pictures = [values]
+        if faces:
+            pictures = [_face_values(mapper, volume, renderer, values, face, _next_to(quad, values.shape))
+                        for face, quad in faces]
+            outlines = [[quad] for _, quad in faces]
+        if type(mapper).BRICKS == "mean":
+            colours = [_grey_rgba(picture) for picture in pictures]
+        else:  # one colour table for all of them
+            colours = list(colour(np.stack(pictures), volume.GetProperty()))
     for index, (rgba, outline) in enumerate(zip(colours, outlines)):
         texture = kept_texture(state, ("brick_texture", index), window)
         data = np.ascontiguousarray(rgba[::-1], dtype=np.float32)  # bottom row first
@@ -613,51 +621,37 @@ _WALKS = {"max": "exact_maximum", "min": "exact_minimum", "mean": "exact_mean"}
 def _face_values(mapper, volume, renderer, values, face, pixels) -> np.ndarray:
     """``values`` with the ``pixels``' as the single texture's fragment of ``face`` gives them.
 
-    The rays of :func:`mipcast.mappers.outline_rays.face_rays`, combined as
-    the method combines its samples (sampled: the maximum, the minimum, the
-    average's grey, opacity x grey over the samples in
-    ``AverageIPScalarRange`` as ``shaders/average_hooks.glsl``) or cells
-    (the float64 reference's exact kernels, extrapolating off the box).
-    Each ends where the single texture's ray ends at opaque geometry (VTK's
-    unsigned length from the start + one step; none where the face lies
-    behind the depth buffer), and is clipped as the loops clip
-    (:func:`mipcast.mappers.outline_rays.cut_by`: the sampled loop keeps the
-    samples between the planes and in visible cropping regions, the cell walk
-    walks the part between the planes, over the visible regions).
+    The rays of :func:`mipcast.mappers.outline_rays.face_rays`, ended at
+    opaque geometry and clipped as the loops clip
+    (:func:`mipcast.mappers.outline_rays.face_samples`,
+    :func:`~mipcast.mappers.outline_rays.face_walks`), combined as the method
+    combines its samples (sampled: the maximum, the minimum, the average's
+    grey, opacity x grey over the samples in ``AverageIPScalarRange`` as
+    ``shaders/average_hooks.glsl``) or cells (the float64 reference's exact
+    kernels, extrapolating off the box).
     """
     from mipcast import reference
     from mipcast.mappers import outline_rays
-    from mipcast.reference.rays import clip_interval
 
     step, sampled = object_state(mapper)["brick_sampling"]
     rule = type(mapper).BRICKS
-    image = mapper.GetRenderedInput()
-    camera = renderer.GetActiveCamera()
-    rows, columns, start, ray_step, steps = outline_rays.face_rays(
-        image, camera, values.shape, values.shape[::-1], step, face, pixels)
     out = values.copy()
-    if not len(rows):
+    if not pixels.any():
         return out
-    surface = outline_rays.surface_steps(renderer, image, values.shape, values.shape[::-1], start, ray_step, rows,
-                                         columns)
-    end = np.abs(surface - 1.0) + 1.0  # VTK's length to the surface from its start (one step in), unsigned
-    planes, crop = outline_rays.cut_by(mapper, camera, image)
+    image = mapper.GetRenderedInput()
     if not sampled:
-        lo, hi = clip_interval(image, start, ray_step, np.maximum(np.minimum(steps, end), 0.0), planes)
-        kernel = getattr(reference.mip, _WALKS[rule])
-        found = kernel(outline_rays.volume_array(image), start + lo[:, None] * ray_step, ray_step,
-                       np.maximum(hi - lo, 0.0), crop=crop, extrapolate=True)
-        found[lo > hi] = np.nan
+        rows, columns, found = outline_rays.face_walks(mapper, renderer, image, values.shape, step, face, pixels,
+                                                       getattr(reference.mip, _WALKS[rule]))
         if rule == "mean":
             found = _grey_of(mapper, volume, found)
     else:
-        keep = clip_interval(image, start, ray_step, steps, planes, within_box=False) if planes is not None else None
-        samples = outline_rays.along(image, start, ray_step, np.minimum(steps, np.ceil(end)), keep, crop)
+        rows, columns, _, _, samples = outline_rays.face_samples(mapper, renderer, image, values.shape, step, face,
+                                                                 pixels)
         if rule == "max":
             found = np.fmax.reduce(samples, axis=1)
         elif rule == "min":
             found = np.fmin.reduce(samples, axis=1)
         else:
             found = _sample_grey(mapper, volume, samples)
-    out[rows, columns] = np.where((surface > 0.0) & np.isfinite(found), found, np.nan)
+    out[rows, columns] = found
     return out

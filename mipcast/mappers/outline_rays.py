@@ -189,6 +189,52 @@ def cut_by(mapper, camera, image) -> tuple:
     return cropping_setup(image, cropping, planes if len(planes[0]) else None)
 
 
+def _face_setup(mapper, renderer, image, shape: Sequence[int], sample_distance: float, face, pixels) -> tuple:
+    """:func:`face_rays` of ``mapper``'s picture over ``renderer``'s viewport (a grid of ``shape``), each
+    ended where the single texture's ray ends at opaque geometry: VTK's unsigned length from its start + one
+    step to the depth buffer's point (``end``, steps from the start), ``shown`` False where the face lies
+    behind the depth buffer (its fragment is discarded); and the mapper's clipping (:func:`cut_by`)."""
+    size = (int(shape[1]), int(shape[0]))
+    rows, columns, start, step, steps = face_rays(image, renderer.GetActiveCamera(), shape, size, sample_distance,
+                                                  face, pixels)
+    surface = surface_steps(renderer, image, shape, size, start, step, rows, columns)
+    planes, crop = cut_by(mapper, renderer.GetActiveCamera(), image)
+    return rows, columns, start, step, steps, np.abs(surface - 1.0) + 1.0, surface > 0.0, planes, crop
+
+
+def face_samples(mapper, renderer, image, shape: Sequence[int], sample_distance: float, face, pixels) -> tuple:
+    """The single texture's samples (n, k; NaN: none) of ``face``'s fragments at ``pixels`` (bool, ``shape``)
+    in a sampled loop: :func:`along` up to the sample past opaque geometry (VTK's count, ceil(length) + 1
+    from the start + one step), the clipped and hidden-region samples dropped as the loop drops them.
+
+    Returns the pixels' rows and columns, each ray's start and step (point indices, :func:`face_rays`) and the
+    samples, NaN on the rays of a face behind the depth buffer.
+    """
+    rows, columns, start, step, steps, end, shown, planes, crop = _face_setup(mapper, renderer, image, shape,
+                                                                             sample_distance, face, pixels)
+    from mipcast.reference.rays import clip_interval
+
+    keep = clip_interval(image, start, step, steps, planes, within_box=False) if planes is not None else None
+    samples = along(image, start, step, np.minimum(steps, np.ceil(end)), keep, crop)
+    return rows, columns, start, step, np.where(shown[:, None], samples, np.nan)
+
+
+def face_walks(mapper, renderer, image, shape: Sequence[int], sample_distance: float, face, pixels, kernel,
+               **options) -> tuple:
+    """The cell walk's value (``kernel``: :func:`mipcast.reference.mip.exact_maximum`, ...; ``options``: its
+    keywords) of ``face``'s fragments at ``pixels``: from the start to the face's exit or the opaque geometry
+    (VTK's end), the part between the clipping planes, over the visible cropping regions, extrapolated off the
+    box.  Returns the pixels' rows and columns and the values (NaN: none)."""
+    rows, columns, start, step, steps, end, shown, planes, crop = _face_setup(mapper, renderer, image, shape,
+                                                                             sample_distance, face, pixels)
+    from mipcast.reference.rays import clip_interval
+
+    lo, hi = clip_interval(image, start, step, np.maximum(np.minimum(steps, end), 0.0), planes)
+    found = kernel(volume_array(image), start + lo[:, None] * step, step, np.maximum(hi - lo, 0.0), crop=crop,
+                   extrapolate=True, **options)
+    return rows, columns, np.where(shown & (lo <= hi) & np.isfinite(found), found, np.nan)
+
+
 def scene_depth(renderer, shape: Sequence[int]) -> np.ndarray:
     """The depth buffer (0 .. 1; 1: no opaque geometry) at the pixel of each ray of a grid of ``shape`` (rows,
     columns; top row first) over ``renderer``'s viewport."""
