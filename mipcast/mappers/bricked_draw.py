@@ -401,14 +401,14 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
         mean = _mean_grey(mapper, volume, passes)
     else:
         mean = combine([read[0] for read, _ in passes], [np.nan_to_num(-n) for n in counts])
-    if sampled and not clip_uniforms.cuts(mapper, camera):  # a grazing ray whose one sample no brick drawing it
-        # holds: on the CPU
+    if sampled:  # a grazing ray whose one sample no brick drawing it holds: on the CPU, clipped as the loop clips
         from mipcast.mappers import outline_rays
 
         none = np.sum([np.nan_to_num(-n) for n in counts], axis=0) == 0.0  # (a brick's ray without one: discarded)
         image = mapper.GetRenderedInput()
         none &= outline_rays.unhidden(renderer, image, shape, aspect_size, step, none)  # not behind opaque geometry
-        sample = outline_rays.single_samples(image, camera, shape, aspect_size, step, none)
+        sample = outline_rays.single_samples(image, camera, shape, aspect_size, step, none,
+                                             outline_rays.cut_by(mapper, camera, image))
         found = sample if readout else _sample_grey(mapper, volume, sample[..., None])
         low, high = mapper.GetAverageIPScalarRange()
         mean = np.where(np.isfinite(found) & (sample >= low) & (sample <= high), found, mean)

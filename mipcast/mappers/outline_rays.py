@@ -113,18 +113,19 @@ def walked(image, camera, shape: Sequence[int], size: Sequence[int], pixels: np.
 
 
 def single_samples(image, camera, shape: Sequence[int], size: Sequence[int], sample_distance: float,
-                   pixels: np.ndarray) -> np.ndarray:
+                   pixels: np.ndarray, cut=(None, None)) -> np.ndarray:
     """The one sample (data units) of the grazing rays at ``pixels`` (bool (rows, columns), top row first).
 
     ``image``: the one-component volume the bricks draw (scalars in data
     units); ``shape``: the ray grid (rows, columns); ``size``: the viewport's
-    (width, height), the camera's aspect.  NaN where the ray misses the box
-    or is not a single-sample ray (then the bricks' answer stands).
+    (width, height), the camera's aspect; ``cut``: the mapper's clipping
+    (:func:`cut_by`), which drops the sample as the loop drops it.  NaN where
+    the ray misses the box, is not a single-sample ray (then the bricks'
+    answer stands) or its sample is clipped away.
     """
     point, step, r, c, s_in, s_out = _chords(image, camera, shape, size, sample_distance, pixels)
-    upper = np.array(image.GetDimensions(), dtype=float) - 1.0
-    sample = np.clip(point + (s_in + 1.0)[:, None] * step, 0.0, upper)
-    values = trilinear(volume_array(image), sample)
+    entry = point + s_in[:, None] * step
+    values = along(image, entry, step, np.ones(len(r)), *_kept(image, entry, step, np.ones(len(r)), cut))[:, 0]
     out = np.full(len(r), np.nan)
     grazing = (s_out >= s_in) & (s_out - s_in < 1.0)  # one sample, past the exit: clamped onto the box
     out[grazing] = values[grazing]
@@ -178,6 +179,15 @@ def along(image, start: np.ndarray, step: np.ndarray, steps: np.ndarray, keep=No
     return np.where(kept, values, np.nan)
 
 
+def _kept(image, start: np.ndarray, step: np.ndarray, steps: np.ndarray, cut) -> tuple:
+    """:func:`along`'s ``keep`` and ``crop`` for the rays' clipping ``cut`` (:func:`cut_by`): the samples
+    between the planes (steps from the start, the sampled loop's interval) and in visible regions."""
+    from mipcast.reference.rays import clip_interval
+
+    planes, crop = cut
+    return (None if planes is None else clip_interval(image, start, step, steps, planes, within_box=False)), crop
+
+
 def cut_by(mapper, camera, image) -> tuple:
     """The mapper's clipping planes, slab and cropping as :func:`mipcast.reference.render` takes them:
     ``(clip_planes, crop)`` (:func:`mipcast.reference.rays.cropping_setup`; None: none)."""
@@ -212,10 +222,8 @@ def face_samples(mapper, renderer, image, shape: Sequence[int], sample_distance:
     """
     rows, columns, start, step, steps, end, shown, planes, crop = _face_setup(mapper, renderer, image, shape,
                                                                              sample_distance, face, pixels)
-    from mipcast.reference.rays import clip_interval
-
-    keep = clip_interval(image, start, step, steps, planes, within_box=False) if planes is not None else None
-    samples = along(image, start, step, np.minimum(steps, np.ceil(end)), keep, crop)
+    samples = along(image, start, step, np.minimum(steps, np.ceil(end)), *_kept(image, start, step, steps,
+                                                                                (planes, crop)))
     return rows, columns, start, step, np.where(shown[:, None], samples, np.nan)
 
 
