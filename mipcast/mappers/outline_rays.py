@@ -165,7 +165,7 @@ def along(image, start: np.ndarray, step: np.ndarray, steps: np.ndarray, keep=No
     ray's last, and where clipping drops a sample: ``keep = (lo, hi)`` (n,) keeps the samples ``lo <= k <= hi``
     steps from the start, ``crop`` those in a visible cropping region (:func:`cut_by`)."""
     count = 1 + np.floor(np.maximum(0.0, steps - 1.0)).astype(int)
-    k = np.arange(1, (count.max() if len(count) else 0) + 1)
+    k = np.arange(1, int(count.max(initial=1)) + 1)  # (one column for no rays)
     upper = np.array(image.GetDimensions(), dtype=float) - 1.0
     at = start[:, None, :] + k[None, :, None] * step[:, None, :]
     values = trilinear(volume_array(image), np.clip(at, 0.0, upper).reshape(-1, 3)).reshape(len(start), len(k))
