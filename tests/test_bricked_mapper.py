@@ -145,11 +145,22 @@ def _crop_and_clip(mapper, image):
     mapper.SetClippingPlanes(planes)
 
 
+def _add_opaque(renderer, source, colour):
+    """An opaque actor of ``source``'s surface in ``renderer``."""
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
+
+    actor = vtkActor()
+    actor.SetMapper(vtkPolyDataMapper())
+    actor.GetMapper().SetInputConnection(source.GetOutputPort())
+    actor.GetProperty().SetColor(*colour)
+    renderer.AddActor(actor)
+    renderer.ResetCameraClippingRange()
+
+
 def _opaque_geometry(renderer, image):
     """A sphere (radius 12) inside the volume, near several brick borders, and a card in front of a corner of
     the volume (between it and the camera: the single texture draws nothing there)."""
     from vtkmodules.vtkFiltersSources import vtkPlaneSource, vtkSphereSource
-    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
 
     sphere = vtkSphereSource()
     sphere.SetCenter(*image.GetCenter())
@@ -162,13 +173,7 @@ def _opaque_geometry(renderer, image):
     card.SetPoint1(0.5 * (b[0] + b[1]), b[2] - 6.0, b[5] + 3.0)
     card.SetPoint2(b[0] - 6.0, 0.5 * (b[2] + b[3]), b[5] + 3.0)
     for source in (sphere, card):
-        mapper = vtkPolyDataMapper()
-        mapper.SetInputConnection(source.GetOutputPort())
-        actor = vtkActor()
-        actor.SetMapper(mapper)
-        actor.GetProperty().SetColor(0.2, 0.6, 0.2)
-        renderer.AddActor(actor)
-    renderer.ResetCameraClippingRange()
+        _add_opaque(renderer, source, (0.2, 0.6, 0.2))
 
 
 @pytest.mark.parametrize("name, scene", [("mip", "cropped and clipped"), ("mip", "opaque geometry"),
@@ -306,7 +311,6 @@ def _wall(renderer, image):
     """An opaque plane through the volume's centre, facing the camera, beyond the view: it hides the volume's
     far half, and every pixel holds geometry."""
     from vtkmodules.vtkFiltersSources import vtkPlaneSource
-    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
 
     wall = vtkPlaneSource()
     wall.SetOrigin(-200.0, -200.0, 0.0)
@@ -314,12 +318,7 @@ def _wall(renderer, image):
     wall.SetPoint2(-200.0, 200.0, 0.0)
     wall.SetCenter(*image.GetCenter())
     wall.SetNormal(*renderer.GetActiveCamera().GetDirectionOfProjection())
-    actor = vtkActor()
-    actor.SetMapper(vtkPolyDataMapper())
-    actor.GetMapper().SetInputConnection(wall.GetOutputPort())
-    actor.GetProperty().SetColor(0.3, 0.3, 0.6)
-    renderer.AddActor(actor)
-    renderer.ResetCameraClippingRange()
+    _add_opaque(renderer, wall, (0.3, 0.3, 0.6))
 
 
 @pytest.mark.parametrize("name, scene", [("mip", "plain"), ("analytic", "plain"), ("average", "plain"),
