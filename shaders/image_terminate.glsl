@@ -10,27 +10,24 @@
 // coordinates are therefore taken from gl_FragCoord alone (VTK's code is
 // identical when the offset is 0). Also does the refusal piece's job (this
 // tag takes one piece); the ray set-up is mcSetRayEnd (mip_globals).
-// A brick of the sampled loop's whole-volume rays (global_phase) is not
-// discarded behind opaque geometry: the whole ray takes one sample past the
-// surface (samples 0 .. ceil(T), as VTK's loop), and when the surface lies
-// less than a step before this brick, that sample is this brick's. Its
-// terminate point is then behind the ray's start: g_terminatePointMax is
-// made negative, and the loop's count (sampled_loop) keeps only samples up
-// to the whole ray's ceil(T).
+// A brick of a larger volume (the whole_ray_end piece, MC_WHOLE_RAY_END)
+// ends its ray where the whole volume's ray ends instead (mcWholeRayEnd; a
+// brick of the sampled loop's whole-volume rays is not discarded behind
+// opaque geometry: the whole ray takes one sample past the surface, samples
+// 0 .. ceil(T) as VTK's loop, and when the surface lies less than a step
+// before this brick, that sample is this brick's).
   mcRefuseIfAsked();
   g_terminatePointMax = 0.0;
   vec2 mc_at = gl_FragCoord.xy * in_inverseWindowSize;
   float mc_sceneDepth = texture2D(in_depthSampler, mc_at).x;
-  bool mc_behindScene = gl_FragCoord.z >= mc_sceneDepth;
-#ifndef MC_GLOBAL_PHASE
-  if (mc_behindScene)
+#ifndef MC_WHOLE_RAY_END
+  if (gl_FragCoord.z >= mc_sceneDepth)
   {
     discard;  // opaque geometry hides the volume here
   }
 #endif
   mcSetRayEnd(mc_at, (2.0 * mc_sceneDepth - (gl_DepthRange.near + gl_DepthRange.far))
                      / gl_DepthRange.diff);
-  if (mc_behindScene)
-  {
-    g_terminatePointMax = -g_terminatePointMax;
-  }
+#ifdef MC_WHOLE_RAY_END
+  mcWholeRayEnd();
+#endif

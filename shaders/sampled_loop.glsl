@@ -58,7 +58,7 @@
   mc_count = min(mc_count, int(ceil(max(g_terminatePointMax, 0.0))) + 1);
 #ifdef MC_GLOBAL_PHASE
   mcGlobalPhase(mc_stepsInBox, mc_base, mc_first, mc_count);
-  // opaque geometry ends the whole ray's samples where it ends the single texture's: sample k
+  // opaque geometry ends the whole ray's samples where it ends the single texture's (whole_ray_end): sample k
   // (at mc_base + k steps) up to ceil of the terminate point's steps from sample 0
   mc_count = min(mc_count, int(ceil(max(g_terminatePointMax - dot(mc_base - g_dataPos, g_dirStep)
                                          / dot(g_dirStep, g_dirStep), 0.0))) + 1);

@@ -58,7 +58,7 @@ def outline_ndc(corners: np.ndarray, renderer) -> Optional[List[Point]]:
     tile); the caller draws over the whole viewport then.
     """
     ndc = _projected(corners, renderer)
-    return None if ndc is None else _hull([(float(x), float(y)) for x, y in ndc])
+    return None if ndc is None else _hull([(float(x), float(y)) for x, y, _ in ndc])
 
 
 def _face_ring(axis: int, side: int) -> Tuple[int, int, int, int]:
@@ -72,9 +72,9 @@ def _face_ring(axis: int, side: int) -> Tuple[int, int, int, int]:
 FACES = tuple(((axis, side), _face_ring(axis, side)) for axis in range(3) for side in (0, 1))
 
 
-def front_faces(corners: np.ndarray, renderer) -> Optional[List[Tuple[Tuple[int, int], List[Point]]]]:
-    """The box's faces turned to the camera: ``((axis, side), corners in NDC counter-clockwise)``; None as for
-    :func:`outline_ndc`.
+def front_faces(corners: np.ndarray, renderer) -> Optional[List[Tuple[Tuple[int, int], List[Tuple[float, ...]]]]]:
+    """The box's faces turned to the camera: ``((axis, side), corners in NDC (x, y, z) counter-clockwise)``; None
+    as for :func:`outline_ndc`.
 
     The faces the volume's own draw rasterises (VTK culls the back faces):
     a face is turned to the camera when its corners, in the order whose
@@ -92,8 +92,8 @@ def front_faces(corners: np.ndarray, renderer) -> Optional[List[Tuple[Tuple[int,
     centre = corners.mean(axis=0)
     faces = []
     for face, ring in FACES:
-        quad = [(float(ndc[i, 0]), float(ndc[i, 1])) for i in ring]
-        area = sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(quad, quad[1:] + quad[:1]))
+        quad = [(float(ndc[i, 0]), float(ndc[i, 1]), float(ndc[i, 2])) for i in ring]
+        area = sum(x0 * y1 - x1 * y0 for (x0, y0, _), (x1, y1, _) in zip(quad, quad[1:] + quad[:1]))
         p = corners[list(ring)]
         outward = float(np.dot(np.cross(p[1] - p[0], p[3] - p[0]), p.mean(axis=0) - centre))
         if area * outward > 0.0:
@@ -102,7 +102,7 @@ def front_faces(corners: np.ndarray, renderer) -> Optional[List[Tuple[Tuple[int,
 
 
 def _projected(corners: np.ndarray, renderer) -> Optional[np.ndarray]:
-    """The corners in the renderer's NDC (x, y), shape (n, 2); None as for :func:`outline_ndc`."""
+    """The corners in the renderer's NDC (x, y, z), shape (n, 3); None as for :func:`outline_ndc`."""
     window = renderer.GetRenderWindow()
     if window is not None and (tuple(window.GetTileScale()) != (1, 1)
                                or tuple(window.GetTileViewport()) != (0.0, 0.0, 1.0, 1.0)):
@@ -113,7 +113,7 @@ def _projected(corners: np.ndarray, renderer) -> Optional[np.ndarray]:
     clip = np.c_[corners, np.ones(len(corners))] @ projection.T
     if np.any(clip[:, 3] <= 0.0) or np.any(clip[:, 2] < -clip[:, 3]):
         return None
-    return clip[:, :2] / clip[:, 3:]
+    return clip[:, :3] / clip[:, 3:]
 
 
 def outline_quads(polygon: Sequence[Point]) -> List[Tuple[Point, Point, Point, Point]]:

@@ -397,3 +397,58 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
         return values, depth, _mida_scan(mapper, volume, renderer, limit, camera, shape, distance, entries,
                                          in_view, data_range, **scan)
     return values, depth, demip_premultiplied(values, rgb, volume.GetProperty())
+
+
+def face_picture(mapper, volume, renderer, rgba: np.ndarray, face, pixels: np.ndarray) -> np.ndarray:
+    """DEMIP's premultiplied picture ``rgba`` with the ``pixels``' as the single texture's fragment of the box
+    face ``face`` draws them (multisampling).
+
+    The face's rays (:func:`mipcast.mappers.outline_rays.face_samples`: from
+    where the pixel centre's ray crosses the face's plane, ended at opaque
+    geometry, clipped) and their samples' projection as the float64
+    reference finds it: the maximum (LMIP: of the samples up to the first
+    fall below a running maximum above the local threshold) and its first
+    same-material sample, then depth measured from the ray's start, Eq. 1
+    and the sphere as for the composited rays
+    (:func:`mipcast.mappers.demip_composite.demip_composite`); attenuated
+    MIP's attenuated maximum; MIDA's composite of the transfer functions'
+    colour and opacity (:func:`mipcast.mappers.demip_composite.mida_composite`).
+    """
+    from mipcast.core.transfer_bounds import constant_ends
+    from mipcast.mappers import outline_rays
+    from mipcast.mappers.demip_composite import mida_composite
+    from mipcast.mappers.demip_ordered_bricks import local_threshold
+    from mipcast.reference.demip import _attenuated, _local, _same_material
+
+    out = rgba.copy()
+    if not pixels.any():
+        return out
+    distance = mapper.GetSampleDistance()
+    if mapper.GetAutoAdjustSampleDistances():
+        distance = auto_sample_distance(mapper.GetInput(), volume)
+    camera, projection = renderer.GetActiveCamera(), mapper.GetProjection()
+    rows, columns, start, step, samples = outline_rays.face_samples(mapper, renderer, mapper.GetRenderedInput(),
+                                                                    rgba.shape[:2], distance, face, pixels)
+    data_range = mapper.GetInput().GetPointData().GetScalars().GetRange(0)
+    floor, ceiling = constant_ends(volume.GetProperty(), *data_range)
+    window = ceiling > floor  # else no material anywhere: no DEMIP term, no attenuation, no MIDA fading
+    params = {p.name: getattr(mapper, p.getter)() for p in DEMIP}
+    valid = np.isfinite(samples)
+    if projection == "mida":
+        out[rows, columns] = mida_composite(samples, valid, volume.GetProperty(), floor, ceiling if window else np.inf)
+        return out
+    if projection == "lmip":
+        valid = _local(samples, valid, local_threshold(volume.GetProperty(), data_range, mapper.GetLocalThreshold()))
+    values, first = np.fmax.reduce(np.where(valid, samples, np.nan), axis=1), np.full(len(rows), -1)
+    if projection == "attenuated" and window:
+        decay = mapper.GetAttenuation() * distance / min(abs(v) for v in mapper.GetInput().GetSpacing())
+        values = np.where(valid.any(axis=1), _attenuated(samples, valid, floor, ceiling, decay), np.nan)
+    elif window and projection != "attenuated":
+        eps = params["material_threshold"] if params["depth_of"] == "same_material" else 0.0
+        first = _same_material(samples, valid, floor, ceiling, eps)[1]
+    values = values.astype(np.float32).astype(np.float64)  # as the GPU carries the value
+    _, rgb = demip_composite(_whole(mapper.GetInput()), camera, distance, values[None], np.where(first >= 0, first,
+                             np.inf)[None], params, volume.GetProperty(), slab=clip_uniforms.slab_of(mapper, camera),
+                             aspect=rgba.shape[1] / rgba.shape[0], rays=(start[None], step[None]))
+    out[rows, columns] = demip_premultiplied(values[None], rgb, volume.GetProperty())[0]
+    return out

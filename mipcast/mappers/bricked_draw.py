@@ -403,12 +403,14 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
         mean = _mean_grey(mapper, volume, passes)
     else:
         mean = combine([read[0] for read, _ in passes], [np.nan_to_num(-n) for n in counts])
-    if sampled and not clip_uniforms.cuts(mapper, camera):  # a grazing ray whose one sample no brick drawing it
-        # holds: on the CPU
+    if sampled:  # a grazing ray whose one sample no brick drawing it holds: on the CPU, clipped as the loop clips
         from mipcast.mappers import outline_rays
 
         none = np.sum([np.nan_to_num(-n) for n in counts], axis=0) == 0.0  # (a brick's ray without one: discarded)
-        sample = outline_rays.single_samples(mapper.GetRenderedInput(), camera, shape, aspect_size, step, none)
+        image = mapper.GetRenderedInput()
+        none &= outline_rays.unhidden(renderer, image, shape, aspect_size, step, none)  # not behind opaque geometry
+        sample = outline_rays.single_samples(image, camera, shape, aspect_size, step, none,
+                                             outline_rays.cut_by(mapper, camera, image))
         found = sample if readout else _sample_grey(mapper, volume, sample[..., None])
         low, high = mapper.GetAverageIPScalarRange()
         mean = np.where(np.isfinite(found) & (sample >= low) & (sample <= high), found, mean)
@@ -550,38 +552,44 @@ def _draw_picture(mapper, renderer, volume, values, rgba=None) -> None:
     texture's are, and each face's texture gives the pixels within a pixel of
     the face whose centre lies off it (off the box, or on the next face) what
     that face's fragment of the single texture reads there (:func:`_face_values`;
-    DEMIP's ``rgba``: drawn through the faces without them).  Otherwise (no
-    multisampling, tiles, a box reaching the camera) over the whole viewport.
+    DEMIP's ``rgba``: :func:`mipcast.mappers.bricked_demip.face_picture`).  The faces are drawn at their own depth with the
+    depth test, so opaque geometry hides their samples as it hides the single
+    texture's.  Otherwise (no multisampling, tiles, a box reaching the camera)
+    over the whole viewport.
     """
     state = object_state(mapper)
     window = renderer.GetRenderWindow()
     width, height, x0, y0 = [0], [0], [0], [0]
     renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
     faces = front_faces(box_corners(mapper.GetInput(), volume), renderer) if window.GetMultiSamples() > 1 else None
-    pictures, outlines = [values], [None]  # None: the whole viewport
-    if faces and rgba is None and not clip_uniforms.cuts(mapper, renderer.GetActiveCamera()):
-        from mipcast.mappers.outline_rays import far
-
-        clear = far(renderer, values.shape)  # no opaque geometry: the rays end at the box
-        pictures = [_face_values(mapper, volume, renderer, values, face, _next_to(quad, values.shape) & clear)
-                    for face, quad in faces]
-        outlines = [[quad] for _, quad in faces]
-    elif faces:
-        outlines = [[quad for _, quad in faces]]
-    if rgba is not None:
+    outlines = [None]  # None: the whole viewport
+    if rgba is not None:  # DEMIP's picture
         colours = [rgba]
-    elif type(mapper).BRICKS == "mean":
-        colours = [_grey_rgba(picture) for picture in pictures]
-    else:  # one colour table for all of them
-        colours = list(colour(np.stack(pictures), volume.GetProperty()))
+        if faces:
+            from mipcast.mappers.bricked_demip import face_picture
+
+            colours = [face_picture(mapper, volume, renderer, rgba, face, _next_to(quad, values.shape))
+                       for face, quad in faces]
+            outlines = [[quad] for _, quad in faces]
+    else:
+        pictures = [values]
+        if faces:
+            pictures = [_face_values(mapper, volume, renderer, values, face, _next_to(quad, values.shape))
+                        for face, quad in faces]
+            outlines = [[quad] for _, quad in faces]
+        if type(mapper).BRICKS == "mean":
+            colours = [_grey_rgba(picture) for picture in pictures]
+        else:  # one colour table for all of them
+            colours = list(colour(np.stack(pictures), volume.GetProperty()))
     for index, (rgba, outline) in enumerate(zip(colours, outlines)):
         texture = kept_texture(state, ("brick_texture", index), window)
         data = np.ascontiguousarray(rgba[::-1], dtype=np.float32)  # bottom row first
         texture.Create2DFromRaw(values.shape[1], values.shape[0], 4, VTK_FLOAT, data)
         quads = None if outline is None else [
-            ([c for x, y in quad for c in (0.5 * (x + 1.0), 0.5 * (y + 1.0))], [c for x, y in quad for c in (x, y, 0.0)])
+            ([c for x, y, _ in quad for c in (0.5 * (x + 1.0), 0.5 * (y + 1.0))], [c for point in quad for c in point])
             for quad in outline]
-        draw_over(window, texture, (x0[0], y0[0], width[0], height[0]), quads)
+        # the faces at their own depth: opaque geometry in front hides their samples, as the single texture's
+        draw_over(window, texture, (x0[0], y0[0], width[0], height[0]), quads, depth_test=outline is not None)
 
 
 def _grey_rgba(grey: np.ndarray) -> np.ndarray:
@@ -594,12 +602,12 @@ def _grey_rgba(grey: np.ndarray) -> np.ndarray:
 
 
 def _next_to(quad, shape) -> np.ndarray:
-    """Pixels (rows, columns; top row first) whose centre lies outside the NDC ``quad`` (convex,
+    """Pixels (rows, columns; top row first) whose centre lies outside the NDC ``quad`` ((x, y, z) corners, convex,
     counter-clockwise) but within a pixel of it: multisampling may cover some of their samples."""
     rows, columns = shape
     y, x = np.mgrid[0:rows, 0:columns]
     px, py = x + 0.5, rows - y - 0.5  # pixel units, from the viewport's lower left corner
-    corners = [(0.5 * (qx + 1.0) * columns, 0.5 * (qy + 1.0) * rows) for qx, qy in quad]
+    corners = [(0.5 * (qx + 1.0) * columns, 0.5 * (qy + 1.0) * rows) for qx, qy, *_ in quad]
     beyond = np.full(shape, -np.inf)  # the largest distance beyond an edge's line
     for (ax, ay), (bx, by) in zip(corners, corners[1:] + corners[:1]):
         length = np.hypot(bx - ax, by - ay)
@@ -615,33 +623,37 @@ _WALKS = {"max": "exact_maximum", "min": "exact_minimum", "mean": "exact_mean"}
 def _face_values(mapper, volume, renderer, values, face, pixels) -> np.ndarray:
     """``values`` with the ``pixels``' as the single texture's fragment of ``face`` gives them.
 
-    The rays of :func:`mipcast.mappers.outline_rays.face_rays`, combined as
-    the method combines its samples (sampled: the maximum, the minimum, the
-    average's grey, opacity x grey over the samples in
-    ``AverageIPScalarRange`` as ``shaders/average_hooks.glsl``) or cells
-    (the float64 reference's exact kernels, extrapolating off the box).
+    The rays of :func:`mipcast.mappers.outline_rays.face_rays`, ended at
+    opaque geometry and clipped as the loops clip
+    (:func:`mipcast.mappers.outline_rays.face_samples`,
+    :func:`~mipcast.mappers.outline_rays.face_walks`), combined as the method
+    combines its samples (sampled: the maximum, the minimum, the average's
+    grey, opacity x grey over the samples in ``AverageIPScalarRange`` as
+    ``shaders/average_hooks.glsl``) or cells (the float64 reference's exact
+    kernels, extrapolating off the box).
     """
     from mipcast import reference
     from mipcast.mappers import outline_rays
 
     step, sampled = object_state(mapper)["brick_sampling"]
     rule = type(mapper).BRICKS
+    out = values.copy()
+    if not pixels.any():
+        return out
     image = mapper.GetRenderedInput()
-    rows, columns, start, ray_step, steps = outline_rays.face_rays(
-        image, renderer.GetActiveCamera(), values.shape, values.shape[::-1], step, face, pixels)
     if not sampled:
-        kernel = getattr(reference.mip, _WALKS[rule])
-        found = kernel(outline_rays.volume_array(image), start, ray_step, np.maximum(steps, 0.0), extrapolate=True)
+        rows, columns, found = outline_rays.face_walks(mapper, renderer, image, values.shape, step, face, pixels,
+                                                       getattr(reference.mip, _WALKS[rule]))
         if rule == "mean":
             found = _grey_of(mapper, volume, found)
     else:
-        samples = outline_rays.along(image, start, ray_step, steps)
+        rows, columns, _, _, samples = outline_rays.face_samples(mapper, renderer, image, values.shape, step, face,
+                                                                 pixels)
         if rule == "max":
-            found = np.nanmax(samples, axis=1)
+            found = np.fmax.reduce(samples, axis=1)
         elif rule == "min":
-            found = np.nanmin(samples, axis=1)
+            found = np.fmin.reduce(samples, axis=1)
         else:
             found = _sample_grey(mapper, volume, samples)
-    out = values.copy()
     out[rows, columns] = found
     return out

@@ -26,7 +26,8 @@ from mipcast.core.demip_depth import DepthGeometry, enhance
 
 
 def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, index: np.ndarray, params: dict,
-                    volume_property, slab=None, aspect: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray]:
+                    volume_property, slab=None, aspect: Optional[float] = None,
+                    rays: Optional[Tuple[np.ndarray, np.ndarray]] = None) -> Tuple[np.ndarray, np.ndarray]:
     """(depth, straight RGB) of DEMIP from the bricks' maximum and first same-material sample index.
 
     Parameters
@@ -53,6 +54,13 @@ def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, i
         The viewport's aspect ratio when ``values`` lie on a coarser ray grid
         than its pixels (a foveated level, whose grid VTK truncates): the
         camera's projection keeps the viewport's.
+    rays : (start, step), optional
+        Each ray's start and one sample step, point indices, shape
+        ``values.shape + (3,)``: sample k at start + (1 + k) steps, and the
+        depth measured from the start (the rays of a multisampled picture's
+        box faces, which start off the box:
+        :func:`mipcast.mappers.outline_rays.face_samples`); by default the
+        camera's pixel rays from their box entry.
 
     Returns
     -------
@@ -63,15 +71,19 @@ def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, i
     """
     height, width = values.shape
     aspect = width / height if aspect is None else float(aspect)
-    rays = camera_rays(whole, camera, (width, height), aspect)
-    entry = rays.origin + rays.t_enter[..., None] * rays.direction
+    if rays is None:
+        pixel_rays = camera_rays(whole, camera, (width, height), aspect)
+        entry = pixel_rays.origin + pixel_rays.t_enter[..., None] * pixel_rays.direction
+        step, inside = sample_distance * pixel_rays.direction, pixel_rays.hit
+    else:
+        (entry, step), inside = rays, True
     hit = ~np.isnan(values)
-    term = hit & np.isfinite(index) & rays.hit
-    where = entry + ((np.where(term, index, 0.0) + 1.0) * sample_distance)[..., None] * rays.direction
+    term = hit & np.isfinite(index) & inside
+    where = entry + (np.where(term, index, 0.0) + 1.0)[..., None] * step
     geometry = DepthGeometry(whole, camera, aspect)
     if slab is not None and term.any():
         entry = entry.copy()
-        entry[term] = geometry.narrow_to_slab(slab, entry[term], rays.direction[term])
+        entry[term] = geometry.narrow_to_slab(slab, entry[term], step[term])
     depth = np.full(values.shape, np.nan)
     depth[term] = geometry.depth(params["depth_mode"], where[term], entry[term])
     rgb = transfer_colour(np.where(hit, values, 0.0), volume_property)
@@ -108,6 +120,39 @@ def demip_premultiplied(values: np.ndarray, rgb: np.ndarray, volume_property) ->
     out[..., :3] = np.nan_to_num(rgb) * alpha[..., None]
     out[..., 3] = alpha
     return out
+
+
+def mida_composite(samples: np.ndarray, valid: np.ndarray, volume_property, floor: float,
+                   ceiling: float) -> np.ndarray:
+    """MIDA's premultiplied RGBA (n, 4) of each ray's ``samples`` (n, k; those ``valid``), front to back.
+
+    As ``shaders/demip_mida_hooks.glsl`` (``mcMidaStep``): a sample of
+    material m (its place in the window ``[floor, ceiling]``), opacity a and
+    colour c (the transfer functions) fades what is in front by
+    beta = 1 - max(m - running maximum material, 0), then C = beta C + (1 -
+    beta A) a c, A = beta A + (1 - beta A) a; clamped to [0, 1].
+
+    Examples
+    --------
+    >>> from mipcast.offscreen import grey_property
+    >>> # opaque grey: 0.25, then 1 fades it by beta = 0.25: C = 0.25 * 0.25 + 0.75 * 1
+    >>> mida_composite(np.array([[0.25, 1.0]]), np.array([[True, True]]), grey_property((0.0, 1.0)), 0.0,
+    ...                1.0).round(4).tolist()
+    [[0.8125, 0.8125, 0.8125, 1.0]]
+    """
+    values = np.where(valid, samples, floor)
+    material = np.clip((values - floor) / (ceiling - floor), 0.0, 1.0)
+    alpha = opacity(values, volume_property)
+    colour = transfer_colour(values, volume_property)
+    out, running = np.zeros((len(values), 4)), np.zeros(len(values))
+    for k in range(values.shape[1]):
+        beta = 1.0 - np.maximum(material[:, k] - running, 0.0)
+        fresh = (1.0 - beta * out[:, 3]) * alpha[:, k]
+        step = np.concatenate([beta[:, None] * out[:, :3] + fresh[:, None] * colour[:, k],
+                               (beta * out[:, 3] + fresh)[:, None]], axis=1)
+        out = np.where(valid[:, k, None], step, out)
+        running = np.where(valid[:, k], np.maximum(running, material[:, k]), running)
+    return np.clip(out, 0.0, 1.0)
 
 
 def demip_picture(values: np.ndarray, rgb: np.ndarray, volume_property) -> np.ndarray:

@@ -288,7 +288,9 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         sampled loop then takes the whole volume's sample positions; the
         exact projections' cell walk gets ``global_cells`` (the whole
         volume's ray, walked over the brick's cells; ``global_cells`` False
-        in the state keeps the plain walk, which ends at opaque geometry).  Both read the
+        in the state keeps the plain walk, which ends at opaque geometry), and, rendering to
+        image, ``whole_ray_end`` (its ray ends at opaque geometry where the whole volume's
+        ray ends, counted from the whole box's entry as VTK counts it).  Both read the
         whole volume's rays from uniforms (:func:`mipcast.distributed.set_brick_uniforms`,
         :func:`mipcast.distributed.ray_uniforms`).
         ``depth_composite`` in the state (``"max"`` or ``"min"``, set by
@@ -310,7 +312,10 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         # a brick of a mapper drawn in bricks by the mean (mipcast.mappers.bricked_draw): its readout
         # piece writes the mean, its weight, ... as u_mc_brickChannel says
         readout = type(self).BRICK_READOUT if state.get("brick_mean") else None
-        return tuple("image_terminate" if n == "refusal" else n for n in names) + (readout or "float_readout",)
+        names = tuple("image_terminate" if n == "refusal" else n for n in names) + (readout or "float_readout",)
+        if state.get("global_box") is not None and "image_terminate" in names:
+            names += ("whole_ray_end",)  # a brick's ray ends where the whole volume's does (opaque geometry)
+        return names
 
     def _install_pieces(self, volume) -> None:
         names = self._pieces_now(volume)

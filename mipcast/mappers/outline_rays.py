@@ -113,18 +113,19 @@ def walked(image, camera, shape: Sequence[int], size: Sequence[int], pixels: np.
 
 
 def single_samples(image, camera, shape: Sequence[int], size: Sequence[int], sample_distance: float,
-                   pixels: np.ndarray) -> np.ndarray:
+                   pixels: np.ndarray, cut=(None, None)) -> np.ndarray:
     """The one sample (data units) of the grazing rays at ``pixels`` (bool (rows, columns), top row first).
 
     ``image``: the one-component volume the bricks draw (scalars in data
     units); ``shape``: the ray grid (rows, columns); ``size``: the viewport's
-    (width, height), the camera's aspect.  NaN where the ray misses the box
-    or is not a single-sample ray (then the bricks' answer stands).
+    (width, height), the camera's aspect; ``cut``: the mapper's clipping
+    (:func:`cut_by`), which drops the sample as the loop drops it.  NaN where
+    the ray misses the box, is not a single-sample ray (then the bricks'
+    answer stands) or its sample is clipped away.
     """
     point, step, r, c, s_in, s_out = _chords(image, camera, shape, size, sample_distance, pixels)
-    upper = np.array(image.GetDimensions(), dtype=float) - 1.0
-    sample = np.clip(point + (s_in + 1.0)[:, None] * step, 0.0, upper)
-    values = trilinear(volume_array(image), sample)
+    entry = point + s_in[:, None] * step
+    values = along(image, entry, step, np.ones(len(r)), *_kept(image, entry, step, np.ones(len(r)), cut))[:, 0]
     out = np.full(len(r), np.nan)
     grazing = (s_out >= s_in) & (s_out - s_in < 1.0)  # one sample, past the exit: clamped onto the box
     out[grazing] = values[grazing]
@@ -159,29 +160,134 @@ def face_rays(image, camera, shape: Sequence[int], size: Sequence[int], sample_d
     return r, c, start, step, np.min(np.where(step == 0.0, 1.0e30, exits), axis=1)
 
 
-def along(image, start: np.ndarray, step: np.ndarray, steps: np.ndarray) -> np.ndarray:
+def along(image, start: np.ndarray, step: np.ndarray, steps: np.ndarray, keep=None, crop=None) -> np.ndarray:
     """The samples (n, k) of :func:`face_rays`' rays in a sampled loop, read clamped onto the box; NaN past a
-    ray's last."""
+    ray's last, and where clipping drops a sample: ``keep = (lo, hi)`` (n,) keeps the samples ``lo <= k <= hi``
+    steps from the start, ``crop`` those in a visible cropping region (:func:`cut_by`)."""
     count = 1 + np.floor(np.maximum(0.0, steps - 1.0)).astype(int)
-    k = np.arange(1, (count.max() if len(count) else 0) + 1)
+    k = np.arange(1, int(count.max(initial=1)) + 1)  # (one column for no rays)
     upper = np.array(image.GetDimensions(), dtype=float) - 1.0
-    at = np.clip(start[:, None, :] + k[None, :, None] * step[:, None, :], 0.0, upper).reshape(-1, 3)
-    values = trilinear(volume_array(image), at).reshape(len(start), len(k))
-    return np.where(k[None, :] <= count[:, None], values, np.nan)
+    at = start[:, None, :] + k[None, :, None] * step[:, None, :]
+    values = trilinear(volume_array(image), np.clip(at, 0.0, upper).reshape(-1, 3)).reshape(len(start), len(k))
+    kept = k[None, :] <= count[:, None]
+    if keep is not None:
+        kept &= (k[None, :] >= keep[0][:, None]) & (k[None, :] <= keep[1][:, None])
+    if crop is not None:
+        from mipcast.core.clipping import crop_visible
+
+        kept &= crop_visible(at.reshape(-1, 3), *crop).reshape(kept.shape)
+    return np.where(kept, values, np.nan)
 
 
-def far(renderer, shape: Sequence[int]) -> np.ndarray:
-    """The rays of a grid of ``shape`` (rows, columns; top row first) over ``renderer``'s viewport whose pixel
-    holds no opaque geometry in the depth buffer (their ray ends at the box)."""
+def _kept(image, start: np.ndarray, step: np.ndarray, steps: np.ndarray, cut) -> tuple:
+    """:func:`along`'s ``keep`` and ``crop`` for the rays' clipping ``cut`` (:func:`cut_by`): the samples
+    between the planes (steps from the start, the sampled loop's interval) and in visible regions."""
+    from mipcast.reference.rays import clip_interval
+
+    planes, crop = cut
+    return (None if planes is None else clip_interval(image, start, step, steps, planes, within_box=False)), crop
+
+
+def cut_by(mapper, camera, image) -> tuple:
+    """The mapper's clipping planes, slab and cropping as :func:`mipcast.reference.render` takes them:
+    ``(clip_planes, crop)`` (:func:`mipcast.reference.rays.cropping_setup`; None: none)."""
+    from mipcast.mappers.clip_uniforms import world_planes
+    from mipcast.reference.rays import cropping_setup
+
+    planes = world_planes(mapper, camera)
+    cropping = (mapper.GetCroppingRegionPlanes(), mapper.GetCroppingRegionFlags()) if mapper.GetCropping() else None
+    return cropping_setup(image, cropping, planes if len(planes[0]) else None)
+
+
+def _face_setup(mapper, renderer, image, shape: Sequence[int], sample_distance: float, face, pixels) -> tuple:
+    """:func:`face_rays` of ``mapper``'s picture over ``renderer``'s viewport (a grid of ``shape``), each
+    ended where the single texture's ray ends at opaque geometry: VTK's unsigned length from its start + one
+    step to the depth buffer's point (``end``, steps from the start), ``shown`` False where the face lies
+    behind the depth buffer (its fragment is discarded); and the mapper's clipping (:func:`cut_by`)."""
+    size = (int(shape[1]), int(shape[0]))
+    rows, columns, start, step, steps = face_rays(image, renderer.GetActiveCamera(), shape, size, sample_distance,
+                                                  face, pixels)
+    surface = surface_steps(renderer, image, shape, size, start, step, rows, columns)
+    planes, crop = cut_by(mapper, renderer.GetActiveCamera(), image)
+    return rows, columns, start, step, steps, np.abs(surface - 1.0) + 1.0, surface > 0.0, planes, crop
+
+
+def face_samples(mapper, renderer, image, shape: Sequence[int], sample_distance: float, face, pixels) -> tuple:
+    """The single texture's samples (n, k; NaN: none) of ``face``'s fragments at ``pixels`` (bool, ``shape``)
+    in a sampled loop: :func:`along` up to the sample past opaque geometry (VTK's count, ceil(length) + 1
+    from the start + one step), the clipped and hidden-region samples dropped as the loop drops them.
+
+    Returns the pixels' rows and columns, each ray's start and step (point indices, :func:`face_rays`) and the
+    samples, NaN on the rays of a face behind the depth buffer.
+    """
+    rows, columns, start, step, steps, end, shown, planes, crop = _face_setup(mapper, renderer, image, shape,
+                                                                             sample_distance, face, pixels)
+    samples = along(image, start, step, np.minimum(steps, np.ceil(end)), *_kept(image, start, step, steps,
+                                                                                (planes, crop)))
+    return rows, columns, start, step, np.where(shown[:, None], samples, np.nan)
+
+
+def face_walks(mapper, renderer, image, shape: Sequence[int], sample_distance: float, face, pixels, kernel,
+               **options) -> tuple:
+    """The cell walk's value (``kernel``: :func:`mipcast.reference.mip.exact_maximum`, ...; ``options``: its
+    keywords) of ``face``'s fragments at ``pixels``: from the start to the face's exit or the opaque geometry
+    (VTK's end), the part between the clipping planes, over the visible cropping regions, extrapolated off the
+    box.  Returns the pixels' rows and columns and the values (NaN: none)."""
+    rows, columns, start, step, steps, end, shown, planes, crop = _face_setup(mapper, renderer, image, shape,
+                                                                             sample_distance, face, pixels)
+    from mipcast.reference.rays import clip_interval
+
+    lo, hi = clip_interval(image, start, step, np.maximum(np.minimum(steps, end), 0.0), planes)
+    found = kernel(volume_array(image), start + lo[:, None] * step, step, np.maximum(hi - lo, 0.0), crop=crop,
+                   extrapolate=True, **options)
+    return rows, columns, np.where(shown & (lo <= hi) & np.isfinite(found), found, np.nan)
+
+
+def scene_depth(renderer, shape: Sequence[int]) -> np.ndarray:
+    """The depth buffer (0 .. 1; 1: no opaque geometry) at the pixel of each ray of a grid of ``shape`` (rows,
+    columns; top row first) over ``renderer``'s viewport."""
     width, height, x0, y0 = [0], [0], [0], [0]
     renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
     width, height = max(width[0], 1), max(height[0], 1)
     depth = np.empty(width * height, dtype=np.float32)
     renderer.GetRenderWindow().GetZbufferData(x0[0], y0[0], x0[0] + width - 1, y0[0] + height - 1, depth)
-    clear = depth.reshape(height, width)[::-1] >= 1.0
     rows = ((np.arange(int(shape[0])) + 0.5) * height / int(shape[0])).astype(int)
     columns = ((np.arange(int(shape[1])) + 0.5) * width / int(shape[1])).astype(int)
-    return clear[np.ix_(rows, columns)]
+    return depth.reshape(height, width)[::-1][np.ix_(rows, columns)]
+
+
+def far(renderer, shape: Sequence[int]) -> np.ndarray:
+    """The rays of a grid of ``shape`` (rows, columns; top row first) over ``renderer``'s viewport whose pixel
+    holds no opaque geometry in the depth buffer (their ray ends at the box)."""
+    return scene_depth(renderer, shape) >= 1.0
+
+
+def surface_steps(renderer, image, shape: Sequence[int], size: Sequence[int], start: np.ndarray, step: np.ndarray,
+                  rows: np.ndarray, columns: np.ndarray) -> np.ndarray:
+    """Along each ray ``start + t step`` (point indices of ``image``) of the pixels ``rows``, ``columns`` of a
+    grid of ``shape``: t where it meets the depth buffer's value at its pixel (the opaque geometry there, or
+    the far plane).  ``size``: the viewport's (width, height), the camera's aspect."""
+    from mipcast.core.camera_rays import matrix_array
+
+    camera = renderer.GetActiveCamera()
+    to_clip = (matrix_array(camera.GetCompositeProjectionTransformMatrix(size[0] / size[1], -1, 1))
+               @ matrix_array(image.GetIndexToPhysicalMatrix()))
+    a = np.append(start, np.ones((len(start), 1)), axis=1) @ to_clip.T
+    b = np.append(step, np.zeros((len(step), 1)), axis=1) @ to_clip.T
+    z = 2.0 * scene_depth(renderer, shape)[rows, columns].astype(np.float64) - 1.0  # NDC depth
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return (z * a[:, 3] - a[:, 2]) / (b[:, 2] - z * b[:, 3])
+
+
+def unhidden(renderer, image, shape: Sequence[int], size: Sequence[int], sample_distance: float,
+             pixels: np.ndarray) -> np.ndarray:
+    """The rays at ``pixels`` whose entry into the whole box of ``image`` lies in front of the depth buffer's
+    opaque geometry: the single texture draws them (it discards a fragment of its box behind the scene depth).
+    ``shape``, ``size``: as :func:`single_samples`."""
+    point, step, r, c, s_in, _ = _chords(image, renderer.GetActiveCamera(), shape, size, sample_distance, pixels)
+    out = np.zeros(pixels.shape, dtype=bool)
+    out[r, c] = surface_steps(renderer, image, shape, size, point + s_in[:, None] * step, step, r, c) > 0.0
+    return out
 
 
 def undrawn(mapper, renderer, drawn: np.ndarray) -> Optional[np.ndarray]:

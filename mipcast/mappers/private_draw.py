@@ -121,13 +121,14 @@ def kept_texture(store: dict, key, window):
     return texture
 
 
-def draw_over(window, texture, viewport, quads=None, depth: bool = False) -> None:
+def draw_over(window, texture, viewport, quads=None, depth: bool = False, depth_test: bool = False) -> None:
     """Draw ``texture`` over ``viewport`` (x, y, width, height) with premultiplied "over" blending.
 
     ``quads``: (texture coordinates, NDC vertices) pairs as
     ``vtkTextureObject.CopyToFrameBuffer`` takes them, or None for the whole
     viewport.  ``depth``: depth-test and write the quad's depth (window depth
-    0.5), else neither.  The GL state is restored afterwards.
+    0.5); ``depth_test``: depth-test the quads' own depth (their vertices' NDC
+    z) without writing it; else neither.  The GL state is restored afterwards.
     """
     x, y, width, height = viewport
     gl = window.GetState()
@@ -137,7 +138,7 @@ def draw_over(window, texture, viewport, quads=None, depth: bool = False) -> Non
         gl.vtkglScissor(x, y, width, height)
         gl.vtkglEnable(GL_BLEND)
         gl.vtkglBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA)
-        if depth:
+        if depth or depth_test:
             gl.vtkglEnable(GL_DEPTH_TEST)
         else:
             gl.vtkglDisable(GL_DEPTH_TEST)
