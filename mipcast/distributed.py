@@ -18,7 +18,9 @@ volume property's transfer functions.
   (the ``global_phase`` shader piece): each pixel's ray is cast in the
   whole volume's point-index space from uniforms that are the same on
   every rank (:func:`ray_uniforms`), sample k sits at the whole box's entry
-  + (1 + k) steps and is interpolated by hand from its cell's 8 points (the
+  (or, the camera inside the volume, VTK's near-plane cap beyond it:
+  :func:`mipcast.mappers.brick_rays.near_cap`) + (1 + k) steps and is
+  interpolated by hand from its cell's 8 points (the
   brick holding the cell takes it), and the readout is normalised with the
   whole range: N ranks give the 1-rank float image bit for bit (measured on
   2 and 4 ranks, every split).
@@ -528,7 +530,7 @@ class DistributedView:
 
         Phase 2: every rank's brick against the GLOBAL maximum ``values``
         (default: a new :meth:`float_image`), then a MIN reduction.  Sample
-        k sits at the whole box's entry + (1 + k) sample distances; +inf
+        k sits at the whole ray's start (box entry or near-plane cap) + (1 + k) sample distances; +inf
         where the ray has no DEMIP term.
         """
         if self.depth_mapper is None:

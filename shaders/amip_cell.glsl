@@ -114,15 +114,17 @@ vec3 mc_cropHighIndex;
 #ifdef MC_GLOBAL_CELLS
 // A distributed brick (global_cells): the whole volume's ray, t = 0 at the
 // whole box's entry, walked over this brick's cells [u_mc_brickLo,
-// u_mc_brickHi - 1] from where it enters the brick's box to where it leaves.
+// u_mc_brickHi - 1] from where it enters the brick's box (not before the
+// near-plane cap, the camera inside the volume) to where it leaves.
 McRay mcBeginRay()
 {
   McRay ray;
   vec3 entry;
   vec3 dir;
-  if (!mcGlobalRay(entry, dir))
+  float capStart;
+  if (!mcGlobalRay(entry, dir, capStart))
   {
-    discard;  // the ray misses the whole volume
+    discard;  // the ray misses the whole volume (or leaves it before the near-plane cap)
   }
   ray.origin = entry;
   ray.dir = dir;
@@ -137,7 +139,7 @@ McRay mcBeginRay()
   vec3 wa = (u_mc_wholeHi - ray.origin) / safe;
   vec3 wb = (u_mc_wholeLo - ray.origin) / safe;
   vec3 whole = mix(max(wa, wb), vec3(1.0e30), vec3(ray.still));
-  ray.start = max(max(max(lo.x, lo.y), lo.z), 0.0);
+  ray.start = max(max(max(lo.x, lo.y), lo.z), capStart);
   ray.length = min(min(min(hi.x, hi.y), hi.z), min(min(whole.x, whole.y), whole.z));
   if (ray.start > ray.length)
   {

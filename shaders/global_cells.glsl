@@ -7,7 +7,8 @@
 // every rank (mipcast.distributed.ray_uniforms, as the global_phase piece
 // of the sampled loop), t = 0 at the whole box's entry; the brick walks its
 // own cells (whole indices, corners fetched at cell - u_mc_brickLo) from
-// where the ray enters its box to where it leaves, and every voxel plane's
+// where the ray enters its box (or VTK's near-plane cap, the camera inside
+// the volume) to where it leaves, and every voxel plane's
 // ray parameter is computed from the plane's index, (plane - origin) / dir,
 // never accumulated, so a cell's segment (and its cubic) is the same bit
 // for bit on every rank whatever the split. mcGlobalNormalised: VTK's
@@ -24,9 +25,13 @@ float mcGlobalNormalised(float raw)
   return u_mc_globalNorm.x > 0.5 ? raw * u_mc_globalNorm.y + u_mc_globalNorm.z : mcNormalised(raw);
 }
 
-// The whole volume's ray: entry point (absolute point index) and direction
-// (point-index units per unit world length); false when it misses the box.
-bool mcGlobalRay(out vec3 entry, out vec3 dir)
+// The whole volume's ray: entry point (absolute point index), direction
+// (point-index units per unit world length) and where the walk starts (ray
+// parameter from the entry: 0, or where the camera is inside the volume the
+// near-plane cap VTK starts the ray at when it lies beyond the entry:
+// u_mc_rayCap, as in global_phase); false when it misses the box or leaves
+// it before the cap.
+bool mcGlobalRay(out vec3 entry, out vec3 dir, out float start)
 {
   vec2 ndc = 2.0 * gl_FragCoord.xy * in_inverseWindowSize - 1.0;
   vec3 point = u_mc_rayPoint0 + ndc.x * u_mc_rayPointX + ndc.y * u_mc_rayPointY;
@@ -40,7 +45,9 @@ bool mcGlobalRay(out vec3 entry, out vec3 dir)
   float sIn = max(max(lo.x, lo.y), lo.z);
   float sOut = min(min(hi.x, hi.y), hi.z);
   entry = point + sIn * dir;
-  return sIn <= sOut;
+  float capAlong = dot(u_mc_rayCap.xyz, dir);
+  start = capAlong > 0.0 ? max((u_mc_rayCap.w - dot(u_mc_rayCap.xyz, point)) / capAlong - sIn, 0.0) : 0.0;
+  return sIn + start <= sOut;
 }
 
 // mcNormalised from here on (the cell hooks' mcCellsEnd): the whole volume's normalisation

@@ -10,8 +10,11 @@
 // direction; the whole and the brick's index boxes, the spacing and the
 // sample distance), not from the brick's own rasterised texture
 // coordinates. As in VTK's loop for the whole volume, sample k sits at the
-// whole box's entry + (1 + k) steps, k = 0 .. floor(steps from the first
-// sample to the box's exit). mcGlobalSample(k) interpolates it by hand
+// whole ray's start + (1 + k) steps, k = 0 .. floor(steps from the first
+// sample to the box's exit); the start is the whole box's entry, or where
+// the camera is inside the volume (its near plane cuts the box) VTK's
+// near-plane cap when the ray crosses it beyond the entry (u_mc_rayCap: the
+// cap n . p = w in point indices, brick_rays.near_cap; n = 0: no cap). mcGlobalSample(k) interpolates it by hand
 // (texelFetch of the cell's 8 points, exact cell index and fractions),
 // so the value does not depend on the brick's texture size; a brick takes
 // the samples whose cell (clamped to the whole box) lies in its extent:
@@ -25,7 +28,7 @@
 // normalised scalar (other types), (0, ..) leaves VTK's.
 #define MC_GLOBAL_PHASE
 
-vec3 mc_gEntry;  // whole box entry, absolute point index
+vec3 mc_gEntry;  // the whole ray's start (box entry or near-plane cap), absolute point index
 vec3 mc_gStep;   // one sample step, point-index units
 
 float mcGlobalNormalised(float raw)
@@ -39,12 +42,6 @@ float mcGlobalNormalised(float raw)
 
 void mcGlobalPhase(float stepsInBox, inout vec3 base, inout int first, inout int count)
 {
-  // the whole volume's sample 0 in this brick's texture coordinates (for clipping)
-  bvec3 mc_up = greaterThan(g_dirStep, vec3(0.0));
-  vec3 mc_in = (mix(u_mc_globalTexMax, u_mc_globalTexMin, vec3(mc_up)) - g_dataPos) / g_dirStep;
-  mc_in = mix(mc_in, vec3(-1.0e30), vec3(equal(g_dirStep, vec3(0.0))));
-  base = g_dataPos + (max(max(mc_in.x, mc_in.y), mc_in.z) + 1.0) * g_dirStep;
-
   vec2 mc_ndc = 2.0 * gl_FragCoord.xy * in_inverseWindowSize - 1.0;
   vec3 mc_point = u_mc_rayPoint0 + mc_ndc.x * u_mc_rayPointX + mc_ndc.y * u_mc_rayPointY;
   vec3 mc_dir = mix(u_mc_rayDirection, mc_point - u_mc_rayEye.xyz, u_mc_rayEye.w);
@@ -56,11 +53,21 @@ void mcGlobalPhase(float stepsInBox, inout vec3 base, inout int first, inout int
   vec3 mc_hi = mix(max(mc_a, mc_b), vec3(1.0e30), vec3(mc_flat));
   float mc_sIn = max(max(mc_lo.x, mc_lo.y), mc_lo.z);
   float mc_sOut = min(min(mc_hi.x, mc_hi.y), mc_hi.z);
+  // the camera inside the volume: the cap's steps past the box entry (0 before it, or without a cap)
+  float mc_capAlong = dot(u_mc_rayCap.xyz, mc_gStep);
+  float mc_capShift = mc_capAlong > 0.0 ?
+    max((u_mc_rayCap.w - dot(u_mc_rayCap.xyz, mc_point)) / mc_capAlong - mc_sIn, 0.0) : 0.0;
+  mc_sIn += mc_capShift;
   mc_gEntry = mc_point + mc_sIn * mc_gStep;
+  // the whole volume's sample 0 in this brick's texture coordinates (for clipping)
+  bvec3 mc_up = greaterThan(g_dirStep, vec3(0.0));
+  vec3 mc_in = (mix(u_mc_globalTexMax, u_mc_globalTexMin, vec3(mc_up)) - g_dataPos) / g_dirStep;
+  mc_in = mix(mc_in, vec3(-1.0e30), vec3(equal(g_dirStep, vec3(0.0))));
+  base = g_dataPos + (max(max(mc_in.x, mc_in.y), mc_in.z) + mc_capShift + 1.0) * g_dirStep;
   if (mc_sIn > mc_sOut)
   {
     first = 0;
-    count = 0;  // the ray misses the whole box
+    count = 0;  // the ray misses the whole box (or leaves it before the cap)
     return;
   }
   int mc_last = int(floor(max(mc_sOut - mc_sIn - 1.0, 0.0)));

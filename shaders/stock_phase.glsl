@@ -26,6 +26,12 @@
 // which VTK's loop over the whole volume takes as well. The end of the ray
 // stays VTK's (the last sample not past the piece's exit): the pieces share
 // a layer of points, so every whole-volume sample lies in some piece.
+// The camera inside the volume (the near plane cuts the whole box): VTK
+// starts the whole volume's rays at its near-plane cap where they cross it
+// beyond the box's entry, so the samples count from there (u_mc_capTex: the
+// cap n . p = w in this piece's texture coordinates,
+// mipcast.mappers.brick_rays.near_cap and texture_plane; n = 0: none), also
+// when the cap lies beyond this piece's entry (a piece VTK did not cap).
 // Installed on more than one rank only: one rank draws VTK's own shader.
 #define MC_PHASE_SLACK 1.0e-3
   {
@@ -36,7 +42,9 @@
     vec3 mc_near = (mix(u_mc_globalTexMax, u_mc_globalTexMin, vec3(mc_up)) - mc_entry)
                    / mix(g_dirStep, vec3(1.0), vec3(mc_flat));
     mc_near = mix(mc_near, vec3(-1.0e30), vec3(mc_flat));
-    float mc_wholeIn = min(max(max(mc_near.x, mc_near.y), mc_near.z), 0.0);
+    float mc_capAlong = dot(u_mc_capTex.xyz, g_dirStep);
+    float mc_capIn = mc_capAlong > 0.0 ? (u_mc_capTex.w - dot(u_mc_capTex.xyz, mc_entry)) / mc_capAlong : -1.0e30;
+    float mc_wholeIn = max(min(max(max(mc_near.x, mc_near.y), mc_near.z), 0.0), mc_capIn);
     float mc_first = mc_wholeIn + dot(g_rayJitter, g_dirStep) / mc_step2;
     float mc_skip = max(0.0, ceil(-mc_first - MC_PHASE_SLACK));
     g_dataPos = mc_entry + (mc_first + mc_skip) * g_dirStep;

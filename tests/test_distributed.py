@@ -67,7 +67,11 @@ def check_exact(results, ranks):
         assert case["within_1_grey"] >= 0.999, label
         # hit/miss agree (grazing silhouette rays: a pixel or two of 9216 with 4 ranks, see the README)
         assert case["misses_agree"] >= 0.999, label
-        assert case["float_max_error"] <= methods.METHODS[case["method"]].reference_tolerance, label
+        tolerance = methods.METHODS[case["method"]].reference_tolerance
+        if case["axis"].endswith("+inside"):  # float64 from VTK's cap (one process's own floats: 6e-4 off there)
+            assert case["cap_misses_agree"] >= 0.999 and case["cap_float_max_error"] <= tolerance, label
+        else:
+            assert case["float_max_error"] <= tolerance, label
         check_one_rank(case, label)
 
 
@@ -83,8 +87,15 @@ def check_one_rank(case, label):
 
 @pytest.mark.parametrize("ranks", [2, 4])
 def test_bricks_composite_exactly(display, ranks):
-    done, results = run_check(display, ranks, "--axes", "x,y,z,d3", "--methods", "mip,analytic")
+    """Also split along x with the camera inside the volume (``x+inside``): VTK starts one process's rays at its
+    near-plane cap, the bricks count their samples (global_phase) and walk their cells (global_cells) from
+    there; floats against float64 from the cap (4e-6 of the range; one process's own are 6e-4 off there, VTK's
+    float ray direction from a cap point 0.2 from the eye).  Before, the bricks counted from the whole box's
+    entry, behind the camera, silently (2 ranks: mip 46.7 % of the pixels within 1 grey, 38 off, floats 0.15 of
+    the range; analytic 99.92 %, floats 6.3e-3)."""
+    done, results = run_check(display, ranks, "--axes", "x,y,z,d3,x+inside", "--methods", "mip,analytic")
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    assert {case["method"] for case in results["cases"] if case["axis"] == "x+inside"} == {"mip", "analytic"}
     check_exact(results, ranks)
 
 

@@ -8,7 +8,7 @@ bricks together take exactly the single-volume samples and cells.
 """
 from __future__ import annotations
 
-from typing import Sequence
+from typing import Optional, Sequence
 
 import numpy as np
 
@@ -33,6 +33,23 @@ def global_texture_box(piece_extent: Sequence[int], whole: Sequence[int]):
         low.append((whole[2 * a] - e0 + 0.5) / d)
         high.append((whole[2 * a + 1] - e0 + 0.5) / d)
     return low, high
+
+
+def texture_plane(plane: Sequence[float], piece_extent: Sequence[int]) -> np.ndarray:
+    """A plane ``N . p = w`` of point indices in a piece's texture coordinates (as :func:`global_texture_box`).
+
+    Point ``i`` of the piece's extent ``(e0, e1)`` along an axis lies at
+    texture coordinate ``(i - e0 + 0.5) / d``, ``d = e1 - e0 + 1``.
+
+    Examples
+    --------
+    >>> texture_plane([0.0, 0.0, 1.0, 3.0], (0, 3, 0, 3, 2, 5)).tolist()   # k = 3: the piece's 2nd of 4 points
+    [0.0, 0.0, 4.0, 1.5]
+    """
+    plane = np.asarray(plane, dtype=np.float64)
+    first = np.array(piece_extent[0::2], dtype=np.float64)
+    points = np.array(piece_extent[1::2], dtype=np.float64) - first + 1.0
+    return np.append(plane[:3] * points, plane[3] - plane[:3] @ (first - 0.5))
 
 
 def set_brick_uniforms(uniforms, whole: Sequence[int], piece: Sequence[int], spacing: Sequence[float],
@@ -62,6 +79,7 @@ def set_brick_uniforms(uniforms, whole: Sequence[int], piece: Sequence[int], spa
     set_ray_uniforms(uniforms, {name: [0.0, 0.0, 0.0] for name in
                                 ("u_mc_rayPoint0", "u_mc_rayPointX", "u_mc_rayPointY", "u_mc_rayDirection")})
     uniforms.SetUniform4f("u_mc_rayEye", [0.0, 0.0, 0.0, 0.0])
+    uniforms.SetUniform4f("u_mc_rayCap", [0.0, 0.0, 0.0, 0.0])
 
 
 def set_ray_uniforms(uniforms, values: dict) -> None:
@@ -77,8 +95,11 @@ def ray_uniforms(image, camera, size) -> dict:
     u_mc_rayPointX + y * u_mc_rayPointY`` (the points at the NDC depth of
     the box's centre) along ``u_mc_rayDirection`` (parallel projection,
     ``u_mc_rayEye.w`` 0) or away from the eye ``u_mc_rayEye.xyz``
-    (perspective, w 1).  float64 here, the same float32 uniforms on every
-    rank, so every rank casts the same rays bit for bit.
+    (perspective, w 1).  The rays start at the whole box, or at VTK's
+    near-plane cap where the camera's near plane cuts the box
+    (``u_mc_rayCap``: the plane ``n . p = w`` of :func:`near_cap` in point
+    indices, all 0 when there is none).  float64 here, the same float32
+    uniforms on every rank, so every rank casts the same rays bit for bit.
 
     Examples
     --------
@@ -90,8 +111,8 @@ def ray_uniforms(image, camera, size) -> dict:
     >>> camera.SetFocalPoint(5, 5, 5); camera.SetPosition(5, 5, 40); camera.ParallelProjectionOn()
     >>> camera.SetParallelScale(8.0)
     >>> rays = ray_uniforms(image, camera, (16, 16))
-    >>> [round(v, 6) for v in rays["u_mc_rayPoint0"]], rays["u_mc_rayEye"][3]
-    ([5.0, 5.0, 5.0], 0.0)
+    >>> [round(v, 6) for v in rays["u_mc_rayPoint0"]], rays["u_mc_rayEye"][3], rays["u_mc_rayCap"]
+    ([5.0, 5.0, 5.0], 0.0, [0.0, 0.0, 0.0, 0.0])
     """
     width, height = size
     to_ndc = matrix_array(camera.GetCompositeProjectionTransformMatrix(width / height, -1, 1))
@@ -116,7 +137,94 @@ def ray_uniforms(image, camera, size) -> dict:
     else:
         out["u_mc_rayDirection"] = np.zeros(3)
         out["u_mc_rayEye"] = np.append((to_index @ np.append(camera.GetPosition(), 1.0))[:3], 1.0)
+    cap = near_cap(image, camera, width / height)
+    out["u_mc_rayCap"] = np.zeros(4) if cap is None else index_plane(cap, image.GetIndexToPhysicalMatrix())
     return {name: [float(v) for v in value] for name, value in out.items()}
+
+
+#: VTK's least offset of the near-plane cap (vtkOpenGLGPUVolumeRayCastMapper: 1000 float epsilons).
+_LEAST_CAP_OFFSET = 1000.0 * float(np.finfo(np.float32).eps)
+
+
+def near_cap(whole, camera, aspect: float = 1.0) -> Optional[np.ndarray]:
+    """The plane where VTK's ray caster starts the rays when ``camera``'s near plane cuts the ``whole`` box, or None.
+
+    VTK's GPU ray caster (``vtkOpenGLGPUVolumeRayCastMapper``,
+    ``IsCameraInside`` and ``RenderVolumeGeometry``, the same in VTK 9.2 and
+    9.7) tests the box's 8 corners against the camera's near frustum plane
+    (``vtkCamera::GetFrustumPlanes``, normalised): where some lie on both
+    sides (or one on it) it clips the box with that plane moved ``max(0.001
+    (far - near), 1000 float epsilons)`` into the view and caps it, so a
+    ray crossing the cap starts there (its first sample one step further),
+    not at the box.  ``whole``: :func:`whole_geometry`'s image (the corners
+    through its index-to-physical matrix; a volume's own matrix is taken as
+    the identity, as :func:`ray_uniforms` takes it).
+
+    Returns
+    -------
+    numpy.ndarray or None
+        ``(nx, ny, nz, c)``: the cap is ``n . x = c`` in world coordinates,
+        ``n`` the unit view direction; None when the near plane does not
+        cut the box (the rays start at the box).
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkCamera
+    >>> whole = whole_geometry(((0, 10, 0, 10, 0, 10), (0.0, 0.0, 0.0), (1.0, 1.0, 1.0), [1, 0, 0, 0, 1, 0, 0, 0, 1]))
+    >>> camera = vtkCamera()
+    >>> camera.SetFocalPoint(5, 5, 5); camera.SetPosition(5, 5, 40); camera.SetClippingRange(1.0, 101.0)
+    >>> near_cap(whole, camera) is None
+    True
+    >>> camera.SetPosition(5, 5, 8); camera.SetClippingRange(1.0, 101.0)
+    >>> [round(float(v), 6) for v in near_cap(whole, camera)]   # z = 8 - 1 - 0.1
+    [0.0, 0.0, -1.0, -6.9]
+    """
+    planes = [0.0] * 24
+    camera.GetFrustumPlanes(float(aspect), planes)
+    plane = np.array(planes[16:20])
+    extent = whole.GetExtent()
+    corners = np.array([[i, j, k, 1.0] for k in extent[4:6] for j in extent[2:4] for i in extent[0:2]])
+    world = corners @ matrix_array(whole.GetIndexToPhysicalMatrix()).T
+    side = (world[:, :3] / world[:, 3:]) @ plane[:3] + plane[3]
+    if not (np.any(side == 0.0) or (np.any(side < 0.0) and np.any(side > 0.0))):
+        return None
+    near, far = camera.GetClippingRange()
+    offset = max((far - near) * 1.0e-3, _LEAST_CAP_OFFSET)
+    return np.append(plane[:3], offset - plane[3])
+
+
+def index_plane(cap: Sequence[float], index_to_world) -> np.ndarray:
+    """:func:`near_cap`'s world plane ``n . x = c`` in an index space: ``(N, w)`` with ``N . p = w``.
+
+    ``index_to_world``: the vtkMatrix4x4 (or 4x4 array) from the index
+    space's points to world coordinates (an image's
+    ``GetIndexToPhysicalMatrix``).
+
+    Examples
+    --------
+    >>> index_plane([0.0, 0.0, 1.0, 3.0], np.diag([1.0, 1.0, 2.0, 1.0])).tolist()   # z = 3 at index k = 1.5
+    [0.0, 0.0, 2.0, 3.0]
+    """
+    matrix = index_to_world if isinstance(index_to_world, np.ndarray) else matrix_array(index_to_world)
+    normal = np.asarray(cap[:3], dtype=np.float64)
+    return np.append(matrix[:3, :3].T @ normal, float(cap[3]) - normal @ matrix[:3, 3])
+
+
+def cap_steps(rays: dict, point: np.ndarray, step: np.ndarray) -> np.ndarray:
+    """The parameters ``s`` where the rays ``point + s step`` (point indices, (n, 3)) cross ``rays``' cap.
+
+    ``rays``: :func:`ray_uniforms`' values; -inf where there is no cap (or a
+    ray runs along it), as ``shaders/global_phase.glsl`` reads it.
+
+    Examples
+    --------
+    >>> cap_steps({"u_mc_rayCap": [0.0, 0.0, 1.0, 4.0]}, np.zeros((1, 3)), np.array([[0.0, 0.0, 0.5]])).tolist()
+    [8.0]
+    """
+    cap = np.asarray(rays["u_mc_rayCap"], dtype=np.float64)
+    along = step @ cap[:3]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(along > 0.0, (cap[3] - point @ cap[:3]) / np.where(along > 0.0, along, 1.0), -np.inf)
 
 
 def whole_geometry(whole_stub):
@@ -190,39 +298,6 @@ def box_in_view(brick_volume, renderer, shape) -> bool:
     ndc = clip[:, :2] / w[:, None]
     spare = 2.0 * 2.0 / np.array([shape[1], shape[0]], dtype=float)
     return not (np.any(np.all(ndc < -1.0 - spare, axis=0)) or np.any(np.all(ndc > 1.0 + spare, axis=0)))
-
-
-def near_plane_cuts(whole, camera) -> bool:
-    """Whether ``camera``'s near clipping plane cuts the ``whole`` volume's box (the camera is inside it).
-
-    VTK's ray caster then starts the rays that cross the plane there (it
-    clips its box with the plane, moved a thousandth of the near-far
-    distance into the view), not at the box: the pieces' and bricks' whole
-    volume's sample positions (:func:`ray_uniforms`, ``global_phase``,
-    ``stock_phase``) count from the box's entry, so sampled methods differ
-    from one texture there.  ``whole``: :func:`whole_geometry`'s image (its
-    corners in world coordinates through the index-to-physical matrix).
-
-    Examples
-    --------
-    >>> from vtkmodules.vtkRenderingCore import vtkCamera
-    >>> whole = whole_geometry(((0, 10, 0, 10, 0, 10), (0.0, 0.0, 0.0), (1.0, 1.0, 1.0), [1, 0, 0, 0, 1, 0, 0, 0, 1]))
-    >>> camera = vtkCamera()
-    >>> camera.SetFocalPoint(5, 5, 5); camera.SetPosition(5, 5, 40); camera.SetClippingRange(1.0, 100.0)
-    >>> near_plane_cuts(whole, camera)
-    False
-    >>> camera.SetPosition(5, 5, 8); near_plane_cuts(whole, camera)
-    True
-    """
-    extent = whole.GetExtent()
-    corners = np.array([[i, j, k, 1.0] for i in extent[0:2] for j in extent[2:4] for k in extent[4:6]])
-    world = corners @ matrix_array(whole.GetIndexToPhysicalMatrix()).T
-    position, focal = np.array(camera.GetPosition()), np.array(camera.GetFocalPoint())
-    direction = (focal - position) / np.linalg.norm(focal - position)
-    near, far = camera.GetClippingRange()
-    depth = (world[:, :3] / world[:, 3:]) @ direction - position @ direction - near
-    # VTK's cap sits (far - near) / 1000 beyond the plane: a box that close is cut too
-    return bool(depth.min() <= 1.0e-3 * (far - near) and depth.max() > 0.0)
 
 
 def brick_entry(kind, piece, extent: Sequence[int], whole: Sequence[int], spacing: Sequence[float],

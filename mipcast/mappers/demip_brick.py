@@ -5,8 +5,9 @@ process defines it (``docs/methods.md#demip``): phase 1 reduces the ranks'
 sampled MIP (MAX) into the whole volume's per-pixel maximum; phase 2 hands
 that maximum back to every rank's GPU as a float texture, and
 :class:`DEMIPBrickDepthMapper` marches the brick's share of the whole
-volume's samples (the ``global_phase`` piece: whole-box entry + (1 + k)
-steps, whole-ray indices k) to the first sample of the same material as
+volume's samples (the ``global_phase`` piece: the whole ray's start + (1 +
+k) steps, whole-ray indices k; the start is the whole box's entry, or VTK's
+near-plane cap with the camera inside the volume) to the first sample of the same material as
 the global maximum (DEMIP's test, ``shaders/demip_brick_hooks.glsl``),
 reading out its index k; the ranks' MIN is the whole ray's first
 same-material sample.  Depth (over the whole volume's box), Eq. 1 and the
@@ -80,7 +81,7 @@ def first_match_index(render_window, mapper: DEMIPBrickDepthMapper, maximum: np.
     Returns
     -------
     numpy.ndarray, shape (height, width), float64
-        Sample index k (sample k at whole-box entry + (1 + k) steps); +inf
+        Sample index k (sample k at the whole ray's start + (1 + k) steps); +inf
         where this brick holds no same-material sample.
     """
     bind_maximum(render_window, mapper, maximum, data_range)

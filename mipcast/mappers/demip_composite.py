@@ -21,8 +21,9 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from mipcast.core.camera_rays import camera_rays
+from mipcast.core.camera_rays import camera_rays, index_space
 from mipcast.core.demip_depth import DepthGeometry, enhance
+from mipcast.mappers.brick_rays import cap_steps, index_plane, near_cap
 
 
 def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, index: np.ndarray, params: dict,
@@ -36,7 +37,8 @@ def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, i
         The whole volume's geometry (extent, origin, spacing, direction; scalars not needed).
     camera : vtkCamera
     sample_distance : float
-        World distance between samples (sample k at the box entry + (1 + k) steps).
+        World distance between samples (sample k at the ray's start + (1 + k) steps: the box entry, or VTK's
+        near-plane cap beyond it when the camera is inside the volume, :func:`mipcast.mappers.brick_rays.near_cap`).
     values : numpy.ndarray, shape (height, width)
         The whole-ray maximum in data units (NaN: miss), top row first.
     index : numpy.ndarray, shape (height, width)
@@ -73,7 +75,12 @@ def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, i
     aspect = width / height if aspect is None else float(aspect)
     if rays is None:
         pixel_rays = camera_rays(whole, camera, (width, height), aspect)
-        entry = pixel_rays.origin + pixel_rays.t_enter[..., None] * pixel_rays.direction
+        start = pixel_rays.t_enter
+        cap = near_cap(whole, camera, aspect)
+        if cap is not None:  # the camera inside the volume: VTK's rays start at its near-plane cap, not the near plane
+            plane = index_plane(cap, np.linalg.inv(index_space(whole)[0]))
+            start = np.maximum(start, cap_steps({"u_mc_rayCap": plane}, pixel_rays.origin, pixel_rays.direction))
+        entry = pixel_rays.origin + start[..., None] * pixel_rays.direction
         step, inside = sample_distance * pixel_rays.direction, pixel_rays.hit
     else:
         (entry, step), inside = rays, True

@@ -14,8 +14,10 @@ the volume's outline, off by up to ~30 grey levels).
 :func:`complete` finds those rays (a brick drew a fragment, no brick had a
 sample) and gives them their one sample from the volume on the CPU: the
 ``global_phase`` piece's ray (the same :func:`mipcast.mappers.brick_rays.ray_uniforms`),
-entry + one step, clamped to the whole box, interpolated trilinearly --
-what ``mcGlobalSample`` would have read had the owner drawn the ray.
+its start (the box's entry, or VTK's near-plane cap beyond it when the
+camera is inside the volume) + one step, clamped to the whole box,
+interpolated trilinearly -- what ``mcGlobalSample`` would have read had the
+owner drawn the ray.
 
 Examples
 --------
@@ -30,7 +32,7 @@ from typing import Optional, Sequence
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
-from mipcast.mappers.brick_rays import ray_uniforms, whole_geometry
+from mipcast.mappers.brick_rays import cap_steps, ray_uniforms, whole_geometry
 
 
 def trilinear(volume: np.ndarray, points: np.ndarray) -> np.ndarray:
@@ -60,8 +62,10 @@ def _pixel_rays(image, camera, shape: Sequence[int], size: Sequence[int], sample
                 pixels: np.ndarray) -> tuple:
     """The ``global_phase`` rays of ``pixels`` (bool (rows, columns), top row first) in ``image``'s index space.
 
-    Returns each ray's point (n, 3), its step of one sample distance (n, 3)
-    and the pixels' rows and columns.
+    Returns each ray's point (n, 3), its step of one sample distance (n, 3),
+    the pixels' rows and columns, and where each ray crosses VTK's near-plane
+    cap (in steps from its point; -inf without one: the camera outside the
+    volume, :func:`mipcast.mappers.brick_rays.cap_steps`).
     """
     rows, columns = int(shape[0]), int(shape[1])
     dims = image.GetDimensions()
@@ -76,7 +80,7 @@ def _pixel_rays(image, camera, shape: Sequence[int], size: Sequence[int], sample
     direction = (point - eye[:3]) if eye[3] > 0.5 else np.broadcast_to(rays["u_mc_rayDirection"], point.shape)
     spacing = np.abs(np.array(image.GetSpacing()))
     step = direction * (sample_distance / np.linalg.norm(direction * spacing, axis=1))[:, None]
-    return point, step, r, c
+    return point, step, r, c, cap_steps(rays, point, step)
 
 
 def volume_array(image) -> np.ndarray:
@@ -87,15 +91,16 @@ def volume_array(image) -> np.ndarray:
 
 
 def _chords(image, camera, shape, size, sample_distance: float, pixels: np.ndarray) -> tuple:
-    """:func:`_pixel_rays` and where each ray enters and leaves the whole box (in steps from its point)."""
-    point, step, r, c = _pixel_rays(image, camera, shape, size, sample_distance, pixels)
+    """:func:`_pixel_rays` and where each ray starts (the whole box's entry, or VTK's near-plane cap beyond it:
+    the camera inside the volume) and leaves the whole box (in steps from its point)."""
+    point, step, r, c, cap = _pixel_rays(image, camera, shape, size, sample_distance, pixels)
     upper = np.array(image.GetDimensions(), dtype=float) - 1.0
     with np.errstate(divide="ignore", invalid="ignore"):
         a, b = (0.0 - point) / step, (upper - point) / step
     flat = step == 0.0
     s_in = np.max(np.where(flat, -1.0e30, np.minimum(a, b)), axis=1)
     s_out = np.min(np.where(flat, 1.0e30, np.maximum(a, b)), axis=1)
-    return point, step, r, c, s_in, s_out
+    return point, step, r, c, np.maximum(s_in, cap), s_out
 
 
 def walked(image, camera, shape: Sequence[int], size: Sequence[int], pixels: np.ndarray, kernel,
@@ -151,7 +156,7 @@ def face_rays(image, camera, shape: Sequence[int], size: Sequence[int], sample_d
     clamped cell extrapolated (``shaders/sampled_loop.glsl``,
     ``shaders/amip_cell.glsl``).
     """
-    point, step, r, c = _pixel_rays(image, camera, shape, size, sample_distance, pixels)
+    point, step, r, c, _ = _pixel_rays(image, camera, shape, size, sample_distance, pixels)
     axis, side = int(face[0]), int(face[1])
     upper = np.array(image.GetDimensions(), dtype=float) - 1.0
     with np.errstate(divide="ignore", invalid="ignore"):

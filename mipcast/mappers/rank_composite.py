@@ -51,7 +51,7 @@ from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import DEMIP
 from mipcast.mappers import bricked_draw, float_readout
 from mipcast.mappers.private_draw import draw_over, kept_texture
-from mipcast.mappers.brick_rays import box_in_view, brick_entry, near_plane_cuts, push_whole_rays, whole_geometry
+from mipcast.mappers.brick_rays import box_in_view, brick_entry, push_whole_rays, whole_geometry
 
 #: Reduce(array, op) -> the array reduced over every rank; op is "max", "min" or "sum".
 Reduce = Callable[[np.ndarray, str], np.ndarray]
@@ -59,10 +59,6 @@ Reduce = Callable[[np.ndarray, str], np.ndarray]
 #: Why VTK's own mappers are not drawn over ranks when a piece holds missing values (see plugin/README.md).
 OWN_MISSING = ("VTK's own ray caster leaves missing (NaN/Inf) values to the GPU's NaN arithmetic, which is not "
                "the same on the pieces as on the whole volume")
-#: Why sampled methods are not drawn over ranks while the camera's near plane cuts the volume (see
-#: :func:`mipcast.mappers.brick_rays.near_plane_cuts` and plugin/README.md).
-CAMERA_INSIDE = ("the camera is inside the volume: one rank's samples start at the near plane there, the pieces' "
-                 "at the whole volume's box")
 #: Stand-ins for "nothing on this rank" in the reductions (float64 carries them exactly).
 _LOW, _HIGH = -1.0e300, 1.0e300
 _GL_DEPTH_BUFFER_BIT, _GL_SCISSOR_TEST = 0x00000100, 0x0C11
@@ -214,12 +210,8 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce,
     camera = renderer.GetActiveCamera()
     kind = brick if brick is not None else type(mapper)
     whole_image = whole_geometry(whole_stub) if whole_stub is not None else None
-    from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
-
-    samples = rule == "demip" or not issubclass(kind, AnalyticMIPVolumeMapper)  # the cell walks need no phase
-    inside = samples and whole_image is not None and near_plane_cuts(whole_image, camera)
-    # 1: shape, finite range, missing values, the camera inside (every rank); a mismatch: all give up alike
-    head = reduce(np.array([shape[0], shape[1], -shape[0], -shape[1], -low, high, float(missing), float(inside)],
+    # 1: shape, finite range, missing values (every rank); a mismatch: all give up alike
+    head = reduce(np.array([shape[0], shape[1], -shape[0], -shape[1], -low, high, float(missing)],
                            dtype=np.float64), "max")
     if head[0] != -head[2] or head[1] != -head[3]:
         return None, f"the ranks' viewports differ ({int(head[0])}x{int(head[1])} vs {int(-head[2])}x{int(-head[3])})"
@@ -228,8 +220,6 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce,
         return None, "no rank has data"
     if missing and brick is not None:
         return None, OWN_MISSING
-    if head[7] > 0.0:
-        return None, CAMERA_INSIDE
     entries, local_problem = [], None
     usable = usable and mapper is not None and whole_image is not None
     if usable:

@@ -245,7 +245,7 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     """
     from mipcast.core.prepare import prepare_scalars
     from mipcast.mappers import foveated, volume_pyramid
-    from mipcast.mappers.brick_rays import box_in_view, near_plane_cuts, whole_geometry
+    from mipcast.mappers.brick_rays import box_in_view, whole_geometry
     from mipcast.mappers.bricks import extract_brick
 
     width, height, x0, y0 = [0], [0], [0], [0]
@@ -270,10 +270,6 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
                                       "(e.g. vtkImageMathematics) or render on one rank")
             low, high = float(np.min(prepared.values)), float(np.max(prepared.values))
             whole_image = whole_geometry(whole_stub)
-            if near_plane_cuts(whole_image, camera):
-                from mipcast.mappers.rank_composite import CAMERA_INSIDE
-
-                problem = problem or f"foveated over the ranks: {CAMERA_INSIDE}; move the camera out or render on one rank"
             box = _WholeBox(volume, whole_image)
             base_isd = float(mapper.GetImageSampleDistance())
             base_distance = float(mapper.GetSampleDistance())

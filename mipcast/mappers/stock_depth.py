@@ -35,6 +35,8 @@ from __future__ import annotations
 
 from typing import Optional, Sequence, Tuple
 
+import numpy as np
+
 from mipcast.mappers import shader_pieces
 
 #: The piece for each compositing op (the nearest fragment holds the largest / smallest value).
@@ -59,6 +61,7 @@ def install(volume, op: Optional[str], phase: Optional[Tuple[Sequence[float], Se
         uniforms = prop.GetFragmentCustomUniforms()
         uniforms.SetUniform3f("u_mc_globalTexMin", [float(v) for v in low])
         uniforms.SetUniform3f("u_mc_globalTexMax", [float(v) for v in high])
+        uniforms.SetUniform4f("u_mc_capTex", [0.0, 0.0, 0.0, 0.0])  # no cap until a draw's push_cap
         wanted.append(PHASE_PIECE)
     now = sorted(text.split(shader_pieces.MARKER, 1)[1].split("\n", 1)[0]
                  for tag, text in shader_pieces._fragment_replacements(prop) if shader_pieces.MARKER in text)
@@ -69,3 +72,20 @@ def install(volume, op: Optional[str], phase: Optional[Tuple[Sequence[float], Se
     else:
         shader_pieces.install(prop, [shader_pieces.load_piece(name) for name in wanted])
     return True
+
+
+def push_cap(volume, whole, camera, piece_extent: Sequence[int], aspect: float = 1.0) -> None:
+    """This frame's near-plane cap on ``volume`` for the ``stock_phase`` piece (``u_mc_capTex``).
+
+    Where ``camera``'s near plane cuts the ``whole`` volume's box (the camera
+    inside the volume) VTK starts the whole volume's rays at its cap
+    (:func:`mipcast.mappers.brick_rays.near_cap`): the plane in the
+    texture coordinates of the piece of ``piece_extent``; none (zeros)
+    otherwise.  ``whole``: :func:`mipcast.mappers.brick_rays.whole_geometry`'s image.
+    """
+    from mipcast.mappers.brick_rays import index_plane, near_cap, texture_plane
+
+    cap = near_cap(whole, camera, aspect)
+    plane = np.zeros(4) if cap is None else texture_plane(index_plane(cap, whole.GetIndexToPhysicalMatrix()),
+                                                             piece_extent)
+    volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniform4f("u_mc_capTex", [float(v) for v in plane])

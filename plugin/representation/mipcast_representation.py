@@ -629,34 +629,6 @@ def missing_refusal(method, ranks=2):
             "or render on one rank")
 
 
-def exact_inside(method):
-    """Whether ``method`` composites exactly over ranks with the camera inside the volume (no sample positions:
-    the cell walks of the maximum and the mean; ``analytic_minip`` measured 97.07 % of the pixels within 1 grey
-    there, 2 ranks along x, cause not traced: not exact).
-
-    >>> [exact_inside(m) for m in ("analytic", "analytic_average", "analytic_minip", "mip")]
-    [True, True, False, False]
-    """
-    entry = _import_mipcast().METHODS[method]
-    return entry.walks_cells and entry.projection != "minip"
-
-
-def inside_refusal(method, ranks=2):
-    """Why ``method`` draws nothing on ``ranks`` ranks while the camera is inside the volume.
-
-    >>> inside_refusal("stock").split("; ")[1]
-    'use analytic (no sample positions), move the camera out of the volume or render on one rank'
-    >>> inside_refusal("stock_minip").split("; ")[1]
-    'move the camera out of the volume or render on one rank'
-    """
-    from mipcast.mappers.rank_composite import CAMERA_INSIDE
-
-    exact = [name for name in _exact_methods(method) if exact_inside(name)]
-    use = f"use {' or '.join(exact)} (no sample positions), " if exact else ""
-    return f"{method} cannot be drawn on {ranks} ranks while {CAMERA_INSIDE}; {use}move the camera out of the " \
-           "volume or render on one rank"
-
-
 @_guarded
 def depth_composited(key):
     """Called at REQUEST_UPDATE: True when this rank's piece is composited by depth, not by ordered blending.
@@ -750,14 +722,18 @@ def _ray_pusher(entry):
 
     The rays come from the view's camera and size, the same on every rank
     (:func:`mipcast.distributed.ray_uniforms`), so that every rank samples
-    the whole volume's rays at the same positions.
+    the whole volume's rays at the same positions.  VTK's own mapper (the
+    stock_phase piece) gets the near-plane cap where the camera is inside
+    the volume (:func:`mipcast.mappers.stock_depth.push_cap`).
     """
     def push(mapper, event, entry=entry):
         from mipcast.core.object_state import object_state
         from mipcast.mappers.brick_rays import push_whole_rays, whole_geometry
 
         renderer = entry.renderer.Get()
-        volume = mapper.GetAttachedVolume() if hasattr(mapper, "GetAttachedVolume") else None  # VTK's own: none
+        own = not hasattr(mapper, "GetAttachedVolume")  # VTK's own mapper knows no attached volume
+        own_volume = getattr(entry, "own_volume", None)
+        volume = (own_volume.Get() if own_volume is not None else None) if own else mapper.GetAttachedVolume()
         stub = getattr(entry, "whole_stub", None)
         if renderer is None or volume is None or stub is None or object_state(mapper).get("global_box") is None:
             return
@@ -765,7 +741,14 @@ def _ray_pusher(entry):
         if cached is None or cached[0] != stub:  # built once per whole volume, not per draw
             cached = entry.whole_image = (stub, whole_geometry(stub))
         image = cached[1]
-        push_whole_rays(volume, mapper.GetSampleDistance(), image, renderer.GetActiveCamera(), renderer.GetSize())
+        width, height = renderer.GetSize()
+        if own:
+            from mipcast.mappers.stock_depth import push_cap
+
+            push_cap(volume, image, renderer.GetActiveCamera(), mapper.GetInput().GetExtent(),
+                     width / max(height, 1))
+            return
+        push_whole_rays(volume, mapper.GetSampleDistance(), image, renderer.GetActiveCamera(), (width, height))
     return push
 
 
@@ -917,9 +900,8 @@ def _rank_start(entry):
         from mipcast.mappers.rank_composite import projection
 
         entry.rank_projection = projection(renderer)  # IceT shifts it for each rank's draw
-        refusals = {rank_composite.OWN_MISSING: missing_refusal, rank_composite.CAMERA_INSIDE: inside_refusal}
-        if problem in refusals:
-            problem = refusals[problem](entry.method, process_count())
+        if problem == rank_composite.OWN_MISSING:
+            problem = missing_refusal(entry.method, process_count())
             entry.problem = problem
         if problem is not None and problem != getattr(entry, "rank_problem", None):
             _report(problem if problem.startswith(entry.method) else
@@ -931,23 +913,18 @@ def _rank_start(entry):
 
 def _depth_frame(entry, mapper, volume, piece, renderer):
     """A depth-composited method on several ranks, at the renderer's StartEvent (every rank): the pieces'
-    finite ranges, missing values and whether the camera is inside the volume, reduced.  Where some piece
-    holds missing values each rank's mipcast mapper fills them as the whole volume does (its preparer's
-    whole range); VTK's own mapper, which does not define them, and a sampled method with the camera inside
-    the volume are hidden this frame (returns why: :data:`~mipcast.mappers.rank_composite.OWN_MISSING`,
-    :data:`~mipcast.mappers.rank_composite.CAMERA_INSIDE`)."""
+    finite ranges and missing values, reduced.  Where some piece holds missing values each rank's mipcast
+    mapper fills them as the whole volume does (its preparer's whole range); VTK's own mapper, which does not
+    define them, is hidden this frame (returns why: :data:`~mipcast.mappers.rank_composite.OWN_MISSING`)."""
     import numpy as np
 
-    from mipcast.mappers.brick_rays import near_plane_cuts, whole_geometry
-    from mipcast.mappers.rank_composite import CAMERA_INSIDE, OWN_MISSING, piece_range
+    from mipcast.mappers.rank_composite import OWN_MISSING, piece_range
 
     low, high, missing = piece_range(piece)
-    stub = getattr(entry, "rank_whole", None) if piece is not None else None
-    inside = not exact_inside(entry.method) and stub is not None and near_plane_cuts(whole_geometry(stub), renderer.GetActiveCamera())
-    reduced = _all_reduce(np.array([-low, high, float(missing), float(inside)]), "max")
+    reduced = _all_reduce(np.array([-low, high, float(missing)]), "max")
     low, high, missing = float(-reduced[0]), float(reduced[1]), bool(reduced[2] > 0.0)
     own = mapper is not None and not hasattr(mapper, "GetInputPreparer")
-    why = CAMERA_INSIDE if reduced[3] > 0.0 else OWN_MISSING if missing and own else None
+    why = OWN_MISSING if missing and own else None
     if mapper is None:
         return why
     if not own:
