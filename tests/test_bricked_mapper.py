@@ -255,6 +255,13 @@ def test_bricks_follow_the_users_cropping_clipping_opaque_geometry_and_camera(im
         low, high = image.GetPointData().GetScalars().GetRange(0)
         both = np.isfinite(values) & np.isfinite(one_values)
         assert np.max(np.abs(values[both] - one_values[both])) / (high - low) <= 1e-4
+    if scene == "missing values":  # and the float64 reference's missing-value rules on the same rays
+        low, high = image.GetPointData().GetScalars().GetRange(0)
+        camera = window.GetRenderers().GetFirstRenderer().GetActiveCamera()
+        expected = METHODS[name].reference(missing_image, camera, SIZE, sample_distance=DISTANCE, window=(low, high))
+        both = np.isfinite(values) & np.isfinite(expected)
+        assert (np.isnan(values) == np.isnan(expected)).all() and np.isfinite(values).mean() > 0.3
+        assert np.max(np.abs(values[both] - expected[both])) / (high - low) <= METHODS[name].reference_tolerance
 
 
 @pytest.mark.parametrize("name", ["mip", "analytic", "demip"])
