@@ -8,9 +8,16 @@
 // VTK's code at this tag reads in_depthSampler as the scene depth, so it is
 // replaced; the phase renders to image only (float readout), whose
 // lower-left pixel is gl_FragCoord's origin. Also does the refusal piece's
-// job (this tag takes one piece); ray set-up as mcSetRayEnd (mip_globals),
-// the ray ending at the far plane.
+// job (this tag takes one piece); ray set-up as mcSetRayEnd (mip_globals).
+// The texture's alpha is the scene depth (mipcast.mappers.demip_brick.upload_pixels;
+// 1, the far plane, where the texture has fewer channels): with the
+// whole_ray_end piece (a brick rendering to image) the ray ends at opaque
+// geometry where the whole volume's ray ends, as image_terminate's.
   mcRefuseIfAsked();
   vec2 mc_at = gl_FragCoord.xy * in_inverseWindowSize;
-  mc_globalMax = texture2D(in_depthSampler, mc_at).r;
-  mcSetRayEnd(mc_at, 1.0);
+  vec4 mc_fetched = texture2D(in_depthSampler, mc_at);
+  mc_globalMax = mc_fetched.r;
+  mcSetSceneRayEnd(mc_at, mc_fetched.a);
+#ifdef MC_WHOLE_RAY_END
+  mcWholeRayEnd();
+#endif

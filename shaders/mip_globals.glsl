@@ -87,3 +87,10 @@ void mcSetRayEnd(vec2 at, float ndcDepth)
   g_terminatePointMax = length(g_terminatePos.xyz - g_dataPos.xyz) / length(g_dirStep);
   g_currentT = 0.0;
 }
+
+// mcSetRayEnd for a ray ending at the window depth sceneDepth (0..1, as the
+// depth buffer holds it; 1: the far plane).
+void mcSetSceneRayEnd(vec2 at, float sceneDepth)
+{
+  mcSetRayEnd(at, (2.0 * sceneDepth - (gl_DepthRange.near + gl_DepthRange.far)) / gl_DepthRange.diff);
+}

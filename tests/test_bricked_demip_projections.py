@@ -18,7 +18,8 @@ from mipcast.mappers.bricks import brick_extents
 from mipcast.mappers.demip import render_depth
 from mipcast.mappers.float_readout import render_float
 from mipcast.reference.demip import render_demip
-from test_bricked_mapper import DISTANCE, SIZE, image, lowered, picture, pipeline  # noqa: F401  (fixture)
+from test_bricked_mapper import (DISTANCE, SIZE, _wall, image, lowered, missing_image, picture,  # noqa: F401
+                                 pipeline)  # (image, missing_image: fixtures)
 from vtk_png import write_png
 
 DEPTH = 0.4
@@ -159,6 +160,39 @@ def test_with_msaa_bricked_demip_gets_the_single_texture_silhouette(image, proje
     assert (np.abs(pictures[1] - BACKGROUND).max(axis=-1) > 10).mean() > 0.3  # drawn, not blank
     difference = np.abs(pictures[1] - pictures[0]).max(axis=-1)
     assert difference.max() <= 1, [(int(y), int(x), int(difference[y, x])) for y, x in zip(*np.nonzero(difference > 1))]
+
+
+@pytest.mark.parametrize("projection, scene, samples", [
+    ("lmip", "opaque wall", 0), ("attenuated", "opaque wall", 8), ("mida", "opaque wall", 0),
+    ("attenuated", "missing values", 0), ("mida", "missing values", 8)])
+def test_bricked_ordered_projections_end_at_geometry_and_take_missing_values(image, missing_image, projection, scene,
+                                                                            samples, monkeypatch):
+    """Opaque geometry: the ordered bricks' rays end where the whole volume's ray ends (the scene depth in their
+    state texture's alpha, ``whole_ray_end``); they ended at the far plane (an opaque wall through the centre:
+    296-844 pixels off by up to 183 levels).  Missing values: no per-brick missing test on a material
+    (attenuated) or on 0 (MIDA), the whole ray's on the CPU (1201-1583 pixels were off by up to 196 levels)."""
+    pictures, values = [], []
+    for bricked in (False, True):
+        if bricked:
+            lowered(monkeypatch)
+        mapper, renderer, window = build(missing_image if scene == "missing values" else image, projection, 0.0,
+                                         False)
+        window.SetMultiSamples(samples)
+        if scene == "opaque wall":
+            _wall(renderer, image)
+        pictures.append(picture(window))
+        if not samples:
+            values.append(render_float(window, mapper))
+    assert mapper.GetNumberOfBricks() == 27 and mapper.GetLastProblem() is None
+    assert (np.abs(pictures[1] - BACKGROUND).max(axis=-1) > 10).mean() > 0.3  # drawn, not blank
+    difference = np.abs(pictures[1] - pictures[0]).max(axis=-1)
+    assert difference.max() <= 1, [(int(y), int(x), int(difference[y, x])) for y, x in zip(*np.nonzero(difference > 1))]
+    if values:
+        one, got = values
+        low, high = image.GetPointData().GetScalars().GetRange(0)
+        assert (np.isnan(one) == np.isnan(got)).all() and np.isfinite(got).mean() > 0.3
+        both = np.isfinite(one) & np.isfinite(got)
+        assert np.max(np.abs(got[both] - one[both])) / (high - low) <= 3e-5
 
 
 def two_peaks(size=48):

@@ -108,6 +108,19 @@ class PreparedScalars:
     missing_above: float = float("inf")
     cells: bool = False
 
+    def seen(self, found: np.ndarray) -> np.ndarray:
+        """Ray results ``found`` (data units) with those that saw no finite data NaN: below
+        :attr:`missing_below` or above :attr:`missing_above` (background, NaN in the float readout).
+
+        Examples
+        --------
+        >>> prepared = PreparedScalars(np.zeros((1, 1, 1)), True, 1, 0, 0.0, 6.0, -6.0, -6.0e-6, "scalars")
+        >>> prepared.seen(np.array([-5.0, 0.5, np.nan])).tolist()
+        [nan, 0.5, nan]
+        """
+        found = np.asarray(found, dtype=np.float64)
+        return np.where((found < self.missing_below) | (found > self.missing_above), np.nan, found)
+
 
 #: Where missing voxels are filled: below every finite value (maximum and
 #: average projections) or above (minimum projections).

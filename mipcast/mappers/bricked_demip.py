@@ -33,7 +33,13 @@ bricks in front left, handed to it as a float texture
 (:mod:`mipcast.mappers.demip_ordered_bricks`): LMIP (the running maximum;
 its phase 2 is MIP's), attenuated MIP (the crossed material; no phase 2)
 and MIDA (running material and opacity; its picture only, its float
-readout is the MAX of phase 1).  :func:`problem` names what cannot be
+readout is the MAX of phase 1).  That texture's alpha is the scene depth,
+so their rays end at opaque geometry where the whole volume's ray ends
+(``whole_ray_end``).  Missing values: every brick fills them as the whole
+volume (:func:`mipcast.mappers.input_preparer.piece_range`); attenuated
+MIP's and MIDA's bricks have no missing test of their own, the whole ray's
+is applied here (the attenuated value; MIDA's sampled maximum, phase 1's
+MAX).  :func:`problem` names what cannot be
 drawn in bricks (nothing of DEMIP's now; kept for the callers).  During a
 float readout the mapper's ``GetDepthImage`` returns the bricked value
 (readout ``"value"``) or depth (``"depth"``).
@@ -55,8 +61,11 @@ from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import DEMIP
 from mipcast.mappers import clip_uniforms, float_readout
 from mipcast.mappers.brick_rays import box_in_view, brick_entry, cached_bricks, push_rays
+from mipcast.mappers.bricked_draw import seen
 from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, bind_maximum, match_index
 from mipcast.mappers.demip_composite import demip_composite, demip_premultiplied
+from mipcast.mappers.input_preparer import piece_range
+from mipcast.mappers.outline_rays import scene_depth
 from mipcast.mappers.private_draw import auto_sample_distance, follow_volume
 
 
@@ -164,6 +173,7 @@ def follow_demip_brick(mapper, volume, entry, distance: float, demip: bool,
                 getattr(brick_mapper, parameter.setter)(value)
     if brick_mapper.GetComponent() != mapper.GetComponent():
         brick_mapper.SetComponent(mapper.GetComponent())
+    brick_mapper.GetInputPreparer().SetWholeRange(piece_range(mapper.GetInputPreparer()))  # the whole's fill
     brick_mapper.SetAutoAdjustSampleDistances(False)
     brick_mapper.SetUseJittering(False)
     if brick_mapper.GetSampleDistance() != distance:
@@ -218,8 +228,12 @@ def _front_to_back(mapper, limit, camera, shape, entries, in_view, ordered, size
 
 
 def _attenuated_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range,
-                     isd: float = 1.0, size=None):
-    """Attenuated MIP over the bricks in view front to back (data units, NaN: miss)."""
+                     isd: float = 1.0, size=None, scene=None):
+    """Attenuated MIP over the bricks in view front to back (data units, NaN: miss).
+
+    ``scene``: the scene depth per ray (:func:`mipcast.mappers.outline_rays.scene_depth`) the bricks' rays end
+    at, in their state texture's alpha (None: the far plane); the same for the other scans.
+    """
     from mipcast.mappers.demip_ordered_bricks import attenuated_value, bind_crossed
 
     crossed = np.zeros(shape, dtype=np.float32)
@@ -228,7 +242,7 @@ def _attenuated_scan(mapper, volume, renderer, limit, camera, shape, distance, e
     for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view,
                                 ordered_bricks_of(mapper, limit, "attenuated"), size):
         follow_demip_brick(mapper, volume, entry, distance, demip=True, image_sample_distance=isd)
-        bind_crossed(window, entry["mapper"], crossed, data_range)
+        bind_crossed(window, entry["mapper"], crossed, data_range, scene)
         uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
         found = _render(renderer, entry, mapper, camera, shape, raw=True, size=size)
         uniforms.SetUniformf("u_mc_brickChannel", 1.0)
@@ -242,8 +256,9 @@ def _attenuated_scan(mapper, volume, renderer, limit, camera, shape, distance, e
 
 
 def _mida_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range,
-               isd: float = 1.0, size=None):
-    """MIDA's picture over the bricks in view front to back: premultiplied float RGBA."""
+               isd: float = 1.0, size=None, scene=None):
+    """MIDA's picture over the bricks in view front to back: premultiplied float RGBA (``scene``: as
+    :func:`_attenuated_scan`'s)."""
     from mipcast.mappers.demip_ordered_bricks import MIDA_CHANNELS, bind_mida, mida_scan
 
     colour, opacity, material = np.zeros(shape + (3,)), np.zeros(shape), np.zeros(shape)
@@ -251,7 +266,7 @@ def _mida_scan(mapper, volume, renderer, limit, camera, shape, distance, entries
     for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view, ordered_bricks_of(mapper, limit, "mida"),
                                 size):
         follow_demip_brick(mapper, volume, entry, distance, demip=True, image_sample_distance=isd)
-        bind_mida(window, entry["mapper"], material, opacity, data_range)
+        bind_mida(window, entry["mapper"], material, opacity, data_range, scene)
         uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
         readouts = {}
         try:
@@ -268,8 +283,9 @@ def _mida_scan(mapper, volume, renderer, limit, camera, shape, distance, entries
 
 
 def _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range,
-               isd: float = 1.0, size=None):
-    """LMIP's phase 1: the bricks in view front to back, each continuing the scan (data units, NaN: miss)."""
+               isd: float = 1.0, size=None, scene=None):
+    """LMIP's phase 1: the bricks in view front to back, each continuing the scan (data units, NaN: miss;
+    ``scene``: as :func:`_attenuated_scan`'s)."""
     from mipcast.mappers.demip_ordered_bricks import bind_running, local_threshold, scan
 
     local = local_threshold(volume.GetProperty(), data_range, mapper.GetLocalThreshold())
@@ -278,7 +294,7 @@ def _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries
     for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view, ordered_bricks_of(mapper, limit, "lmip"),
                                 size):
         follow_demip_brick(mapper, volume, entry, distance, demip=True, image_sample_distance=isd)
-        bind_running(window, entry["mapper"], running, local)
+        bind_running(window, entry["mapper"], running, local, scene)
         uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
         scalars = entry["mapper"].GetRenderedInput().GetPointData().GetScalars()
         found = _render(renderer, entry, mapper, camera, shape, size=size)
@@ -342,6 +358,7 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
     if mapper.GetAutoAdjustSampleDistances():
         distance = auto_sample_distance(mapper.GetInput(), volume)
     entries = bricks_of(mapper, limit, kinds)
+    missing = bool(mapper.GetRenderedInput() is not None and mapper.GetInputPreparer().GetPrepared().missing)
     in_view = []
     values = np.full(shape, np.nan)
     empty = np.zeros(shape, dtype=bool)  # rays a brick drew without a sample (mipcast.mappers.outline_rays)
@@ -353,8 +370,8 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
         in_view.append((first, second))
         if mapper.GetProjection() in ("lmip", "attenuated"):
             continue  # phase 1 of LMIP, attenuated MIP: the bricks front to back (below)
-        if mapper.GetProjection() == "mida" and not object_state(mapper).get("exact_readout"):
-            continue  # MIDA's picture needs no maximum (its compositing, below)
+        if mapper.GetProjection() == "mida" and not object_state(mapper).get("exact_readout") and not missing:
+            continue  # MIDA's picture needs no maximum (its compositing, below) unless rays may see no finite data
         found = _render(renderer, first, mapper, camera, shape, size=size)
         empty |= np.abs(np.nan_to_num(found)) > 1.0e3
         drawn_any |= ~np.isnan(found)
@@ -367,16 +384,17 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
         from mipcast.mappers import outline_rays
 
         before = np.isnan(values)
-        values = outline_rays.complete(values, empty, mapper.GetRenderedInput(), camera, size, distance,
-                                       undrawn=outline_rays.undrawn(mapper, renderer, drawn_any))
+        values = seen(mapper, outline_rays.complete(values, empty, mapper.GetRenderedInput(), camera, size, distance,
+                                                    undrawn=outline_rays.undrawn(mapper, renderer, drawn_any)))
         completed = before & ~np.isnan(values)
-    scan = {"isd": isd, "size": size}
+    # the ordered projections' rays end at opaque geometry: the scene depth in their state texture's alpha
+    scan = {"isd": isd, "size": size, "scene": scene_depth(renderer, shape) if mapper.GetProjection() != "mip" else None}
     if mapper.GetProjection() == "lmip":
         values = _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range,
                             **scan)
     elif mapper.GetProjection() == "attenuated":
-        values = _attenuated_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view,
-                                  data_range, **scan)
+        values = seen(mapper, _attenuated_scan(mapper, volume, renderer, limit, camera, shape, distance, entries,
+                                               in_view, data_range, **scan))  # one texture's missing test
     values = values.astype(np.float32).astype(np.float64)  # as the float readout / MPI reduction carry it
     index = np.full(shape, np.inf)
     window = renderer.GetRenderWindow()
@@ -394,8 +412,10 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
     if mapper.GetProjection() == "mida":  # the picture: the bricks' compositing front to back
         if object_state(mapper).get("exact_readout"):
             return values, depth, None  # a float readout: MIDA's value is the sampled maximum (MAX above)
-        return values, depth, _mida_scan(mapper, volume, renderer, limit, camera, shape, distance, entries,
-                                         in_view, data_range, **scan)
+        rgba = _mida_scan(mapper, volume, renderer, limit, camera, shape, distance, entries, in_view, data_range,
+                          **scan)
+        # missing values: a ray whose maximum (the MAX above) saw no finite data draws nothing, as one texture's
+        return values, depth, np.where(np.isnan(values)[..., None], 0.0, rgba) if missing else rgba
     return values, depth, demip_premultiplied(values, rgb, volume.GetProperty())
 
 
@@ -434,8 +454,10 @@ def face_picture(mapper, volume, renderer, rgba: np.ndarray, face, pixels: np.nd
     window = ceiling > floor  # else no material anywhere: no DEMIP term, no attenuation, no MIDA fading
     params = {p.name: getattr(mapper, p.getter)() for p in DEMIP}
     valid = np.isfinite(samples)
-    if projection == "mida":
-        out[rows, columns] = mida_composite(samples, valid, volume.GetProperty(), floor, ceiling if window else np.inf)
+    if projection == "mida":  # a ray that saw no finite data (its maximum below the missing threshold): nothing
+        shown = np.isfinite(seen(mapper, np.fmax.reduce(samples, axis=1)))[:, None]
+        out[rows, columns] = np.where(shown, mida_composite(samples, valid, volume.GetProperty(), floor,
+                                                            ceiling if window else np.inf), 0.0)
         return out
     if projection == "lmip":
         valid = _local(samples, valid, local_threshold(volume.GetProperty(), data_range, mapper.GetLocalThreshold()))
@@ -446,7 +468,7 @@ def face_picture(mapper, volume, renderer, rgba: np.ndarray, face, pixels: np.nd
     elif window and projection != "attenuated":
         eps = params["material_threshold"] if params["depth_of"] == "same_material" else 0.0
         first = _same_material(samples, valid, floor, ceiling, eps)[1]
-    values = values.astype(np.float32).astype(np.float64)  # as the GPU carries the value
+    values = seen(mapper, values).astype(np.float32).astype(np.float64)  # as the GPU carries the value
     _, rgb = demip_composite(_whole(mapper.GetInput()), camera, distance, values[None], np.where(first >= 0, first,
                              np.inf)[None], params, volume.GetProperty(), slab=clip_uniforms.slab_of(mapper, camera),
                              aspect=rgba.shape[1] / rgba.shape[0], rays=(start[None], step[None]))

@@ -66,6 +66,7 @@ from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms, float_readout
 from mipcast.mappers.brick_rays import box_in_view, brick_entry, cached_bricks, push_rays
 from mipcast.mappers.box_outline import box_corners, front_faces
+from mipcast.mappers.input_preparer import piece_range
 from mipcast.mappers.private_draw import (auto_sample_distance, draw_over, follow_volume, kept_texture,
                                           rendering_renderer)
 
@@ -289,6 +290,8 @@ def follow_brick(mapper, volume, entry, image_sample_distance: float = 1.0) -> N
             getattr(brick_mapper, parameter.setter)(value)
     if hasattr(mapper, "GetComponent") and brick_mapper.GetComponent() != mapper.GetComponent():
         brick_mapper.SetComponent(mapper.GetComponent())
+    if hasattr(mapper, "GetInputPreparer"):  # missing values filled as in the whole volume, not the brick's range
+        brick_mapper.GetInputPreparer().SetWholeRange(piece_range(mapper.GetInputPreparer()))
     if brick_mapper.GetAverageIPScalarRange() != mapper.GetAverageIPScalarRange():  # the averages' counted values
         brick_mapper.SetAverageIPScalarRange(mapper.GetAverageIPScalarRange())
     brick_mapper.SetAutoAdjustSampleDistances(False)
@@ -395,7 +398,7 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
             kernel = getattr(reference.mip, _WALKS[rule])
             result = combine(result, outline_rays.walked(mapper.GetRenderedInput(), camera, shape, aspect_size,
                                                          undrawn & np.isnan(result), kernel, step))
-        return result
+        return seen(mapper, result)  # the CPU's rays that saw no finite data: background, as the bricks' own
     if not passes:
         return result
     counts = [read[channels.index(1)] for read, _ in passes]  # -n: the samples (ray length) each counted
@@ -412,11 +415,32 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
         sample = outline_rays.single_samples(image, camera, shape, aspect_size, step, none,
                                              outline_rays.cut_by(mapper, camera, image))
         found = sample if readout else _sample_grey(mapper, volume, sample[..., None])
-        low, high = mapper.GetAverageIPScalarRange()
+        low, high = _counted_range(mapper)
         mean = np.where(np.isfinite(found) & (sample >= low) & (sample <= high), found, mean)
     if readout or channels == (1, 2, 3):
         return mean
     return _grey_of(mapper, volume, mean)
+
+
+def _prepared(mapper):
+    """What ``mapper``'s preparer made of the whole volume (:class:`mipcast.core.prepare.PreparedScalars`)."""
+    mapper.GetRenderedInput()  # brought up to date
+    return mapper.GetInputPreparer().GetPrepared()
+
+
+def seen(mapper, values: np.ndarray) -> np.ndarray:
+    """``values`` (data units) with the rays that saw no finite data NaN (missing values: the whole volume's
+    thresholds, :meth:`mipcast.core.prepare.PreparedScalars.seen`; the rays computed on the CPU need it)."""
+    prepared = _prepared(mapper)
+    return values if prepared is None else prepared.seen(values)
+
+
+def _counted_range(mapper) -> tuple:
+    """The values a sampled average counts: its ``AverageIPScalarRange``, from the finite floor up with
+    missing values (the fill does not count: ``u_mc_averageLow``, :class:`mipcast.mappers.projections.AverageVolumeMapper`)."""
+    low, high = mapper.GetAverageIPScalarRange()
+    prepared = _prepared(mapper)
+    return (low if prepared is None else max(low, prepared.missing_below)), high
 
 
 def _shade_map(mapper, volume) -> tuple:
@@ -437,8 +461,9 @@ def _shade_map(mapper, volume) -> tuple:
 
 def _sample_grey(mapper, volume, samples: np.ndarray) -> np.ndarray:
     """The sampled average's grey of a ray's samples (..., k) (NaN: none): the mean of opacity x grey over
-    those in ``AverageIPScalarRange`` (``shaders/average_hooks.glsl``); NaN where none counts."""
-    low, high = mapper.GetAverageIPScalarRange()
+    those in ``AverageIPScalarRange`` (from the finite floor up: :func:`_counted_range`;
+    ``shaders/average_hooks.glsl``); NaN where none counts."""
+    low, high = _counted_range(mapper)
     counted = (samples >= low) & (samples <= high)
     g0, g1 = _shade_map(mapper, volume)
     opacity = colour(np.where(counted, samples, np.nan), volume.GetProperty())[..., 3]
@@ -641,18 +666,23 @@ def _face_values(mapper, volume, renderer, values, face, pixels) -> np.ndarray:
     if not pixels.any():
         return out
     image = mapper.GetRenderedInput()
+    prepared = _prepared(mapper)
     if not sampled:
+        # the mean over the finite part (NaN: none), bounded as the GPU bounds it with missing values
+        floor = {"floor": prepared.missing_below, "bounded": True} if rule == "mean" and prepared.missing else {}
         rows, columns, found = outline_rays.face_walks(mapper, renderer, image, values.shape, step, face, pixels,
-                                                       getattr(reference.mip, _WALKS[rule]))
+                                                       getattr(reference.mip, _WALKS[rule]), **floor)
         if rule == "mean":
             found = _grey_of(mapper, volume, found)
+        else:
+            found = prepared.seen(found)
     else:
         rows, columns, _, _, samples = outline_rays.face_samples(mapper, renderer, image, values.shape, step, face,
                                                                  pixels)
         if rule == "max":
-            found = np.fmax.reduce(samples, axis=1)
+            found = prepared.seen(np.fmax.reduce(samples, axis=1))
         elif rule == "min":
-            found = np.fmin.reduce(samples, axis=1)
+            found = prepared.seen(np.fmin.reduce(samples, axis=1))
         else:
             found = _sample_grey(mapper, volume, samples)
     out[rows, columns] = found

@@ -112,12 +112,19 @@ def bind_maximum(render_window, mapper: DEMIPBrickDepthMapper, maximum: np.ndarr
     upload_pixels(render_window, mapper, normalised)
 
 
-def upload_pixels(render_window, mapper, normalised: np.ndarray) -> None:
+def upload_pixels(render_window, mapper, normalised: np.ndarray, depth=None) -> None:
     """A per-pixel float image (top row first) as ``mapper``'s shared float texture (``in_depthSampler``).
 
     Read by the ``demip_brick_fetch`` piece (``mc_globalMax``) at the next render;
     shape (height, width) or (height, width, components) (1 to 4 components).
+    ``depth`` (height, width): the scene depth (0 .. 1, the depth buffer's; 1: none) the rays end at
+    (:func:`mipcast.mappers.outline_rays.scene_depth`), put in the texture's alpha (the
+    ``demip_brick_fetch`` and ``demip_brick_state_fetch`` pieces; none: alpha reads 1, the far plane).
     """
+    if depth is not None:
+        channels = normalised.reshape(normalised.shape[:2] + (-1,))
+        padding = np.zeros(normalised.shape[:2] + (3 - channels.shape[2],))
+        normalised = np.concatenate([channels, padding, np.asarray(depth)[..., None]], axis=-1)
     height, width = normalised.shape[:2]
     components = normalised.shape[2] if normalised.ndim == 3 else 1
     state = object_state(mapper)

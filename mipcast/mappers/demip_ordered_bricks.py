@@ -39,6 +39,10 @@ betas (:func:`mida_scan` applies ``C = P C + C_brick``).  Only the picture
 needs this; MIDA's float readout (the sampled maximum) is the MAX of the
 bricks' MIP.
 
+Each state texture also carries the scene depth in its alpha
+(:func:`mipcast.mappers.demip_brick.upload_pixels`' ``depth``), where the
+bricks' rays end at opaque geometry, as the whole volume's ray ends.
+
 Examples
 --------
 >>> mapper = LMIPBrickMapper()
@@ -92,6 +96,9 @@ class AttenuatedBrickMapper(DEMIPBrickDepthMapper):
 
     PIECES = ("mip_globals", "demip_brick_fetch", "demip_helpers", "sampled_loop",
               "demip_brick_attenuated_hooks", "no_stock_sample", "mip_color")
+    #: No per-brick missing test: its mc_rayMax is a material, not a scalar; the whole ray's test is the
+    #: CPU's, on the attenuated value (:func:`mipcast.mappers.bricked_demip.compose`).
+    MISSING_PIECE = None
 
     def GetShaderPieces(self) -> tuple:
         """:data:`PIECES` (with ``global_phase`` on a brick); the raw readout while a readout renders."""
@@ -114,6 +121,8 @@ class MIDABrickMapper(DEMIPBrickDepthMapper):
 
     PIECES = ("mip_globals", "demip_brick_state_fetch", "demip_helpers", "sampled_loop",
               "demip_brick_mida_hooks", "no_stock_sample", "mip_color")
+    #: No per-brick missing test (its mc_rayMax is 0): the whole ray's is the CPU's, on the bricks' MAX.
+    MISSING_PIECE = None
 
     def GetShaderPieces(self) -> tuple:
         """:data:`PIECES` (with ``global_phase`` on a brick); the state readout while a readout renders."""
@@ -126,10 +135,11 @@ MIDA_CHANNELS = ("red", "green", "blue", "opacity", "beta_product", "material")
 
 
 def bind_mida(render_window, mapper: MIDABrickMapper, material: np.ndarray, opacity: np.ndarray,
-              data_range) -> None:
-    """MIDA's state so far on ``mapper`` (running material, accumulated opacity) and the material window."""
+              data_range, depth=None) -> None:
+    """MIDA's state so far on ``mapper`` (running material, accumulated opacity) and the material window;
+    ``depth``: the scene depth its rays end at (:func:`mipcast.mappers.demip_brick.upload_pixels`)."""
     _bind_window(mapper, data_range)
-    upload_pixels(render_window, mapper, np.stack([material, opacity], axis=-1))
+    upload_pixels(render_window, mapper, np.stack([material, opacity], axis=-1), depth)
 
 
 def mida_scan(colour: np.ndarray, opacity: np.ndarray, material: np.ndarray, readouts: dict) -> None:
@@ -165,10 +175,12 @@ def _bind_window(mapper, data_range) -> None:
         "u_mc_brickWindow", [floor, ceiling, 0.0, 0.0])
 
 
-def bind_crossed(render_window, mapper: AttenuatedBrickMapper, crossed: np.ndarray, data_range) -> None:
-    """The crossed material so far (per pixel, float32 as the GPU summed it) and the material window."""
+def bind_crossed(render_window, mapper: AttenuatedBrickMapper, crossed: np.ndarray, data_range,
+                 depth=None) -> None:
+    """The crossed material so far (per pixel, float32 as the GPU summed it) and the material window;
+    ``depth``: the scene depth its rays end at (:func:`mipcast.mappers.demip_brick.upload_pixels`)."""
     _bind_window(mapper, data_range)
-    upload_pixels(render_window, mapper, crossed)
+    upload_pixels(render_window, mapper, crossed, depth)
 
 
 def attenuated_value(best: np.ndarray, volume_property, data_range) -> np.ndarray:
@@ -202,14 +214,15 @@ def local_threshold(volume_property, data_range, fraction: float) -> float:
     return float(floor + fraction * (ceiling - floor))
 
 
-def bind_running(render_window, mapper: LMIPBrickMapper, running: np.ndarray, local: float) -> None:
-    """The scan's state on ``mapper``: the running maximum so far (data units, NaN: none) and the threshold."""
+def bind_running(render_window, mapper: LMIPBrickMapper, running: np.ndarray, local: float, depth=None) -> None:
+    """The scan's state on ``mapper``: the running maximum so far (data units, NaN: none) and the threshold;
+    ``depth``: the scene depth its rays end at (:func:`mipcast.mappers.demip_brick.upload_pixels`)."""
     scalars = mapper.GetRenderedInput().GetPointData().GetScalars()
     normalised = np.where(np.isnan(running), NO_MAXIMUM, from_data_units(np.nan_to_num(running), scalars))
     threshold = float(from_data_units(np.array([local]), scalars)[0]) if np.isfinite(local) else 1.0e30
     mapper.GetAttachedVolume().GetShaderProperty().GetFragmentCustomUniforms().SetUniformf(
         "u_mc_brickLocal", threshold)
-    upload_pixels(render_window, mapper, normalised)
+    upload_pixels(render_window, mapper, normalised, depth)
 
 
 def scan(running: np.ndarray, ended: np.ndarray, brick_max: np.ndarray, brick_ended: np.ndarray) -> None:

@@ -131,6 +131,35 @@ class InputPreparer(VTKPythonAlgorithmBase):
         return 1
 
 
+def piece_range(preparer: InputPreparer) -> Optional[tuple]:
+    """The finite (low, high) a piece of ``preparer``'s input fills its missing values against, or None.
+
+    A brick of a volume beyond the 3D texture limit is drawn by its own
+    mapper, whose preparer would fill its missing voxels relative to the
+    brick's own finite range; given this (:meth:`InputPreparer.SetWholeRange`)
+    it fills them, and sets its missing thresholds, as the whole volume does.
+    None when the input holds no missing values (nothing to fill) or was
+    refused; the whole range the input itself was given when it is a piece.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from vtkmodules.util.numpy_support import numpy_to_vtk
+    >>> image = vtkImageData()
+    >>> image.SetDimensions(2, 2, 2)
+    >>> _ = image.GetPointData().SetScalars(numpy_to_vtk(np.array([0, 1, 2, 3, 4, 5, 6, np.nan]), deep=True))
+    >>> preparer = InputPreparer()
+    >>> preparer.SetInputDataObject(image)
+    >>> piece_range(preparer)
+    (0.0, 6.0)
+    """
+    preparer.Update()
+    prepared = preparer.GetPrepared()
+    if prepared is None or not prepared.missing:
+        return None
+    return preparer.GetWholeRange() or (prepared.low, prepared.high)
+
+
 def fill_side(projection: str) -> str:
     """Where a projection's missing voxels are filled: ``"above"`` for ``"minip"``, else ``"below"``.
 

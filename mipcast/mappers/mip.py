@@ -313,7 +313,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         # piece writes the mean, its weight, ... as u_mc_brickChannel says
         readout = type(self).BRICK_READOUT if state.get("brick_mean") else None
         names = tuple("image_terminate" if n == "refusal" else n for n in names) + (readout or "float_readout",)
-        if state.get("global_box") is not None and "image_terminate" in names:
+        if state.get("global_box") is not None and set(names) & {"image_terminate", "demip_brick_fetch",
+                                                                  "demip_brick_state_fetch"}:
             names += ("whole_ray_end",)  # a brick's ray ends where the whole volume's does (opaque geometry)
         return names
 

@@ -185,6 +185,6 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
         else:
             found[part] = kernel(values, entry[part], direction[part], length[part], crop=crop)
     # clipped away, or rays that saw no finite data (below the finite minimum): background
-    found[(lo > hi) | ~np.isfinite(found) | (found < prepared.missing_below) | (found > prepared.missing_above)] = np.nan
+    found = prepared.seen(np.where((lo > hi) | ~np.isfinite(found), np.nan, found))
     return scatter(found, hit, height, width)
 

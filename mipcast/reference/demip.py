@@ -167,9 +167,7 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
     # finite data (their maximum lies below the finite minimum: the test of shaders/missing_exit.glsl) are background
     hit = hit.copy()
     seen = np.flatnonzero(hit)
-    gone = ~np.isfinite(maximum) | ~sampled
-    if prepared.missing:
-        gone |= maximum < prepared.missing_below
+    gone = ~np.isfinite(prepared.seen(maximum)) | ~sampled
     if gone.any():
         hit[seen[gone]] = False
         keep = ~gone

@@ -116,7 +116,7 @@ def _lerp_poly(low: list, high: list, w0: np.ndarray, dw: np.ndarray) -> list:
 
 
 def _cell_cubics(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-                 length: np.ndarray, crop=None, corner_minimum: bool = False, extrapolate: bool = False) -> tuple:
+                 length: np.ndarray, crop=None, corner_bounds: bool = False, extrapolate: bool = False) -> tuple:
     """Per crossed cell segment, the cubic ``((a s + b) s + c) s + d`` (s in [0, 1]) of the interpolant.
 
     Returns ``(a, b, c, d, span, starts, visible)``: coefficients and length
@@ -125,7 +125,7 @@ def _cell_cubics(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
     each segment counts: with ``crop = (low, high, flags)`` the segments are
     also split at the cropping planes and a segment counts where its
     midpoint's cropping region is visible (all count without ``crop``); with
-    ``corner_minimum`` also the smallest of each cell's 8 corners.
+    ``corner_bounds`` also the smallest and the largest of each cell's 8 corners.
     ``extrapolate``: a segment off the box is read from its cell (the
     nearest, clamped) extrapolated, not clamped onto the box: what the GPU's
     cell walk reads for a ray that starts off the box (a multisampled pixel
@@ -150,8 +150,8 @@ def _cell_cubics(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
                           u0[:, axis, None], du[:, axis, None])
     d, c, b, a = (p[:, 0] for p in poly)
     starts = np.concatenate([[0], np.cumsum(valid.sum(axis=1))[:-1]])
-    if corner_minimum:
-        return a, b, c, d, t1 - t0, starts, visible, corners.min(axis=1)
+    if corner_bounds:
+        return a, b, c, d, t1 - t0, starts, visible, corners.min(axis=1), corners.max(axis=1)
     return a, b, c, d, t1 - t0, starts, visible
 
 
@@ -181,7 +181,8 @@ def exact_minimum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
 
 
 def exact_mean(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-               length: np.ndarray, crop=None, floor: float = -np.inf, extrapolate: bool = False) -> np.ndarray:
+               length: np.ndarray, crop=None, floor: float = -np.inf, extrapolate: bool = False,
+               bounded: bool = False) -> np.ndarray:
     """Exact mean of the trilinear interpolant along each ray inside the volume.
 
     The integral of each cell's cubic over its segment is
@@ -193,16 +194,19 @@ def exact_mean(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
     (missing data, filled below it): only the part of the ray where the
     interpolant is ``>= floor`` counts (its integral and its length;
     :func:`_covered_part`), the limit of :func:`sampled_mean`'s rule; NaN for
-    a ray with no such part.  ``extrapolate``: see :func:`_cell_cubics`.
+    a ray with no such part.  ``extrapolate``: see :func:`_cell_cubics`.  ``bounded``: the mean clamped
+    into the smallest and largest corner of the counted cells (a cell with a missing corner: from ``floor``
+    up), as the GPU clamps it with missing values (``shaders/amip_average_hooks.glsl``): a no-op inside the
+    box, where the mean lies there; off the box (``extrapolate``) the extrapolated cubic may leave it.
     """
-    a, b, c, d, span, starts, visible, lowest = _cell_cubics(values, entry, direction, length, crop,
-                                                             corner_minimum=True, extrapolate=extrapolate)
+    a, b, c, d, span, starts, visible, lowest, highest = _cell_cubics(values, entry, direction, length, crop,
+                                                                      corner_bounds=True, extrapolate=extrapolate)
     part, covered = d + c / 2.0 + b / 3.0 + a / 4.0, np.ones_like(span)
     counts = visible.copy()
     if floor > -np.inf:
         cut = lowest < floor  # a missing corner: only the part where the interpolant is >= floor counts
         part[cut], covered[cut] = _covered_part(a[cut], b[cut], c[cut], d[cut], floor)
-        counts &= d >= floor
+        counts &= ~cut | (d >= floor)  # (a cell of finite corners counts whole, even extrapolated below it)
     integral = np.add.reduceat(np.where(visible, part * span, 0.0), starts)
     total = np.add.reduceat(np.where(visible, covered * span, 0.0), starts)
     # the first counted segment's entry value (a ray of zero length)
@@ -210,7 +214,14 @@ def exact_mean(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
     first = np.minimum.reduceat(np.where(counts, index, len(d)), starts)
     entry_value = np.where(first < len(d), d[np.minimum(first, len(d) - 1)], np.nan)
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(total > 0, integral / np.where(total > 0, total, 1.0), entry_value)
+        mean = np.where(total > 0, integral / np.where(total > 0, total, 1.0), entry_value)
+    if bounded:
+        cut = lowest < floor
+        kept = visible & (~cut | (covered > 0.0))  # the cells counted: their corners bound the mean
+        below = np.minimum.reduceat(np.where(kept, np.where(cut, floor, lowest), np.inf), starts)
+        above = np.maximum.reduceat(np.where(kept, highest, -np.inf), starts)
+        mean = np.where(below <= above, np.clip(mean, below, above), mean)
+    return mean
 
 
 def _covered_part(a, b, c, d, floor: float, halvings: int = 40) -> tuple:
