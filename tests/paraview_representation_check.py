@@ -20,7 +20,9 @@ picture changes, no new shader program), ``eye`` (Hide/Show), ``trace`` (a
 traced property change replayed), ``state`` (.pvsm saved, session reset,
 loaded), ``arrays`` (a multi-component array by Magnitude and X in every method, a
 cell array), ``bad`` (a cell array with no cell along an axis, NaN voxels, out-of-range
-values), ``bench`` (frame time against the offscreen view).  With
+values), ``bench`` (frame time, wall and process CPU, against the offscreen view; ParaView's
+Volume representation in MIP against ``stock``; ``--bench-size``, ``--bench-frames``,
+``--bench-stencil``).  With
 ``--server HOST:PORT`` it connects to a running pvserver first and runs
 ``methods`` there.  Prints one JSON object on the last line of stdout; used by
 tests/test_paraview_representation.py.
