@@ -20,7 +20,9 @@ picture changes, no new shader program), ``eye`` (Hide/Show), ``trace`` (a
 traced property change replayed), ``state`` (.pvsm saved, session reset,
 loaded), ``arrays`` (a multi-component array by Magnitude and X in every method, a
 cell array), ``bad`` (a cell array with no cell along an axis, NaN voxels, out-of-range
-values), ``bench`` (frame time against the offscreen view).  With
+values), ``bench`` (frame time, wall and process CPU, against the offscreen view; ParaView's
+Volume representation in MIP against ``stock``; ``--bench-size``, ``--bench-frames``,
+``--bench-stencil``).  With
 ``--server HOST:PORT`` it connects to a running pvserver first and runs
 ``methods`` there.  Prints one JSON object on the last line of stdout; used by
 tests/test_paraview_representation.py.
@@ -178,9 +180,10 @@ def gl_errors(text):
 
 
 def cpu_first(methods):
-    """``methods`` with ``cpu`` first: VTK's CPU ray caster gives the view's volume property a
-    gradient-opacity function (``GetGradientOpacity`` creates one), so every later method draws
-    after a switch from ``cpu`` with that property (it once logged OpenGL errors: plugin/README.md)."""
+    """``methods`` with ``cpu`` first: VTK's CPU ray caster asks the view's volume property for its
+    gradient opacity, which created a function on it for good (the later methods then logged
+    OpenGL errors and ran slower: plugin/README.md; the representation now disables the
+    property's gradient opacity), so every later method draws after a switch from ``cpu``."""
     return sorted(methods, key=lambda method: method != "cpu")
 
 
@@ -605,13 +608,77 @@ def bad_part(directory, view, png):
     return report
 
 
-def bench_part(reader, image, png, methods, size=(512, 512), frames=5, warmup=1):
+class RendererClock:
+    """Process CPU seconds of a renderer's last render (its StartEvent to its EndEvent)."""
+
+    def __init__(self, renderer):
+        self.renderer, self.start, self.last = renderer, 0.0, 0.0
+        self.tags = [renderer.AddObserver("StartEvent", self._start), renderer.AddObserver("EndEvent", self._end)]
+
+    def _start(self, caller, event):
+        self.start = time.process_time()
+
+    def _end(self, caller, event):
+        self.last = time.process_time() - self.start
+
+    def remove(self):
+        for tag in self.tags:
+            self.renderer.RemoveObserver(tag)
+
+
+def frame_ratios(paraview_frame, offscreen_frame, renderers=None, frames=5, warmup=1):
+    """Time ``paraview_frame`` against ``offscreen_frame``, interleaved frame by frame.
+
+    Each frame's wall time (``perf_counter``) and process CPU time
+    (``process_time``: every thread of the process, llvmpipe's rasterising
+    threads included) is divided by those of the offscreen frame right after
+    it; the medians of these ratios are reported (this machine's load changes
+    from second to second; CPU time does not count the waiting).  With
+    ``renderers`` (ParaView's, the offscreen one): the renderers' own wall
+    time (``GetLastRenderTimeInSeconds``) and CPU time (:class:`RendererClock`).
+    """
+    def timed(frame):
+        wall, cpu = time.perf_counter(), time.process_time()
+        frame()
+        return time.perf_counter() - wall, time.process_time() - cpu
+
+    clocks = [RendererClock(renderer) for renderer in renderers or ()]
+    for _ in range(warmup):
+        paraview_frame()
+        offscreen_frame()
+    rows = []  # per frame: ParaView wall, cpu, offscreen wall, cpu[, renderers' wall, cpu, wall, cpu]
+    for _ in range(frames):
+        row = list(timed(paraview_frame))
+        inside = [(renderers[0].GetLastRenderTimeInSeconds(), clocks[0].last)] if clocks else []
+        row += timed(offscreen_frame)
+        if clocks:
+            inside.append((renderers[1].GetLastRenderTimeInSeconds(), clocks[1].last))
+        rows.append(row + [value for pair in inside for value in pair])
+    for clock in clocks:
+        clock.remove()
+    rows = np.array(rows)
+    medians = np.median(rows, axis=0)
+    result = dict(paraview_s=float(medians[0]), offscreen_s=float(medians[2]),
+                  ratio=float(np.median(rows[:, 0] / rows[:, 2])),
+                  ratio_of_minima=float(rows[:, 0].min() / rows[:, 2].min()),
+                  paraview_cpu_s=float(medians[1]), offscreen_cpu_s=float(medians[3]),
+                  cpu_ratio=float(np.median(rows[:, 1] / rows[:, 3])))
+    if clocks:
+        result.update(renderer_ratio=float(np.median(rows[:, 4] / rows[:, 6])),
+                      renderer_cpu_ratio=float(np.median(rows[:, 5] / rows[:, 7])),
+                      outside_renderer_cpu_s=float(np.median(rows[:, 1] - rows[:, 5])),
+                      offscreen_outside_renderer_cpu_s=float(np.median(rows[:, 3] - rows[:, 7])))
+    return result
+
+
+def bench_part(reader, image, png, methods, size=(512, 512), frames=5, warmup=1, stencil=False):
     """Frame times, per method: ParaView's StillRender against the offscreen view's Render
-    (each + WaitForCompletion), same size and camera, interleaved frame by frame (this
-    machine's load changes from second to second: each ParaView frame is divided by the
-    offscreen frame right after it and the median of those ratios is reported), and the
-    renderers' own ``GetLastRenderTimeInSeconds``.  Then ParaView's fixed cost: the same view
-    with nothing shown against an empty offscreen window of the same size."""
+    (each + WaitForCompletion), same size and camera, wall and process CPU time interleaved
+    frame by frame (:func:`frame_ratios`), and the renderers' own time.  Then for contrast
+    ParaView's own Volume representation in MIP blend against VTK's GPU mapper offscreen
+    (``stock``), and ParaView's fixed cost: the same view with nothing shown against an empty
+    offscreen window of the same size.  ``stencil``: the offscreen windows get ParaView's
+    framebuffer format (a stencil buffer: depth 24 + stencil 8 bits instead of depth 32)."""
     from paraview.simple import Hide
     from vtkmodules.vtkRenderingCore import vtkRenderWindow, vtkRenderer
 
@@ -625,36 +692,29 @@ def bench_part(reader, image, png, methods, size=(512, 512), frames=5, warmup=1)
         view.StillRender()
         window.WaitForCompletion()
 
-    def timed(frame):
-        start = time.perf_counter()
-        frame()
-        return time.perf_counter() - start
+    def against(method, name):
+        pixels = screenshot(view, png(f"bench_{name}"), size)
+        reference_pixels, scene = reference(image, method, view, size=size)
+        if stencil:
+            scene.render_window.Finalize()  # the next render makes a new context with a stencil buffer
+            scene.render_window.SetStencilCapable(1)
+        result = frame_ratios(paraview_frame, scene._render_and_wait, (renderer, scene.renderer), frames, warmup)
+        scene.render_window.Finalize()
+        return dict(result, within_1_share=compare(pixels, reference_pixels)["within_1_share"])
 
     report = dict(size=list(size), frames=frames, offscreen_paraview=bool(window.GetOffScreenRendering()),
-                  methods={})
+                  stencil=stencil, methods={})
     for method in methods:
         display.MipcastMethod = method
-        screenshot(view, png(f"bench_{method}"), size)
-        _, scene = reference(image, method, view, size=size)
-        for _ in range(warmup):
-            paraview_frame()
-            scene._render_and_wait()
-        pv, off, pv_r, off_r = [], [], [], []
-        for _ in range(frames):
-            pv.append(timed(paraview_frame))
-            pv_r.append(renderer.GetLastRenderTimeInSeconds())
-            off.append(timed(scene._render_and_wait))
-            off_r.append(scene.renderer.GetLastRenderTimeInSeconds())
-        ratios = np.array(pv) / np.array(off)
-        report["methods"][method] = dict(
-            paraview_s=float(np.median(pv)), offscreen_s=float(np.median(off)),
-            ratio=float(np.median(ratios)), ratio_of_minima=float(min(pv) / min(off)),
-            renderer_ratio=float(np.median(np.array(pv_r) / np.array(off_r))))
-        scene.render_window.Finalize()
-        del scene
+        report["methods"][method] = against(method, method)
+    display.SetRepresentationType("Volume")
+    display.GetProperty("BlendMode").SetData(1)  # VTK's MAXIMUM_INTENSITY_BLEND (not in 5.11's menu)
+    report["paraview_volume_mip"] = against("stock", "paraview_volume_mip")
     Hide(reader, view)
     empty = vtkRenderWindow()
     empty.SetOffScreenRendering(1)
+    empty.SetMultiSamples(0)  # as OffscreenView's and ParaView's windows (VTK's default: 8 samples)
+    empty.SetStencilCapable(int(stencil))
     empty.SetSize(*size)
     empty.AddRenderer(vtkRenderer())
 
@@ -662,18 +722,11 @@ def bench_part(reader, image, png, methods, size=(512, 512), frames=5, warmup=1)
         empty.Render()
         empty.WaitForCompletion()
 
-    for _ in range(warmup):
-        paraview_frame()
-        empty_frame()
-    pv, off = [], []
-    for _ in range(frames):
-        pv.append(timed(paraview_frame))
-        off.append(timed(empty_frame))
-    report["empty"] = dict(paraview_s=float(np.median(pv)), offscreen_s=float(np.median(off)))
+    report["empty"] = frame_ratios(paraview_frame, empty_frame, frames=frames, warmup=warmup)
     empty.Finalize()
     first = report["methods"][methods[0]]
-    report.update(method=methods[0], paraview_s=first["paraview_s"], offscreen_s=first["offscreen_s"],
-                  ratio=first["ratio"], renderer_ratio=first["renderer_ratio"])
+    report.update({key: first[key] for key in ("paraview_s", "offscreen_s", "ratio", "renderer_ratio", "cpu_ratio")},
+                  method=methods[0])
     return report
 
 
@@ -687,6 +740,9 @@ def main():
                                          "bench")
     parser.add_argument("--bench-methods", help="comma-separated methods to time (default: every in-view method)")
     parser.add_argument("--bench-size", type=int, default=512, help="square view size of the bench")
+    parser.add_argument("--bench-frames", type=int, default=5, help="timed frames per method of the bench")
+    parser.add_argument("--bench-stencil", action="store_true",
+                        help="the bench's offscreen windows with a stencil buffer, as ParaView's")
     args = parser.parse_args()
     import inspect
     if not hasattr(inspect, "getargspec"):  # ParaView 5.11's plugin loader on Python 3.11
@@ -744,7 +800,8 @@ def main():
         reader, _ = fresh()
         report["bench"] = bench_part(reader, image, png, args.bench_methods.split(",") if args.bench_methods
                                      else [n for n, m in mipcast.METHODS.items() if m.in_view],
-                                     size=(args.bench_size, args.bench_size))
+                                     size=(args.bench_size, args.bench_size), frames=args.bench_frames,
+                                     stencil=args.bench_stencil)
     if "state" in parts:  # last: it resets the session
         report["state"] = state_part(path, (WIDTH, HEIGHT), png, args.plugin)
     report["png_dir"] = png_dir

@@ -198,7 +198,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         if not vtkOpenGLGPUVolumeRayCastMapper.GetNumberOfInputConnections(self, 0):
             return
         current = vtkOpenGLGPUVolumeRayCastMapper.GetInputConnection(self, 0, 0)
-        if current.GetProducer() is None or any(same_port(current, port) for port in self._own_ports()):
+        if any(same_port(current, port) for port in self._own_ports()) or current.GetProducer() is None:
             return
         self.GetInputPreparer().SetInputConnection(0, current)
         self._route_input()
@@ -490,9 +490,18 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         volume = self.GetAttachedVolume()
         if volume is None or volume.GetMapper() is not self:
             return False
-        names = object_state(self).get("installed", ())
+        state = object_state(self)
+        names = state.get("installed", ())
+        # the replacements are read again only after the shader property changed (adding or
+        # clearing one modifies it; the uniforms pushed at every frame do not)
+        shader_property = volume.GetShaderProperty()
+        stamp = (shader_property.GetAddressAsString("vtkObjectBase"), shader_property.GetMTime(), names)
+        if state.get("attached_stamp") == stamp:
+            return True
         wanted = {shader_pieces.load_piece(n).vtk_tag for n in names}
-        return wanted <= set(shader_pieces.installed_tags(volume.GetShaderProperty()))
+        attached = wanted <= set(shader_pieces.installed_tags(shader_property))
+        state["attached_stamp"] = stamp if attached else None
+        return attached
 
 
 def _cell_centres_of(mapper, image):
@@ -510,8 +519,14 @@ def _cell_centres_of(mapper, image):
 
 
 def same_port(a, b) -> bool:
-    """Whether two vtkAlgorithmOutput objects name the same output port."""
-    return a.GetProducer() is b.GetProducer() and a.GetIndex() == b.GetIndex()
+    """Whether two vtkAlgorithmOutput objects name the same output port.
+
+    An algorithm keeps one vtkAlgorithmOutput per output port
+    (``vtkAlgorithm::GetOutputPort``), which ``GetInputConnection`` returns,
+    so the same port is the same object.  (Comparing producers wraps each
+    in Python: tens of microseconds, at every frame.)
+    """
+    return a is b
 
 
 def _check_before_render(mapper, event) -> None:

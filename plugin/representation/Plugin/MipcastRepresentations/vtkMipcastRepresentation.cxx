@@ -97,6 +97,11 @@ vtkMipcastRepresentation::vtkMipcastRepresentation()
   this->Key = key;
   this->MipcastVolume->SetVisibility(false);
   this->MipcastVolume->PickableOff();
+  // VTK's CPU ray caster (method cpu) asks the property for its gradient opacity, which creates
+  // one (constant 1) on it for good: every GPU method drawn after it then evaluated gradients at
+  // each sample (the same picture, 20 % slower). ParaView's gradient opacity never reaches the
+  // mipcast mappers; disabled, asking gives VTK's default function and stores none.
+  this->Property->DisableGradientOpacityOn();
   this->SetMipcastMethod("mip");
 }
 
