@@ -3,7 +3,9 @@
 Each layer may import only the layers listed for it in :data:`MAY_IMPORT`
 (and itself).  Besides:
 
-- the float64 reference imports no ``vtkRendering*`` module and no mapper;
+- the float64 reference imports no ``vtkRendering*`` module and no mapper (the
+  mappers may use its float64 kernels, for the few rays bricks compute on the
+  CPU; it never uses theirs);
 - the core (everything but the pyvista front ends ``mipcast.filters`` and
   ``mipcast.app``) imports pyvista only inside functions;
 - the ParaView plugin imports no pyvista at all;
@@ -24,7 +26,8 @@ MAY_IMPORT = {
     "reference": {"core"},
     "io": {"core"},
     "data_fixtures": {"core"},
-    "mappers": {"core", "shaders"},
+    # the mappers compute a few rays on the CPU (bricks' outline and face rays) with the float64 kernels
+    "mappers": {"core", "shaders", "reference"},
     "methods": {"core", "reference", "mappers"},
     "offscreen": {"core", "mappers", "methods"},
     "distributed": {"core", "mappers", "methods", "offscreen"},

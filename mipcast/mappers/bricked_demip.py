@@ -438,7 +438,7 @@ def face_picture(mapper, volume, renderer, rgba: np.ndarray, face, pixels: np.nd
     from mipcast.mappers import outline_rays
     from mipcast.mappers.demip_composite import mida_composite
     from mipcast.mappers.demip_ordered_bricks import local_threshold
-    from mipcast.reference.demip import _attenuated, _local, _same_material
+    from mipcast.reference.demip import attenuated_maximum, local_maxima, same_material
 
     out = rgba.copy()
     if not pixels.any():
@@ -460,14 +460,14 @@ def face_picture(mapper, volume, renderer, rgba: np.ndarray, face, pixels: np.nd
                                                             ceiling if window else np.inf), 0.0)
         return out
     if projection == "lmip":
-        valid = _local(samples, valid, local_threshold(volume.GetProperty(), data_range, mapper.GetLocalThreshold()))
+        valid = local_maxima(samples, valid, local_threshold(volume.GetProperty(), data_range, mapper.GetLocalThreshold()))
     values, first = np.fmax.reduce(np.where(valid, samples, np.nan), axis=1), np.full(len(rows), -1)
     if projection == "attenuated" and window:
         decay = mapper.GetAttenuation() * distance / min(abs(v) for v in mapper.GetInput().GetSpacing())
-        values = np.where(valid.any(axis=1), _attenuated(samples, valid, floor, ceiling, decay), np.nan)
+        values = np.where(valid.any(axis=1), attenuated_maximum(samples, valid, floor, ceiling, decay), np.nan)
     elif window and projection != "attenuated":
         eps = params["material_threshold"] if params["depth_of"] == "same_material" else 0.0
-        first = _same_material(samples, valid, floor, ceiling, eps)[1]
+        first = same_material(samples, valid, floor, ceiling, eps)[1]
     values = seen(mapper, values).astype(np.float32).astype(np.float64)  # as the GPU carries the value
     _, rgb = demip_composite(_whole(mapper.GetInput()), camera, distance, values[None], np.where(first >= 0, first,
                              np.inf)[None], params, volume.GetProperty(), slab=clip_uniforms.slab_of(mapper, camera),

@@ -154,12 +154,12 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
             valid = valid & (at >= lo[part, None]) & (at <= hi[part, None])
         sampled[part] = valid.any(axis=1)
         if projection == "attenuated":
-            maximum[part] = _attenuated(sample, valid, low, high, attenuation * voxels_per_step)
+            maximum[part] = attenuated_maximum(sample, valid, low, high, attenuation * voxels_per_step)
             first[part] = -1
         else:
             if projection == "lmip":
-                valid = _local(sample, valid, local)
-            maximum[part], first[part] = _same_material(sample, valid, low, high, eps)
+                valid = local_maxima(sample, valid, local)
+            maximum[part], first[part] = same_material(sample, valid, low, high, eps)
         if projection == "mida":
             mida[part] = _mida(sample, valid, low, high)
             first[part] = -1
@@ -212,7 +212,7 @@ def _samples(values, entry, direction, count, step, crop=None) -> tuple:
     return sample, valid
 
 
-def _local(sample, valid, local) -> np.ndarray:
+def local_maxima(sample, valid, local) -> np.ndarray:
     """LMIP: keep the samples before the first fall below a running maximum above ``local``."""
     running = np.maximum.accumulate(np.where(valid, sample, -np.inf), axis=1)
     before = np.concatenate([np.full((len(sample), 1), -np.inf), running[:, :-1]], axis=1)
@@ -221,7 +221,7 @@ def _local(sample, valid, local) -> np.ndarray:
     return valid & (np.arange(sample.shape[1])[None, :] < end[:, None])
 
 
-def _attenuated(sample, valid, low, high, decay) -> np.ndarray:
+def attenuated_maximum(sample, valid, low, high, decay) -> np.ndarray:
     """The scalar (data units) of the largest attenuated material."""
     material = np.where(valid, np.clip((sample - low) / (high - low), 0.0, 1.0), 0.0)
     crossed = np.cumsum(material, axis=1) - material
@@ -244,7 +244,7 @@ def _mida(sample, valid, low, high) -> np.ndarray:
     return colour
 
 
-def _same_material(sample, valid, low, high, eps) -> tuple:
+def same_material(sample, valid, low, high, eps) -> tuple:
     """Maximum (data units) and index of the first same-material sample (-1: no DEMIP term)."""
     sample = np.where(valid, sample, -np.inf)
     maximum = sample.max(axis=1)
