@@ -228,7 +228,8 @@ def _volume_matrix(renderer, image, mapper, name, parallel=False):
                                          ("mip", "camera inside"), ("minip", "camera inside"),
                                          ("average", "camera inside"), ("demip", "camera inside"),
                                          ("mip", "volume matrix"), ("analytic", "volume matrix, parallel"),
-                                         ("average", "volume matrix"), ("demip", "volume matrix, parallel")])
+                                         ("average", "volume matrix"), ("demip", "volume matrix, parallel"),
+                                         ("analytic", "jittering")])
 def test_bricks_follow_the_users_cropping_clipping_opaque_geometry_and_camera(image, name, scene, monkeypatch):
     def build():
         mapper, renderer, window = pipeline(image, name)
@@ -236,6 +237,8 @@ def test_bricks_follow_the_users_cropping_clipping_opaque_geometry_and_camera(im
             _camera_inside(renderer, image, mapper, name)
         elif scene.startswith("volume matrix"):  # the whole volume's rays in its own index space
             _volume_matrix(renderer, image, mapper, name, parallel=scene.endswith("parallel"))
+        elif scene == "jittering":  # a cell walk takes no samples: drawn (the sampled methods refuse it)
+            mapper.SetUseJittering(True)
         elif scene == "opaque geometry":  # rays stop at it, in every brick, where the whole volume's ray stops
             _opaque_geometry(renderer, image)
         elif scene == "zoomed in":  # bricks out of the view are not drawn
@@ -275,6 +278,8 @@ def test_bricks_follow_the_users_cropping_clipping_opaque_geometry_and_camera(im
         return
     if scene == "zoomed in":
         assert 0 < mapper.GetNumberOfBricks() < 27 and np.isfinite(values).mean() > 0.9
+    elif scene == "jittering":
+        assert mapper.GetNumberOfBricks() == 27 and mapper.GetLastProblem() is None and np.abs(rgb - one).max() <= 1
     elif scene.startswith("grazing ray") or scene == "opaque geometry":
         # grazing: its sample on the CPU (MinIP's was lost, and the averages' were not given one); opaque geometry:
         # each brick's ray ends where the whole volume's does, counted from the whole box's entry (the sphere's
@@ -521,9 +526,15 @@ def new_projection():
     unregister("new_projection")
 
 
-def test_a_method_that_cannot_brick_exactly_refuses_naming_the_limit_and_the_fix(image, new_projection, monkeypatch):
+@pytest.mark.parametrize("case", ["new projection", "jittering"])
+def test_a_method_that_cannot_brick_exactly_refuses_naming_the_limit_and_the_fix(image, case, request, monkeypatch):
+    """Also VTK's jittering with a sampling method: the bricks' samples sit at the whole volume's fixed positions,
+    not the single texture's jittered ones (drawn before, silently: mip 76 %, minip 86 %, average 98.8 %, demip
+    69 % of the pixels within 1 grey); the cell walks take no samples and draw (test_bricks_follow_...)."""
     lowered(monkeypatch)
-    mapper, renderer, window = pipeline(image, new_projection)
+    name = request.getfixturevalue("new_projection") if case == "new projection" else "mip"
+    mapper, renderer, window = pipeline(image, name)
+    mapper.SetUseJittering(case == "jittering")
     events = []
     mapper.AddObserver(vtkCommand.ErrorEvent, lambda caller, event: events.append(event))
     captured, previous = vtkStringOutputWindow(), vtkOutputWindow.GetInstance()
@@ -534,8 +545,11 @@ def test_a_method_that_cannot_brick_exactly_refuses_naming_the_limit_and_the_fix
         vtkOutputWindow.SetInstance(previous)
     problem = mapper.GetLastProblem()
     assert events and problem is not None and problem in captured.GetOutput()
-    assert "3D texture limit of 20" in problem and "(48, 48, 48)" in problem
-    assert "resample" in problem and "mip, analytic" in problem
+    assert "3D texture limit of 20" in problem and "resample" in problem
+    if case == "jittering":
+        assert "SetUseJittering(False)" in problem and "analytic" in problem
+    else:
+        assert "(48, 48, 48)" in problem and "mip, analytic" in problem
     assert rgb.max() <= 51  # the background (0.1, 0.1, 0.2) only: nothing drawn
 
 
