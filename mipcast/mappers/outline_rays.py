@@ -202,7 +202,7 @@ def cut_by(mapper, camera, image) -> tuple:
 
     planes = world_planes(mapper, camera)
     cropping = (mapper.GetCroppingRegionPlanes(), mapper.GetCroppingRegionFlags()) if mapper.GetCropping() else None
-    volume = mapper.GetAttachedVolume()
+    volume = getattr(mapper, "GetAttachedVolume", lambda: None)()  # VTK's own mappers know no attached volume
     return cropping_setup(image, cropping, planes if len(planes[0]) else None,
                           None if volume is None else volume.GetMatrix())
 
