@@ -75,9 +75,11 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkImagingCore import vtkImageClip
 
+from vtkmodules.vtkCommonMath import vtkMatrix4x4
 from vtkmodules.vtkRenderingCore import vtkVolume
 
 from mipcast import methods
+from mipcast.core.camera_rays import placed
 from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import DEMIP
 from mipcast.core.parameters import set_parameters
@@ -390,10 +392,30 @@ class DistributedView:
                                                       (brick_low - low) / (high - low)])
 
 
+    def _placed(self):
+        """The whole volume as the view's volume's matrix places it (:func:`mipcast.core.camera_rays.placed`).
+
+        ``view.local.volume`` may carry a matrix (``SetUserMatrix``, position,
+        orientation, scale, origin; the same on every rank): the hidden phase
+        volumes take it too, and the whole volume's rays, DEMIP's depth and the
+        ordered turns are cast in its index space as it places it.
+        """
+        matrix = self.local.volume.GetMatrix()
+        for name in ("depth_volume", "ordered_volume"):
+            hidden = getattr(self, name, None)
+            if hidden is not None:
+                own = hidden.GetUserMatrix()
+                if own is None or any(own.GetElement(r, c) != matrix.GetElement(r, c)
+                                      for r in range(4) for c in range(4)):
+                    copy = vtkMatrix4x4()
+                    copy.DeepCopy(matrix)
+                    hidden.SetUserMatrix(copy)
+        return placed(self.stub, matrix)
+
     def _push_rays(self) -> None:
         """This frame's rays (the camera may have moved): the same uniforms on every rank."""
         width, height = self.local.size
-        values = ray_uniforms(self.stub, self.camera, (width, height))
+        values = ray_uniforms(self._placed(), self.camera, (width, height))
         volumes = [self.local.volume] + ([self.depth_volume] if self.depth_mapper is not None else [])
         for volume in volumes:
             set_ray_uniforms(volume.GetShaderProperty().GetFragmentCustomUniforms(), values)
@@ -463,6 +485,7 @@ class DistributedView:
             out["result"] = rank_composite.compose(mapper, volume, renderer, self._piece, whole, self.reduce,
                                                    "demip", rank=(self.comm.rank, self.comm.size))
 
+        self._placed()  # the ordered turns' volume takes the view's matrix (rank_composite places the whole by it)
         renderer = self.local.renderer
         tag = renderer.AddObserver("StartEvent", start)
         self.local.volume.VisibilityOff()
@@ -508,8 +531,29 @@ class DistributedView:
         scalars = mapper.GetRenderedInput().GetPointData().GetScalars()
         return render_float_units(normalised, scalars)
 
+    def _check_jittering(self) -> None:
+        """Refuse VTK's jittering on the view's mapper where the ranks sample: their samples sit at the whole
+        volume's fixed positions (global_phase), not at a jittered process's (every rank raises alike).
+
+        Examples
+        --------
+        >>> from mipcast.data_fixtures import make_fixture
+        >>> view = DistributedView(make_fixture("vessels", size=16), "mip", size=(16, 16), comm=OneRank())
+        >>> view.local.mapper.SetUseJittering(True)
+        >>> view.float_image()
+        Traceback (most recent call last):
+        ValueError: rank 0: jittering (SetUseJittering(True)) cannot be composited exactly over the ranks: ...
+        """
+        mapper = self.local.mapper
+        if mapper.GetUseJittering() and "global_phase" in mapper.GetShaderPieces():
+            raise ValueError(f"rank {self.comm.rank}: jittering (SetUseJittering(True)) cannot be composited "
+                             "exactly over the ranks: each rank takes the whole volume's samples at fixed positions; "
+                             "turn it off (view.local.mapper.SetUseJittering(False)) or use a cell-walking method "
+                             "(analytic)")
+
     def float_image(self) -> np.ndarray:
         """Collective: the whole volume's float image (data units, NaN = miss), on every rank."""
+        self._check_jittering()
         start = time.perf_counter()
         self._push_rays()
         local = self._local_float()
@@ -575,6 +619,7 @@ class DistributedView:
         (True, True, (16, 16, 3))
         """
         if self._ordered_projection():
+            self._check_jittering()
             rgba = self._ordered_frame()
             floats = object_state(self.ordered_mapper).get("rank_ordered_floats", {})
             nan = np.full(rgba.shape[:2], np.nan)
@@ -585,7 +630,7 @@ class DistributedView:
                     np.asarray(floats.get("depth", nan), dtype=np.float64), straight)
         values = self.float_image()
         index = self.first_match(values)
-        depth, rgb = demip_composite(self.stub, self.camera, self.sample_distance, values, index,
+        depth, rgb = demip_composite(self._placed(), self.camera, self.sample_distance, values, index,
                                      self.demip_parameters(), self.local.volume.GetProperty(),
                                      slab=slab_of(self.depth_mapper, self.camera))
         return values.astype(np.float64), depth, rgb

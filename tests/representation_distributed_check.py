@@ -12,7 +12,9 @@ contrast), and saves each picture (``SaveScreenshot``) as
 method's compositing). Flags after the method: ``+nan`` shows it on a second
 copy of the phantom whose box :data:`NAN_BOX` holds missing values (NaN),
 crossing every piece border of the splits the test uses; ``+inside`` moves
-the camera inside the volume for that picture (:data:`INSIDE`). The test
+the camera inside the volume for that picture (:data:`INSIDE`); ``+moved``
+gives the display a transform (``Position``, ``Orientation``, ``Scale``,
+``Origin``: :data:`MOVED`) for that picture, which reaches the volume's matrix. The test
 (tests/test_representation_distributed.py) compares the pictures of N ranks
 with those of one rank.
 
@@ -43,6 +45,8 @@ NAN_CORNERS = (2.0, -1.0)
 #: ``+inside``: the camera this fraction of the box's x width from the focal point (the box's centre), towards
 #: where it was: inside the volume, the near plane cutting every piece's box.
 INSIDE = 0.3
+#: ``+moved``: the display transform (turned about the volume's centre, scaled unevenly, shifted; in view).
+MOVED = {"Position": [3.0, -2.0, 1.5], "Orientation": [15.0, -25.0, 10.0], "Scale": [1.0, 1.15, 0.85]}
 #: The ProgrammableFilter's script (--axis 0, 1, 2): this rank's slab, the piece file of its rank.
 SLAB_SCRIPT = """
 from vtkmodules.vtkIOXML import vtkXMLImageDataReader
@@ -191,7 +195,7 @@ def main():
     shown = False
     for method in args.methods.split(","):
         token, *flags = method.split("+")
-        nan, inside = "nan" in flags, "inside" in flags
+        nan, inside, moved = "nan" in flags, "inside" in flags, "moved" in flags
         if nan != shown:  # show the volume this method is drawn on, hide the other
             if nan not in displays:
                 displays[nan] = simple.Show(open_pieces(nan=True)[1], view)
@@ -258,11 +262,20 @@ def main():
             away = [p - f for p, f in zip(outside, focal)]
             norm = math.hypot(*away)  # not sum(): the plugin's names (ns=globals()) shadow the builtins
             camera.SetPosition(*[f + INSIDE * width * a / norm for f, a in zip(focal, away)])
+        if moved:  # about the volume's centre (the reader's whole bounds: the same on every rank)
+            bounds = reader.GetDataInformation().GetBounds()
+            display.Origin = [0.5 * (bounds[2 * a] + bounds[2 * a + 1]) for a in range(3)]
+            for prop, value in MOVED.items():
+                setattr(display, prop, value)
         simple.Render(view)
         key = method + "-again" if method in results["pngs"] else method  # a method shown twice
         shot = os.path.join(args.png_dir, f"{key}-n{ranks}-axis{args.axis}.png")
         simple.SaveScreenshot(shot, view, ImageResolution=list(args.image), TransparentBackground=0)
         camera.SetPosition(*outside)
+        if moved:
+            for prop in ("Origin",) + tuple(MOVED):
+                display.GetProperty(prop).SMProperty.ResetToDefault()
+            display.UpdateVTKObjects()
         results["pngs"][key] = shot
         print(json.dumps({"method": method, "png": shot}), flush=True)
     with open(args.out, "w") as handle:

@@ -70,6 +70,8 @@ def check_exact(results, ranks):
         tolerance = methods.METHODS[case["method"]].reference_tolerance
         if case["axis"].endswith("+inside"):  # float64 from VTK's cap (one process's own floats: 6e-4 off there)
             assert case["cap_misses_agree"] >= 0.999 and case["cap_float_max_error"] <= tolerance, label
+        elif case["axis"].endswith("+moved"):  # float64 of the placed volume (one process: 4.8e-4 on one pixel)
+            assert case["reference_misses_agree"] >= 0.999 and case["reference_float_max_error"] <= tolerance, label
         else:
             assert case["float_max_error"] <= tolerance, label
         check_one_rank(case, label)
@@ -92,10 +94,15 @@ def test_bricks_composite_exactly(display, ranks):
     there; floats against float64 from the cap (4e-6 of the range; one process's own are 6e-4 off there, VTK's
     float ray direction from a cap point 0.2 from the eye).  Before, the bricks counted from the whole box's
     entry, behind the camera, silently (2 ranks: mip 46.7 % of the pixels within 1 grey, 38 off, floats 0.15 of
-    the range; analytic 99.92 %, floats 6.3e-3)."""
-    done, results = run_check(display, ranks, "--axes", "x,y,z,d3,x+inside", "--methods", "mip,analytic")
+    the range; analytic 99.92 %, floats 6.3e-3).  And split along y with the volume placed by its own matrix
+    (``y+moved``, ``view.local.volume.SetUserMatrix``: turned, scaled unevenly, shifted): floats against the float64
+    reference of the placed volume (1e-5; one process's own are 4.8e-4 off on one pixel of 9216, whose ray enters
+    along the box's edge).  Before (the ranks' rays took the matrix as the identity; 2 ranks): mip 56.7 %, analytic
+    56.9 % of the pixels within 1 grey, floats 0.87 of the range off, 5 % of the hits wrong."""
+    done, results = run_check(display, ranks, "--axes", "x,y,z,d3,x+inside,y+moved", "--methods", "mip,analytic")
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
-    assert {case["method"] for case in results["cases"] if case["axis"] == "x+inside"} == {"mip", "analytic"}
+    for flagged in ("x+inside", "y+moved"):
+        assert {case["method"] for case in results["cases"] if case["axis"] == flagged} == {"mip", "analytic"}
     check_exact(results, ranks)
 
 
@@ -113,7 +120,11 @@ def check_demip(results, ranks, methods_run):
         assert case["within_1_grey"] >= 0.999 and case["within_2_grey"] >= 0.999, label
         assert case["misses_agree"] >= 0.999 and case["term_agree"] >= 0.999, label
         assert case["reference_term_agree"] >= 0.999, label
-        assert case["float_max_error"] <= methods.METHODS[case["method"]].reference_tolerance, label
+        tolerance = methods.METHODS[case["method"]].reference_tolerance
+        if case["axis"].endswith("+moved"):  # float64 of the placed volume (one process: 4.8e-4 on one pixel)
+            assert case["reference_misses_agree"] >= 0.999 and case["reference_float_max_error"] <= tolerance, label
+        else:
+            assert case["float_max_error"] <= tolerance, label
         # the same first same-material sample: depth equal to float32 rounding on >= 99.9 % of the pixels
         assert case["depth_within_1e-5"] >= 0.999, label
         assert case["reference_depth_within_1e-5"] >= 0.999, label
@@ -123,8 +134,12 @@ def check_demip(results, ranks, methods_run):
 
 @pytest.mark.parametrize("ranks", [2, 4])
 def test_demip_composites_exactly(display, ranks):
-    """DEMIP (every depth mode x sphere on/off) and two-pass DEMIP, split along x, y and z."""
-    done, results = run_check(display, ranks, "--axes", "x,y,z", "--methods", "demip,demip_two_pass")
+    """DEMIP (every depth mode x sphere on/off) and two-pass DEMIP, split along x, y and z, the z split with the
+    volume placed by its own matrix (``z+moved``: turned, scaled unevenly, shifted; the ranks' rays, depth and
+    sphere where the matrix puts the volume; the maximum against the float64 reference of the placed volume, one
+    process's own floats being 4.8e-4 off on one pixel).  Before (2 ranks): 48.7-58.8 % of the pixels within 1
+    grey, no depth within 1e-5 of one process's."""
+    done, results = run_check(display, ranks, "--axes", "x,y,z+moved", "--methods", "demip,demip_two_pass")
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     check_demip(results, ranks, ["demip", "demip_two_pass"])
 

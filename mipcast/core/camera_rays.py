@@ -150,6 +150,43 @@ def index_space(image: vtkImageData) -> tuple:
     return to_index, np.array(image.GetDimensions(), float) - 1.0
 
 
+def placed(image, matrix=None):
+    """``image`` as its vtkVolume's ``matrix`` places it in the world: its index-to-physical matrix is index -> world.
+
+    VTK draws a volume's points at ``matrix @ IndexToPhysical`` (the
+    volume's ``SetUserMatrix``, position, orientation, scale, origin): the
+    copy (scalars shared) folds the matrix into its origin and direction
+    matrix (no longer orthonormal under a scale) and keeps the spacing, so
+    that world planes and camera rays meet the right points, while a ray's
+    length through ``spacing`` (the bricks' ``u_mc_raySpacing``,
+    :mod:`mipcast.mappers.outline_rays`, :func:`mipcast.reference.rays.hit_rays`)
+    stays in the volume's own units, where VTK measures its sample distance.
+    ``image`` itself when ``matrix`` (4x4 array or vtkMatrix4x4) is None or
+    the identity.
+
+    Examples
+    --------
+    >>> image = vtkImageData()
+    >>> image.SetDimensions(3, 3, 3)
+    >>> placed(image) is image
+    True
+    >>> turned = np.array([[0.0, -2.0, 0.0, 5.0], [1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
+    >>> there = placed(image, turned)
+    >>> (matrix_array(there.GetIndexToPhysicalMatrix()) @ [1.0, 1.0, 0.0, 1.0]).tolist(), there.GetSpacing()
+    ([3.0, 1.0, 0.0, 1.0], (1.0, 1.0, 1.0))
+    """
+    if matrix is None:
+        return image
+    matrix = matrix if isinstance(matrix, np.ndarray) else matrix_array(matrix)
+    if np.array_equal(matrix, np.eye(4)):
+        return image
+    out = type(image)()
+    out.ShallowCopy(image)
+    out.SetOrigin(matrix[:3, :3] @ np.array(image.GetOrigin()) + matrix[:3, 3])
+    out.SetDirectionMatrix((matrix[:3, :3] @ matrix_array(image.GetDirectionMatrix())).ravel())
+    return out
+
+
 def box_interval(origin: np.ndarray, direction: np.ndarray, upper: np.ndarray,
                  margin: float = 0.0) -> tuple:
     """Ray parameters where rays enter/leave the box [-margin, upper + margin].

@@ -12,7 +12,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from mipcast.core.camera_rays import matrix_array
+from mipcast.core.camera_rays import matrix_array, placed
 
 
 def global_texture_box(piece_extent: Sequence[int], whole: Sequence[int]):
@@ -91,6 +91,9 @@ def set_ray_uniforms(uniforms, values: dict) -> None:
 def ray_uniforms(image, camera, size) -> dict:
     """The global_phase piece's per-pixel ray, in the absolute point-index space of ``image``.
 
+    ``image``: the whole volume's geometry in the world, its volume's matrix
+    folded in (:func:`placed`, :func:`whole_geometry`).
+
     A pixel at NDC (x, y) casts the ray through ``u_mc_rayPoint0 + x *
     u_mc_rayPointX + y * u_mc_rayPointY`` (the points at the NDC depth of
     the box's centre) along ``u_mc_rayDirection`` (parallel projection,
@@ -157,8 +160,8 @@ def near_cap(whole, camera, aspect: float = 1.0) -> Optional[np.ndarray]:
     (far - near), 1000 float epsilons)`` into the view and caps it, so a
     ray crossing the cap starts there (its first sample one step further),
     not at the box.  ``whole``: :func:`whole_geometry`'s image (the corners
-    through its index-to-physical matrix; a volume's own matrix is taken as
-    the identity, as :func:`ray_uniforms` takes it).
+    through its index-to-physical matrix: a volume's own matrix folded in,
+    :func:`placed`).
 
     Returns
     -------
@@ -227,10 +230,12 @@ def cap_steps(rays: dict, point: np.ndarray, step: np.ndarray) -> np.ndarray:
         return np.where(along > 0.0, (cap[3] - point @ cap[:3]) / np.where(along > 0.0, along, 1.0), -np.inf)
 
 
-def whole_geometry(whole_stub):
+def whole_geometry(whole_stub, matrix=None):
     """A scalar-less vtkImageData with the whole volume's geometry, from ``(extent, origin, spacing, direction)``.
 
-    ``direction``: the 3x3 matrix, row-major, nine numbers (or a vtkMatrix3x3).
+    ``direction``: the 3x3 matrix, row-major, nine numbers (or a vtkMatrix3x3);
+    ``matrix``: the volume's own matrix (``vtkVolume.GetMatrix()``), which
+    places the geometry in the world (:func:`placed`).
 
     Examples
     --------
@@ -245,7 +250,66 @@ def whole_geometry(whole_stub):
     image.SetOrigin(origin)
     image.SetSpacing(spacing)
     image.SetDirectionMatrix(direction)
-    return image
+    return placed(image, matrix)
+
+
+def whole_of(image, matrix=None):
+    """A scalar-less image with the geometry of ``image``'s points (counted from 0), placed by ``matrix`` (:func:`placed`).
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkCommonDataModel import vtkImageData
+    >>> image = vtkImageData()
+    >>> image.SetExtent(2, 5, 0, 3, 0, 1)
+    >>> whole_of(image, np.diag([2.0, 1.0, 1.0, 1.0])).GetBounds()
+    (0.0, 6.0, 0.0, 3.0, 0.0, 1.0)
+    """
+    dims = image.GetDimensions()
+    return whole_geometry(((0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1), image.GetOrigin(), image.GetSpacing(),
+                           image.GetDirectionMatrix()), matrix)
+
+
+def jitter_problem(mapper) -> Optional[str]:
+    """Why ``mapper``'s jittered samples cannot be drawn in bricks now, or None.
+
+    VTK's jittering (``SetUseJittering(True)``) starts each ray a fraction of
+    a step in (a 64 x 64 blue-noise pattern read at the fragment's window
+    position), while a sampling brick takes the whole volume's samples at
+    fixed positions (``shaders/global_phase.glsl``; DEMIP's bricks draw
+    unjittered), and the CPU's outline and face rays know no pattern: the
+    bricked picture would silently be another one (measured, 48^3 in 27
+    bricks: mip 76 %, minip 86 %, average 98.8 %, demip 69 % of the pixels
+    within 1 grey of the single texture).  Refused while the input exceeds
+    the texture limit and the method (a foveated mapper: its layers) samples;
+    the cell walks (analytic, analytic_minip, analytic_average) take no
+    samples: jittering changes nothing there, they draw.
+
+    Examples
+    --------
+    >>> from mipcast.mappers.mip import MIPVolumeMapper
+    >>> mapper = MIPVolumeMapper(); mapper.SetUseJittering(True)
+    >>> jitter_problem(mapper) is None   # no input, no window: nothing to brick
+    True
+    """
+    if not mapper.GetUseJittering():
+        return None
+    from mipcast.mappers import bricked_draw
+
+    limit = bricked_draw.exceeds_limit(mapper)
+    if not limit:
+        return None
+    if getattr(type(mapper), "BRICKS", None) == "foveated":
+        from mipcast.methods import METHODS
+
+        if METHODS[mapper.GetMethod()].walks_cells:
+            return None
+    elif "sampled_loop" not in mapper.GetShaderPieces():
+        return None
+    return (f"jittering (SetUseJittering(True)) cannot be drawn exactly beyond this GPU's 3D texture limit of {limit} "
+            f"points per axis: {type(mapper).__name__}'s bricks take the whole volume's samples at fixed positions, "
+            "not the single texture's jittered ones; turn jittering off (mapper.SetUseJittering(False)), use a "
+            "method that walks cells (analytic, analytic_minip, analytic_average: no samples to jitter), or "
+            f"resample the volume to at most {limit} points per axis (e.g. vtkImageResample)")
 
 
 def push_whole_rays(volume, sample_distance: float, whole, camera, size) -> None:
@@ -263,15 +327,14 @@ def push_whole_rays(volume, sample_distance: float, whole, camera, size) -> None
 def push_rays(mapper, entry, camera, shape, size=None) -> None:
     """This frame's whole-volume rays and sample distance on a brick of ``mapper``'s input.
 
-    For the brick ``entry`` (:func:`brick_entry`): the rays of ``camera``
-    over a viewport of ``shape`` (rows, columns); ``size`` (width, height)
-    gives the camera's aspect ratio when it is not ``shape``'s.
+    For the brick ``entry`` (:func:`brick_entry`, its volume following the
+    user's, matrix included): the rays of ``camera`` over a viewport of
+    ``shape`` (rows, columns) in the whole volume's point indices as the
+    volume's matrix places it; ``size`` (width, height) gives the camera's
+    aspect ratio when it is not ``shape``'s.
     """
-    image = mapper.GetInput()
-    dims = image.GetDimensions()
-    whole = whole_geometry(((0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1), image.GetOrigin(), image.GetSpacing(),
-                            image.GetDirectionMatrix()))
-    push_whole_rays(entry["volume"], entry["mapper"].GetSampleDistance(), whole, camera,
+    push_whole_rays(entry["volume"], entry["mapper"].GetSampleDistance(),
+                    whole_of(mapper.GetInput(), entry["volume"].GetMatrix()), camera,
                     (shape[1], shape[0]) if size is None else size)
 
 

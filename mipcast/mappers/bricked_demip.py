@@ -60,7 +60,7 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import DEMIP
 from mipcast.mappers import clip_uniforms, float_readout
-from mipcast.mappers.brick_rays import box_in_view, brick_entry, cached_bricks, push_rays
+from mipcast.mappers.brick_rays import box_in_view, brick_entry, cached_bricks, placed, push_rays, whole_of
 from mipcast.mappers.bricked_draw import seen
 from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, bind_maximum, match_index
 from mipcast.mappers.demip_composite import demip_composite, demip_premultiplied
@@ -94,15 +94,9 @@ def problem(mapper, limit: int) -> Optional[str]:
     return None
 
 
-def _whole(image) -> vtkImageData:
-    """A scalar-less image with the whole volume's geometry (camera rays, depth box)."""
-    dims = image.GetDimensions()
-    whole = vtkImageData()
-    whole.SetExtent(0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)
-    whole.SetOrigin(image.GetOrigin())
-    whole.SetSpacing(image.GetSpacing())
-    whole.SetDirectionMatrix(image.GetDirectionMatrix())
-    return whole
+def _whole(image, volume) -> vtkImageData:
+    """A scalar-less image with the whole volume's geometry as ``volume``'s matrix places it (rays, depth box)."""
+    return whole_of(image, volume.GetMatrix())
 
 
 def bricks_of(mapper, limit: int, kinds=None) -> list:
@@ -217,13 +211,13 @@ def _render(renderer, entry, mapper, camera, shape, raw: bool = False, size=None
     return found
 
 
-def _front_to_back(mapper, limit, camera, shape, entries, in_view, ordered, size=None) -> list:
+def _front_to_back(mapper, volume, limit, camera, shape, entries, in_view, ordered, size=None) -> list:
     """The ``ordered`` entries (one per brick, as ``entries``) of the bricks in view, front to back."""
     from mipcast.mappers.brick_rays import ray_uniforms, visibility_order
 
     seen = {id(first) for first, _ in in_view}
     visible = [i for i, (first, _) in enumerate(entries) if id(first) in seen]
-    rays = ray_uniforms(_whole(mapper.GetInput()), camera, (shape[1], shape[0]) if size is None else size)
+    rays = ray_uniforms(_whole(mapper.GetInput(), volume), camera, (shape[1], shape[0]) if size is None else size)
     return [ordered[visible[p]] for p in visibility_order([ordered[i]["extent"] for i in visible], rays)]
 
 
@@ -239,7 +233,7 @@ def _attenuated_scan(mapper, volume, renderer, limit, camera, shape, distance, e
     crossed = np.zeros(shape, dtype=np.float32)
     best = np.full(shape, np.nan)
     window = renderer.GetRenderWindow()
-    for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view,
+    for entry in _front_to_back(mapper, volume, limit, camera, shape, entries, in_view,
                                 ordered_bricks_of(mapper, limit, "attenuated"), size):
         follow_demip_brick(mapper, volume, entry, distance, demip=True, image_sample_distance=isd)
         bind_crossed(window, entry["mapper"], crossed, data_range, scene)
@@ -263,8 +257,8 @@ def _mida_scan(mapper, volume, renderer, limit, camera, shape, distance, entries
 
     colour, opacity, material = np.zeros(shape + (3,)), np.zeros(shape), np.zeros(shape)
     window = renderer.GetRenderWindow()
-    for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view, ordered_bricks_of(mapper, limit, "mida"),
-                                size):
+    for entry in _front_to_back(mapper, volume, limit, camera, shape, entries, in_view,
+                                ordered_bricks_of(mapper, limit, "mida"), size):
         follow_demip_brick(mapper, volume, entry, distance, demip=True, image_sample_distance=isd)
         bind_mida(window, entry["mapper"], material, opacity, data_range, scene)
         uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
@@ -291,8 +285,8 @@ def _lmip_scan(mapper, volume, renderer, limit, camera, shape, distance, entries
     local = local_threshold(volume.GetProperty(), data_range, mapper.GetLocalThreshold())
     running, ended = np.full(shape, np.nan), np.zeros(shape, dtype=bool)
     window = renderer.GetRenderWindow()
-    for entry in _front_to_back(mapper, limit, camera, shape, entries, in_view, ordered_bricks_of(mapper, limit, "lmip"),
-                                size):
+    for entry in _front_to_back(mapper, volume, limit, camera, shape, entries, in_view,
+                                ordered_bricks_of(mapper, limit, "lmip"), size):
         follow_demip_brick(mapper, volume, entry, distance, demip=True, image_sample_distance=isd)
         bind_running(window, entry["mapper"], running, local, scene)
         uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()
@@ -384,7 +378,8 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
         from mipcast.mappers import outline_rays
 
         before = np.isnan(values)
-        values = seen(mapper, outline_rays.complete(values, empty, mapper.GetRenderedInput(), camera, size, distance,
+        image = placed(mapper.GetRenderedInput(), volume.GetMatrix())  # the volume's matrix folded in
+        values = seen(mapper, outline_rays.complete(values, empty, image, camera, size, distance,
                                                     undrawn=outline_rays.undrawn(mapper, renderer, drawn_any)))
         completed = before & ~np.isnan(values)
     # the ordered projections' rays end at opaque geometry: the scene depth in their state texture's alpha
@@ -406,7 +401,7 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
         index[completed & _above_floor(values, volume.GetProperty(), data_range)] = 0.0
     object_state(mapper)["bricks_drawn"] = len(in_view)
     params = {p.name: getattr(mapper, p.getter)() for p in DEMIP}
-    depth, rgb = demip_composite(_whole(mapper.GetInput()), camera, distance, values, index, params,
+    depth, rgb = demip_composite(_whole(mapper.GetInput(), volume), camera, distance, values, index, params,
                                  volume.GetProperty(), slab=clip_uniforms.slab_of(mapper, camera),
                                  aspect=size[0] / size[1])
     if mapper.GetProjection() == "mida":  # the picture: the bricks' compositing front to back
@@ -447,8 +442,9 @@ def face_picture(mapper, volume, renderer, rgba: np.ndarray, face, pixels: np.nd
     if mapper.GetAutoAdjustSampleDistances():
         distance = auto_sample_distance(mapper.GetInput(), volume)
     camera, projection = renderer.GetActiveCamera(), mapper.GetProjection()
-    rows, columns, start, step, samples = outline_rays.face_samples(mapper, renderer, mapper.GetRenderedInput(),
-                                                                    rgba.shape[:2], distance, face, pixels)
+    image = placed(mapper.GetRenderedInput(), volume.GetMatrix())  # the volume's matrix folded in
+    rows, columns, start, step, samples = outline_rays.face_samples(mapper, renderer, image, rgba.shape[:2], distance,
+                                                                    face, pixels)
     data_range = mapper.GetInput().GetPointData().GetScalars().GetRange(0)
     floor, ceiling = constant_ends(volume.GetProperty(), *data_range)
     window = ceiling > floor  # else no material anywhere: no DEMIP term, no attenuation, no MIDA fading
@@ -469,8 +465,9 @@ def face_picture(mapper, volume, renderer, rgba: np.ndarray, face, pixels: np.nd
         eps = params["material_threshold"] if params["depth_of"] == "same_material" else 0.0
         first = same_material(samples, valid, floor, ceiling, eps)[1]
     values = seen(mapper, values).astype(np.float32).astype(np.float64)  # as the GPU carries the value
-    _, rgb = demip_composite(_whole(mapper.GetInput()), camera, distance, values[None], np.where(first >= 0, first,
-                             np.inf)[None], params, volume.GetProperty(), slab=clip_uniforms.slab_of(mapper, camera),
+    _, rgb = demip_composite(_whole(mapper.GetInput(), volume), camera, distance, values[None],
+                             np.where(first >= 0, first, np.inf)[None], params, volume.GetProperty(),
+                             slab=clip_uniforms.slab_of(mapper, camera),
                              aspect=rgba.shape[1] / rgba.shape[0], rays=(start[None], step[None]))
     out[rows, columns] = demip_premultiplied(values[None], rgb, volume.GetProperty())[0]
     return out

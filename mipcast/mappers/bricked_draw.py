@@ -64,7 +64,7 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms, float_readout
-from mipcast.mappers.brick_rays import box_in_view, brick_entry, cached_bricks, push_rays
+from mipcast.mappers.brick_rays import box_in_view, brick_entry, cached_bricks, placed, push_rays
 from mipcast.mappers.box_outline import box_corners, front_faces
 from mipcast.mappers.input_preparer import piece_range
 from mipcast.mappers.private_draw import (auto_sample_distance, draw_over, follow_volume, kept_texture,
@@ -384,19 +384,19 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
             result = combine(result, read[0])
     object_state(mapper)["bricks_drawn"] = drawn
     object_state(mapper)["brick_sampling"] = (step, sampled)  # for the rays off the box (_face_values)
+    image = placed(mapper.GetRenderedInput(), volume.GetMatrix())  # the CPU's rays: the volume's matrix folded in
     if rule != "mean":
         from mipcast.mappers import outline_rays
 
         undrawn = outline_rays.undrawn(mapper, renderer, drawn_any)
         if sampled:
-            result = outline_rays.complete(result, empty, mapper.GetRenderedInput(), camera, aspect_size, step,
-                                           combine, undrawn=undrawn)
+            result = outline_rays.complete(result, empty, image, camera, aspect_size, step, combine, undrawn=undrawn)
         elif undrawn is not None and (undrawn & np.isnan(result)).any():  # a walk's rays have no clamped sample;
             # those the whole box's raster covers on its outline and no brick's does: walked on the CPU
             from mipcast import reference
 
             kernel = getattr(reference.mip, _WALKS[rule])
-            result = combine(result, outline_rays.walked(mapper.GetRenderedInput(), camera, shape, aspect_size,
+            result = combine(result, outline_rays.walked(image, camera, shape, aspect_size,
                                                          undrawn & np.isnan(result), kernel, step))
         return seen(mapper, result)  # the CPU's rays that saw no finite data: background, as the bricks' own
     if not passes:
@@ -410,7 +410,6 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
         from mipcast.mappers import outline_rays
 
         none = np.sum([np.nan_to_num(-n) for n in counts], axis=0) == 0.0  # (a brick's ray without one: discarded)
-        image = mapper.GetRenderedInput()
         none &= outline_rays.unhidden(renderer, image, shape, aspect_size, step, none)  # not behind opaque geometry
         sample = outline_rays.single_samples(image, camera, shape, aspect_size, step, none,
                                              outline_rays.cut_by(mapper, camera, image))
@@ -665,7 +664,7 @@ def _face_values(mapper, volume, renderer, values, face, pixels) -> np.ndarray:
     out = values.copy()
     if not pixels.any():
         return out
-    image = mapper.GetRenderedInput()
+    image = placed(mapper.GetRenderedInput(), volume.GetMatrix())  # the volume's matrix folded in
     prepared = _prepared(mapper)
     if not sampled:
         # the mean over the finite part (NaN: none), bounded as the GPU bounds it with missing values

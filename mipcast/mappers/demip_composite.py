@@ -34,11 +34,13 @@ def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, i
     Parameters
     ----------
     whole : vtkImageData
-        The whole volume's geometry (extent, origin, spacing, direction; scalars not needed).
+        The whole volume's geometry (extent, origin, spacing, direction; scalars not needed), placed by the
+        volume's matrix (:func:`mipcast.mappers.brick_rays.placed`).
     camera : vtkCamera
     sample_distance : float
-        World distance between samples (sample k at the ray's start + (1 + k) steps: the box entry, or VTK's
-        near-plane cap beyond it when the camera is inside the volume, :func:`mipcast.mappers.brick_rays.near_cap`).
+        Distance between samples in the volume's own units, as VTK's (sample k at the ray's start + (1 + k) steps:
+        the box entry, or VTK's near-plane cap beyond it when the camera is inside the volume,
+        :func:`mipcast.mappers.brick_rays.near_cap`).
     values : numpy.ndarray, shape (height, width)
         The whole-ray maximum in data units (NaN: miss), top row first.
     index : numpy.ndarray, shape (height, width)
@@ -81,7 +83,10 @@ def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, i
             plane = index_plane(cap, np.linalg.inv(index_space(whole)[0]))
             start = np.maximum(start, cap_steps({"u_mc_rayCap": plane}, pixel_rays.origin, pixel_rays.direction))
         entry = pixel_rays.origin + start[..., None] * pixel_rays.direction
-        step, inside = sample_distance * pixel_rays.direction, pixel_rays.hit
+        # one sample distance in the volume's own units (the bricks' u_mc_raySpacing), not the world's: they differ
+        # where the volume's matrix scales (``whole`` placed by it, brick_rays.placed)
+        own = np.linalg.norm(pixel_rays.direction * np.abs(np.array(whole.GetSpacing())), axis=-1)
+        step, inside = sample_distance * pixel_rays.direction / own[..., None], pixel_rays.hit
     else:
         (entry, step), inside = rays, True
     hit = ~np.isnan(values)

@@ -10,7 +10,7 @@ from mipcast.core.object_state import object_state
 from mipcast.core.errors import InputError
 from mipcast.core.parameters import defaults, parameter_accessors, uniform_values
 from mipcast.core.prepare import scalar_image
-from mipcast.mappers import bricked_draw, clip_uniforms, shader_pieces
+from mipcast.mappers import brick_rays, bricked_draw, clip_uniforms, shader_pieces
 from mipcast.mappers.float_readout import from_data_units
 from mipcast.mappers.input_preparer import InputPreparer
 from mipcast.mappers.private_draw import rendering_renderer
@@ -386,7 +386,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         problem = self.GetInputPreparer().GetProblem()
         if problem is not None:
             return f"input refused, nothing is drawn: {problem}"
-        too_large = bricked_draw.refusal(self)
+        too_large = bricked_draw.refusal(self) or brick_rays.jitter_problem(self)
         if too_large is not None:
             return too_large
         prepared = self.GetInputPreparer().GetPrepared()

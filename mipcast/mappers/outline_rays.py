@@ -195,13 +195,16 @@ def _kept(image, start: np.ndarray, step: np.ndarray, steps: np.ndarray, cut) ->
 
 def cut_by(mapper, camera, image) -> tuple:
     """The mapper's clipping planes, slab and cropping as :func:`mipcast.reference.render` takes them:
-    ``(clip_planes, crop)`` (:func:`mipcast.reference.rays.cropping_setup`; None: none)."""
+    ``(clip_planes, crop)`` (:func:`mipcast.reference.rays.cropping_setup`; None: none); ``image`` placed by
+    the mapper's volume's matrix (:func:`mipcast.mappers.brick_rays.placed`), the cropping in its own coordinates."""
     from mipcast.mappers.clip_uniforms import world_planes
     from mipcast.reference.rays import cropping_setup
 
     planes = world_planes(mapper, camera)
     cropping = (mapper.GetCroppingRegionPlanes(), mapper.GetCroppingRegionFlags()) if mapper.GetCropping() else None
-    return cropping_setup(image, cropping, planes if len(planes[0]) else None)
+    volume = getattr(mapper, "GetAttachedVolume", lambda: None)()  # VTK's own mappers know no attached volume
+    return cropping_setup(image, cropping, planes if len(planes[0]) else None,
+                          None if volume is None else volume.GetMatrix())
 
 
 def _face_setup(mapper, renderer, image, shape: Sequence[int], sample_distance: float, face, pixels) -> tuple:

@@ -209,7 +209,9 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce,
     low, high, missing = piece_range(piece if usable else None)
     camera = renderer.GetActiveCamera()
     kind = brick if brick is not None else type(mapper)
-    whole_image = whole_geometry(whole_stub) if whole_stub is not None else None
+    # the whole volume in the world, as the representation's volume's matrix places it (its display transform)
+    whole_image = (whole_geometry(whole_stub, volume.GetMatrix() if volume is not None else None)
+                   if whole_stub is not None else None)
     # 1: shape, finite range, missing values (every rank); a mismatch: all give up alike
     head = reduce(np.array([shape[0], shape[1], -shape[0], -shape[1], -low, high, float(missing)],
                            dtype=np.float64), "max")

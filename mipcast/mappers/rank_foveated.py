@@ -245,7 +245,7 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     """
     from mipcast.core.prepare import prepare_scalars
     from mipcast.mappers import foveated, volume_pyramid
-    from mipcast.mappers.brick_rays import box_in_view, whole_geometry
+    from mipcast.mappers.brick_rays import box_in_view, placed, whole_geometry
     from mipcast.mappers.bricks import extract_brick
 
     width, height, x0, y0 = [0], [0], [0], [0]
@@ -382,6 +382,7 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
                     image = coarse_levels[volume_level]
                     extent = whole = tuple(image.GetExtent())
                     rays, component = image, -1
+                rays = placed(rays, volume.GetMatrix())  # the rays where the volume's matrix puts the level
                 key = (index, stamp if volume_level == 0 else image.GetAddressAsString("vtkObjectBase"),
                        extent, tuple(whole), kind, volume_level)
                 entry = _source_entry(state, key, kind, image, extent, whole, distance)

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
+from mipcast.core.camera_rays import placed
 from mipcast.core.prepare import prepare_scalars, scalar_image
 from mipcast.core.validation import check_choice, check_positive, check_size
 from mipcast.reference.demip import render_demip
@@ -32,7 +33,7 @@ _KERNELS = {"mip": sampled_maximum, "analytic": exact_maximum, "minip": sampled_
 
 
 def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
-           clip_planes=None, cropping=None, **params: Any) -> np.ndarray:
+           clip_planes=None, cropping=None, matrix=None, **params: Any) -> np.ndarray:
     """Render a maximum (minimum, mean) intensity projection in float64 on the CPU.
 
     Parameters
@@ -95,9 +96,15 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
         maximum (minimum, integral and length) over the visible pieces.
         The sub-volume (``0x2000``) is the box's six planes, as
         ``clip_planes``.  NaN where no sample (no piece) is visible.
+    matrix : vtkMatrix4x4 or numpy.ndarray (4, 4), optional
+        The volume's own matrix (``vtkVolume.GetMatrix()``: user matrix,
+        position, orientation, scale, origin), which places the image in the
+        world as VTK draws it (:func:`mipcast.core.camera_rays.placed`); the
+        sample distance is then in the volume's own units, as VTK's.
     **params
         ``sample_distance : float`` (method ``"mip"``, required): distance
-        between samples in world units, > 0 (also ``"minip"``, ``"average"``).
+        between samples in world units (the volume's own with ``matrix``), > 0
+        (also ``"minip"``, ``"average"``).
         The exact methods take none.
         ``component : int or "magnitude"`` (optional, every method): see ``image``.
 
@@ -146,7 +153,7 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     method = check_choice("method", method, tuple(METHODS))
     if method == "demip":  # depth, colour or maximum: see mipcast.reference.demip
         return render_demip(image, camera, (width, height), clip_planes=clip_planes, cropping=cropping,
-                            component=component, **params)
+                            component=component, matrix=matrix, **params)
     allowed = METHODS[method]
     unknown = sorted(set(params) - set(allowed))
     if unknown:
@@ -159,7 +166,8 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     if sampled:
         step = check_positive("sample_distance", params["sample_distance"])
 
-    clip_planes, crop = cropping_setup(image, cropping, clip_planes)
+    image = placed(image, matrix)  # the volume's matrix folded in (the prepared scalars are the image's)
+    clip_planes, crop = cropping_setup(image, cropping, clip_planes, matrix)
     hit, entry, direction, length = hit_rays(image, camera, (width, height))
     values = np.array(prepared.values, dtype=np.float64)
     lo, hi = clip_interval(image, entry, direction, length, clip_planes, within_box=not sampled)

@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from mipcast.core.camera_rays import placed
 from mipcast.core.parameter_tables import DEMIP
 from mipcast.core.clipping import crop_visible
 from mipcast.core.parameters import check_values
@@ -32,7 +33,7 @@ OUTPUTS = ("depth", "rgb", "value")
 SCENE_PARAMETERS = {"sample_distance": None, "window": None, "output": "depth"}
 
 
-def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=None, cropping=None,
+def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=None, cropping=None, matrix=None,
                  **params: Any) -> np.ndarray:
     """Depth-enhanced MIP in float64: depth, final colour or maximum per pixel.
 
@@ -62,8 +63,11 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
         Depth is normalised as without cropping (over the box, or its part
         inside the slab), and ``steps`` / ``entry_plus_length`` measure from
         the box (slab) entry.
+    matrix : vtkMatrix4x4 or numpy.ndarray (4, 4), optional
+        The volume's own matrix, as in :func:`mipcast.reference.render`.
     **params
-        ``sample_distance : float`` (required): world units between samples,
+        ``sample_distance : float`` (required): world units between samples
+        (the volume's own with ``matrix``),
         placed as in ``method="mip"`` (``t_enter + k * sample_distance``,
         ``k = 1..K``).
         ``window : (low, high)`` (required): the grey window in data units;
@@ -135,7 +139,8 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
     local = local if projection == "lmip" else np.inf
     voxels_per_step = step / min(abs(v) for v in image.GetSpacing())
 
-    clip_planes, crop = cropping_setup(image, cropping, clip_planes)
+    image = placed(image, matrix)  # the volume's matrix folded in (the prepared scalars are the image's)
+    clip_planes, crop = cropping_setup(image, cropping, clip_planes, matrix)
     hit, entry, direction, length = hit_rays(image, camera, (width, height))
     values = np.array(prepared.values, dtype=np.float64)
     lo, hi = clip_interval(image, entry, direction, length, clip_planes, within_box=False)

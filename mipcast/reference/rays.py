@@ -12,7 +12,7 @@ import numpy as np
 from numpy.lib.stride_tricks import as_strided
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
-from mipcast.core.camera_rays import camera_rays, index_space
+from mipcast.core.camera_rays import camera_rays, index_space, matrix_array
 from mipcast.core.clipping import SUBVOLUME_FLAGS, box_planes, crop_box, plane_rows, ray_interval
 
 #: Rays per chunk of the sampled reference.
@@ -25,8 +25,11 @@ def hit_rays(image: vtkImageData, camera: Any, size: tuple) -> tuple:
     """The pixels' rays that meet the volume, in index space.
 
     Returns ``hit`` (bool, H*W, row-major, top row first) and, per hit ray,
-    its ``entry`` point (N, 3), ``direction`` (N, 3, per unit world length)
-    and ``length`` (N,) inside the box (world units).
+    its ``entry`` point (N, 3), ``direction`` (N, 3, per unit length) and
+    ``length`` (N,) inside the box, in world units, or for an image placed
+    by a volume's matrix that scales (:func:`mipcast.mappers.brick_rays.placed`:
+    its direction matrix is not orthonormal) in the volume's own units, where
+    VTK measures the sample distance.
     """
     rays = camera_rays(image, camera, size)
     hit = rays.hit.ravel()
@@ -34,6 +37,10 @@ def hit_rays(image: vtkImageData, camera: Any, size: tuple) -> tuple:
     length = rays.t_exit.ravel()[hit] - t_enter
     direction = rays.direction.reshape(-1, 3)[hit]
     entry = rays.origin.reshape(-1, 3)[hit] + t_enter[:, None] * direction
+    axes = matrix_array(image.GetDirectionMatrix())
+    if not np.allclose(axes.T @ axes, np.eye(3), rtol=0.0, atol=1e-12):  # a scaling volume matrix folded in
+        own = np.linalg.norm(direction * np.abs(np.array(image.GetSpacing())), axis=1)  # own length per world length
+        direction, length = direction / own[:, None], length * own
     return hit, entry, direction, length
 
 
@@ -103,7 +110,7 @@ def clip_interval(image, entry: np.ndarray, direction: np.ndarray, length: np.nd
     return ray_interval(entry, direction, low, high, rows)
 
 
-def cropping_setup(image, cropping, clip_planes) -> tuple:
+def cropping_setup(image, cropping, clip_planes, matrix=None) -> tuple:
     """VTK's cropping for the references: ``(clip_planes, crop)``.
 
     ``cropping`` is ``(bounds, flags)``: ``SetCroppingRegionPlanes`` (six
@@ -112,6 +119,9 @@ def cropping_setup(image, cropping, clip_planes) -> tuple:
     ``clip_planes`` (as the mappers clip with it); other flags give ``crop =
     (low, high, flags)``, the planes in index space for
     :func:`mipcast.core.clipping.crop_visible` (``None``: no cropping).
+    ``matrix`` (4x4 array or vtkMatrix4x4): the volume's matrix when ``image``
+    is placed by it (:func:`mipcast.mappers.brick_rays.placed`): the data
+    coordinates are then the volume's own, ``matrix`` maps them to the world.
 
     Examples
     --------
@@ -135,12 +145,15 @@ def cropping_setup(image, cropping, clip_planes) -> tuple:
         raise TypeError(f"cropping must be (six region planes, region flags), got {cropping!r}") from None
     if not 0 <= flags < (1 << 27):
         raise ValueError(f"cropping region flags must be in 0 .. 0x7ffffff (27 regions), got {flags:#x}")
+    to_world = np.eye(4) if matrix is None else matrix if isinstance(matrix, np.ndarray) else matrix_array(matrix)
     if flags == SUBVOLUME_FLAGS:
         origins, normals = box_planes(bounds)
+        origins = origins @ to_world[:3, :3].T + to_world[:3, 3]
+        normals = normals @ np.linalg.inv(to_world[:3, :3])  # a plane's normal: the inverse transpose
         if clip_planes is not None:
             origins = np.concatenate([np.asarray(clip_planes[0], float).reshape(-1, 3), origins])
             normals = np.concatenate([np.asarray(clip_planes[1], float).reshape(-1, 3), normals])
         return (origins, normals), None
     to_index, _ = index_space(image)
-    low, high = crop_box(bounds, to_index)
+    low, high = crop_box(bounds, to_index @ to_world)
     return clip_planes, (low, high, flags)

@@ -721,8 +721,9 @@ def _ray_pusher(entry):
     """An observer of the mapper's draw: this frame's whole-volume rays for a brick (global_phase, global_cells).
 
     The rays come from the view's camera and size, the same on every rank
-    (:func:`mipcast.distributed.ray_uniforms`), so that every rank samples
-    the whole volume's rays at the same positions.  VTK's own mapper (the
+    (:func:`mipcast.distributed.ray_uniforms`), in the whole volume's point
+    indices as the display transform places it (the volume's matrix), so
+    that every rank samples the whole volume's rays at the same positions.  VTK's own mapper (the
     stock_phase piece) gets the near-plane cap where the camera is inside
     the volume (:func:`mipcast.mappers.stock_depth.push_cap`).
     """
@@ -737,9 +738,11 @@ def _ray_pusher(entry):
         stub = getattr(entry, "whole_stub", None)
         if renderer is None or volume is None or stub is None or object_state(mapper).get("global_box") is None:
             return
+        matrix = volume.GetMatrix()  # the display transform (Position, Orientation, Scale, Origin)
+        key = (stub, tuple(matrix.GetElement(r, c) for r in range(4) for c in range(4)))
         cached = getattr(entry, "whole_image", None)
-        if cached is None or cached[0] != stub:  # built once per whole volume, not per draw
-            cached = entry.whole_image = (stub, whole_geometry(stub))
+        if cached is None or cached[0] != key:  # built once per whole volume and transform, not per draw
+            cached = entry.whole_image = (key, whole_geometry(stub, matrix))
         image = cached[1]
         width, height = renderer.GetSize()
         if own:
