@@ -299,9 +299,9 @@ def jitter_problem(mapper) -> Optional[str]:
     if not limit:
         return None
     if getattr(type(mapper), "BRICKS", None) == "foveated":
-        from mipcast.methods import METHODS
+        from mipcast.core.parameter_tables import FOVEATION_LAYERS
 
-        if METHODS[mapper.GetMethod()].walks_cells:
+        if FOVEATION_LAYERS[mapper.GetMethod()].walks_cells:
             return None
     elif "sampled_loop" not in mapper.GetShaderPieces():
         return None
