@@ -252,9 +252,10 @@ def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera,
     if entries and problem is None:
         try:
             own = _ordered_entry(mapper, entries, whole_image.GetExtent(), projection)
-            # missing values filled as in the whole volume, as the phases' entries (rank_composite.compose)
-            own["mapper"].GetInputPreparer().SetWholeRange(entries[0]["mapper"].GetInputPreparer().GetWholeRange())
             follow_demip_brick(mapper, volume, own, mapper.GetSampleDistance(), demip=True)
+            # missing values filled as in the whole volume, as the phases' entries (rank_composite.compose); after
+            # follow_demip_brick, which gives it the mapper's range: here the mapper holds only this rank's piece
+            own["mapper"].GetInputPreparer().SetWholeRange(entries[0]["mapper"].GetInputPreparer().GetWholeRange())
         except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
             problem, own = repr(error), None
     # 1: who draws which piece (a row per rank), how many ranks counted, anyone failed
