@@ -225,11 +225,12 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce,
     if usable:
         try:
             entries = _entries(mapper, piece, whole_stub[0], rule, kind)
-            for entry in entries:  # missing values filled as in the whole volume (none: the piece as it is)
-                entry["mapper"].GetInputPreparer().SetWholeRange((low, high) if missing else None)
             for entry in entries:
                 bricked_draw.follow_brick(mapper, volume, entry) if rule == "mean" else _follow_demip(
                     mapper, volume, entry, entry is entries[1])
+                # after following (which gives a brick the user's mapper's fill range, here this piece's own):
+                # missing values filled as in the whole volume (none: the piece as it is)
+                entry["mapper"].GetInputPreparer().SetWholeRange((low, high) if missing else None)
             if not box_in_view(entries[0]["volume"], renderer, shape):
                 entries = []
         except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
