@@ -2,7 +2,7 @@
 
 Several ranks are simulated in one process (and one rank without data): each "rank" composes with its own piece, and its
 reductions combine its arrays with those the other ranks passed at the same collective (rounds
-until every collective has seen the others' final inputs: 3 collectives, 3 rounds).  The composed
+until every collective has seen the others' final inputs: 4 collectives, 4 rounds).  The composed
 picture must match the one-texture GPU foveated picture of the whole volume: every pixel within 1 grey
 (the CPU blend mirrors the GPU's arithmetic; on Mesa llvmpipe it is equal, bit for bit).
 """
@@ -17,7 +17,7 @@ from test_bricked_mapper import DISTANCE, image, picture, pipeline  # noqa: F401
 _COMBINE = {"max": np.maximum, "min": np.minimum, "sum": np.add}
 
 
-def simulate(mapper, renderer, pieces, stub, rounds=3):
+def simulate(mapper, renderer, pieces, stub, rounds=4):
     """Every piece's compose, its reductions combining all pieces' arrays of the same call."""
     records = [[] for _ in pieces]
     results = [None] * len(pieces)

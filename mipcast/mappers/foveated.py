@@ -240,7 +240,8 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         False
         """
         state = object_state(self)
-        if not self._parameters()["progressive"] or "frame" not in state:
+        # a frame drawn, here or reduced over the ranks of a parallel view (mipcast.mappers.rank_foveated)
+        if not self._parameters()["progressive"] or ("frame" not in state and "rank_foveated_values" not in state):
             return False
         return state.get("refine_step", 0) < self._parameters()["refinement_frames"]
 
@@ -682,6 +683,12 @@ def _refine(state, params, image, volume, camera, viewport, gaze, radius):
     foveal radius to the farthest viewport corner; frame ``N`` is full
     quality (one level, as with foveation off).
     """
+    return refined_radius(params, viewport, gaze, radius, refine_step(state, params, image, volume, camera, viewport,
+                                                                      gaze))
+
+
+def refine_step(state, params, image, volume, camera, viewport, gaze) -> int:
+    """This frame's still-frame count under progressive refinement (0: something changed), kept in ``state``."""
     # to 7 digits: vtkWindowToImageFilter renders with the view angle off by 1e-9 relative
     signature = (_rounded(camera.GetPosition() + camera.GetFocalPoint() + camera.GetViewUp()
                           + (camera.GetViewAngle(), camera.GetParallelScale(), camera.GetEyeAngle())),
@@ -693,6 +700,13 @@ def _refine(state, params, image, volume, camera, viewport, gaze, radius):
     still = state.get("refine_signature") == signature
     step = min(state.get("refine_step", 0) + 1, frames) if still else 0
     state["refine_signature"], state["refine_step"] = signature, step
+    return step
+
+
+def refined_radius(params, viewport, gaze, radius, step: int):
+    """(radius, foveation) of still frame ``step`` (:func:`refine_step`): the disc widened linearly from the
+    foveal radius to the farthest viewport corner; full quality from ``refinement_frames`` on."""
+    frames = int(params["refinement_frames"])
     if step >= frames:
         return radius, False
     x0, y0, width, height = viewport

@@ -54,13 +54,16 @@ from typing import Callable, Optional, Sequence, Tuple
 
 import numpy as np
 
-from mipcast.core import foveation
+from mipcast.core import content_adaptive, foveation
 from mipcast.core.object_state import object_state
+from mipcast.core.prepare import missing_fill, prepare_scalars
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
 
 Reduce = Callable[[np.ndarray, str], np.ndarray]
 
 _LOW, _HIGH = -1.0e300, 1.0e300
+#: A missing voxel in the pieces' shares of the coarse levels: above "no rank covered it" (_LOW), below every value.
+_MISSING = -1.0e299
 #: Most pyramid levels / plan layers the fixed-size head carries.
 _MAX_LEVELS = 12
 
@@ -181,8 +184,8 @@ def spill_bounds(bounds: Sequence[float], camera, height: int, texel_pixels: flo
     return tuple(float(v) for pair in zip(low - margin, high + margin) for v in pair)
 
 
-def refusal(mapper) -> Optional[str]:
-    """Why ``mapper``'s settings cannot be composited exactly over the ranks, or None.
+def refusal(mapper, renderer=None) -> Optional[str]:
+    """Why ``mapper``'s settings cannot be composited exactly over the ranks (in ``renderer``), or None.
 
     >>> from mipcast.mappers.foveated import FoveatedVolumeMapper
     >>> refusal(FoveatedVolumeMapper()) is None
@@ -197,12 +200,46 @@ def refusal(mapper) -> Optional[str]:
         return (f"foveated with {method!r} levels cannot be composited exactly over the ranks (a level's ray "
                 f"value over several pieces is not the pieces' maximum): use foveation layers {able}, or the "
                 f"{method!r} method itself unfoveated")
-    if float(params["content_tolerance"]) > 0.0:
-        return ("foveated content-adaptive density (content_tolerance > 0) is not composited over the ranks yet: "
-                "set content_tolerance to 0, or render on one rank")
-    if params["progressive"]:
-        return "foveated progressive refinement is not composited over the ranks yet: turn progressive off"
+    if float(params["content_tolerance"]) > 0.0 and renderer is not None and _background(renderer) is None:
+        return ("foveated content-adaptive density (content_tolerance > 0) over the ranks needs a single-colour "
+                "background (its masks compare the coarsest level's picture with what lay beneath it, which the "
+                "ranks know only as the background colour): use a single-colour background, or content_tolerance "
+                "0, or render on one rank")
     return None
+
+
+def _background(renderer) -> Optional[tuple]:
+    """The renderer's background as the 8-bit framebuffer holds it (RGB, 0 .. 255); None when it is no single
+    colour (a gradient, a texture, a skybox: not known to the ranks' CPU blend)."""
+    for flag in ("GetGradientBackground", "GetTexturedBackground"):
+        if getattr(renderer, flag, lambda: False)():
+            return None
+    return tuple(float(np.floor(np.clip(c, 0.0, 1.0) * 255.0 + 0.5)) for c in renderer.GetBackground())
+
+
+def _piece_values(piece, component) -> Tuple[np.ndarray, float, float, bool]:
+    """(values (z, y, x) with missing voxels NaN, finite low, finite high, missing) of this rank's piece.
+
+    The drawn component (:func:`mipcast.core.prepare.prepare_scalars`), not
+    filled: the pieces agree on the fill once the whole range is reduced.  A
+    piece of missing values only: low > high (nothing to the range).
+    """
+    prepared = prepare_scalars(piece, component, whole_range=(0.0, 1.0))  # any range: the finite one is low, high
+    values = np.asarray(prepared.values)
+    if not prepared.missing:
+        return values, prepared.low, prepared.high, False
+    if prepared.missing == values.size:
+        return np.full(values.shape, np.nan), _HIGH, _LOW, True
+    # filled below the piece's own finite range: everything under its threshold was missing
+    own = prepare_scalars(piece, component, whole_range=(prepared.low, prepared.high))
+    return (np.where(np.asarray(own.values) < own.missing_below, np.nan, own.values), prepared.low, prepared.high,
+            True)
+
+
+def _texture_range(image) -> Tuple[float, float]:
+    """The scalar range of ``image``'s texture as a level mapper prepares it (missing values: from the fill)."""
+    prepared = prepare_scalars(image)
+    return (prepared.fill if prepared.missing else prepared.low), prepared.high
 
 
 def _source_entry(state, key, kind, image, extent, whole, distance) -> dict:
@@ -243,7 +280,6 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     rule ``"foveated"``); ``mapper`` a :class:`~mipcast.mappers.foveated.FoveatedVolumeMapper`.
     Every rank enters the same reductions whatever happens locally.
     """
-    from mipcast.core.prepare import prepare_scalars
     from mipcast.mappers import foveated, volume_pyramid
     from mipcast.mappers.brick_rays import box_in_view, whole_geometry
     from mipcast.mappers.bricks import extract_brick
@@ -257,26 +293,36 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
         object_state(mapper).pop("rank_foveated_bounds", None)
     usable = (mapper is not None and piece is not None and piece.GetNumberOfPoints() > 0 and whole_stub is not None
               and piece.GetPointData().GetScalars() is not None)
-    plan, prepared, sampling, whole_image, camera, params = None, None, [], None, renderer.GetActiveCamera(), None
-    low = high = 0.0
+    plan, values0, sampling, whole_image, camera, params = None, None, [], None, renderer.GetActiveCamera(), None
+    low, high, missing, step, tolerance, gaze, radius = _HIGH, _LOW, False, None, 0.0, None, None
     if usable:
         try:
-            problem = refusal(mapper)
+            problem = refusal(mapper, renderer)
             params = mapper._parameters()
             state = object_state(mapper)
-            prepared = prepare_scalars(piece, mapper.GetComponent())
-            if prepared.missing:
-                problem = problem or ("foveated over the ranks cannot draw missing (NaN/Inf) values: fill them "
-                                      "(e.g. vtkImageMathematics) or render on one rank")
-            low, high = float(np.min(prepared.values)), float(np.max(prepared.values))
+            values0, low, high, missing = _piece_values(piece, mapper.GetComponent())
             whole_image = whole_geometry(whole_stub)
             box = _WholeBox(volume, whole_image)
+            gaze, radius = foveated._current_gaze(state, renderer, camera, viewport)
+            if params["progressive"]:
+                step = foveated.refine_step(state, params, piece, volume, camera, viewport, gaze)
+        except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
+            problem, params = repr(error), None
+    # 0: progressive refinement's still frames, the same on every rank: the fewest (a change on any rank: 0)
+    agreed = float(reduce(np.array([-float(step) if step is not None else _LOW]), "max")[0])
+    if usable and params is not None:
+        try:
+            foveate = params["foveation"]
+            if agreed > 0.5 * _LOW:
+                state["refine_step"] = int(round(-agreed))
+                radius, foveate = foveated.refined_radius(params, viewport, gaze, radius, state["refine_step"])
             base_isd = float(mapper.GetImageSampleDistance())
             base_distance = float(mapper.GetSampleDistance())
-            gaze, radius = foveated._current_gaze(state, renderer, camera, viewport)
             plan = foveation.plan_frame(viewport, gaze, radius, params["falloff"], params["number_of_levels"],
-                                        params["foveation"], foveated._level_cap(whole_image, box, camera, viewport),
-                                        base_isd)
+                                        foveate, foveated._level_cap(whole_image, box, camera, viewport), base_isd)
+            tolerance = float(params["content_tolerance"])
+            if tolerance > 0 and len(plan.layers) > 1:  # content-adaptive: the coarsest level cast everywhere
+                plan = content_adaptive.adaptive_plan(plan)
             cells = foveated._walks_cells(params["method"])
             spacings = volume_pyramid.pyramid_voxel_sizes(whole_image, params["number_of_levels"])
             world_per_pixel = foveated._world_per_pixel(camera, box, viewport)
@@ -286,9 +332,11 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
                                                               cells, params["peripheral_sampling"]))
         except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
             problem, plan = repr(error), None
-    # 1: the head: shape, range, whole dims, the plan's layers (grid, volume level), a failure flag
-    head = np.full(8 + 3 + 1 + 3 * _MAX_LEVELS, _LOW)
-    head[:6] = [shape[0], shape[1], -shape[0], -shape[1], -low if usable else _LOW, high if usable else _LOW]
+    # 1: the head: shape, finite range, whole dims, the plan's layers (grid, volume level), a failure flag,
+    # missing values
+    head = np.full(8 + 3 + 1 + 3 * _MAX_LEVELS + 1, _LOW)
+    finite = usable and high >= low
+    head[:6] = [shape[0], shape[1], -shape[0], -shape[1], -low if finite else _LOW, high if finite else _LOW]
     if whole_image is not None:
         head[6:9] = whole_image.GetDimensions()
     if plan is not None and len(plan.layers) <= _MAX_LEVELS:
@@ -297,6 +345,7 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
             head[12 + 3 * index: 15 + 3 * index] = (layer.grid[0], layer.grid[1], volume_level)
     head[9] = 1.0 if problem else 0.0
     head[10] = float(params["number_of_levels"]) if params is not None else _LOW
+    head[-1] = 1.0 if missing else 0.0
     head = reduce(head, "max")
     if head[0] != -head[2] or head[1] != -head[3]:
         return None, f"the ranks' viewports differ ({int(head[0])}x{int(head[1])} vs {int(-head[2])}x{int(-head[3])})"
@@ -304,7 +353,9 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
         return None, problem or "a rank refused or failed to plan the foveated frame"
     if head[11] <= 0.5 * _LOW:
         return None, "no rank has data"
-    low_global = float(-head[4])
+    low_global, high_global, missing = float(-head[4]), float(head[5]), bool(head[-1] > 0.0)
+    if not high_global >= low_global:
+        return None, "no rank has finite data"
     whole_dims = tuple(int(v) for v in head[6:9])
     layers = [tuple(int(v) for v in head[12 + 3 * i: 15 + 3 * i]) for i in range(int(head[11]))]
     coarse_dims = whole_coarse_dims(whole_dims, int(head[10]))
@@ -313,11 +364,14 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     coarse_levels = {}
     if needed > 0:
         share = []
-        if usable and prepared is not None and problem is None:
+        if usable and values0 is not None and problem is None:
             try:
                 extent = piece.GetExtent()
                 offset = (extent[0] - whole_stub[0][0], extent[2] - whole_stub[0][2], extent[4] - whole_stub[0][4])
-                share = partial_pyramid(np.asarray(prepared.values), offset, whole_dims, needed + 1)
+                # a missing voxel loses to every finite one (the fill lies below them all): a coarse point of
+                # missing voxels only stays missing, as the one process's pyramid has it
+                share = partial_pyramid(np.where(np.isnan(values0), _MISSING, values0.astype(np.float64)), offset,
+                                        whole_dims, needed + 1)
             except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
                 problem, share = repr(error), []
         buffers = []
@@ -338,14 +392,16 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
                 for level in range(1, needed + 1):
                     nx, ny, nz = coarse_dims[level - 1]
                     values = reduced[at:at + nx * ny * nz].reshape(nz, ny, nx)
-                    # a coarse point no rank covered (pieces that do not cover the whole): the lowest value
-                    values = np.where(values <= 0.5 * _LOW, low_global, values)
+                    # a coarse point no rank covered (pieces that do not cover the whole): the lowest value;
+                    # one of missing voxels only: missing (its level's mapper fills it, as on one process)
+                    values = np.where(values <= 0.5 * _LOW, low_global,
+                                      np.where(values <= 0.5 * _MISSING, np.nan, values))
                     at += nx * ny * nz
                     spacing = [s * ((f - 1) / (n - 1) if n > 1 else 1.0)
                                for s, f, n in zip(spacing, dims, (nx, ny, nz))]
                     dims = [nx, ny, nz]
                     coarse_levels[level] = _image_of(values, whole_image.GetPoint(0), spacing,
-                                                     whole_image.GetDirectionMatrix(), prepared.values.dtype, name)
+                                                     whole_image.GetDirectionMatrix(), values0.dtype, name)
             except Exception as error:  # noqa: BLE001
                 problem = repr(error)
     # 3: each level's readout of this rank's share of its rays, reduced with MAX
@@ -390,6 +446,9 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
                     brick_mapper.SetComponent(component)
                 foveated._copy_settings(mapper, volume, brick_mapper, brick_volume, entry["matrix"], distance,
                                         layer.image_sample_distance)
+                # this rank's piece fills its missing values as the whole volume (a coarse level is whole)
+                brick_mapper.GetInputPreparer().SetWholeRange(
+                    (low_global, high_global) if missing and volume_level == 0 else None)
                 foveated._set_uniforms(brick_volume, plan, layer)
                 foveated._set_silhouette(brick_volume, silhouette if len(plan.layers) > 1 else None, layer.level)
                 if box_in_view(brick_volume, renderer, (rows, columns)):
@@ -417,11 +476,13 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
         2.0 * max(layer.image_sample_distance for layer in plan.layers))
     band = silhouette if len(plan.layers) > 1 else None
     # the level volumes' scalar ranges (VTK's transfer-function textures span them): the whole volume's, the
-    # reduced coarse levels'
-    ranges = {layer.level: (coarse_levels[v].GetPointData().GetScalars().GetRange(0) if v else
-                            (low_global, float(head[5])))
+    # reduced coarse levels' (with missing values: from the fill up, as their mappers prepare them)
+    whole_range = (missing_fill(low_global, high_global, "below", values0.dtype)[0] if missing else low_global,
+                   high_global)
+    ranges = {layer.level: _texture_range(coarse_levels[v]) if v else whole_range
               for (_, _, v), layer in zip(layers, plan.layers)}
-    return blend_levels(plan, values, volume.GetProperty(), band, ranges), None
+    adaptive = (tolerance, _background(renderer)) if tolerance > 0 and len(plan.layers) > 1 else None
+    return blend_levels(plan, values, volume.GetProperty(), band, ranges, adaptive), None
 
 
 def _stretch(texels: np.ndarray, size) -> np.ndarray:
@@ -453,7 +514,8 @@ def _stretch(texels: np.ndarray, size) -> np.ndarray:
     return lerp(below, above, fy[:, None, None])[::-1].astype(np.float64)
 
 
-def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: Optional[dict] = None) -> np.ndarray:
+def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: Optional[dict] = None,
+                 adaptive: Optional[tuple] = None) -> np.ndarray:
     """The foveated picture (premultiplied RGBA, top row first) from each level's composited values.
 
     What the GPU draws (shaders/foveated_weight.glsl): coarsest level first,
@@ -468,6 +530,14 @@ def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: O
     8 bits, as the window's framebuffer blends.  On one rank this is the
     GPU's picture bit for bit (tests/test_rank_foveated.py).
 
+    ``adaptive``: (content tolerance, background RGB 0 .. 255) of a
+    content-adaptive frame (``plan`` from :func:`mipcast.core.content_adaptive.adaptive_plan`):
+    the finer levels keep only the rays their refinement masks cast
+    (:func:`mipcast.core.content_adaptive.refinement_masks` of the coarsest
+    level's picture over the background, and the background: the
+    definition the GPU's refine pass evaluates), and level 0 its
+    silhouette band, as ``shaders/foveated_skip_coarse.glsl`` casts them.
+
     >>> plan = foveation.plan_frame((0, 0, 8, 8), (0.5, 0.5), 10.0, 0.2)   # one level: the fovea covers all
     >>> from mipcast.offscreen import grey_property
     >>> rgba = blend_levels(plan, {0: np.full((8, 8), 1.0)}, grey_property((0.0, 1.0)))
@@ -476,10 +546,23 @@ def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: O
     """
     _, _, width, height = plan.viewport
     out = np.zeros((height, width, 4))
-    for layer in plan.layers:  # coarsest first
+    masks = {}
+    for index, layer in enumerate(plan.layers):  # coarsest first
+        if adaptive is not None and index == 1:  # the masks from the coarsest level's picture
+            tolerance, background = adaptive
+            below = np.broadcast_to(np.asarray(background, dtype=np.float64), (height, width, 3))
+            after = np.minimum(out[..., :3] + _times_8bit(below, 255.0 - out[..., 3:4]), 255.0)
+            grid = plan.layers[0].grid
+            masks = content_adaptive.refinement_masks(content_adaptive.coarse_texels(after, grid),
+                                                      content_adaptive.coarse_texels(below, grid), plan, tolerance)
         level_values = values.get(layer.level)
         if level_values is None:
             continue
+        if layer.level in masks:  # the rays not cast show the coarser levels through
+            cast = masks[layer.level]
+            if silhouette is not None and layer.level == 0:
+                cast = cast | foveation.silhouette_band(plan, silhouette, layer.grid)
+            level_values = np.where(cast, level_values, np.nan)
         rgba = gpu_colour(level_values, volume_property, (ranges or {}).get(layer.level))
         lam = foveation.desired_level(foveation.eccentricity(layer.grid, plan.gaze, plan.aspect), plan)
         weight = foveation.layer_weight(layer.level, lam, plan)
