@@ -58,12 +58,15 @@ from mipcast.core import content_adaptive, foveation
 from mipcast.core.object_state import object_state
 from mipcast.core.prepare import missing_fill, prepare_scalars
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
+from mipcast.mappers.mip import MIPVolumeMapper
 
 Reduce = Callable[[np.ndarray, str], np.ndarray]
 
 _LOW, _HIGH = -1.0e300, 1.0e300
 #: A missing voxel in the pieces' shares of the coarse levels: above "no rank covered it" (_LOW), below every value.
 _MISSING = -1.0e299
+#: The layer methods' ``BRICKS`` composited over the ranks: the maximum (MIP, analytic MIP) and DEMIP's two phases.
+_LAYERS = ("max", "demip")
 #: Most pyramid levels / plan layers the fixed-size head carries.
 _MAX_LEVELS = 12
 
@@ -190,13 +193,13 @@ def refusal(mapper, renderer=None) -> Optional[str]:
     >>> from mipcast.mappers.foveated import FoveatedVolumeMapper
     >>> refusal(FoveatedVolumeMapper()) is None
     True
-    >>> mapper = FoveatedVolumeMapper(); mapper.SetMethod("demip"); "demip" in refusal(mapper)
+    >>> mapper = FoveatedVolumeMapper(); mapper.SetMethod("demip"); refusal(mapper) is None   # every layer today
     True
     """
     params = mapper._parameters()
     method = params["method"]
-    if getattr(FOVEATION_LAYERS[method].factory, "BRICKS", None) != "max":
-        able = ", ".join(n for n, e in FOVEATION_LAYERS.items() if getattr(e.factory, "BRICKS", None) == "max")
+    if getattr(FOVEATION_LAYERS[method].factory, "BRICKS", None) not in _LAYERS:
+        able = ", ".join(n for n, e in FOVEATION_LAYERS.items() if getattr(e.factory, "BRICKS", None) in _LAYERS)
         return (f"foveated with {method!r} levels cannot be composited exactly over the ranks (a level's ray "
                 f"value over several pieces is not the pieces' maximum): use foveation layers {able}, or the "
                 f"{method!r} method itself unfoveated")
@@ -206,6 +209,11 @@ def refusal(mapper, renderer=None) -> Optional[str]:
                 "ranks know only as the background colour): use a single-colour background, or content_tolerance "
                 "0, or render on one rank")
     return None
+
+
+def _is_demip(method: str) -> bool:
+    """Whether the layer ``method`` draws DEMIP levels (two phases, reduced with MAX and MIN)."""
+    return getattr(FOVEATION_LAYERS[method].factory, "BRICKS", None) == "demip"
 
 
 def _background(renderer) -> Optional[tuple]:
@@ -334,7 +342,7 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
             problem, plan = repr(error), None
     # 1: the head: shape, finite range, whole dims, the plan's layers (grid, volume level), a failure flag,
     # missing values
-    head = np.full(8 + 3 + 1 + 3 * _MAX_LEVELS + 1, _LOW)
+    head = np.full(8 + 3 + 1 + 3 * _MAX_LEVELS + 2, _LOW)
     finite = usable and high >= low
     head[:6] = [shape[0], shape[1], -shape[0], -shape[1], -low if finite else _LOW, high if finite else _LOW]
     if whole_image is not None:
@@ -346,6 +354,7 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     head[9] = 1.0 if problem else 0.0
     head[10] = float(params["number_of_levels"]) if params is not None else _LOW
     head[-1] = 1.0 if missing else 0.0
+    head[-2] = 1.0 if params is not None and _is_demip(params["method"]) else 0.0
     head = reduce(head, "max")
     if head[0] != -head[2] or head[1] != -head[3]:
         return None, f"the ranks' viewports differ ({int(head[0])}x{int(head[1])} vs {int(-head[2])}x{int(-head[3])})"
@@ -417,41 +426,49 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
             _clear_depth(renderer)  # the rays end at the depth they find: the last frame's, before this one
         except Exception as error:  # noqa: BLE001
             problem = repr(error)
+    demip = bool(head[-2] > 0.0)
+    entries = {}
+
+    def level_entry(index, volume_level, kind):
+        """The level's private brick mapper of ``kind`` on this rank's share of its volume, set up; its rays."""
+        layer = plan.layers[index]
+        distance = sampling[index][1]
+        if volume_level == 0:
+            dims = piece.GetDimensions()
+            stamp = (piece.GetAddressAsString("vtkObjectBase"), piece.GetMTime())
+            cached = state.get("rank_foveated_piece")
+            if cached is None or cached[0] != stamp:
+                cached = (stamp, extract_brick(piece, (0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)))
+                state["rank_foveated_piece"] = cached
+            image, extent, whole, rays = cached[1], tuple(piece.GetExtent()), whole_stub[0], whole_image
+            component = mapper.GetComponent()
+        else:
+            image = coarse_levels[volume_level]
+            extent = whole = tuple(image.GetExtent())
+            rays, component, stamp = image, -1, image.GetAddressAsString("vtkObjectBase")
+        key = ((index, kind), stamp, extent, tuple(whole), kind, volume_level)
+        entry = _source_entry(state, key, kind, image, extent, whole, distance)
+        brick_mapper, brick_volume = entry["mapper"], entry["volume"]
+        if brick_mapper.GetComponent() != component:
+            brick_mapper.SetComponent(component)
+        foveated._copy_settings(mapper, volume, brick_mapper, brick_volume, entry["matrix"], distance,
+                                layer.image_sample_distance)
+        # this rank's piece fills its missing values as the whole volume (a coarse level is whole)
+        brick_mapper.GetInputPreparer().SetWholeRange((low_global, high_global) if missing and volume_level == 0
+                                                      else None)
+        foveated._set_uniforms(brick_volume, plan, layer)
+        foveated._set_silhouette(brick_volume, silhouette if len(plan.layers) > 1 else None, layer.level)
+        return entry, rays
+
     layer_values = []
     for index, (columns, rows, volume_level) in enumerate(layers):
         local = np.full((rows, columns), np.nan)
         if usable and problem is None:
             try:
-                layer = plan.layers[index]
-                distance = sampling[index][1]
-                kind = FOVEATION_LAYERS[params["method"]].factory
-                if volume_level == 0:
-                    dims = piece.GetDimensions()
-                    stamp = (piece.GetAddressAsString("vtkObjectBase"), piece.GetMTime())
-                    cached = state.get("rank_foveated_piece")
-                    if cached is None or cached[0] != stamp:
-                        cached = (stamp, extract_brick(piece, (0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)))
-                        state["rank_foveated_piece"] = cached
-                    image, extent, whole, rays = cached[1], tuple(piece.GetExtent()), whole_stub[0], whole_image
-                    component = mapper.GetComponent()
-                else:
-                    image = coarse_levels[volume_level]
-                    extent = whole = tuple(image.GetExtent())
-                    rays, component = image, -1
-                key = (index, stamp if volume_level == 0 else image.GetAddressAsString("vtkObjectBase"),
-                       extent, tuple(whole), kind, volume_level)
-                entry = _source_entry(state, key, kind, image, extent, whole, distance)
-                brick_mapper, brick_volume = entry["mapper"], entry["volume"]
-                if brick_mapper.GetComponent() != component:
-                    brick_mapper.SetComponent(component)
-                foveated._copy_settings(mapper, volume, brick_mapper, brick_volume, entry["matrix"], distance,
-                                        layer.image_sample_distance)
-                # this rank's piece fills its missing values as the whole volume (a coarse level is whole)
-                brick_mapper.GetInputPreparer().SetWholeRange(
-                    (low_global, high_global) if missing and volume_level == 0 else None)
-                foveated._set_uniforms(brick_volume, plan, layer)
-                foveated._set_silhouette(brick_volume, silhouette if len(plan.layers) > 1 else None, layer.level)
-                if box_in_view(brick_volume, renderer, (rows, columns)):
+                kind = MIPVolumeMapper if demip else FOVEATION_LAYERS[params["method"]].factory  # DEMIP: phase 1
+                entry, rays = level_entry(index, volume_level, kind)
+                if box_in_view(entry["volume"], renderer, (rows, columns)):
+                    entries[index] = entry
                     local = _readout(renderer, entry, rays, camera, (rows, columns), (shape[1], shape[0]))
             except Exception as error:  # noqa: BLE001
                 problem = repr(error)
@@ -460,13 +477,29 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     reduced = reduce(np.concatenate(layer_values + [flag]), "max") if layers else flag
     if reduced[-1] > 0.0:
         return None, problem or "a rank failed to render its piece"
-    if not usable:
-        return None, None  # a rank without data: it took part, it draws nothing
     at = 0
-    for (columns, rows, _), layer in zip(layers, plan.layers):
+    for index, (columns, rows, _) in enumerate(layers):
         level_values = reduced[at:at + rows * columns].reshape(rows, columns)
         at += rows * columns
-        values[layer.level] = np.where(level_values <= 0.5 * _LOW, np.nan, level_values)
+        values[index] = np.where(level_values <= 0.5 * _LOW, np.nan, level_values)
+    # the level volumes' scalar ranges (VTK's transfer-function textures span them): the whole volume's, the
+    # reduced coarse levels' (with missing values: from the fill up, as their mappers prepare them)
+    dtype = values0.dtype if values0 is not None else np.float64
+    whole_range = (missing_fill(low_global, high_global, "below", dtype)[0] if missing else low_global, high_global)
+    ranges = [_texture_range(coarse_levels[v]) if v and usable and problem is None else whole_range
+              for _, _, v in layers]
+    colours = None
+    if demip:  # phase 2 of each DEMIP level, then its colours (as bricked_foveated's DEMIP levels)
+        colours, problem = _demip_levels(renderer, layers, values, entries, level_entry, camera, shape, reduce,
+                                         problem, ranges, coarse_levels, volume, sampling,
+                                         whole_image if usable else None)
+        if problem is not None:
+            return None, problem
+    if not usable:
+        return None, None  # a rank without data: it took part, it draws nothing
+    values = {layer.level: values[index] for index, layer in enumerate(plan.layers)}
+    if colours is not None:
+        colours = {layer.level: colours[index] for index, layer in enumerate(plan.layers)}
     # 4: blended after compositing, as the GPU draws the levels (coarsest first, "over", weights, upscale)
     state["rank_foveated_values"] = (plan, values, [volume_level for _, _, volume_level in layers])
     # the bounds whose projection covers the coarse levels' stretch beyond the outline (spill_bounds):
@@ -475,14 +508,63 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
         box.GetBounds(), camera, shape[0],
         2.0 * max(layer.image_sample_distance for layer in plan.layers))
     band = silhouette if len(plan.layers) > 1 else None
-    # the level volumes' scalar ranges (VTK's transfer-function textures span them): the whole volume's, the
-    # reduced coarse levels' (with missing values: from the fill up, as their mappers prepare them)
-    whole_range = (missing_fill(low_global, high_global, "below", values0.dtype)[0] if missing else low_global,
-                   high_global)
-    ranges = {layer.level: _texture_range(coarse_levels[v]) if v else whole_range
-              for (_, _, v), layer in zip(layers, plan.layers)}
+    ranges = {layer.level: ranges[index] for index, layer in enumerate(plan.layers)}
     adaptive = (tolerance, _background(renderer)) if tolerance > 0 and len(plan.layers) > 1 else None
-    return blend_levels(plan, values, volume.GetProperty(), band, ranges, adaptive), None
+    return blend_levels(plan, values, volume.GetProperty(), band, ranges, adaptive, colours), None
+
+
+def _demip_levels(renderer, layers, values, entries, level_entry, camera, shape, reduce, problem, ranges,
+                  coarse_levels, volume, sampling, whole_image):
+    """DEMIP levels over the ranks: ({layer index: premultiplied RGBA}, None) or (None, why); every rank enters.
+
+    ``values``: each layer's phase-1 maximum, reduced (MAX); ``ranges``: each
+    layer's level texture's scalar range (its material window's span, as a
+    DEMIP level mapper's on one process: the fill included).  Phase 2 on
+    each level's grid: the whole-ray index of the first sample of that
+    maximum's material on this rank's share (:class:`~mipcast.mappers.demip_brick.DEMIPBrickDepthMapper`,
+    casting only the level's rays), reduced with MIN over the ranks and the
+    levels at once; then depth, Eq. 1 and the colour sphere on the CPU
+    (:func:`mipcast.mappers.demip_composite.demip_composite`, the level
+    volume's box and sample distance, the viewport's aspect), as
+    :func:`mipcast.mappers.bricked_demip.compose` composites a level beyond
+    the texture limit.  DEMIP's settings are a DEMIP mapper's defaults (the
+    foveated mapper passes none to its levels).
+    """
+    from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, bind_maximum, match_index
+    from mipcast.mappers.demip_composite import demip_composite
+
+    found = []
+    for index, (columns, rows, volume_level) in enumerate(layers):
+        local = np.full((rows, columns), np.inf)
+        if index in entries and problem is None:
+            try:
+                entry, rays = level_entry(index, volume_level, DEMIPBrickDepthMapper)
+                bind_maximum(renderer.GetRenderWindow(), entry["mapper"], values[index], ranges[index])
+                local = match_index(_readout(renderer, entry, rays, camera, (rows, columns), (shape[1], shape[0]),
+                                             raw=True))
+            except Exception as error:  # noqa: BLE001  (reported; the collective still runs)
+                problem = repr(error)
+        found.append(np.where(np.isfinite(local), local, _HIGH).ravel())
+    reduced = reduce(np.concatenate(found + [[-1.0 if problem else 0.0]]), "min")
+    if reduced[-1] < 0.0:
+        return None, problem or "a rank failed to render its piece"
+    if whole_image is None:
+        return None, None
+    from mipcast.core.parameter_tables import DEMIP
+
+    params = {p.name: getattr(DEMIPBrickDepthMapper(), p.getter)() for p in DEMIP}  # a DEMIP mapper's defaults
+    colours, at = {}, 0
+    for index, (columns, rows, volume_level) in enumerate(layers):
+        index_values = reduced[at:at + rows * columns].reshape(rows, columns)
+        at += rows * columns
+        index_values = np.where(index_values >= 0.5 * _HIGH, np.inf, index_values)
+        level = values[index].astype(np.float32).astype(np.float64)  # as the float readout carries the value
+        geometry = whole_image if volume_level == 0 else coarse_levels[volume_level]
+        base, alpha = gpu_lookup(level, volume.GetProperty(), ranges[index])  # the level's tables, as its GPU's
+        _, rgb = demip_composite(geometry, camera, sampling[index][1], level, index_values, params,
+                                 volume.GetProperty(), aspect=shape[1] / shape[0], base_rgb=base)  # no slab
+        colours[index] = np.concatenate([rgb * alpha[..., None], alpha[..., None]], axis=-1)
+    return colours, None
 
 
 def _stretch(texels: np.ndarray, size) -> np.ndarray:
@@ -515,7 +597,7 @@ def _stretch(texels: np.ndarray, size) -> np.ndarray:
 
 
 def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: Optional[dict] = None,
-                 adaptive: Optional[tuple] = None) -> np.ndarray:
+                 adaptive: Optional[tuple] = None, colours: Optional[dict] = None) -> np.ndarray:
     """The foveated picture (premultiplied RGBA, top row first) from each level's composited values.
 
     What the GPU draws (shaders/foveated_weight.glsl): coarsest level first,
@@ -537,6 +619,8 @@ def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: O
     level's picture over the background, and the background: the
     definition the GPU's refine pass evaluates), and level 0 its
     silhouette band, as ``shaders/foveated_skip_coarse.glsl`` casts them.
+    ``colours``: {level: premultiplied float RGBA} of levels whose colour is
+    not their value's (DEMIP's), drawn instead of :func:`gpu_colour`.
 
     >>> plan = foveation.plan_frame((0, 0, 8, 8), (0.5, 0.5), 10.0, 0.2)   # one level: the fovea covers all
     >>> from mipcast.offscreen import grey_property
@@ -563,7 +647,10 @@ def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: O
             if silhouette is not None and layer.level == 0:
                 cast = cast | foveation.silhouette_band(plan, silhouette, layer.grid)
             level_values = np.where(cast, level_values, np.nan)
-        rgba = gpu_colour(level_values, volume_property, (ranges or {}).get(layer.level))
+        if colours is not None and layer.level in colours:
+            rgba = np.where(np.isfinite(level_values)[..., None], colours[layer.level], 0.0)
+        else:
+            rgba = gpu_colour(level_values, volume_property, (ranges or {}).get(layer.level))
         lam = foveation.desired_level(foveation.eccentricity(layer.grid, plan.gaze, plan.aspect), plan)
         weight = foveation.layer_weight(layer.level, lam, plan)
         if silhouette is not None and layer.level == 0:
@@ -608,11 +695,27 @@ def gpu_colour(values: np.ndarray, volume_property, value_range=None) -> np.ndar
     >>> gpu_colour(np.array([[0.0, 0.5, np.nan]]), grey_property((0.0, 1.0)))[0, :, 0].round(3).tolist()
     [0.0, 0.5, 0.0]
     """
+    rgb, alpha = gpu_lookup(values, volume_property, value_range)
+    out = np.zeros(np.shape(values) + (4,))
+    out[..., :3] = rgb * alpha[..., None]
+    out[..., 3] = alpha
+    return out
+
+
+def gpu_lookup(values: np.ndarray, volume_property, value_range=None) -> Tuple[np.ndarray, np.ndarray]:
+    """(straight RGB, opacity) at ``values`` as VTK's transfer-function textures give them (:func:`gpu_colour`);
+    0 where NaN.
+
+    >>> from mipcast.offscreen import grey_property
+    >>> rgb, alpha = gpu_lookup(np.array([0.5, np.nan]), grey_property((0.0, 1.0)))
+    >>> rgb[:, 0].round(3).tolist(), alpha.round(3).tolist()
+    ([0.5, 0.0], [1.0, 0.0])
+    """
     values = np.asarray(values, dtype=np.float64)
     hit = np.isfinite(values)
-    out = np.zeros(values.shape + (4,))
+    rgb_out, alpha_out = np.zeros(values.shape + (3,)), np.zeros(values.shape)
     if not hit.any():
-        return out
+        return rgb_out, alpha_out
     rgb_function = volume_property.GetRGBTransferFunction(0)
     opacity_function = volume_property.GetScalarOpacity(0)
     low, high = (float(v) for v in (value_range if value_range is not None else rgb_function.GetRange()))
@@ -632,14 +735,14 @@ def gpu_colour(values: np.ndarray, volume_property, value_range=None) -> np.ndar
     texels = _table_width(opacity_function, low, high)
     opacity_table = np.zeros(texels)
     opacity_function.GetTable(low, high, texels, opacity_table)
-    alpha = lookup(opacity_table[:, None], texels)[:, 0]
-    out[hit, :3] = rgb * alpha[:, None]
-    out[hit, 3] = alpha
-    return out
+    rgb_out[hit] = rgb
+    alpha_out[hit] = lookup(opacity_table[:, None], texels)[:, 0]
+    return rgb_out, alpha_out
 
 
-def _readout(renderer, entry, rays, camera, shape, size) -> np.ndarray:
-    """One float readout (data units, NaN: none) of a level's brick on ``shape``'s grid, the whole's rays."""
+def _readout(renderer, entry, rays, camera, shape, size, raw: bool = False) -> np.ndarray:
+    """One float readout (data units, NaN: none; ``raw``: as written) of a level's brick on ``shape``'s grid,
+    the whole's rays."""
     from mipcast.mappers import bricked_draw
     from mipcast.mappers.brick_rays import push_whole_rays
 
@@ -653,7 +756,7 @@ def _readout(renderer, entry, rays, camera, shape, size) -> np.ndarray:
     gl.Push()
     try:
         brick_volume.RenderVolumetricGeometry(renderer)
-        return bricked_draw.brick_readout(brick_mapper, shape)
+        return bricked_draw.brick_readout(brick_mapper, shape, raw=raw)
     finally:
         gl.Pop()
         object_state(brick_mapper).pop("exact_readout", None)
