@@ -74,16 +74,9 @@ def _grey(rgba):
     return np.clip(rgba[..., :3] * 255.0 + 0.5, 0.0, 255.0).astype(int)
 
 
-@pytest.mark.parametrize("layer, axis, count", [("mip", 0, 2), ("analytic", 2, 3)])
-def test_pieces_reduced_draw_the_one_texture_foveated_picture(image, layer, axis, count):
-    mapper, renderer, window = pipeline(image, "foveated")
-    mapper.SetMethod(layer)
-    mapper.SetGazePoint(0.3, 0.6)
-    renderer.SetBackground(0.0, 0.0, 0.0)
-    one = picture(window)
+def _pieces(image, axis, count):
     extent = list(image.GetExtent())
-    n = extent[2 * axis + 1]
-    cuts = [round(n * k / count) for k in range(count + 1)]
+    cuts = [round(extent[2 * axis + 1] * k / count) for k in range(count + 1)]
     pieces = []
     for k in range(count):  # pieces sharing a layer of points, as ParaView's
         e = list(extent)
@@ -93,7 +86,17 @@ def test_pieces_reduced_draw_the_one_texture_foveated_picture(image, layer, axis
         voi.SetVOI(*e)
         voi.Update()
         pieces.append(voi.GetOutput())
-    results = simulate(mapper, renderer, pieces + [None], _stub(image))
+    return pieces
+
+
+@pytest.mark.parametrize("layer, axis, count", [("mip", 0, 2), ("analytic", 2, 3)])
+def test_pieces_reduced_draw_the_one_texture_foveated_picture(image, layer, axis, count):
+    mapper, renderer, window = pipeline(image, "foveated")
+    mapper.SetMethod(layer)
+    mapper.SetGazePoint(0.3, 0.6)
+    renderer.SetBackground(0.0, 0.0, 0.0)
+    one = picture(window)
+    results = simulate(mapper, renderer, _pieces(image, axis, count) + [None], _stub(image))
     assert results[-1] == (None, None)  # the rank without data took part and draws nothing
     results = results[:-1]
     for rgba, problem in results:
@@ -147,21 +150,6 @@ def _with_missing(image):
     out.DeepCopy(image)
     out.GetPointData().SetScalars(numpy_to_vtk(values, deep=True))
     return out
-
-
-def _pieces(image, axis, count):
-    extent = list(image.GetExtent())
-    cuts = [round(extent[2 * axis + 1] * k / count) for k in range(count + 1)]
-    pieces = []
-    for k in range(count):  # pieces sharing a layer of points, as ParaView's
-        e = list(extent)
-        e[2 * axis], e[2 * axis + 1] = cuts[k], cuts[k + 1]
-        voi = vtkExtractVOI()
-        voi.SetInputData(image)
-        voi.SetVOI(*e)
-        voi.Update()
-        pieces.append(voi.GetOutput())
-    return pieces
 
 
 @pytest.mark.parametrize("layer, missing, tolerance", [("demip", False, 0.0), ("demip", True, 0.0),
