@@ -486,15 +486,19 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     # reduced coarse levels' (with missing values: from the fill up, as their mappers prepare them)
     dtype = values0.dtype if values0 is not None else np.float64
     whole_range = (missing_fill(low_global, high_global, "below", dtype)[0] if missing else low_global, high_global)
-    ranges = [_texture_range(coarse_levels[v]) if v and usable and problem is None else whole_range
-              for _, _, v in layers]
+    ranges = [whole_range] * len(layers)
+    try:  # (a failure here must not keep this rank from the DEMIP levels' reduction)
+        ranges = [_texture_range(coarse_levels[v]) if v and usable and problem is None else whole_range
+                  for _, _, v in layers]
+    except Exception as error:  # noqa: BLE001
+        problem = repr(error)
     colours = None
     if demip:  # phase 2 of each DEMIP level, then its colours (as bricked_foveated's DEMIP levels)
         colours, problem = _demip_levels(renderer, layers, values, entries, level_entry, camera, shape, reduce,
                                          problem, ranges, coarse_levels, volume, sampling,
                                          whole_image if usable else None)
-        if problem is not None:
-            return None, problem
+    if problem is not None:  # (after the last collective: this rank alone draws nothing, and says why)
+        return None, problem
     if not usable:
         return None, None  # a rank without data: it took part, it draws nothing
     values = {layer.level: values[index] for index, layer in enumerate(plan.layers)}
