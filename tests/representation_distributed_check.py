@@ -223,10 +223,12 @@ def main():
             applied = [f"{name}_{setting.split('=')[0]}" for setting in settings]
             for setting in settings:
                 parameter, value = setting.split("=")
-                try:
-                    value = float(value)
-                except ValueError:
-                    pass
+                for kind in (int, float):  # "1" an integer (a boolean or count), "0.5" a float, else a word
+                    try:
+                        value = kind(value)
+                        break
+                    except ValueError:
+                        pass
                 setattr(display, f"{name}_{parameter}", value)
         if "minip" in method:  # the minimum projections: opaque, a window on the low values
             lut.RescaleTransferFunction(low, low + MINIP_WINDOW * (high - low))

@@ -45,6 +45,11 @@ def image():
 def missing_image(image):
     """The fixture with missing (NaN) slabs at the box's sides (x < 5, y >= 40) and a block at the top (z >= 44,
     20 <= x < 30): bricks holding missing voxels, rays through missing data only, grazing rays on them."""
+    return with_missing(image)
+
+
+def with_missing(image):
+    """:func:`missing_image` of ``image`` (the 48^3 fixture), also for processes without pytest's fixtures."""
     from vtkmodules.util.numpy_support import numpy_to_vtk
     from vtkmodules.vtkCommonDataModel import vtkImageData
 

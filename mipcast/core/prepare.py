@@ -264,6 +264,26 @@ def scalar_image(image: Any) -> Any:
     return image
 
 
+def missing_fill(low: float, high: float, fill_side: str = "below", dtype=np.float64) -> Tuple[float, float, float]:
+    """(fill, missing_below, missing_above) of a volume with missing values whose finite range is ``low, high``.
+
+    What :func:`prepare_scalars` fills missing voxels with (``low - span``
+    below, ``high + span`` above, in ``dtype``) and the thresholds beyond
+    which a ray result saw no finite data (:meth:`PreparedScalars.seen`);
+    the pieces of a volume spread over ranks or bricks agree on them from
+    the whole volume's finite range alone.
+
+    Examples
+    --------
+    >>> missing_fill(2.0, 6.0)[:2], missing_fill(2.0, 6.0, "above")[0]
+    ((-2.0, 1.9999961853027344), 10.0)
+    """
+    span = high - low if high > low else max(abs(low), 1.0)
+    if fill_side == "below":
+        return float(np.asarray(low - span, dtype=dtype)), low - MISSING_TOLERANCE * span, float("inf")
+    return float(np.asarray(high + span, dtype=dtype)), float("-inf"), high + MISSING_TOLERANCE * span
+
+
 def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str = "below",
                     whole_range: Optional[Tuple[float, float]] = None) -> PreparedScalars:
     """The values the GPU draws from ``image`` (validated; ``image`` is not modified).
@@ -375,13 +395,7 @@ def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str =
                 float(values[finite].min()), float(values[finite].max()))
             low, high = (float(values[finite].min()), float(values[finite].max())) if missing < values.size \
                 else (wlow, whigh)
-            span = whigh - wlow if whigh > wlow else max(abs(wlow), 1.0)
-            if fill_side == "below":
-                fill = float(np.asarray(wlow - span, dtype=values.dtype))
-                missing_below = wlow - MISSING_TOLERANCE * span
-            else:
-                fill = float(np.asarray(whigh + span, dtype=values.dtype))
-                missing_above = whigh + MISSING_TOLERANCE * span
+            fill, missing_below, missing_above = missing_fill(wlow, whigh, fill_side, values.dtype)
             values, changed = np.where(finite, values, values.dtype.type(fill)), True
     low, high = (float(values.min()), float(values.max())) if not missing else (low, high)
     if values.dtype.kind in "iu" and low == high:

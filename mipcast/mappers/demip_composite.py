@@ -28,7 +28,8 @@ from mipcast.mappers.brick_rays import cap_steps, index_plane, near_cap
 
 def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, index: np.ndarray, params: dict,
                     volume_property, slab=None, aspect: Optional[float] = None,
-                    rays: Optional[Tuple[np.ndarray, np.ndarray]] = None) -> Tuple[np.ndarray, np.ndarray]:
+                    rays: Optional[Tuple[np.ndarray, np.ndarray]] = None,
+                    base_rgb: Optional[np.ndarray] = None) -> Tuple[np.ndarray, np.ndarray]:
     """(depth, straight RGB) of DEMIP from the bricks' maximum and first same-material sample index.
 
     Parameters
@@ -65,6 +66,9 @@ def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, i
         box faces, which start off the box:
         :func:`mipcast.mappers.outline_rays.face_samples`); by default the
         camera's pixel rays from their box entry.
+    base_rgb : numpy.ndarray, shape (height, width, 3), optional
+        The straight colour of each ray's maximum as the caller's GPU looks it
+        up (default :func:`transfer_colour`).
 
     Returns
     -------
@@ -98,7 +102,7 @@ def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, i
         entry[term] = geometry.narrow_to_slab(slab, entry[term], step[term])
     depth = np.full(values.shape, np.nan)
     depth[term] = geometry.depth(params["depth_mode"], where[term], entry[term])
-    rgb = transfer_colour(np.where(hit, values, 0.0), volume_property)
+    rgb = transfer_colour(np.where(hit, values, 0.0), volume_property) if base_rgb is None else np.array(base_rgb)
     rgb[term] = enhance(rgb[term], depth[term], np.ones(int(term.sum()), dtype=bool), where[term], geometry,
                         params)
     rgb[~hit] = 0.0

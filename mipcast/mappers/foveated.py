@@ -240,7 +240,8 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         False
         """
         state = object_state(self)
-        if not self._parameters()["progressive"] or "frame" not in state:
+        # a frame drawn, here or reduced over the ranks of a parallel view (mipcast.mappers.rank_foveated)
+        if not self._parameters()["progressive"] or ("frame" not in state and "rank_foveated_values" not in state):
             return False
         return state.get("refine_step", 0) < self._parameters()["refinement_frames"]
 
@@ -621,8 +622,7 @@ def _draw(mapper, state, volume, renderer) -> None:
             object_state(level_mapper)["colours_unit"] = colours_texture.GetTextureUnit()
         try:
             if kind == "coarse" or values_texture is not None:
-                _render_coarse_level(level_mapper, level_volume, renderer, plan, layer,
-                                     band_off=values_texture is not None)
+                _render_coarse_level(level_mapper, level_volume, renderer, plan, layer)
             elif margins is not None:
                 foveated_tiles.draw_extended(state, renderer, viewport, margins, level_volume, plan, layer, depth,
                                              lambda: level_volume.RenderVolumetricGeometry(renderer))
@@ -682,6 +682,12 @@ def _refine(state, params, image, volume, camera, viewport, gaze, radius):
     foveal radius to the farthest viewport corner; frame ``N`` is full
     quality (one level, as with foveation off).
     """
+    return refined_radius(params, viewport, gaze, radius, refine_step(state, params, image, volume, camera, viewport,
+                                                                      gaze))
+
+
+def refine_step(state, params, image, volume, camera, viewport, gaze) -> int:
+    """This frame's still-frame count under progressive refinement (0: something changed), kept in ``state``."""
     # to 7 digits: vtkWindowToImageFilter renders with the view angle off by 1e-9 relative
     signature = (_rounded(camera.GetPosition() + camera.GetFocalPoint() + camera.GetViewUp()
                           + (camera.GetViewAngle(), camera.GetParallelScale(), camera.GetEyeAngle())),
@@ -693,6 +699,13 @@ def _refine(state, params, image, volume, camera, viewport, gaze, radius):
     still = state.get("refine_signature") == signature
     step = min(state.get("refine_step", 0) + 1, frames) if still else 0
     state["refine_signature"], state["refine_step"] = signature, step
+    return step
+
+
+def refined_radius(params, viewport, gaze, radius, step: int):
+    """(radius, foveation) of still frame ``step`` (:func:`refine_step`): the disc widened linearly from the
+    foveal radius to the farthest viewport corner; full quality from ``refinement_frames`` on."""
+    frames = int(params["refinement_frames"])
     if step >= frames:
         return radius, False
     x0, y0, width, height = viewport
@@ -837,7 +850,7 @@ def _composite_level(mapper, state, volume, renderer, level, volume_level, level
     return boxes[volume_level][1], bricked_foveated.level_texture(state, renderer, level, normalised, "values"), colours
 
 
-def _render_coarse_level(level_mapper, level_volume, renderer, plan, layer, band_off: bool = False) -> None:
+def _render_coarse_level(level_mapper, level_volume, renderer, plan, layer) -> None:
     """Draw a GPU-masked level, its samplers pointing at the coarse pictures.
 
     VTK invokes UpdateShaderEvent (where :func:`_bind_coarse_samplers` sets
@@ -845,7 +858,7 @@ def _render_coarse_level(level_mapper, level_volume, renderer, plan, layer, band
     samplers would all read unit 0.  So when the level may need a build (its
     first draw, or anything VTK's rebuild test watches changed since the last
     draw that set the samplers), it is first drawn with every ray discarded
-    (the cast range emptied: the picture does not change), which builds the
+    (the cast range emptied, the silhouette band off: the picture does not change), which builds the
     shader; the real draw then sets them.
     """
     level_state = object_state(level_mapper)
@@ -859,8 +872,10 @@ def _render_coarse_level(level_mapper, level_volume, renderer, plan, layer, band
         uniforms.SetUniformf("u_mc_fovCastTo", _FAR)
         band = reference(0.0)
         uniforms.GetUniformf("u_mc_fovSilOn", band)
-        if band_off:  # the silhouette band reads the samplers too: nothing at all is drawn
-            uniforms.SetUniformf("u_mc_fovSilOn", 0.0)
+        # nor the silhouette band: level 0 casts it whatever the mask (and a level drawn from bricks reads the
+        # samplers there too), so the probe drew it once more, blended over the real draw's (a frame that
+        # probes: 93 % of the pixels within 1 grey, up to 35 off along the box's outline)
+        uniforms.SetUniformf("u_mc_fovSilOn", 0.0)
         try:
             level_volume.RenderVolumetricGeometry(renderer)
         finally:

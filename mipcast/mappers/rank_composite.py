@@ -56,9 +56,11 @@ from mipcast.mappers.brick_rays import box_in_view, brick_entry, push_whole_rays
 #: Reduce(array, op) -> the array reduced over every rank; op is "max", "min" or "sum".
 Reduce = Callable[[np.ndarray, str], np.ndarray]
 
-#: Why VTK's own mappers are not drawn over ranks when a piece holds missing values (see plugin/README.md).
-OWN_MISSING = ("VTK's own ray caster leaves missing (NaN/Inf) values to the GPU's NaN arithmetic, which is not "
-               "the same on the pieces as on the whole volume")
+#: Why a piece of VTK's own mapper holding missing values is not read out: VTK's ray caster has no missing test and
+#: leaves them to the GPU's NaN arithmetic; fill them first as the whole volume (the representation does:
+#: InputPreparer.SetWholeRange, then the filled piece is passed here).
+OWN_MISSING = ("VTK's own ray caster leaves missing (NaN/Inf) values to the GPU's NaN arithmetic: pass its piece "
+               "filled relative to the whole volume's finite range (InputPreparer.SetWholeRange)")
 #: Stand-ins for "nothing on this rank" in the reductions (float64 carries them exactly).
 _LOW, _HIGH = -1.0e300, 1.0e300
 _GL_DEPTH_BUFFER_BIT, _GL_SCISSOR_TEST = 0x00000100, 0x0C11
@@ -230,8 +232,8 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce,
             for entry in entries:
                 bricked_draw.follow_brick(mapper, volume, entry) if rule == "mean" else _follow_demip(
                     mapper, volume, entry, entry is entries[1])
-            for entry in entries:  # missing values filled as in the whole volume (none: the piece as it is); after
-                # follow_brick, which gives a brick its mapper's range: here the mapper holds only this rank's piece
+                # after following (which gives a brick the user's mapper's fill range, here this piece's own):
+                # missing values filled as in the whole volume (none: the piece as it is)
                 entry["mapper"].GetInputPreparer().SetWholeRange((low, high) if missing else None)
             if not box_in_view(entries[0]["volume"], renderer, shape):
                 entries = []

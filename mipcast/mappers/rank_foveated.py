@@ -54,13 +54,19 @@ from typing import Callable, Optional, Sequence, Tuple
 
 import numpy as np
 
-from mipcast.core import foveation
+from mipcast.core import content_adaptive, foveation
 from mipcast.core.object_state import object_state
+from mipcast.core.prepare import missing_fill, prepare_scalars
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
+from mipcast.mappers.mip import MIPVolumeMapper
 
 Reduce = Callable[[np.ndarray, str], np.ndarray]
 
 _LOW, _HIGH = -1.0e300, 1.0e300
+#: A missing voxel in the pieces' shares of the coarse levels: above "no rank covered it" (_LOW), below every value.
+_MISSING = -1.0e299
+#: The layer methods' ``BRICKS`` composited over the ranks: the maximum (MIP, analytic MIP) and DEMIP's two phases.
+_LAYERS = ("max", "demip")
 #: Most pyramid levels / plan layers the fixed-size head carries.
 _MAX_LEVELS = 12
 
@@ -181,28 +187,67 @@ def spill_bounds(bounds: Sequence[float], camera, height: int, texel_pixels: flo
     return tuple(float(v) for pair in zip(low - margin, high + margin) for v in pair)
 
 
-def refusal(mapper) -> Optional[str]:
-    """Why ``mapper``'s settings cannot be composited exactly over the ranks, or None.
+def refusal(mapper, renderer=None) -> Optional[str]:
+    """Why ``mapper``'s settings cannot be composited exactly over the ranks (in ``renderer``), or None.
 
     >>> from mipcast.mappers.foveated import FoveatedVolumeMapper
     >>> refusal(FoveatedVolumeMapper()) is None
     True
-    >>> mapper = FoveatedVolumeMapper(); mapper.SetMethod("demip"); "demip" in refusal(mapper)
+    >>> mapper = FoveatedVolumeMapper(); mapper.SetMethod("demip"); refusal(mapper) is None   # every layer today
     True
     """
     params = mapper._parameters()
     method = params["method"]
-    if getattr(FOVEATION_LAYERS[method].factory, "BRICKS", None) != "max":
-        able = ", ".join(n for n, e in FOVEATION_LAYERS.items() if getattr(e.factory, "BRICKS", None) == "max")
+    if getattr(FOVEATION_LAYERS[method].factory, "BRICKS", None) not in _LAYERS:
+        able = ", ".join(n for n, e in FOVEATION_LAYERS.items() if getattr(e.factory, "BRICKS", None) in _LAYERS)
         return (f"foveated with {method!r} levels cannot be composited exactly over the ranks (a level's ray "
                 f"value over several pieces is not the pieces' maximum): use foveation layers {able}, or the "
                 f"{method!r} method itself unfoveated")
-    if float(params["content_tolerance"]) > 0.0:
-        return ("foveated content-adaptive density (content_tolerance > 0) is not composited over the ranks yet: "
-                "set content_tolerance to 0, or render on one rank")
-    if params["progressive"]:
-        return "foveated progressive refinement is not composited over the ranks yet: turn progressive off"
+    if float(params["content_tolerance"]) > 0.0 and renderer is not None and _background(renderer) is None:
+        return ("foveated content-adaptive density (content_tolerance > 0) over the ranks needs a single-colour "
+                "background (its masks compare the coarsest level's picture with what lay beneath it, which the "
+                "ranks know only as the background colour): use a single-colour background, or content_tolerance "
+                "0, or render on one rank")
     return None
+
+
+def _is_demip(method: str) -> bool:
+    """Whether the layer ``method`` draws DEMIP levels (two phases, reduced with MAX and MIN)."""
+    return getattr(FOVEATION_LAYERS[method].factory, "BRICKS", None) == "demip"
+
+
+def _background(renderer) -> Optional[tuple]:
+    """The renderer's background as the 8-bit framebuffer holds it (RGB, 0 .. 255); None when it is no single
+    colour (a gradient, a texture, a skybox: not known to the ranks' CPU blend)."""
+    for flag in ("GetGradientBackground", "GetTexturedBackground"):
+        if getattr(renderer, flag, lambda: False)():
+            return None
+    return tuple(float(np.floor(np.clip(c, 0.0, 1.0) * 255.0 + 0.5)) for c in renderer.GetBackground())
+
+
+def _piece_values(piece, component) -> Tuple[np.ndarray, float, float, bool]:
+    """(values (z, y, x) with missing voxels NaN, finite low, finite high, missing) of this rank's piece.
+
+    The drawn component (:func:`mipcast.core.prepare.prepare_scalars`), not
+    filled: the pieces agree on the fill once the whole range is reduced.  A
+    piece of missing values only: low > high (nothing to the range).
+    """
+    prepared = prepare_scalars(piece, component, whole_range=(0.0, 1.0))  # any range: the finite one is low, high
+    values = np.asarray(prepared.values)
+    if not prepared.missing:
+        return values, prepared.low, prepared.high, False
+    if prepared.missing == values.size:
+        return np.full(values.shape, np.nan), _HIGH, _LOW, True
+    # filled below the piece's own finite range: everything under its threshold was missing
+    own = prepare_scalars(piece, component, whole_range=(prepared.low, prepared.high))
+    return (np.where(np.asarray(own.values) < own.missing_below, np.nan, own.values), prepared.low, prepared.high,
+            True)
+
+
+def _texture_range(image) -> Tuple[float, float]:
+    """The scalar range of ``image``'s texture as a level mapper prepares it (missing values: from the fill)."""
+    prepared = prepare_scalars(image)
+    return (prepared.fill if prepared.missing else prepared.low), prepared.high
 
 
 def _source_entry(state, key, kind, image, extent, whole, distance) -> dict:
@@ -243,7 +288,6 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     rule ``"foveated"``); ``mapper`` a :class:`~mipcast.mappers.foveated.FoveatedVolumeMapper`.
     Every rank enters the same reductions whatever happens locally.
     """
-    from mipcast.core.prepare import prepare_scalars
     from mipcast.mappers import foveated, volume_pyramid
     from mipcast.mappers.brick_rays import box_in_view, placed, whole_geometry
     from mipcast.mappers.bricks import extract_brick
@@ -257,26 +301,36 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
         object_state(mapper).pop("rank_foveated_bounds", None)
     usable = (mapper is not None and piece is not None and piece.GetNumberOfPoints() > 0 and whole_stub is not None
               and piece.GetPointData().GetScalars() is not None)
-    plan, prepared, sampling, whole_image, camera, params = None, None, [], None, renderer.GetActiveCamera(), None
-    low = high = 0.0
+    plan, values0, sampling, whole_image, camera, params = None, None, [], None, renderer.GetActiveCamera(), None
+    low, high, missing, step, tolerance, gaze, radius = _HIGH, _LOW, False, None, 0.0, None, None
     if usable:
         try:
-            problem = refusal(mapper)
+            problem = refusal(mapper, renderer)
             params = mapper._parameters()
             state = object_state(mapper)
-            prepared = prepare_scalars(piece, mapper.GetComponent())
-            if prepared.missing:
-                problem = problem or ("foveated over the ranks cannot draw missing (NaN/Inf) values: fill them "
-                                      "(e.g. vtkImageMathematics) or render on one rank")
-            low, high = float(np.min(prepared.values)), float(np.max(prepared.values))
+            values0, low, high, missing = _piece_values(piece, mapper.GetComponent())
             whole_image = whole_geometry(whole_stub)
             box = _WholeBox(volume, whole_image)
+            gaze, radius = foveated._current_gaze(state, renderer, camera, viewport)
+            if params["progressive"]:
+                step = foveated.refine_step(state, params, piece, volume, camera, viewport, gaze)
+        except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
+            problem, params = repr(error), None
+    # 0: progressive refinement's still frames, the same on every rank: the fewest (a change on any rank: 0)
+    agreed = float(reduce(np.array([-float(step) if step is not None else _LOW]), "max")[0])
+    if usable and params is not None:
+        try:
+            foveate = params["foveation"]
+            if agreed > 0.5 * _LOW:
+                state["refine_step"] = int(round(-agreed))
+                radius, foveate = foveated.refined_radius(params, viewport, gaze, radius, state["refine_step"])
             base_isd = float(mapper.GetImageSampleDistance())
             base_distance = float(mapper.GetSampleDistance())
-            gaze, radius = foveated._current_gaze(state, renderer, camera, viewport)
             plan = foveation.plan_frame(viewport, gaze, radius, params["falloff"], params["number_of_levels"],
-                                        params["foveation"], foveated._level_cap(whole_image, box, camera, viewport),
-                                        base_isd)
+                                        foveate, foveated._level_cap(whole_image, box, camera, viewport), base_isd)
+            tolerance = float(params["content_tolerance"])
+            if tolerance > 0 and len(plan.layers) > 1:  # content-adaptive: the coarsest level cast everywhere
+                plan = content_adaptive.adaptive_plan(plan)
             cells = foveated._walks_cells(params["method"])
             spacings = volume_pyramid.pyramid_voxel_sizes(whole_image, params["number_of_levels"])
             world_per_pixel = foveated._world_per_pixel(camera, box, viewport)
@@ -286,9 +340,11 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
                                                               cells, params["peripheral_sampling"]))
         except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
             problem, plan = repr(error), None
-    # 1: the head: shape, range, whole dims, the plan's layers (grid, volume level), a failure flag
-    head = np.full(8 + 3 + 1 + 3 * _MAX_LEVELS, _LOW)
-    head[:6] = [shape[0], shape[1], -shape[0], -shape[1], -low if usable else _LOW, high if usable else _LOW]
+    # 1: the head: shape, finite range, whole dims, the plan's layers (grid, volume level), a failure flag,
+    # missing values
+    head = np.full(8 + 3 + 1 + 3 * _MAX_LEVELS + 2, _LOW)
+    finite = usable and high >= low
+    head[:6] = [shape[0], shape[1], -shape[0], -shape[1], -low if finite else _LOW, high if finite else _LOW]
     if whole_image is not None:
         head[6:9] = whole_image.GetDimensions()
     if plan is not None and len(plan.layers) <= _MAX_LEVELS:
@@ -297,6 +353,8 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
             head[12 + 3 * index: 15 + 3 * index] = (layer.grid[0], layer.grid[1], volume_level)
     head[9] = 1.0 if problem else 0.0
     head[10] = float(params["number_of_levels"]) if params is not None else _LOW
+    head[-1] = 1.0 if missing else 0.0
+    head[-2] = 1.0 if params is not None and _is_demip(params["method"]) else 0.0
     head = reduce(head, "max")
     if head[0] != -head[2] or head[1] != -head[3]:
         return None, f"the ranks' viewports differ ({int(head[0])}x{int(head[1])} vs {int(-head[2])}x{int(-head[3])})"
@@ -304,7 +362,9 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
         return None, problem or "a rank refused or failed to plan the foveated frame"
     if head[11] <= 0.5 * _LOW:
         return None, "no rank has data"
-    low_global = float(-head[4])
+    low_global, high_global, missing = float(-head[4]), float(head[5]), bool(head[-1] > 0.0)
+    if not high_global >= low_global:
+        return None, "no rank has finite data"
     whole_dims = tuple(int(v) for v in head[6:9])
     layers = [tuple(int(v) for v in head[12 + 3 * i: 15 + 3 * i]) for i in range(int(head[11]))]
     coarse_dims = whole_coarse_dims(whole_dims, int(head[10]))
@@ -313,11 +373,14 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     coarse_levels = {}
     if needed > 0:
         share = []
-        if usable and prepared is not None and problem is None:
+        if usable and values0 is not None and problem is None:
             try:
                 extent = piece.GetExtent()
                 offset = (extent[0] - whole_stub[0][0], extent[2] - whole_stub[0][2], extent[4] - whole_stub[0][4])
-                share = partial_pyramid(np.asarray(prepared.values), offset, whole_dims, needed + 1)
+                # a missing voxel loses to every finite one (the fill lies below them all): a coarse point of
+                # missing voxels only stays missing, as the one process's pyramid has it
+                share = partial_pyramid(np.where(np.isnan(values0), _MISSING, values0.astype(np.float64)), offset,
+                                        whole_dims, needed + 1)
             except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
                 problem, share = repr(error), []
         buffers = []
@@ -338,14 +401,16 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
                 for level in range(1, needed + 1):
                     nx, ny, nz = coarse_dims[level - 1]
                     values = reduced[at:at + nx * ny * nz].reshape(nz, ny, nx)
-                    # a coarse point no rank covered (pieces that do not cover the whole): the lowest value
-                    values = np.where(values <= 0.5 * _LOW, low_global, values)
+                    # a coarse point no rank covered (pieces that do not cover the whole): the lowest value;
+                    # one of missing voxels only: missing (its level's mapper fills it, as on one process)
+                    values = np.where(values <= 0.5 * _LOW, low_global,
+                                      np.where(values <= 0.5 * _MISSING, np.nan, values))
                     at += nx * ny * nz
                     spacing = [s * ((f - 1) / (n - 1) if n > 1 else 1.0)
                                for s, f, n in zip(spacing, dims, (nx, ny, nz))]
                     dims = [nx, ny, nz]
                     coarse_levels[level] = _image_of(values, whole_image.GetPoint(0), spacing,
-                                                     whole_image.GetDirectionMatrix(), prepared.values.dtype, name)
+                                                     whole_image.GetDirectionMatrix(), values0.dtype, name)
             except Exception as error:  # noqa: BLE001
                 problem = repr(error)
     # 3: each level's readout of this rank's share of its rays, reduced with MAX
@@ -361,39 +426,50 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
             _clear_depth(renderer)  # the rays end at the depth they find: the last frame's, before this one
         except Exception as error:  # noqa: BLE001
             problem = repr(error)
+    demip = bool(head[-2] > 0.0)
+    entries = {}
+
+    def level_entry(index, volume_level, kind):
+        """The level's private brick mapper of ``kind`` on this rank's share of its volume, set up; its rays."""
+        layer = plan.layers[index]
+        distance = sampling[index][1]
+        if volume_level == 0:
+            dims = piece.GetDimensions()
+            stamp = (piece.GetAddressAsString("vtkObjectBase"), piece.GetMTime())
+            cached = state.get("rank_foveated_piece")
+            if cached is None or cached[0] != stamp:
+                cached = (stamp, extract_brick(piece, (0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)))
+                state["rank_foveated_piece"] = cached
+            image, extent, whole, rays = cached[1], tuple(piece.GetExtent()), whole_stub[0], whole_image
+            component = mapper.GetComponent()
+        else:
+            image = coarse_levels[volume_level]
+            extent = whole = tuple(image.GetExtent())
+            rays, component, stamp = image, -1, image.GetAddressAsString("vtkObjectBase")
+        rays = placed(rays, volume.GetMatrix())  # the rays where the volume's matrix puts the level
+        key = ((index, kind), stamp, extent, tuple(whole), kind, volume_level)
+        entry = _source_entry(state, key, kind, image, extent, whole, distance)
+        brick_mapper, brick_volume = entry["mapper"], entry["volume"]
+        if brick_mapper.GetComponent() != component:
+            brick_mapper.SetComponent(component)
+        foveated._copy_settings(mapper, volume, brick_mapper, brick_volume, entry["matrix"], distance,
+                                layer.image_sample_distance)
+        # this rank's piece fills its missing values as the whole volume (a coarse level is whole)
+        brick_mapper.GetInputPreparer().SetWholeRange((low_global, high_global) if missing and volume_level == 0
+                                                      else None)
+        foveated._set_uniforms(brick_volume, plan, layer)
+        foveated._set_silhouette(brick_volume, silhouette if len(plan.layers) > 1 else None, layer.level)
+        return entry, rays
+
     layer_values = []
     for index, (columns, rows, volume_level) in enumerate(layers):
         local = np.full((rows, columns), np.nan)
         if usable and problem is None:
             try:
-                layer = plan.layers[index]
-                distance = sampling[index][1]
-                kind = FOVEATION_LAYERS[params["method"]].factory
-                if volume_level == 0:
-                    dims = piece.GetDimensions()
-                    stamp = (piece.GetAddressAsString("vtkObjectBase"), piece.GetMTime())
-                    cached = state.get("rank_foveated_piece")
-                    if cached is None or cached[0] != stamp:
-                        cached = (stamp, extract_brick(piece, (0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)))
-                        state["rank_foveated_piece"] = cached
-                    image, extent, whole, rays = cached[1], tuple(piece.GetExtent()), whole_stub[0], whole_image
-                    component = mapper.GetComponent()
-                else:
-                    image = coarse_levels[volume_level]
-                    extent = whole = tuple(image.GetExtent())
-                    rays, component = image, -1
-                rays = placed(rays, volume.GetMatrix())  # the rays where the volume's matrix puts the level
-                key = (index, stamp if volume_level == 0 else image.GetAddressAsString("vtkObjectBase"),
-                       extent, tuple(whole), kind, volume_level)
-                entry = _source_entry(state, key, kind, image, extent, whole, distance)
-                brick_mapper, brick_volume = entry["mapper"], entry["volume"]
-                if brick_mapper.GetComponent() != component:
-                    brick_mapper.SetComponent(component)
-                foveated._copy_settings(mapper, volume, brick_mapper, brick_volume, entry["matrix"], distance,
-                                        layer.image_sample_distance)
-                foveated._set_uniforms(brick_volume, plan, layer)
-                foveated._set_silhouette(brick_volume, silhouette if len(plan.layers) > 1 else None, layer.level)
-                if box_in_view(brick_volume, renderer, (rows, columns)):
+                kind = MIPVolumeMapper if demip else FOVEATION_LAYERS[params["method"]].factory  # DEMIP: phase 1
+                entry, rays = level_entry(index, volume_level, kind)
+                if box_in_view(entry["volume"], renderer, (rows, columns)):
+                    entries[index] = entry
                     local = _readout(renderer, entry, rays, camera, (rows, columns), (shape[1], shape[0]))
             except Exception as error:  # noqa: BLE001
                 problem = repr(error)
@@ -402,13 +478,33 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     reduced = reduce(np.concatenate(layer_values + [flag]), "max") if layers else flag
     if reduced[-1] > 0.0:
         return None, problem or "a rank failed to render its piece"
-    if not usable:
-        return None, None  # a rank without data: it took part, it draws nothing
     at = 0
-    for (columns, rows, _), layer in zip(layers, plan.layers):
+    for index, (columns, rows, _) in enumerate(layers):
         level_values = reduced[at:at + rows * columns].reshape(rows, columns)
         at += rows * columns
-        values[layer.level] = np.where(level_values <= 0.5 * _LOW, np.nan, level_values)
+        values[index] = np.where(level_values <= 0.5 * _LOW, np.nan, level_values)
+    # the level volumes' scalar ranges (VTK's transfer-function textures span them): the whole volume's, the
+    # reduced coarse levels' (with missing values: from the fill up, as their mappers prepare them)
+    dtype = values0.dtype if values0 is not None else np.float64
+    whole_range = (missing_fill(low_global, high_global, "below", dtype)[0] if missing else low_global, high_global)
+    ranges = [whole_range] * len(layers)
+    try:  # (a failure here must not keep this rank from the DEMIP levels' reduction)
+        ranges = [_texture_range(coarse_levels[v]) if v and usable and problem is None else whole_range
+                  for _, _, v in layers]
+    except Exception as error:  # noqa: BLE001
+        problem = repr(error)
+    colours = None
+    if demip:  # phase 2 of each DEMIP level, then its colours (as bricked_foveated's DEMIP levels)
+        colours, problem = _demip_levels(renderer, layers, values, entries, level_entry, camera, shape, reduce,
+                                         problem, ranges, coarse_levels, volume, sampling,
+                                         whole_image if usable else None)
+    if problem is not None:  # (after the last collective: this rank alone draws nothing, and says why)
+        return None, problem
+    if not usable:
+        return None, None  # a rank without data: it took part, it draws nothing
+    values = {layer.level: values[index] for index, layer in enumerate(plan.layers)}
+    if colours is not None:
+        colours = {layer.level: colours[index] for index, layer in enumerate(plan.layers)}
     # 4: blended after compositing, as the GPU draws the levels (coarsest first, "over", weights, upscale)
     state["rank_foveated_values"] = (plan, values, [volume_level for _, _, volume_level in layers])
     # the bounds whose projection covers the coarse levels' stretch beyond the outline (spill_bounds):
@@ -417,12 +513,63 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
         box.GetBounds(), camera, shape[0],
         2.0 * max(layer.image_sample_distance for layer in plan.layers))
     band = silhouette if len(plan.layers) > 1 else None
-    # the level volumes' scalar ranges (VTK's transfer-function textures span them): the whole volume's, the
-    # reduced coarse levels'
-    ranges = {layer.level: (coarse_levels[v].GetPointData().GetScalars().GetRange(0) if v else
-                            (low_global, float(head[5])))
-              for (_, _, v), layer in zip(layers, plan.layers)}
-    return blend_levels(plan, values, volume.GetProperty(), band, ranges), None
+    ranges = {layer.level: ranges[index] for index, layer in enumerate(plan.layers)}
+    adaptive = (tolerance, _background(renderer)) if tolerance > 0 and len(plan.layers) > 1 else None
+    return blend_levels(plan, values, volume.GetProperty(), band, ranges, adaptive, colours), None
+
+
+def _demip_levels(renderer, layers, values, entries, level_entry, camera, shape, reduce, problem, ranges,
+                  coarse_levels, volume, sampling, whole_image):
+    """DEMIP levels over the ranks: ({layer index: premultiplied RGBA}, None) or (None, why); every rank enters.
+
+    ``values``: each layer's phase-1 maximum, reduced (MAX); ``ranges``: each
+    layer's level texture's scalar range (its material window's span, as a
+    DEMIP level mapper's on one process: the fill included).  Phase 2 on
+    each level's grid: the whole-ray index of the first sample of that
+    maximum's material on this rank's share (:class:`~mipcast.mappers.demip_brick.DEMIPBrickDepthMapper`,
+    casting only the level's rays), reduced with MIN over the ranks and the
+    levels at once; then depth, Eq. 1 and the colour sphere on the CPU
+    (:func:`mipcast.mappers.demip_composite.demip_composite`, the level
+    volume's box and sample distance, the viewport's aspect), as
+    :func:`mipcast.mappers.bricked_demip.compose` composites a level beyond
+    the texture limit.  DEMIP's settings are a DEMIP mapper's defaults (the
+    foveated mapper passes none to its levels).
+    """
+    from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, bind_maximum, match_index
+    from mipcast.mappers.demip_composite import demip_composite
+
+    found = []
+    for index, (columns, rows, volume_level) in enumerate(layers):
+        local = np.full((rows, columns), np.inf)
+        if index in entries and problem is None:
+            try:
+                entry, rays = level_entry(index, volume_level, DEMIPBrickDepthMapper)
+                bind_maximum(renderer.GetRenderWindow(), entry["mapper"], values[index], ranges[index])
+                local = match_index(_readout(renderer, entry, rays, camera, (rows, columns), (shape[1], shape[0]),
+                                             raw=True))
+            except Exception as error:  # noqa: BLE001  (reported; the collective still runs)
+                problem = repr(error)
+        found.append(np.where(np.isfinite(local), local, _HIGH).ravel())
+    reduced = reduce(np.concatenate(found + [[-1.0 if problem else 0.0]]), "min")
+    if reduced[-1] < 0.0:
+        return None, problem or "a rank failed to render its piece"
+    if whole_image is None:
+        return None, None
+    from mipcast.core.parameter_tables import DEMIP
+
+    params = {p.name: getattr(DEMIPBrickDepthMapper(), p.getter)() for p in DEMIP}  # a DEMIP mapper's defaults
+    colours, at = {}, 0
+    for index, (columns, rows, volume_level) in enumerate(layers):
+        index_values = reduced[at:at + rows * columns].reshape(rows, columns)
+        at += rows * columns
+        index_values = np.where(index_values >= 0.5 * _HIGH, np.inf, index_values)
+        level = values[index].astype(np.float32).astype(np.float64)  # as the float readout carries the value
+        geometry = whole_image if volume_level == 0 else coarse_levels[volume_level]
+        base, alpha = gpu_lookup(level, volume.GetProperty(), ranges[index])  # the level's tables, as its GPU's
+        _, rgb = demip_composite(geometry, camera, sampling[index][1], level, index_values, params,
+                                 volume.GetProperty(), aspect=shape[1] / shape[0], base_rgb=base)  # no slab
+        colours[index] = np.concatenate([rgb * alpha[..., None], alpha[..., None]], axis=-1)
+    return colours, None
 
 
 def _stretch(texels: np.ndarray, size) -> np.ndarray:
@@ -454,7 +601,8 @@ def _stretch(texels: np.ndarray, size) -> np.ndarray:
     return lerp(below, above, fy[:, None, None])[::-1].astype(np.float64)
 
 
-def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: Optional[dict] = None) -> np.ndarray:
+def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: Optional[dict] = None,
+                 adaptive: Optional[tuple] = None, colours: Optional[dict] = None) -> np.ndarray:
     """The foveated picture (premultiplied RGBA, top row first) from each level's composited values.
 
     What the GPU draws (shaders/foveated_weight.glsl): coarsest level first,
@@ -469,6 +617,16 @@ def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: O
     8 bits, as the window's framebuffer blends.  On one rank this is the
     GPU's picture bit for bit (tests/test_rank_foveated.py).
 
+    ``adaptive``: (content tolerance, background RGB 0 .. 255) of a
+    content-adaptive frame (``plan`` from :func:`mipcast.core.content_adaptive.adaptive_plan`):
+    the finer levels keep only the rays their refinement masks cast
+    (:func:`mipcast.core.content_adaptive.refinement_masks` of the coarsest
+    level's picture over the background, and the background: the
+    definition the GPU's refine pass evaluates), and level 0 its
+    silhouette band, as ``shaders/foveated_skip_coarse.glsl`` casts them.
+    ``colours``: {level: premultiplied float RGBA} of levels whose colour is
+    not their value's (DEMIP's), drawn instead of :func:`gpu_colour`.
+
     >>> plan = foveation.plan_frame((0, 0, 8, 8), (0.5, 0.5), 10.0, 0.2)   # one level: the fovea covers all
     >>> from mipcast.offscreen import grey_property
     >>> rgba = blend_levels(plan, {0: np.full((8, 8), 1.0)}, grey_property((0.0, 1.0)))
@@ -477,11 +635,27 @@ def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: O
     """
     _, _, width, height = plan.viewport
     out = np.zeros((height, width, 4))
-    for layer in plan.layers:  # coarsest first
+    masks = {}
+    for index, layer in enumerate(plan.layers):  # coarsest first
+        if adaptive is not None and index == 1:  # the masks from the coarsest level's picture
+            tolerance, background = adaptive
+            below = np.broadcast_to(np.asarray(background, dtype=np.float64), (height, width, 3))
+            after = np.minimum(out[..., :3] + _times_8bit(below, 255.0 - out[..., 3:4]), 255.0)
+            grid = plan.layers[0].grid
+            masks = content_adaptive.refinement_masks(content_adaptive.coarse_texels(after, grid),
+                                                      content_adaptive.coarse_texels(below, grid), plan, tolerance)
         level_values = values.get(layer.level)
         if level_values is None:
             continue
-        rgba = gpu_colour(level_values, volume_property, (ranges or {}).get(layer.level))
+        if layer.level in masks:  # the rays not cast show the coarser levels through
+            cast = masks[layer.level]
+            if silhouette is not None and layer.level == 0:
+                cast = cast | foveation.silhouette_band(plan, silhouette, layer.grid)
+            level_values = np.where(cast, level_values, np.nan)
+        if colours is not None and layer.level in colours:
+            rgba = np.where(np.isfinite(level_values)[..., None], colours[layer.level], 0.0)
+        else:
+            rgba = gpu_colour(level_values, volume_property, (ranges or {}).get(layer.level))
         lam = foveation.desired_level(foveation.eccentricity(layer.grid, plan.gaze, plan.aspect), plan)
         weight = foveation.layer_weight(layer.level, lam, plan)
         if silhouette is not None and layer.level == 0:
@@ -526,11 +700,27 @@ def gpu_colour(values: np.ndarray, volume_property, value_range=None) -> np.ndar
     >>> gpu_colour(np.array([[0.0, 0.5, np.nan]]), grey_property((0.0, 1.0)))[0, :, 0].round(3).tolist()
     [0.0, 0.5, 0.0]
     """
+    rgb, alpha = gpu_lookup(values, volume_property, value_range)
+    out = np.zeros(np.shape(values) + (4,))
+    out[..., :3] = rgb * alpha[..., None]
+    out[..., 3] = alpha
+    return out
+
+
+def gpu_lookup(values: np.ndarray, volume_property, value_range=None) -> Tuple[np.ndarray, np.ndarray]:
+    """(straight RGB, opacity) at ``values`` as VTK's transfer-function textures give them (:func:`gpu_colour`);
+    0 where NaN.
+
+    >>> from mipcast.offscreen import grey_property
+    >>> rgb, alpha = gpu_lookup(np.array([0.5, np.nan]), grey_property((0.0, 1.0)))
+    >>> rgb[:, 0].round(3).tolist(), alpha.round(3).tolist()
+    ([0.5, 0.0], [1.0, 0.0])
+    """
     values = np.asarray(values, dtype=np.float64)
     hit = np.isfinite(values)
-    out = np.zeros(values.shape + (4,))
+    rgb_out, alpha_out = np.zeros(values.shape + (3,)), np.zeros(values.shape)
     if not hit.any():
-        return out
+        return rgb_out, alpha_out
     rgb_function = volume_property.GetRGBTransferFunction(0)
     opacity_function = volume_property.GetScalarOpacity(0)
     low, high = (float(v) for v in (value_range if value_range is not None else rgb_function.GetRange()))
@@ -550,14 +740,14 @@ def gpu_colour(values: np.ndarray, volume_property, value_range=None) -> np.ndar
     texels = _table_width(opacity_function, low, high)
     opacity_table = np.zeros(texels)
     opacity_function.GetTable(low, high, texels, opacity_table)
-    alpha = lookup(opacity_table[:, None], texels)[:, 0]
-    out[hit, :3] = rgb * alpha[:, None]
-    out[hit, 3] = alpha
-    return out
+    rgb_out[hit] = rgb
+    alpha_out[hit] = lookup(opacity_table[:, None], texels)[:, 0]
+    return rgb_out, alpha_out
 
 
-def _readout(renderer, entry, rays, camera, shape, size) -> np.ndarray:
-    """One float readout (data units, NaN: none) of a level's brick on ``shape``'s grid, the whole's rays."""
+def _readout(renderer, entry, rays, camera, shape, size, raw: bool = False) -> np.ndarray:
+    """One float readout (data units, NaN: none; ``raw``: as written) of a level's brick on ``shape``'s grid,
+    the whole's rays."""
     from mipcast.mappers import bricked_draw
     from mipcast.mappers.brick_rays import push_whole_rays
 
@@ -571,7 +761,7 @@ def _readout(renderer, entry, rays, camera, shape, size) -> np.ndarray:
     gl.Push()
     try:
         brick_volume.RenderVolumetricGeometry(renderer)
-        return bricked_draw.brick_readout(brick_mapper, shape)
+        return bricked_draw.brick_readout(brick_mapper, shape, raw=raw)
     finally:
         gl.Pop()
         object_state(brick_mapper).pop("exact_readout", None)

@@ -201,13 +201,6 @@ def _draw_turn(projection, mapper, volume, renderer, entry, whole_image, camera,
                      material=material)
 
 
-#: The ordered projections not drawn over ranks when a piece holds missing values: their brick mappers' test
-#: for a ray that saw only missing data reads no maximum (attenuated: the best material; MIDA: none), so
-#: every such piece's rays were dropped (MIDA on 4 ranks along z: a blank picture; attenuated: 51 % of the
-#: pixels within 1 grey).  LMIP's bricks keep the maximum: drawn.
-MISSING_REFUSED = ("attenuated", "mida")
-
-
 def demip(mapper, volume, renderer, entries, whole_image, camera, shape, reduce, data_range, problem,
           rank: Tuple[int, int], missing: bool = False):
     """DEMIP over the ranks for every projection: ``"mip"`` by rank_composite's MAX / MIN, the ordered ones
@@ -216,7 +209,8 @@ def demip(mapper, volume, renderer, entries, whole_image, camera, shape, reduce,
     ``entries``: rank_composite's [phase-1 MIP entry, phase-2 depth entry] of
     this rank's piece, followed and in view ([] otherwise); ``rank``:
     (this rank's index, the number of ranks); ``missing``: some rank's piece
-    holds missing values (the same on every rank: :data:`MISSING_REFUSED` are refused then).
+    holds missing values (the same on every rank): attenuated MIP and MIDA
+    then apply the whole ray's missing test (:func:`_whole_ray_seen`).
     """
     from mipcast.mappers import rank_composite
 
@@ -225,19 +219,40 @@ def demip(mapper, volume, renderer, entries, whole_image, camera, shape, reduce,
         return None, why
     if projection is None:
         return None, None
-    if missing and projection in MISSING_REFUSED:
-        return None, (f"DEMIP's {projection} projection over the ranks cannot draw missing (NaN/Inf) values yet: "
-                      "use projection mip or lmip, fill them first (e.g. a Python Calculator with "
-                      "numpy.nan_to_num) or render on one rank")
     if projection == "mip":
         return rank_composite._demip(mapper, volume, renderer, entries, whole_image, camera, shape, reduce,
                                      data_range, problem)
     return _ordered(projection, mapper, volume, renderer, entries, whole_image, camera, shape, reduce,
-                    data_range, problem, rank)
+                    data_range, problem, rank, missing)
+
+
+def _whole_ray_seen(renderer, entries, whole_image, camera, shape, reduce, problem):
+    """(where the whole ray saw finite data, problem): MIDA's missing test over the ranks.
+
+    MIDA's brick mappers have no missing test of their own (their running
+    maximum is 0); as beyond the texture limit
+    (:func:`mipcast.mappers.bricked_demip.compose`) a ray shows nothing when
+    the whole volume's sampled maximum saw no finite data: the MAX over the
+    ranks of each piece's phase-1 MIP (NaN on a piece whose samples of the
+    ray were all missing: its missing test, relative to the whole range).
+    Every rank enters the one reduction.
+    """
+    from mipcast.mappers.rank_composite import _render
+
+    found = np.full(shape, np.nan)
+    if entries and problem is None:
+        try:
+            found = _render(renderer, entries[0], whole_image, camera, shape)
+        except Exception as error:  # noqa: BLE001  (reported; the collective still runs)
+            problem = repr(error)
+    reduced = reduce(np.concatenate([np.where(np.isnan(found), _LOW, 0.0).ravel(), [1.0 if problem else 0.0]]),
+                     "max")
+    why = (problem or "a rank failed to render its piece") if reduced[-1] > 0.0 else None
+    return reduced[:-1].reshape(shape) > 0.5 * _LOW, why
 
 
 def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera, shape, reduce, data_range,
-             problem, rank):
+             problem, rank, missing=False):
     from mipcast.core.object_state import object_state
     from mipcast.mappers import clip_uniforms
     from mipcast.mappers.brick_rays import ray_uniforms
@@ -253,8 +268,8 @@ def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera,
         try:
             own = _ordered_entry(mapper, entries, whole_image.GetExtent(), projection)
             follow_demip_brick(mapper, volume, own, mapper.GetSampleDistance(), demip=True)
-            # missing values filled as in the whole volume, as the phases' entries (rank_composite.compose); after
-            # follow_demip_brick, which gives it the mapper's range: here the mapper holds only this rank's piece
+            # then missing values filled as in the whole volume, as the phases' entries (rank_composite.compose;
+            # following gave it this piece's own range)
             own["mapper"].GetInputPreparer().SetWholeRange(entries[0]["mapper"].GetInputPreparer().GetWholeRange())
         except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
             problem, own = repr(error), None
@@ -331,6 +346,11 @@ def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera,
         found = np.where(found >= 0.5 * _HIGH, np.inf, found)
     else:
         found = np.full(shape, np.inf)
+    seen = None
+    if projection == "mida" and missing:
+        seen, why = _whole_ray_seen(renderer, entries, whole_image, camera, shape, reduce, problem)
+        if why is not None:
+            return None, why
     if mapper is None or whole_image is None:
         return None, None  # a rank without data: it took part, it draws nothing
     if projection == "mida":
@@ -338,10 +358,17 @@ def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera,
         rgba = np.zeros(shape + (4,), dtype=np.float32)
         rgba[..., 0], rgba[..., 1], rgba[..., 2] = (np.clip(state[c], 0.0, 1.0) for c in ("red", "green", "blue"))
         rgba[..., 3] = np.clip(state["opacity"], 0.0, 1.0)
+        if seen is not None:  # a ray that saw no finite data draws nothing, as one texture's
+            rgba[~seen] = 0.0
         return rgba, None
     if projection == "attenuated":
         best = np.where(state["best"] <= 0.5 * _LOW, np.nan, state["best"])
-        values = attenuated_value(best, volume.GetProperty(), data_range).astype(np.float32).astype(np.float64)
+        values = attenuated_value(best, volume.GetProperty(), data_range)
+        if missing:  # the whole ray's missing test (its brick mappers have none): below the whole fill's threshold
+            from mipcast.core.prepare import missing_fill
+
+            values = np.where(values < missing_fill(*data_range)[1], np.nan, values)
+        values = values.astype(np.float32).astype(np.float64)
     params = {p.name: getattr(mapper, p.getter)() for p in DEMIP}
     depth, rgb = demip_composite(whole_image, camera, mapper.GetSampleDistance(), values, found, params,
                                  volume.GetProperty(), slab=clip_uniforms.slab_of(mapper, camera))

@@ -615,20 +615,6 @@ def _exact_methods(method, missing=False):
             and (depth_composite_op(name) is not None or rank_composite_rule(name) is not None)]
 
 
-def missing_refusal(method, ranks=2):
-    """Why VTK's own ``method`` draws nothing on ``ranks`` ranks when a piece holds missing (NaN/Inf) values.
-
-    >>> "use mip or analytic" in missing_refusal("stock")
-    True
-    """
-    from mipcast.mappers.rank_composite import OWN_MISSING
-
-    return (f"{method} cannot be drawn on {ranks} ranks with missing (NaN/Inf) values: {OWN_MISSING}; "
-            f"use {' or '.join(_exact_methods(method, missing=True))}, which draw missing values as the whole "
-            "volume does on every rank, fill them first (e.g. a Python Calculator with numpy.nan_to_num) "
-            "or render on one rank")
-
-
 @_guarded
 def depth_composited(key):
     """Called at REQUEST_UPDATE: True when this rank's piece is composited by depth, not by ordered blending.
@@ -797,12 +783,7 @@ def _set_composite(entry, volume, image, whole):
             entry.own_volume = vtkWeakReference()  # VTK's own mapper knows no attached volume
         entry.own_volume.Set(volume)
     if op is not None:
-        rendered = mapper.GetInput() if own else mapper.GetRenderedInput()
-        scalars = rendered.GetPointData().GetScalars() if rendered is not None else None
-        if scalars is not None:
-            scale, bias = depth_mapping(volume.GetProperty(), scalars, op)
-            uniforms.SetUniformf("u_mc_depthScale", scale)
-            uniforms.SetUniformf("u_mc_depthBias", bias)
+        if _depth_uniforms(entry, mapper, volume):
             if state.get("depth_composite") != op:
                 state["depth_composite"] = op
                 mapper.Modified()
@@ -816,6 +797,21 @@ def _set_composite(entry, volume, image, whole):
             return
     if state.pop("depth_composite", None):
         mapper.Modified()
+
+
+def _depth_uniforms(entry, mapper, volume) -> bool:
+    """The value-as-depth mapping of the piece ``mapper`` draws now (:func:`depth_mapping`) on ``volume``'s
+    uniforms; False when it has no scalars."""
+    own = not _import_mipcast().METHODS[entry.mapper_method].float_readout  # VTK's own mapper
+    rendered = mapper.GetInput() if own else mapper.GetRenderedInput()
+    scalars = rendered.GetPointData().GetScalars() if rendered is not None else None
+    if scalars is None:
+        return False
+    scale, bias = depth_mapping(volume.GetProperty(), scalars, depth_composite_op(entry.mapper_method))
+    uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
+    uniforms.SetUniformf("u_mc_depthScale", scale)
+    uniforms.SetUniformf("u_mc_depthBias", bias)
+    return True
 
 
 # -- parallel render views: DEMIP and the averages by reduction over the ranks --------------
@@ -883,14 +879,17 @@ def _rank_start(entry):
             volume = mapper.GetAttachedVolume() if hasattr(mapper, "GetAttachedVolume") else entry.own_volume.Get()
         whole = getattr(entry, "rank_whole", None)
         try:
-            if entry.rank_rule is None:  # composited by depth: the missing values' fill agreed on (or refused)
-                rgba, problem = None, _depth_frame(entry, mapper, volume, piece, renderer)
+            if entry.rank_rule is None:  # composited by depth: the missing values' fill agreed on
+                rgba, problem = None, _whole_fill(entry, mapper, volume, piece)[1]
             elif entry.rank_rule == "foveated":
                 rgba, problem = rank_foveated.compose(mapper, volume, renderer, piece, whole, _all_reduce)
             else:
+                brick = rank_brick(entry.method)
+                if brick is not None:  # VTK's own mapper: its piece as it draws it, filled as the whole volume
+                    piece = _whole_fill(entry, mapper, volume, piece)[0]
                 rgba, problem = rank_composite.compose(mapper, volume, renderer, piece, whole, _all_reduce,
                                                        entry.rank_rule, rank=(process_index(), process_count()),
-                                                       brick=rank_brick(entry.method))
+                                                       brick=brick)
         except Exception as error:  # noqa: BLE001  (never into C++)
             rgba, problem = None, repr(error)
         entry.rank_picture = rgba
@@ -903,9 +902,6 @@ def _rank_start(entry):
         from mipcast.mappers.rank_composite import projection
 
         entry.rank_projection = projection(renderer)  # IceT shifts it for each rank's draw
-        if problem == rank_composite.OWN_MISSING:
-            problem = missing_refusal(entry.method, process_count())
-            entry.problem = problem
         if problem is not None and problem != getattr(entry, "rank_problem", None):
             _report(problem if problem.startswith(entry.method) else
                     f"{entry.method} on {process_count()} ranks: {problem}")
@@ -914,27 +910,50 @@ def _rank_start(entry):
     return start
 
 
-def _depth_frame(entry, mapper, volume, piece, renderer):
-    """A depth-composited method on several ranks, at the renderer's StartEvent (every rank): the pieces'
-    finite ranges and missing values, reduced.  Where some piece holds missing values each rank's mipcast
-    mapper fills them as the whole volume does (its preparer's whole range); VTK's own mapper, which does not
-    define them, is hidden this frame (returns why: :data:`~mipcast.mappers.rank_composite.OWN_MISSING`)."""
+def _whole_fill(entry, mapper, volume, piece):
+    """At the renderer's StartEvent (every rank): the pieces' finite ranges and missing values, reduced; where
+    some piece holds missing values each rank's piece fills them as the whole volume does.  Returns (the piece
+    as this rank's mapper draws it, None), or (None, why) when that failed.
+
+    A mipcast mapper fills them itself (its preparer's whole range).  VTK's own
+    mapper draws its preparer's output (:func:`_prepare_own`), filled here
+    again relative to the whole volume's finite range (``fill = low - span``
+    or ``high + span`` for MinIP, as one rank's preparer fills the whole
+    volume): every piece's samples are the whole volume's; for the depth route
+    its value-as-depth mapping follows the filled piece's range
+    (:func:`_depth_uniforms`), for ``stock_average`` the filled piece is what
+    its reduction reads out (:func:`mipcast.mappers.rank_composite.compose`).
+    """
     import numpy as np
 
-    from mipcast.mappers.rank_composite import OWN_MISSING, piece_range
+    from mipcast.mappers.rank_composite import piece_range
 
     low, high, missing = piece_range(piece)
     reduced = _all_reduce(np.array([-low, high, float(missing)]), "max")
     low, high, missing = float(-reduced[0]), float(reduced[1]), bool(reduced[2] > 0.0)
-    own = mapper is not None and not hasattr(mapper, "GetInputPreparer")
-    why = OWN_MISSING if missing and own else None
     if mapper is None:
-        return why
-    if not own:
-        mapper.GetInputPreparer().SetWholeRange((low, high) if missing and high >= low else None)
-    if why is not None and volume is not None:
-        volume.SetVisibility(False)  # this frame (REQUEST_RENDER sets it again)
-    return why
+        return None, None
+    whole_range = (low, high) if missing and high >= low else None
+    preparer = getattr(entry, "preparer", None)
+    if preparer is None:  # a mipcast mapper: its own preparer
+        mapper.GetInputPreparer().SetWholeRange(whole_range)
+        return piece, None
+    try:
+        preparer.SetWholeRange(whole_range)
+        preparer.Update()
+        problem = preparer.GetProblem()
+        if problem is not None:
+            if volume is not None:
+                volume.SetVisibility(False)  # this frame (REQUEST_RENDER sets it again)
+            return None, f"{entry.method}: {problem}"
+        drawn = mapper.GetInput()  # the preparer's output where it changed the data (_prepare_own), else the piece
+        if entry.rank_rule is None and volume is not None:
+            _depth_uniforms(entry, mapper, volume)
+        return drawn, None
+    except Exception as error:  # noqa: BLE001  (reported; the frame draws nothing)
+        if volume is not None:
+            volume.SetVisibility(False)
+        return None, repr(error)
 
 
 def _spill_bounds(entry, bounds, renderer=None) -> None:
