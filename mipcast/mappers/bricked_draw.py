@@ -63,7 +63,7 @@ from vtkmodules.vtkCommonCore import VTK_FLOAT, reference
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.core.object_state import object_state
-from mipcast.mappers import clip_uniforms, float_readout
+from mipcast.mappers import clip_uniforms, float_readout, outline_rays
 from mipcast.mappers.brick_rays import box_in_view, brick_entry, cached_bricks, placed, push_rays
 from mipcast.mappers.box_outline import box_corners, front_faces
 from mipcast.mappers.input_preparer import piece_range
@@ -206,25 +206,26 @@ def draw_bricks(mapper, event) -> None:
     state["brick_own_draw"] = (mapper.GetCropping(), mapper.GetCroppingRegionPlanes())
     try:
         if renderer is not None:
-            gl = renderer.GetRenderWindow().GetState()
-            gl.Push()  # the bricks' render-to-image passes set their own viewport and framebuffer
-            try:
-                if _demip(mapper):
-                    from mipcast.mappers import bricked_demip
+            with outline_rays.depth_held(renderer):  # one depth readback for the whole bricked frame
+                gl = renderer.GetRenderWindow().GetState()
+                gl.Push()  # the bricks' render-to-image passes set their own viewport and framebuffer
+                try:
+                    if _demip(mapper):
+                        from mipcast.mappers import bricked_demip
 
-                    values, depth, rgba = bricked_demip.compose(mapper, volume, renderer, limit)
-                    if mapper.GetReadout() == "depth":  # the readout's encoding of the depth
-                        values = float_readout.to_data_units(depth, mapper.GetRenderedInput().GetPointData()
-                                                             .GetScalars())
+                        values, depth, rgba = bricked_demip.compose(mapper, volume, renderer, limit)
+                        if mapper.GetReadout() == "depth":  # the readout's encoding of the depth
+                            values = float_readout.to_data_units(depth, mapper.GetRenderedInput().GetPointData()
+                                                                 .GetScalars())
+                    else:
+                        values, rgba = compose(mapper, volume, renderer, limit,
+                                               readout=bool(state.get("exact_readout"))), None
+                finally:
+                    gl.Pop()
+                if state.get("exact_readout"):
+                    state["brick_readout"] = values
                 else:
-                    values, rgba = compose(mapper, volume, renderer, limit,
-                                           readout=bool(state.get("exact_readout"))), None
-            finally:
-                gl.Pop()
-            if state.get("exact_readout"):
-                state["brick_readout"] = values
-            else:
-                _draw_picture(mapper, renderer, volume, values, rgba)
+                    _draw_picture(mapper, renderer, volume, values, rgba)
     except Exception as error:  # noqa: BLE001  (an observer: reported as mipcast's refusals are)
         from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 
@@ -386,8 +387,6 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
     object_state(mapper)["brick_sampling"] = (step, sampled)  # for the rays off the box (_face_values)
     image = placed(mapper.GetRenderedInput(), volume.GetMatrix())  # the CPU's rays: the volume's matrix folded in
     if rule != "mean":
-        from mipcast.mappers import outline_rays
-
         undrawn = outline_rays.undrawn(mapper, renderer, drawn_any)
         if sampled:
             result = outline_rays.complete(result, empty, image, camera, aspect_size, step, combine, undrawn=undrawn)
@@ -407,8 +406,6 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
     else:
         mean = combine([read[0] for read, _ in passes], [np.nan_to_num(-n) for n in counts])
     if sampled:  # a grazing ray whose one sample no brick drawing it holds: on the CPU, clipped as the loop clips
-        from mipcast.mappers import outline_rays
-
         none = np.sum([np.nan_to_num(-n) for n in counts], axis=0) == 0.0  # (a brick's ray without one: discarded)
         none &= outline_rays.unhidden(renderer, image, shape, aspect_size, step, none)  # not behind opaque geometry
         sample = outline_rays.single_samples(image, camera, shape, aspect_size, step, none,
@@ -657,7 +654,6 @@ def _face_values(mapper, volume, renderer, values, face, pixels) -> np.ndarray:
     kernels, extrapolating off the box).
     """
     from mipcast import reference
-    from mipcast.mappers import outline_rays
 
     step, sampled = object_state(mapper)["brick_sampling"]
     rule = type(mapper).BRICKS

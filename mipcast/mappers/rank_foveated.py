@@ -308,7 +308,12 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
             problem = refusal(mapper, renderer)
             params = mapper._parameters()
             state = object_state(mapper)
-            values0, low, high, missing = _piece_values(piece, mapper.GetComponent())
+            stamp = (piece.GetAddressAsString("vtkObjectBase"), piece.GetMTime(), mapper.GetComponent())
+            cached = state.get("rank_foveated_piece_values")
+            if cached is None or cached[0] != stamp:  # prepared once per piece, not every frame
+                cached = (stamp, _piece_values(piece, mapper.GetComponent()))
+                state["rank_foveated_piece_values"] = cached
+            values0, low, high, missing = cached[1]
             whole_image = whole_geometry(whole_stub)
             box = _WholeBox(volume, whole_image)
             gaze, radius = foveated._current_gaze(state, renderer, camera, viewport)
