@@ -166,6 +166,8 @@ def timer_part(reader, image, view, png, live, remote):
         times, wall = run_loop(view, live, converged)
         frames = list(recorder.frames)
         converged_pixels = screenshot(view, png(f"converged_{name}"))
+        # rays the screenshot's still frame cast: none when it kept the converged picture (builtin only)
+        converged_rays = None if remote else _mappers()[0].GetLastFrameCost()["rays"]
         full = full_quality(display, view, png, f"full_{name}")
         run_loop(view, live, converged)  # the foveation switch was a change: converge again
         steps = [f[0] for f in frames]
@@ -173,7 +175,7 @@ def timer_part(reader, image, view, png, live, remote):
             steps=steps, asked_by_timer=[f[1] for f in frames], frames_asked=sum(bool(f[1]) for f in frames),
             frames_to_full=(steps.index(FRAMES) if FRAMES in steps else None),  # after the change's frame
             refining_frame_ms=[round(f[2], 2) for f in frames if f[1]], wall_s=wall,
-            timer_left=refiner.timer is not None, first_vs_full=compare(first, full),
+            timer_left=refiner.timer is not None, first_vs_full=compare(first, full), converged_rays=converged_rays,
             bit_equal_full=bool(np.array_equal(converged_pixels, full)), vs_full=compare(converged_pixels, full))
     idles = [idle(view, refiner), idle(view, refiner)]  # interactor.Start() itself renders once
     report["idle_frames"] = [i[0] for i in idles]

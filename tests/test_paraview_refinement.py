@@ -35,6 +35,9 @@ def _converged(phase, remote=False):
     assert phase["frames_asked"] >= 1, phase  # the timer rendered some of the refining frames itself
     if not remote:  # the frame after the change is step 0, each still frame one step more
         assert phase["steps"][0] == 0 and phase["frames_to_full"] == FRAMES, phase
+        # drawn again once converged (the screenshot), the kept picture: no ray cast (refine_keep; a
+        # per-frame change of ParaView's renderer once kept nothing)
+        assert phase["converged_rays"] == 0, phase
         assert phase["steps"][:FRAMES + 1] == list(range(FRAMES + 1)), phase
     assert phase["first_vs_full"]["within_1_share"] < 0.95, phase  # the foveated frame is not full quality
 

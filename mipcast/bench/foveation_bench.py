@@ -370,27 +370,31 @@ def _last_picture(view: OffscreenView) -> np.ndarray:
 def measure_progressive(image, scene: str, method: str = "mip", size: int = 1024, framing: str = "fill",
                         refinement_frames: int = 4, gaze: Sequence[float] = (0.5, 0.5), window=None,
                         warmup: int = 2) -> dict:
-    """Progressive refinement: time of each still frame and whether it equals full quality.
+    """Progressive refinement: time and rays of each still frame and whether it equals full quality.
 
-    The foveated view (progressive on, default radius) renders
-    ``refinement_frames + 1`` still frames after a warm-up pass; each is
-    timed and compared with the method at full quality pixel for pixel.
+    The foveated view (progressive on, default radius) renders the foveated
+    frame, ``refinement_frames`` still frames and one more once converged
+    (what drawing a still, refined view again costs), after a warm-up pass;
+    each is timed and compared with the method at full quality pixel for
+    pixel, and its rays counted (``GetLastFrameCost``, after the timing).
 
     Returns
     -------
     dict
-        ``scene``, ``method``, ``size``, ``framing``, ``full_ms``, ``steps``:
-        one dict per frame (``step``, ``ms``, ``max_grey_error``,
-        ``equal``), ``frames_to_full``: the first still frame whose picture
-        equals full quality (None if none did).
+        ``scene``, ``method``, ``size``, ``framing``, ``full_ms``,
+        ``full_rays``, ``steps``: one dict per frame (``step``, ``ms``,
+        ``rays``, ``max_grey_error``, ``equal``), ``frames_to_full``: the
+        first still frame whose picture equals full quality (None if none
+        did), ``ms_to_full``: the time of the frames up to it, the foveated
+        frame included.
 
     Examples
     --------
     >>> from mipcast.data_fixtures import make_fixture
     >>> result = measure_progressive(make_fixture("spheres", size=16), "spheres", size=32, refinement_frames=2,
     ...                              warmup=1)
-    >>> [s["step"] for s in result["steps"]], result["frames_to_full"] <= 2
-    ([0, 1, 2], True)
+    >>> [s["step"] for s in result["steps"]], result["frames_to_full"] <= 2, result["steps"][-1]["rays"]
+    ([0, 1, 2, 2], True, 0)
     """
     import time
 
@@ -411,19 +415,22 @@ def measure_progressive(image, scene: str, method: str = "mip", size: int = 1024
     fov.render_window.Render()
     fov.camera.Azimuth(-0.5)
     steps = []
-    for _ in range(refinement_frames + 1):
+    for _ in range(refinement_frames + 2):
         started = time.perf_counter()
         fov.render_window.Render()
         fov.render_window.WaitForCompletion()
         ms = 1000 * (time.perf_counter() - started)
         error = int(np.abs(_last_picture(fov).astype(int) - reference).max())
-        steps.append({"step": fov.mapper.GetRefinementStep(), "ms": ms, "max_grey_error": error,
-                      "equal": error == 0})
+        cost = fov.mapper.GetLastFrameCost()
+        steps.append({"step": fov.mapper.GetRefinementStep(), "ms": ms, "rays": cost["rays"],
+                      "max_grey_error": error, "equal": error == 0})
     for view in (full, fov):
         view.render_window.Finalize()
-    first = next((s["step"] for s in steps if s["equal"]), None)
+    first = next((i for i, s in enumerate(steps) if s["equal"]), None)
     return {"scene": scene, "method": method, "size": size, "framing": framing, "full_ms": full_ms,
-            "refinement_frames": refinement_frames, "steps": steps, "frames_to_full": first}
+            "full_rays": cost["full_rays"], "refinement_frames": refinement_frames, "steps": steps,
+            "frames_to_full": None if first is None else steps[first]["step"],
+            "ms_to_full": None if first is None else sum(s["ms"] for s in steps[:first + 1])}
 
 
 def measure_gaze_latency(image, scene: str, method: str = "mip", size: int = 1024, framing: str = "fill",
@@ -465,22 +472,28 @@ def measure_gaze_latency(image, scene: str, method: str = "mip", size: int = 102
 
 
 def progressive_table(results: Sequence[dict]) -> str:
-    """Markdown: per scene, the time of each still frame against full quality and its largest grey error.
+    """Markdown: per scene, each still frame's time and rays against full quality, its largest grey error,
+    and the time until the picture equals full quality.
 
     Examples
     --------
-    >>> r = {"scene": "s", "method": "mip", "size": 8, "framing": "fill", "full_ms": 10.0, "frames_to_full": 2,
-    ...      "steps": [{"step": 0, "ms": 2.0, "max_grey_error": 9, "equal": False}]}
+    >>> r = {"scene": "s", "method": "mip", "size": 8, "framing": "fill", "full_ms": 10.0, "full_rays": 40,
+    ...      "frames_to_full": 0, "ms_to_full": 2.0,
+    ...      "steps": [{"step": 0, "ms": 2.0, "rays": 10, "max_grey_error": 0, "equal": True}]}
     >>> progressive_table([r]).splitlines()[-1]
-    '| s mip 8² fill | 10 | 2 | 0: 2 ms (5.0x), error 9 |'
+    '| s mip 8² fill | 10 | 0 | 2 ms (0.2 full frames) | 0: 2 ms (5.0x), 25 % of the rays, error 0 |'
     """
-    lines = ["| scene | full quality ms | still frames until equal to full quality | each still frame: ms "
-             "(full / frame), largest grey error |", "| --- | --- | --- | --- |"]
+    lines = ["| scene | full quality ms | still frames until equal to full quality | time until equal "
+             "(foveated frame included) | each frame: ms (full / frame), rays cast, largest grey error |",
+             "| --- | --- | --- | --- | --- |"]
     for r in results:
-        steps = "; ".join(f"{s['step']}: {s['ms']:.0f} ms ({r['full_ms'] / s['ms']:.1f}x), error {s['max_grey_error']}"
+        steps = "; ".join(f"{s['step']}: {s['ms']:.0f} ms ({r['full_ms'] / s['ms']:.1f}x), "
+                          f"{100.0 * s['rays'] / max(r['full_rays'], 1):.0f} % of the rays, error {s['max_grey_error']}"
                           for s in r["steps"])
+        until = ("-" if r.get("ms_to_full") is None
+                 else f"{r['ms_to_full']:.0f} ms ({r['ms_to_full'] / r['full_ms']:.1f} full frames)")
         lines.append(f"| {r['scene']} {r['method']} {r['size']}² {r['framing']} | {r['full_ms']:.0f} | "
-                     f"{r['frames_to_full'] if r['frames_to_full'] is not None else '-'} | {steps} |")
+                     f"{r['frames_to_full'] if r['frames_to_full'] is not None else '-'} | {until} | {steps} |")
     return "\n".join(lines)
 
 

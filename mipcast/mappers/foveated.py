@@ -18,23 +18,20 @@ from mipcast.core import content_adaptive, foveation, parameter_tables
 from mipcast.core.gaze import GazeStream
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
 from mipcast.core.parameters import parameter_accessors
-from mipcast.mappers import (bricked_draw, bricked_foveated, float_readout, foveated_tiles, refine_pass,
-                             volume_pyramid)
+from mipcast.mappers import (bricked_draw, bricked_foveated, float_readout, foveated_tiles, refine_keep,
+                             refine_pass, volume_pyramid)
 from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
 from mipcast.core.camera_rays import matrix_array
 from mipcast.mappers.corner_packing import CornerPacker
 from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms
-from mipcast.mappers.private_draw import (auto_sample_distance, follow_volume, kept_texture, pixel_texture,
-                                          rendering_renderer)
+from mipcast.mappers.private_draw import (auto_sample_distance, copy_drawn, follow_volume, kept_texture,
+                                          rendering_renderer, texture_target)
 from mipcast.core.ray_cost import grid_cost
 
 #: Stand-in for an unbounded eccentricity in the shader's uniforms.
 _FAR = 1.0e30
-#: OpenGL enums the coarse-picture copy uses.
-_GL_READ_FRAMEBUFFER, _GL_DRAW_FRAMEBUFFER = 0x8CA8, 0x8CA9
-_GL_SCISSOR_TEST, _GL_COLOR_BUFFER_BIT, _GL_NEAREST = 0x0C11, 0x4000, 0x2600
 #: State besides the parameters: the gaze of the last render (from the current source) and its source.
 _GAZE = {"gaze": (0.5, 0.5), "gaze_source": "point"}
 
@@ -471,6 +468,7 @@ def _restore_own_draw(mapper, event) -> None:
     if saved is not None:
         mapper.SetCropping(saved[0])
         mapper.SetCroppingRegionPlanes(*saved[1])
+    state["drawn_mtime"] = mapper.GetMTime()  # a setting changed before the next frame moves it (refine_keep)
 
 
 def _draw(mapper, state, volume, renderer) -> None:
@@ -501,14 +499,24 @@ def _draw(mapper, state, volume, renderer) -> None:
         whole_plan = foveation.plan_frame(whole, gaze, radius, params["falloff"], params["number_of_levels"],
                                           foveate, _level_cap(image, volume, whole_camera, whole), base_isd)
         plan = foveated_tiles.band_layer(plan, whole_plan, base_isd)
-    tolerance = float(params["content_tolerance"])
+    readout = bool(state.get("exact_readout"))
+    # progressive refinement's still frames keep what the last left at full quality (refine_keep)
+    keeping = (params["progressive"] and not readout and tile_scale == 1.0 and base_isd == 1.0
+               and not renderer.GetRenderWindow().GetStereoRender() and not bricked_foveated.level_limit(mapper, image))
+    scene = (state.get("refine_signature"), refine_keep.scene_key(renderer, volume, mapper)) if keeping else None
+    # not after a change of the mapper's own settings (VTK's: sample distances, arrays, cropping...)
+    unchanged = state.get("drawn_mtime") == mapper.GetMTime()
+    kept = refine_keep.kept_radius(state, scene, renderer.GetRenderWindow()) if keeping and unchanged else None
+    skip = refine_keep.skip_radius(kept)
+    # a still frame casts acuity-only levels, whose fovea is full quality for the next to keep
+    still = keeping and state.get("refine_step", 0) >= 1
+    tolerance = 0.0 if still else float(params["content_tolerance"])
     adaptive = tolerance > 0 and len(plan.layers) > 1
     if adaptive:
         plan = content_adaptive.adaptive_plan(plan)
     cells = _walks_cells(params["method"])
     spacings = volume_pyramid.pyramid_voxel_sizes(image, params["number_of_levels"])
     world_per_pixel = _world_per_pixel(whole_camera, volume, whole)
-    readout = bool(state.get("exact_readout"))
     drawn = state.setdefault("levels_drawn", {})
     layers, values = [], {}
     bricks_drawn, bricked_levels = 0, {}
@@ -521,7 +529,7 @@ def _draw(mapper, state, volume, renderer) -> None:
     on_gpu = adaptive and not readout and _gpu_masks_possible(state, renderer)
     coarse = _coarse_textures(state, renderer, viewport) if on_gpu else None
     if on_gpu:
-        _copy_drawn(renderer, viewport, coarse, "before")
+        copy_drawn(renderer, viewport, coarse["framebuffers"]["before"])
     before = _read_texels(renderer, viewport, plan.layers[0].grid) if adaptive and not readout and not on_gpu else None
     for index, layer in enumerate(plan.layers):
         level = layer.level
@@ -530,7 +538,7 @@ def _draw(mapper, state, volume, renderer) -> None:
                 after = _grey_texels(volume, values[plan.layers[0].level])
                 masks = content_adaptive.refinement_masks(after, np.zeros_like(after), plan, tolerance)
             elif on_gpu:
-                _copy_drawn(renderer, viewport, coarse, "after")
+                copy_drawn(renderer, viewport, coarse["framebuffers"]["after"])
                 refine = refine_pass.run_refine_pass(state, renderer.GetRenderWindow(), coarse, viewport,
                                                      plan.layers[0].grid, tolerance)
             else:
@@ -579,7 +587,7 @@ def _draw(mapper, state, volume, renderer) -> None:
             level_mapper.SetCropping(False)
             level_volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniformf(
                 "u_mc_fovNoValueDiscard", 1.0 if mapper.GetCropping() else 0.0)
-        _set_uniforms(level_volume, plan, layer)
+        _set_uniforms(level_volume, plan, layer, skip)
         band = _set_silhouette(level_volume, silhouette if len(plan.layers) > 1 else None, layer.level)
         object_state(level_mapper)["draw_camera"] = camera
         if readout:
@@ -626,7 +634,7 @@ def _draw(mapper, state, volume, renderer) -> None:
             elif margins is not None:
                 foveated_tiles.draw_extended(state, renderer, viewport, margins, level_volume, plan, layer, depth,
                                              lambda: level_volume.RenderVolumetricGeometry(renderer))
-            else:
+            elif not (level == 0 and skip == math.inf):  # a converged still frame keeps the whole view
                 level_volume.RenderVolumetricGeometry(renderer)
         finally:
             if values_texture is not None:
@@ -649,6 +657,12 @@ def _draw(mapper, state, volume, renderer) -> None:
         layers.append((level, volume_level, distance, level_input))
     if depth is not None:
         depth.Deactivate()
+    if kept is not None:
+        refine_keep.draw_kept(state, renderer, viewport, plan, kept)
+    if keeping:
+        refine_keep.keep_picture(state, renderer, viewport, plan, scene, kept)
+    else:
+        refine_keep.forget(state)
     state["bricks_drawn"] = bricks_drawn
     if readout:
         state["readout"] = (plan, values)
@@ -658,7 +672,8 @@ def _draw(mapper, state, volume, renderer) -> None:
     snapshot.DeepCopy(camera)
     state["frame"] = {"plan": plan, "camera": snapshot, "matrix": matrix, "image": image, "silhouette": silhouette,
                       "layers": layers, "cells": cells, "method": params["method"], "masks": masks,
-                      "base_distance": base_distance, "base_isd": base_isd, "bricked": bricked_levels}
+                      "base_distance": base_distance, "base_isd": base_isd, "bricked": bricked_levels,
+                      "skip": skip}
     if on_gpu:  # the masks for GetLastFrameCost: read back only when asked, after the frame
         state["frame"]["coarse"] = {"textures": coarse, "window": renderer.GetRenderWindow(),
                                     "viewport": viewport, "tolerance": tolerance}
@@ -925,24 +940,13 @@ def _gpu_masks_possible(state, renderer) -> bool:
 
 def _coarse_textures(state, renderer, viewport) -> dict:
     """The two viewport-sized RGBA8 textures the coarsest level's picture is copied into (after, before)."""
-    from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLFramebufferObject
-
     window = renderer.GetRenderWindow()
     entry = state.get("coarse_textures")
     size = (viewport[2], viewport[3])
     if entry is None or entry["window"] is not window or entry["size"] != size:
-        entry = {"window": window, "size": size}
+        entry = {"window": window, "size": size, "framebuffers": {}}
         for name in ("after", "before"):
-            texture = pixel_texture(window)
-            texture.Allocate2D(size[0], size[1], 4, VTK_UNSIGNED_CHAR)
-            entry[name] = texture
-            target = vtkOpenGLFramebufferObject()
-            target.SetContext(window)
-            window.GetState().PushFramebufferBindings()
-            target.Bind()  # creates it: attachments go only to an existing framebuffer
-            target.AddColorAttachment(0, texture)
-            window.GetState().PopFramebufferBindings()
-            entry.setdefault("framebuffers", {})[name] = target
+            entry[name], entry["framebuffers"][name] = texture_target(window, *size)
         state["coarse_textures"] = entry
     return entry
 
@@ -970,35 +974,6 @@ def _fovea_texture(state, renderer, plan, layer):
     texture.Deactivate()
     cache[layer.level] = (key, texture)
     return texture
-
-
-def _copy_drawn(renderer, viewport, coarse, name) -> None:
-    """Copy the viewport of the framebuffer being drawn into ``coarse[name]`` on the GPU (no readback).
-
-    A framebuffer blit (resolving a multisampled framebuffer as the CPU
-    path's ``glReadPixels`` does), the scissor test off while it runs.
-    """
-    from vtkmodules.vtkCommonCore import reference
-
-    gl_state = renderer.GetRenderWindow().GetState()
-    binding, buffer = reference(0), reference(0)
-    gl_state.GetCurrentDrawFramebufferState(binding, buffer)
-    scissor = gl_state.GetEnumState(_GL_SCISSOR_TEST)
-    gl_state.PushFramebufferBindings()
-    try:
-        gl_state.vtkglBindFramebuffer(_GL_READ_FRAMEBUFFER, int(binding))
-        gl_state.vtkglReadBuffer(int(buffer))
-        target = coarse["framebuffers"][name]
-        target.Bind(_GL_DRAW_FRAMEBUFFER)
-        target.ActivateDrawBuffer(0)
-        gl_state.vtkglDisable(_GL_SCISSOR_TEST)
-        x0, y0, width, height = viewport
-        gl_state.vtkglBlitFramebuffer(x0, y0, x0 + width, y0 + height, 0, 0, width, height,
-                                      _GL_COLOR_BUFFER_BIT, _GL_NEAREST)
-    finally:
-        if scissor:
-            gl_state.vtkglEnable(_GL_SCISSOR_TEST)
-        gl_state.PopFramebufferBindings()
 
 
 def _download_texels(window, texture, grid) -> np.ndarray:
@@ -1102,8 +1077,10 @@ def _copy_settings(mapper, volume, level_mapper, level_volume, matrix, distance,
     clip_uniforms.copy_clipping(mapper, level_mapper)
 
 
-def _set_uniforms(level_volume, plan, layer) -> None:
+def _set_uniforms(level_volume, plan, layer, skip: float = -math.inf) -> None:
+    """The level's foveation uniforms; ``skip``: level 0 casts no ray below it (:mod:`refine_keep`)."""
     uniforms = level_volume.GetShaderProperty().GetFragmentCustomUniforms()
+    uniforms.SetUniformf("u_mc_fovSkip", min(max(skip if layer.level == 0 else -math.inf, -_FAR), _FAR))
     uniforms.SetUniform2f("u_mc_fovGaze", [float(plan.gaze[0]), float(plan.gaze[1])])
     uniforms.SetUniformf("u_mc_fovAspect", float(plan.aspect))
     uniforms.SetUniformf("u_mc_fovCastFrom", max(layer.cast_from, -_FAR))
@@ -1328,6 +1305,8 @@ def _frame_cost(frame) -> dict:
                 band_rays = grid_cost(image, camera, size, layer.grid, volume_matrix=matrix,
                                       cast=added & ~cast, **kind)[0]
             cast = cast | added
+        if level == 0:  # a still frame kept the last frame's full-quality disc (refine_keep)
+            cast &= e >= frame.get("skip", -math.inf)
         rays, samples = grid_cost(image, camera, size, layer.grid, volume_matrix=matrix, cast=cast, **kind)
         brick_rays = 0
         if level in frame.get("bricked", {}):  # its bricks cast the level's range and band, not its mask

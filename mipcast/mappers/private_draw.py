@@ -90,6 +90,7 @@ def follow_volume(mapper, volume, private_mapper, private_volume, matrix) -> Non
 #: OpenGL enums the private draws set state with (vtkOpenGLState takes plain numbers).
 GL_BLEND, GL_DEPTH_TEST, GL_SCISSOR_TEST = 0x0BE2, 0x0B71, 0x0C11
 GL_ONE, GL_ONE_MINUS_SRC_ALPHA = 1, 0x0303
+GL_READ_FRAMEBUFFER, GL_DRAW_FRAMEBUFFER, GL_COLOR_BUFFER_BIT, GL_NEAREST = 0x8CA8, 0x8CA9, 0x4000, 0x2600
 
 
 def pixel_texture(window):
@@ -119,6 +120,64 @@ def kept_texture(store: dict, key, window):
         texture = pixel_texture(window)
         store[key] = texture
     return texture
+
+
+def texture_target(window, width: int, height: int) -> tuple:
+    """(texture, framebuffer): a new RGBA8 :func:`pixel_texture` of ``width`` x ``height`` and a framebuffer drawing into it.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkRenderWindow, vtkRenderer
+    >>> import vtkmodules.vtkRenderingOpenGL2
+    >>> window = vtkRenderWindow(); window.SetOffScreenRendering(True); window.AddRenderer(vtkRenderer())
+    >>> window.SetSize(8, 8); window.Render()
+    >>> texture, framebuffer = texture_target(window, 6, 4)
+    >>> texture.GetWidth(), texture.GetHeight(), framebuffer.GetNumberOfColorAttachments()
+    (6, 4, 1)
+    """
+    from vtkmodules.vtkCommonCore import VTK_UNSIGNED_CHAR
+    from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLFramebufferObject
+
+    texture = pixel_texture(window)
+    texture.Allocate2D(int(width), int(height), 4, VTK_UNSIGNED_CHAR)
+    framebuffer = vtkOpenGLFramebufferObject()
+    framebuffer.SetContext(window)
+    gl_state = window.GetState()
+    gl_state.PushFramebufferBindings()
+    try:
+        framebuffer.Bind()  # creates it: attachments go only to an existing framebuffer
+        framebuffer.AddColorAttachment(0, texture)
+    finally:
+        gl_state.PopFramebufferBindings()
+    return texture, framebuffer
+
+
+def copy_drawn(renderer, viewport, framebuffer) -> None:
+    """Copy the viewport of the framebuffer being drawn into ``framebuffer`` (a :func:`texture_target`) on the GPU.
+
+    A framebuffer blit (resolving a multisampled framebuffer as
+    ``glReadPixels`` does), the scissor test off while it runs; no readback.
+    """
+    from vtkmodules.vtkCommonCore import reference
+
+    gl_state = renderer.GetRenderWindow().GetState()
+    binding, buffer = reference(0), reference(0)
+    gl_state.GetCurrentDrawFramebufferState(binding, buffer)
+    scissor = gl_state.GetEnumState(GL_SCISSOR_TEST)
+    gl_state.PushFramebufferBindings()
+    try:
+        gl_state.vtkglBindFramebuffer(GL_READ_FRAMEBUFFER, int(binding))
+        gl_state.vtkglReadBuffer(int(buffer))
+        framebuffer.Bind(GL_DRAW_FRAMEBUFFER)
+        framebuffer.ActivateDrawBuffer(0)
+        gl_state.vtkglDisable(GL_SCISSOR_TEST)
+        x0, y0, width, height = viewport
+        gl_state.vtkglBlitFramebuffer(x0, y0, x0 + width, y0 + height, 0, 0, width, height,
+                                      GL_COLOR_BUFFER_BIT, GL_NEAREST)
+    finally:
+        if scissor:
+            gl_state.vtkglEnable(GL_SCISSOR_TEST)
+        gl_state.PopFramebufferBindings()
 
 
 def draw_over(window, texture, viewport, quads=None, depth: bool = False, depth_test: bool = False) -> None:

@@ -20,9 +20,7 @@ from __future__ import annotations
 
 import math
 
-from vtkmodules.vtkCommonCore import VTK_UNSIGNED_CHAR
-
-from mipcast.mappers.private_draw import pixel_texture
+from mipcast.mappers.private_draw import texture_target
 from mipcast.mappers.shader_pieces import load_piece
 
 #: OpenGL enums the pass saves and restores.
@@ -56,7 +54,7 @@ def refine_target(state: dict, window, grid) -> dict:
     >>> target["texture"].GetWidth(), target["texture"].GetHeight()
     (4, 2)
     """
-    from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLFramebufferObject, vtkOpenGLQuadHelper
+    from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLQuadHelper
 
     entry = state.get("refine_target")
     key = (window.GetAddressAsString("vtkObjectBase"), tuple(grid))
@@ -64,17 +62,7 @@ def refine_target(state: dict, window, grid) -> dict:
         return entry
     if entry is not None:
         entry["quad"].ReleaseGraphicsResources(entry["window"])
-    texture = pixel_texture(window)
-    texture.Allocate2D(int(grid[0]), int(grid[1]), 4, VTK_UNSIGNED_CHAR)
-    target = vtkOpenGLFramebufferObject()
-    target.SetContext(window)
-    gl_state = window.GetState()
-    gl_state.PushFramebufferBindings()
-    try:
-        target.Bind()  # creates it: attachments go only to an existing framebuffer
-        target.AddColorAttachment(0, texture)
-    finally:
-        gl_state.PopFramebufferBindings()
+    texture, target = texture_target(window, int(grid[0]), int(grid[1]))
     vertex, fragment = _sources()
     quad = vtkOpenGLQuadHelper(window, vertex, fragment, "")
     entry = state["refine_target"] = {"key": key, "window": window, "texture": texture, "framebuffer": target,
