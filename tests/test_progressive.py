@@ -129,3 +129,25 @@ def test_a_timer_renders_the_refining_frames_under_xvfb(tmp_path):
     script.write_text(TIMER_SCRIPT)
     result = run_under_xvfb([sys.executable, str(script)], cwd=tmp_path, env=plain_env(), timeout=120)
     assert result.returncode == 0 and "timer ok" in result.stdout, result.stdout + result.stderr
+
+
+def test_both_eyes_of_a_stereo_frame_draw_the_same_still_frame(vessels):
+    """A stereo window draws the volume twice a frame; the refinement counts frames, not eye draws
+    (before: the right eye was one still frame ahead of the left, and each frame took two steps)."""
+    from mipcast.core.object_state import object_state
+
+    full, fov = _pair(vessels, "mip", frames=3)
+    for view in (full, fov):
+        view.render_window.SetStereoTypeToAnaglyph()
+        view.render_window.StereoRenderOn()
+    drawn = []
+    fov.mapper.AddObserver("VolumeMapperRenderStartEvent",
+                           lambda *_: drawn.append(object_state(fov.mapper)["refine_step"]), -2.0)  # after the draw
+    per_frame = []
+    for _ in range(5):
+        drawn.clear()
+        fov.render_window.Render()
+        per_frame.append(tuple(drawn))
+    assert per_frame == [(0, 0), (1, 1), (2, 2), (3, 3), (3, 3)], per_frame
+    full.render_window.Render()
+    assert np.array_equal(_grab(fov), _grab(full))  # the converged pair: both eyes at full quality

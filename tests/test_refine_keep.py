@@ -124,15 +124,22 @@ def test_content_adaptive_frame_then_acuity_only_still_frames(vessels):
     assert frames[2][2] > 0 and frames[-1][1] == 0 and np.array_equal(_grab(fov), _grab(full)), frames
 
 
-def test_nothing_is_kept_for_a_stereo_pair(vessels):
+@pytest.mark.parametrize("stereo", ["Anaglyph", "SplitViewportHorizontal"])
+def test_each_eye_of_a_stereo_pair_keeps_its_own_picture(vessels, stereo):
     full, fov = _views(vessels, "mip")
     for view in (full, fov):
-        view.render_window.SetStereoTypeToAnaglyph()
+        getattr(view.render_window, f"SetStereoTypeTo{stereo}")()
         view.render_window.StereoRenderOn()
     full.render_window.Render()
-    frames = _frames(fov, FRAMES + 1)
-    assert all(skip == -np.inf for _, _, skip in frames) and "kept_picture" not in object_state(fov.mapper)
-    assert np.array_equal(_grab(fov), _grab(full))
+    rays = []  # each eye's rays (the cost of its draw, read right after it)
+    fov.mapper.AddObserver("VolumeMapperRenderEndEvent",
+                           lambda *_: rays.append(fov.mapper.GetLastFrameCost()["rays"]), -2.0)
+    for _ in range(FRAMES + 2):
+        rays.clear()
+        fov.render_window.Render()
+    assert np.array_equal(_grab(fov), _grab(full)) and rays == [0, 0], rays  # both eyes kept, bit for bit
+    kept = object_state(fov.mapper)["kept_pictures"]
+    assert sorted(kept) == [0, 1] and kept[0]["texture"] is not kept[1]["texture"]
 
 
 def test_a_clipping_plane_or_mapper_setting_changed_after_convergence_is_drawn(vessels):

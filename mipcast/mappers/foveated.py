@@ -484,7 +484,8 @@ def _draw(mapper, state, volume, renderer) -> None:
     state["gaze"] = gaze
     foveate = params["foveation"]
     if params["progressive"]:
-        radius, foveate = _refine(state, params, image, volume, camera, whole, gaze, radius)
+        radius, foveate = _refine(state, params, image, volume, camera, whole, gaze, radius,
+                                  counts_frame(renderer, camera))
     else:
         state.pop("refine_step", None)
     auto = bool(mapper.GetAutoAdjustSampleDistances())
@@ -502,11 +503,12 @@ def _draw(mapper, state, volume, renderer) -> None:
     readout = bool(state.get("exact_readout"))
     # progressive refinement's still frames keep what the last left at full quality (refine_keep)
     keeping = (params["progressive"] and not readout and tile_scale == 1.0 and base_isd == 1.0
-               and not renderer.GetRenderWindow().GetStereoRender() and not bricked_foveated.level_limit(mapper, image))
+               and not bricked_foveated.level_limit(mapper, image))
+    eye = 0 if counts_frame(renderer, camera) else 1  # a stereo pair's eyes keep a picture each
     scene = (state.get("refine_signature"), refine_keep.scene_key(renderer, volume, mapper)) if keeping else None
     # not after a change of the mapper's own settings (VTK's: sample distances, arrays, cropping...)
     unchanged = state.get("drawn_mtime") == mapper.GetMTime()
-    kept = refine_keep.kept_radius(state, scene, renderer.GetRenderWindow()) if keeping and unchanged else None
+    kept = refine_keep.kept_radius(state, scene, renderer.GetRenderWindow(), eye) if keeping and unchanged else None
     skip = refine_keep.skip_radius(kept)
     # a still frame casts acuity-only levels, whose fovea is full quality for the next to keep
     still = keeping and state.get("refine_step", 0) >= 1
@@ -658,9 +660,9 @@ def _draw(mapper, state, volume, renderer) -> None:
     if depth is not None:
         depth.Deactivate()
     if kept is not None:
-        refine_keep.draw_kept(state, renderer, viewport, plan, kept)
+        refine_keep.draw_kept(state, renderer, viewport, plan, kept, eye)
     if keeping:
-        refine_keep.keep_picture(state, renderer, viewport, plan, scene, kept)
+        refine_keep.keep_picture(state, renderer, viewport, plan, scene, kept, eye)
     else:
         refine_keep.forget(state)
     state["bricks_drawn"] = bricks_drawn
@@ -688,7 +690,7 @@ def _report_problem(mapper, state, problem: str) -> None:
     mapper.InvokeEvent(vtkCommand.ErrorEvent)
 
 
-def _refine(state, params, image, volume, camera, viewport, gaze, radius):
+def _refine(state, params, image, volume, camera, viewport, gaze, radius, advance=True):
     """(radius, foveation) of this frame under progressive refinement; counts the still frames.
 
     A frame is still when the camera, the volume's matrix and property, the
@@ -698,11 +700,29 @@ def _refine(state, params, image, volume, camera, viewport, gaze, radius):
     quality (one level, as with foveation off).
     """
     return refined_radius(params, viewport, gaze, radius, refine_step(state, params, image, volume, camera, viewport,
-                                                                      gaze))
+                                                                      gaze, advance))
 
 
-def refine_step(state, params, image, volume, camera, viewport, gaze) -> int:
-    """This frame's still-frame count under progressive refinement (0: something changed), kept in ``state``."""
+def counts_frame(renderer, camera) -> bool:
+    """Whether this draw starts a new frame for progressive refinement: not the second eye of a stereo pair.
+
+    A stereo window draws each renderer twice a frame, the left eye first
+    (``vtkCamera.GetLeftEye()`` 1, then 0); both eyes then show the same
+    still frame.  A window showing the right eye alone counts its one draw.
+    """
+    from vtkmodules.vtkRenderingCore import VTK_STEREO_RIGHT
+
+    window = renderer.GetRenderWindow()
+    if window is None or not window.GetStereoRender() or window.GetStereoType() == VTK_STEREO_RIGHT:
+        return True
+    return bool(camera.GetLeftEye())
+
+
+def refine_step(state, params, image, volume, camera, viewport, gaze, advance: bool = True) -> int:
+    """This frame's still-frame count under progressive refinement (0: something changed), kept in ``state``.
+
+    ``advance``: False for the second eye of a stereo pair (:func:`counts_frame`), which draws the
+    step its left eye drew."""
     # to 7 digits: vtkWindowToImageFilter renders with the view angle off by 1e-9 relative
     signature = (_rounded(camera.GetPosition() + camera.GetFocalPoint() + camera.GetViewUp()
                           + (camera.GetViewAngle(), camera.GetParallelScale(), camera.GetEyeAngle())),
@@ -712,7 +732,7 @@ def refine_step(state, params, image, volume, camera, viewport, gaze) -> int:
                  tuple(sorted((k, repr(v)) for k, v in params.items())))
     frames = int(params["refinement_frames"])
     still = state.get("refine_signature") == signature
-    step = min(state.get("refine_step", 0) + 1, frames) if still else 0
+    step = min(state.get("refine_step", 0) + int(advance), frames) if still else 0
     state["refine_signature"], state["refine_step"] = signature, step
     return step
 

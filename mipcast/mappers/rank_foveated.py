@@ -318,7 +318,8 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
             box = _WholeBox(volume, whole_image)
             gaze, radius = foveated._current_gaze(state, renderer, camera, viewport)
             if params["progressive"]:
-                step = foveated.refine_step(state, params, piece, volume, camera, viewport, gaze)
+                step = foveated.refine_step(state, params, piece, volume, camera, viewport, gaze,
+                                            foveated.counts_frame(renderer, camera))
         except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
             problem, params = repr(error), None
     # 0: progressive refinement's still frames, the same on every rank: the fewest (a change on any rank: 0)

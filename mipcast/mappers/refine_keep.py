@@ -18,9 +18,9 @@ again casts no ray.
 The last picture is kept (:func:`keep_picture`) only where it can be used
 again: the same refinement signature (camera, volume, property, input,
 settings, viewport, gaze), the same window and clipping range, and every other
-prop of the window unchanged (:func:`scene_key`).  The foveated mapper keeps
-nothing (every ray cast, as before) for a stereo pair, a tile of a bigger
-picture, a float readout, levels drawn from bricks, a reduced level 0 (image
+prop of the window unchanged (:func:`scene_key`); each eye of a stereo pair
+keeps its own.  The foveated mapper keeps nothing (every ray cast, as
+before) for a tile of a bigger picture, a float readout, levels drawn from bricks, a reduced level 0 (image
 sample distance above 1) and content-adaptive frames (their fovea is not
 full quality where the mask interpolates); its still frames cast acuity-only
 levels so that the next can keep them.
@@ -104,13 +104,15 @@ def scene_key(renderer, volume, mapper=None) -> tuple:
     return tuple(parts)
 
 
-def kept_radius(state: dict, key, window) -> Optional[float]:
+def kept_radius(state: dict, key, window, eye: int = 0) -> Optional[float]:
     """Radius of the disc the last frame left at full quality, if it was kept under ``key`` on ``window``; else None.
 
-    None too when the window released the copy's texture since (ParaView
-    does when it captures a screenshot).
+    ``eye``: 0 (one picture, or a stereo pair's left eye) or 1 (the right
+    eye): each eye keeps its own picture.  None too when the window
+    released the copy's texture since (ParaView does when it captures a
+    screenshot).
     """
-    kept = state.get("kept_picture")
+    kept = state.get("kept_pictures", {}).get(eye)
     if kept is None or kept["key"] != key or kept["radius"] <= 2 * MARGIN or not _usable(kept, window):
         return None
     return kept["radius"]
@@ -126,14 +128,15 @@ def skip_radius(radius: Optional[float]) -> float:
     return -math.inf if radius is None else radius - 2 * MARGIN
 
 
-def keep_picture(state: dict, renderer, viewport, plan, key, kept: Optional[float]) -> None:
+def keep_picture(state: dict, renderer, viewport, plan, key, kept: Optional[float], eye: int = 0) -> None:
     """Copy the viewport's picture after the levels (on the GPU) for the next still frame, with its exact radius.
 
     ``kept``: the radius this frame kept from the last (None: none); the
     pixels it wrote are full quality too.
     """
     window = renderer.GetRenderWindow()
-    target = state.get("kept_picture")
+    pictures = state.setdefault("kept_pictures", {})
+    target = pictures.get(eye)
     size = (int(viewport[2]), int(viewport[3]))
     if target is None or target["size"] != size or not _usable(target, window):
         texture, framebuffer = texture_target(window, *size)
@@ -143,21 +146,21 @@ def keep_picture(state: dict, renderer, viewport, plan, key, kept: Optional[floa
     if kept is not None:
         radius = max(radius, kept - MARGIN)
     target.update(key=key, radius=radius)
-    state["kept_picture"] = target
+    pictures[eye] = target
 
 
 def forget(state: dict) -> None:
-    """Drop the kept picture (the next frame casts every ray)."""
-    kept = state.pop("kept_picture", None)
-    if kept is not None and "quad" in kept:
-        kept["quad"].ReleaseGraphicsResources(kept["window"])
+    """Drop the kept pictures (the next frame casts every ray)."""
+    for kept in state.pop("kept_pictures", {}).values():
+        if "quad" in kept:
+            kept["quad"].ReleaseGraphicsResources(kept["window"])
 
 
-def draw_kept(state: dict, renderer, viewport, plan, radius: float) -> None:
+def draw_kept(state: dict, renderer, viewport, plan, radius: float, eye: int = 0) -> None:
     """Write the kept picture inside the disc of ``radius - MARGIN`` around the gaze (blending, depth test off)."""
     from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLQuadHelper, vtkOpenGLRenderUtilities
 
-    target = state["kept_picture"]
+    target = state["kept_pictures"][eye]
     window = renderer.GetRenderWindow()
     if "quad" not in target:
         fragment = vtkOpenGLRenderUtilities.GetFullScreenQuadFragmentShaderTemplate()
