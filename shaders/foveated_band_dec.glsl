@@ -30,3 +30,13 @@ bool mcFovBand(vec2 at, float ecc)
   float lam = clamp(log2(1.0 + u_mc_fovGain * max(ecc - u_mc_fovStart, 0.0)), 0.0, u_mc_fovTop);
   return lam > 0.0 && inside < (exp2(min(ceil(lam), 2.0)) + 1.0) * u_mc_fovSilUnit;
 }
+
+// Whether level 0 keeps the last frame's picture at this pixel instead of
+// casting (mipcast.mappers.refine_keep): inside the last frame's
+// full-quality disc (within u_mc_fovSkip of u_mc_fovSkipGaze) and this
+// frame's (within u_mc_fovSkipBound of the gaze); never for other levels
+// (their u_mc_fovSkip is -1e30). Every level piece discards there first.
+bool mcFovKept(vec2 at, float ecc)
+{
+  return length((at - u_mc_fovSkipGaze) * vec2(u_mc_fovAspect, 1.0)) < u_mc_fovSkip && ecc < u_mc_fovSkipBound;
+}

@@ -10,13 +10,13 @@
 // Level 0 also casts in the volume's silhouette band, where the coarser
 // levels' bilinear upsampling would mix hit and missed rays (a constant
 // volume's edge would darken); foveated_weight gives it weight 1 there.
-// Below u_mc_fovSkip no ray at all: a still frame of progressive refinement
-// keeps the last frame's full-quality picture there (mipcast.mappers.refine_keep).
+// No ray at all where the frame keeps the last frame's full-quality picture
+// (mcFovKept, mipcast.mappers.refine_keep), not even in the band.
   {
     vec2 mc_fovAt = (gl_FragCoord.xy - in_windowLowerLeftCorner) * in_inverseWindowSize;
     float mc_fovEcc = length((mc_fovAt - u_mc_fovGaze) * vec2(u_mc_fovAspect, 1.0));
     bool mc_fovBand = mcFovBand(mc_fovAt, mc_fovEcc);  // foveated_band_dec
-    if (mc_fovEcc < u_mc_fovSkip)
+    if (mcFovKept(mc_fovAt, mc_fovEcc))  // foveated_band_dec
     {
       discard;
     }

@@ -14,6 +14,10 @@
   {
     vec2 mc_fovAt = (gl_FragCoord.xy - in_windowLowerLeftCorner) * in_inverseWindowSize;
     float mc_fovEcc = length((mc_fovAt - u_mc_fovGaze) * vec2(u_mc_fovAspect, 1.0));
+    if (mcFovKept(mc_fovAt, mc_fovEcc))  // foveated_band_dec: the last frame's picture is kept here
+    {
+      discard;
+    }
     bool mc_fovBand = mcFovBand(mc_fovAt, mc_fovEcc);  // foveated_band_dec
     if (!mc_fovBand)
     {

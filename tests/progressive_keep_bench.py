@@ -1,13 +1,14 @@
-"""Progressive refinement keeping what it has against casting every still frame whole, in one process.
+"""Foveated frames keeping what the last one left at full quality against casting every ray, in one process.
 
-For each round and scene, :func:`mipcast.bench.foveation_bench.measure_progressive` runs twice,
-interleaved (the order alternates between rounds): once as the mapper draws (still frames keep the
-last frame's full-quality disc, :mod:`mipcast.mappers.refine_keep`) and once with keeping switched
-off (every still frame casts all its rays, as before).  1024² window, the volume filling it, gaze
-at the centre, default radius, 4 refinement frames, auto-adjust off.
+For each round and scene, :func:`mipcast.bench.foveation_bench.measure_progressive` (or, with
+``--gaze``, :func:`~mipcast.bench.foveation_bench.measure_gaze_latency`: the synthetic gaze trace
+replayed, acuity-only) runs twice, interleaved (the order alternates between rounds): once as the
+mapper draws (a frame keeps the last frame's full-quality disc where it is full quality itself,
+:mod:`mipcast.mappers.refine_keep`) and once with keeping switched off (every ray cast, as
+before).  1024² window, the volume filling it, default radius, 4 refinement frames, auto-adjust off.
 
-Usage: python tests/progressive_keep_bench.py ROUNDS SCENE [SCENE ...] [--out FILE.json]
-(prints each run and the two progressive tables; figures in docs/foveation.md,
+Usage: python tests/progressive_keep_bench.py ROUNDS SCENE [SCENE ...] [--gaze] [--out FILE.json]
+(prints each run and, for refinement, the two progressive tables; figures in docs/foveation.md,
 "Progressive refinement keeps what it has").
 """
 import argparse
@@ -15,7 +16,7 @@ import json
 import os
 
 from mipcast.app.cli import _load_scene
-from mipcast.bench.foveation_bench import measure_progressive, progressive_table
+from mipcast.bench.foveation_bench import measure_gaze_latency, measure_progressive, progressive_table
 from mipcast.mappers import refine_keep
 
 
@@ -23,23 +24,32 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("rounds", type=int)
     parser.add_argument("scenes", nargs="+")
+    parser.add_argument("--gaze", action="store_true", help="replay the gaze trace instead")
     parser.add_argument("--out")
     args = parser.parse_args()
-    keeping = refine_keep.kept_radius
+    keeping = refine_keep.kept_disc
     runs = {"keep": [], "recast": []}
     for round_ in range(args.rounds):
         for scene in args.scenes:
             image, window = _load_scene(scene, 128)
             for mode in ("recast", "keep") if round_ % 2 == 0 else ("keep", "recast"):
-                refine_keep.kept_radius = keeping if mode == "keep" else (lambda *_: None)
-                result = measure_progressive(image, scene, "mip", size=1024, window=window)
+                refine_keep.kept_disc = keeping if mode == "keep" else (lambda *_: None)
+                if args.gaze:
+                    result = measure_gaze_latency(image, scene, "mip", size=1024, window=window)
+                    print(mode, scene, f"latency median {result['median_latency_ms']:.0f} ms, "
+                          f"max {result['max_latency_ms']:.0f} ms, re-renders {result['re_renders']}, pursuit: "
+                          f"median {result['median_pursuit_latency_ms']:.0f} ms, "
+                          f"{100 * result['pursuit_rays']:.1f} % of the rays", flush=True)
+                else:
+                    result = measure_progressive(image, scene, "mip", size=1024, window=window)
+                    print(mode, scene, f"full {result['full_ms']:.0f} ms, until equal {result['ms_to_full']:.0f} ms",
+                          [(s["step"], round(s["ms"]), s["rays"]) for s in result["steps"]], flush=True)
                 result.update(mode=mode, round=round_, load=os.getloadavg()[0])
                 runs[mode].append(result)
-                print(mode, scene, f"full {result['full_ms']:.0f} ms, until equal {result['ms_to_full']:.0f} ms",
-                      [(s["step"], round(s["ms"]), s["rays"]) for s in result["steps"]], flush=True)
-    refine_keep.kept_radius = keeping
+    refine_keep.kept_disc = keeping
     for mode, results in runs.items():
-        print(f"\n{mode}\n{progressive_table(results)}")
+        if not args.gaze:
+            print(f"\n{mode}\n{progressive_table(results)}")
     if args.out:
         with open(args.out, "w") as stream:
             json.dump(runs, stream, indent=1)

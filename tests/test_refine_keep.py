@@ -11,6 +11,7 @@ from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
 from mipcast.core.object_state import object_state
 from mipcast.data_fixtures import make_fixture
 from mipcast.mappers import refine_keep
+from mipcast.offscreen import OffscreenView
 from test_progressive import SIZE, _pair
 
 FRAMES = 3
@@ -40,12 +41,13 @@ def _views(image, method, multisamples=0, tolerance=0.0):
 
 
 def _frames(fov, count):
-    """(step, rays, the disc level 0 skipped) of ``count`` renders."""
+    """(step, rays, the radius of the last frame's disc kept: -inf for none) of ``count`` renders."""
     out = []
     for _ in range(count):
         fov.render_window.Render()
+        kept = object_state(fov.mapper)["frame"]["kept"]
         out.append((fov.mapper.GetRefinementStep(), fov.mapper.GetLastFrameCost()["rays"],
-                    object_state(fov.mapper)["frame"]["skip"]))
+                    -np.inf if kept is None else kept.radius))
     return out
 
 
@@ -75,7 +77,7 @@ def test_still_frames_cast_only_what_is_not_yet_full_quality(vessels, method, mo
     assert np.array_equal(_grab(fov), reference)  # bit for bit, alpha too
     # the same frames casting every ray again (as before): each still frame cast more, the last one
     # and every later still frame all of full quality's rays; kept, the converged view casts none
-    monkeypatch.setattr(refine_keep, "kept_radius", lambda *args: None)
+    monkeypatch.setattr(refine_keep, "kept_disc", lambda *args: None)
     _, again = _views(vessels, method)
     steps_again, rays_again, _ = zip(*_frames(again, FRAMES + 3))
     assert steps_again == steps and np.array_equal(_grab(again), reference)
@@ -168,3 +170,24 @@ def test_a_clipping_plane_or_mapper_setting_changed_after_convergence_is_drawn(v
     step, rays, _ = _frames(fov, 1)[0]
     assert step == FRAMES and rays > 0 and np.array_equal(_grab(fov), _grab(full))
     assert _frames(fov, 1)[0][1] == 0 and np.array_equal(_grab(fov), _grab(full))  # then kept again
+
+
+def test_a_gaze_moved_within_the_fovea_keeps_the_overlap_of_the_two_full_quality_discs(vessels):
+    """A pursuit-like move keeps the pixels both frames draw at full quality: the picture is the one
+    a fresh view at the new gaze draws, bit for bit, with fewer rays; a jump past the fovea keeps none."""
+    fov = OffscreenView(vessels, "foveated", size=(96, 96))
+    fov.mapper.SetFovealRadius(0.3)
+    fov.mapper.SetGazePoint(0.45, 0.5)
+    fov.render_window.Render()
+    for gaze, overlaps in (((0.5, 0.52), True), ((0.95, 0.05), False)):
+        fov.mapper.SetGazePoint(*gaze)
+        fov.render_window.Render()
+        fresh = OffscreenView(vessels, "foveated", size=(96, 96))
+        fresh.mapper.SetFovealRadius(0.3)
+        fresh.mapper.SetGazePoint(*gaze)
+        fresh.render_window.Render()
+        rays, fresh_rays = fov.mapper.GetLastFrameCost()["rays"], fresh.mapper.GetLastFrameCost()["rays"]
+        kept = object_state(fov.mapper)["frame"]["kept"]
+        assert np.array_equal(_grab(fov), _grab(fresh)), gaze
+        assert (kept is not None and rays < 0.8 * fresh_rays) if overlaps else (kept is None and rays == fresh_rays), (
+            gaze, kept, rays, fresh_rays)

@@ -439,7 +439,9 @@ def measure_gaze_latency(image, scene: str, method: str = "mip", size: int = 102
 
     Each sample is pushed (:meth:`~mipcast.mappers.foveated.FoveatedVolumeMapper.PushGaze`); when it asks
     for a re-render the view renders at once, and the latency from the push to the end of that frame
-    is recorded.  Re-renders are counted per kind of sample.
+    is recorded.  Re-renders are counted per kind of sample; ``pursuit_rays`` is the median share of
+    full quality's rays a re-render during smooth pursuit cast (``GetLastFrameCost``, read after the
+    timing), ``median_pursuit_latency_ms`` its latency.
 
     Examples
     --------
@@ -454,7 +456,7 @@ def measure_gaze_latency(image, scene: str, method: str = "mip", size: int = 102
     view.mapper.SetMethod(method)
     view.render_window.Render()
     trace = synthetic_trace()[:samples]
-    latencies, counts = [], {"fixation": 0, "saccade": 0, "pursuit": 0}
+    latencies, counts, pursuit = [], {"fixation": 0, "saccade": 0, "pursuit": 0}, []
     for sample in trace:
         if view.mapper.PushGaze(sample.t, sample.x, sample.y):
             view.render_window.Render()
@@ -462,13 +464,18 @@ def measure_gaze_latency(image, scene: str, method: str = "mip", size: int = 102
             latencies.append(1000 * view.mapper.GetLastGazeLatency())
             counts[sample.kind] += 1
             assert view.mapper.GetLastPlan().gaze == view.mapper.GetGazeStream().gaze
+            if sample.kind == "pursuit":
+                cost = view.mapper.GetLastFrameCost()
+                pursuit.append((latencies[-1], cost["rays"] / max(cost["full_rays"], 1)))
     view.render_window.Finalize()
     kinds = [s.kind for s in trace]
     fixations = sum(1 for i, k in enumerate(kinds) if k == "fixation" and (i == 0 or kinds[i - 1] != k))
     return {"scene": scene, "method": method, "size": size, "framing": framing, "samples": len(trace),
             "fixations": fixations, "re_renders": counts,
             "median_latency_ms": statistics.median(latencies) if latencies else float("nan"),
-            "max_latency_ms": max(latencies) if latencies else float("nan"), "frames_after_sample": 1}
+            "max_latency_ms": max(latencies) if latencies else float("nan"), "frames_after_sample": 1,
+            "median_pursuit_latency_ms": statistics.median(p[0] for p in pursuit) if pursuit else float("nan"),
+            "pursuit_rays": statistics.median(p[1] for p in pursuit) if pursuit else float("nan")}
 
 
 def progressive_table(results: Sequence[dict]) -> str:

@@ -468,7 +468,6 @@ def _restore_own_draw(mapper, event) -> None:
     if saved is not None:
         mapper.SetCropping(saved[0])
         mapper.SetCroppingRegionPlanes(*saved[1])
-    state["drawn_mtime"] = mapper.GetMTime()  # a setting changed before the next frame moves it (refine_keep)
 
 
 def _draw(mapper, state, volume, renderer) -> None:
@@ -501,17 +500,18 @@ def _draw(mapper, state, volume, renderer) -> None:
                                           foveate, _level_cap(image, volume, whole_camera, whole), base_isd)
         plan = foveated_tiles.band_layer(plan, whole_plan, base_isd)
     readout = bool(state.get("exact_readout"))
-    # progressive refinement's still frames keep what the last left at full quality (refine_keep)
-    keeping = (params["progressive"] and not readout and tile_scale == 1.0 and base_isd == 1.0
+    # a frame keeps what the last one left at full quality where it is full quality itself: progressive
+    # refinement's still frames, and a gaze that moved within the last fovea (refine_keep)
+    keeping = (not readout and tile_scale == 1.0 and base_isd == 1.0
                and not bricked_foveated.level_limit(mapper, image))
     eye = 0 if counts_frame(renderer, camera) else 1  # a stereo pair's eyes keep a picture each
-    scene = (state.get("refine_signature"), refine_keep.scene_key(renderer, volume, mapper)) if keeping else None
-    # not after a change of the mapper's own settings (VTK's: sample distances, arrays, cropping...)
-    unchanged = state.get("drawn_mtime") == mapper.GetMTime()
-    kept = refine_keep.kept_radius(state, scene, renderer.GetRenderWindow(), eye) if keeping and unchanged else None
-    skip = refine_keep.skip_radius(kept)
+    scene = ((scene_signature(params, image, volume, camera, whole), refine_keep.scene_key(renderer, volume, mapper))
+             if keeping else None)
+    kept = refine_keep.kept_disc(state, scene, renderer.GetRenderWindow(), eye, plan) if keeping else None
+    if kept is not None and not params["progressive"] and tuple(kept.gaze) == tuple(plan.gaze):
+        kept = None  # without progressive refinement the same frame again is drawn afresh (as benchmarks time it)
     # a still frame casts acuity-only levels, whose fovea is full quality for the next to keep
-    still = keeping and state.get("refine_step", 0) >= 1
+    still = keeping and params["progressive"] and state.get("refine_step", 0) >= 1
     tolerance = 0.0 if still else float(params["content_tolerance"])
     adaptive = tolerance > 0 and len(plan.layers) > 1
     if adaptive:
@@ -589,7 +589,7 @@ def _draw(mapper, state, volume, renderer) -> None:
             level_mapper.SetCropping(False)
             level_volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniformf(
                 "u_mc_fovNoValueDiscard", 1.0 if mapper.GetCropping() else 0.0)
-        _set_uniforms(level_volume, plan, layer, skip)
+        _set_uniforms(level_volume, plan, layer, kept)
         band = _set_silhouette(level_volume, silhouette if len(plan.layers) > 1 else None, layer.level)
         object_state(level_mapper)["draw_camera"] = camera
         if readout:
@@ -636,7 +636,7 @@ def _draw(mapper, state, volume, renderer) -> None:
             elif margins is not None:
                 foveated_tiles.draw_extended(state, renderer, viewport, margins, level_volume, plan, layer, depth,
                                              lambda: level_volume.RenderVolumetricGeometry(renderer))
-            elif not (level == 0 and skip == math.inf):  # a converged still frame keeps the whole view
+            elif not (level == 0 and refine_keep.keeps_all(kept)):  # a converged still frame keeps the whole view
                 level_volume.RenderVolumetricGeometry(renderer)
         finally:
             if values_texture is not None:
@@ -675,7 +675,7 @@ def _draw(mapper, state, volume, renderer) -> None:
     state["frame"] = {"plan": plan, "camera": snapshot, "matrix": matrix, "image": image, "silhouette": silhouette,
                       "layers": layers, "cells": cells, "method": params["method"], "masks": masks,
                       "base_distance": base_distance, "base_isd": base_isd, "bricked": bricked_levels,
-                      "skip": skip}
+                      "kept": kept}
     if on_gpu:  # the masks for GetLastFrameCost: read back only when asked, after the frame
         state["frame"]["coarse"] = {"textures": coarse, "window": renderer.GetRenderWindow(),
                                     "viewport": viewport, "tolerance": tolerance}
@@ -723,18 +723,26 @@ def refine_step(state, params, image, volume, camera, viewport, gaze, advance: b
 
     ``advance``: False for the second eye of a stereo pair (:func:`counts_frame`), which draws the
     step its left eye drew."""
-    # to 7 digits: vtkWindowToImageFilter renders with the view angle off by 1e-9 relative
-    signature = (_rounded(camera.GetPosition() + camera.GetFocalPoint() + camera.GetViewUp()
-                          + (camera.GetViewAngle(), camera.GetParallelScale(), camera.GetEyeAngle())),
-                 camera.GetParallelProjection(),  # not the eye: both eyes of a stereo pair refine
-                 tuple(matrix_array(volume.GetMatrix()).ravel()), _property_stamp(volume.GetProperty()),
-                 image.GetAddressAsString("vtkObjectBase"), image.GetMTime(), tuple(viewport), tuple(gaze),
-                 tuple(sorted((k, repr(v)) for k, v in params.items())))
+    signature = (scene_signature(params, image, volume, camera, viewport), tuple(gaze),
+                 tuple(sorted((k, repr(v)) for k, v in params.items() if k.startswith("gaze_"))))
     frames = int(params["refinement_frames"])
     still = state.get("refine_signature") == signature
     step = min(state.get("refine_step", 0) + int(advance), frames) if still else 0
     state["refine_signature"], state["refine_step"] = signature, step
     return step
+
+
+def scene_signature(params, image, volume, camera, viewport) -> tuple:
+    """What a frame's picture depends on besides the gaze: camera, volume matrix and property, input,
+    viewport and the settings but the gaze's (``gaze_*``); the stillness test of :func:`refine_step`
+    adds the gaze."""
+    # to 7 digits: vtkWindowToImageFilter renders with the view angle off by 1e-9 relative
+    return (_rounded(camera.GetPosition() + camera.GetFocalPoint() + camera.GetViewUp()
+                     + (camera.GetViewAngle(), camera.GetParallelScale(), camera.GetEyeAngle())),
+            camera.GetParallelProjection(),  # not the eye: both eyes of a stereo pair refine
+            tuple(matrix_array(volume.GetMatrix()).ravel()), _property_stamp(volume.GetProperty()),
+            image.GetAddressAsString("vtkObjectBase"), image.GetMTime(), tuple(viewport),
+            tuple(sorted((k, repr(v)) for k, v in params.items() if not k.startswith("gaze_"))))
 
 
 def refined_radius(params, viewport, gaze, radius, step: int):
@@ -1097,10 +1105,10 @@ def _copy_settings(mapper, volume, level_mapper, level_volume, matrix, distance,
     clip_uniforms.copy_clipping(mapper, level_mapper)
 
 
-def _set_uniforms(level_volume, plan, layer, skip: float = -math.inf) -> None:
-    """The level's foveation uniforms; ``skip``: level 0 casts no ray below it (:mod:`refine_keep`)."""
+def _set_uniforms(level_volume, plan, layer, kept=None) -> None:
+    """The level's foveation uniforms; ``kept``: the :class:`refine_keep.Disc` level 0 casts no ray in."""
     uniforms = level_volume.GetShaderProperty().GetFragmentCustomUniforms()
-    uniforms.SetUniformf("u_mc_fovSkip", min(max(skip if layer.level == 0 else -math.inf, -_FAR), _FAR))
+    refine_keep.set_skip_uniforms(uniforms, kept if layer.level == 0 else None)
     uniforms.SetUniform2f("u_mc_fovGaze", [float(plan.gaze[0]), float(plan.gaze[1])])
     uniforms.SetUniformf("u_mc_fovAspect", float(plan.aspect))
     uniforms.SetUniformf("u_mc_fovCastFrom", max(layer.cast_from, -_FAR))
@@ -1325,8 +1333,8 @@ def _frame_cost(frame) -> dict:
                 band_rays = grid_cost(image, camera, size, layer.grid, volume_matrix=matrix,
                                       cast=added & ~cast, **kind)[0]
             cast = cast | added
-        if level == 0:  # a still frame kept the last frame's full-quality disc (refine_keep)
-            cast &= e >= frame.get("skip", -math.inf)
+        if level == 0:  # a frame that kept the last frame's full-quality disc (refine_keep) skipped it
+            cast &= ~refine_keep.skipped(frame.get("kept"), layer.grid, plan)
         rays, samples = grid_cost(image, camera, size, layer.grid, volume_matrix=matrix, cast=cast, **kind)
         brick_rays = 0
         if level in frame.get("bricked", {}):  # its bricks cast the level's range and band, not its mask

@@ -1,36 +1,42 @@
-"""Progressive refinement keeps what it has: a still frame casts level 0 only where the last was not yet full quality.
+"""A foveated frame keeps what the last one left at full quality instead of casting it again.
 
-Still frame ``k`` of progressive refinement
-(:meth:`mipcast.mappers.foveated.FoveatedVolumeMapper.SetProgressive`) widens
-the fovea until the picture is full quality.  Where a frame drew level 0
-alone -- eccentricity below every coarser level's cast range,
-:func:`exact_radius` -- its picture is full quality pixel for pixel (level 0's
-weight is 1 there and nothing lies beneath it but the scene).  The next still
-frame of the same scene keeps those pixels instead of casting them again:
-level 0 skips the disc (``u_mc_fovSkip`` in ``shaders/foveated_skip.glsl``),
-and after the levels a small pass (``shaders/foveated_keep_pass.glsl``,
+Where a frame drew level 0 alone -- eccentricity below every coarser
+level's cast range, :func:`exact_radius` -- its picture is full quality
+pixel for pixel (level 0's weight is 1 there and nothing lies beneath it
+but the scene).  The next frame of the same scene (:func:`scene_key`, and
+the foveated mapper's signature of everything but the gaze) keeps those
+pixels wherever it is full quality itself: inside its own exact disc.  For
+a still frame of progressive refinement
+(:meth:`mipcast.mappers.foveated.FoveatedVolumeMapper.SetProgressive`),
+whose disc only widens, that is the whole last disc; for a gaze that moved
+(a pursuit, a small saccade) it is where the last frame's disc and this
+frame's overlap (:class:`Disc`).  Level 0 skips those pixels
+(``u_mc_fovSkip*`` in ``shaders/foveated_skip*.glsl``), and after the
+levels a small pass (``shaders/foveated_keep_pass.glsl``,
 :func:`draw_kept`) writes the last frame's picture there, blending and the
-depth test off.  It writes a disc :data:`MARGIN` wider than level 0 skipped,
-so every pixel is either cast or kept whatever float32 rounding does at the
-border.  A converged frame keeps the whole view: drawing a still, refined view
-again casts no ray.
+depth test off.  It writes a region :data:`MARGIN` wider than level 0
+skipped, so every pixel is either cast or kept whatever float32 rounding
+does at the border.  A converged frame keeps the whole view: drawing a
+still, refined view again casts no ray.
 
-The last picture is kept (:func:`keep_picture`) only where it can be used
-again: the same refinement signature (camera, volume, property, input,
-settings, viewport, gaze), the same window and clipping range, and every other
-prop of the window unchanged (:func:`scene_key`); each eye of a stereo pair
-keeps its own.  The foveated mapper keeps nothing (every ray cast, as
-before) for a tile of a bigger picture, a float readout, levels drawn from bricks, a reduced level 0 (image
-sample distance above 1) and content-adaptive frames (their fovea is not
-full quality where the mask interpolates); its still frames cast acuity-only
-levels so that the next can keep them.
+The last picture (:func:`keep_picture`, a GPU copy of the viewport) is used
+only under the same scene key, window and clipping range, with every other
+prop of the window unchanged (:func:`scene_key`); each eye of a stereo
+pair keeps its own.  A content-adaptive frame leaves nothing to keep (its
+fovea interpolates where the mask says so); progressive refinement's still
+frames therefore cast acuity-only levels.  The foveated mapper keeps
+nothing (every ray cast, as before) for a tile of a bigger picture, a
+float readout, levels drawn from bricks, a reduced level 0 (image sample
+distance above 1) and on several ranks.
 """
 from __future__ import annotations
 
 import math
-from typing import Optional
+from typing import NamedTuple, Optional, Sequence
 
-from mipcast.core.foveation import REACH_TEXELS
+import numpy as np
+
+from mipcast.core.foveation import REACH_TEXELS, eccentricity
 from mipcast.mappers.private_draw import GL_BLEND, GL_DEPTH_TEST, copy_drawn, texture_target
 from mipcast.mappers.shader_pieces import load_piece
 
@@ -64,12 +70,29 @@ def exact_radius(plan) -> float:
                 for layer in plan.layers if layer.level != 0), default=math.inf)
 
 
+#: VTK settings of a volume mapper a picture depends on (``Get<name>``; those a VTK lacks are skipped).
+MAPPER_SETTINGS = ("SampleDistance", "ImageSampleDistance", "AutoAdjustSampleDistances",
+                   "LockSampleDistanceToInputSpacing", "UseJittering", "BlendMode", "Cropping",
+                   "CroppingRegionPlanes", "CroppingRegionFlags", "ScalarMode", "ArrayAccessMode", "ArrayId",
+                   "ArrayName", "MaskInput", "MaskType", "MaskBlendFactor", "ColorRangeType",
+                   "ScalarOpacityRangeType", "GradientOpacityRangeType", "ComputeNormalFromOpacity",
+                   "GlobalIlluminationReach", "VolumetricScatteringBlending", "Transfer2DYAxisArray",
+                   "ClampDepthToBackface", "FinalColorWindow", "FinalColorLevel")
+
+
+def _value(value):
+    """A setting as a comparable value (a VTK object by its address and modification time)."""
+    if hasattr(value, "GetAddressAsString"):
+        return (value.GetAddressAsString("vtkObjectBase"), value.GetMTime())
+    return tuple(value) if isinstance(value, (list, tuple)) else value
+
+
 def scene_key(renderer, volume, mapper=None) -> tuple:
     """What besides the refinement signature a kept picture depends on: window, clipping range, the rest of the scene.
 
     The window with its multisampling (a screenshot may render without it);
-    ``mapper``'s clipping planes (a plane's change does not move the
-    mapper's modification time, which the foveated mapper compares itself);
+    ``mapper``'s clipping planes and VTK settings (:data:`MAPPER_SETTINGS`;
+    mipcast's own are in the foveated mapper's signature);
     every renderer of the window with its background, layer and lights and,
     for each of its props but ``volume``, the prop's visibility and redraw
     time (which covers its mapper, input and property).  Not a renderer's
@@ -90,7 +113,9 @@ def scene_key(renderer, volume, mapper=None) -> tuple:
     planes = mapper.GetClippingPlanes() if mapper is not None else None
     parts = [window.GetAddressAsString("vtkObjectBase"), window.GetMultiSamples(),
              renderer.GetAddressAsString("vtkObjectBase"), tuple(renderer.GetActiveCamera().GetClippingRange()),
-             None if planes is None else tuple(planes.GetItem(i).GetMTime() for i in range(planes.GetNumberOfItems()))]
+             None if planes is None else tuple(planes.GetItem(i).GetMTime() for i in range(planes.GetNumberOfItems())),
+             None if mapper is None else tuple(_value(getattr(mapper, f"Get{name}")()) for name in MAPPER_SETTINGS
+                                               if hasattr(mapper, f"Get{name}"))]
     for other in (renderers.GetItemAsObject(i) for i in range(renderers.GetNumberOfItems())):
         props, lights = other.GetViewProps(), other.GetLights()
         background = (other.GetBackground(), other.GetBackground2(), other.GetBackgroundAlpha(),
@@ -104,18 +129,38 @@ def scene_key(renderer, volume, mapper=None) -> tuple:
     return tuple(parts)
 
 
-def kept_radius(state: dict, key, window, eye: int = 0) -> Optional[float]:
-    """Radius of the disc the last frame left at full quality, if it was kept under ``key`` on ``window``; else None.
+class Disc(NamedTuple):
+    """Where a frame keeps the last picture: within ``radius`` of the last frame's gaze ``gaze`` and
+    within ``bound`` of this frame's (viewport heights; both the full-quality discs of their frames)."""
+    gaze: tuple
+    radius: float
+    bound: float
+
+
+def kept_disc(state: dict, key, window, eye: int, plan) -> Optional[Disc]:
+    """The :class:`Disc` a frame of ``plan`` (acuity-only: before content-adaptive density widens its
+    coarsest level) keeps from the last frame, if that was kept under ``key`` on ``window``; else None.
 
     ``eye``: 0 (one picture, or a stereo pair's left eye) or 1 (the right
-    eye): each eye keeps its own picture.  None too when the window
-    released the copy's texture since (ParaView does when it captures a
-    screenshot).
+    eye): each eye keeps its own picture.  None too when the discs do not
+    overlap, and when the window released the copy's texture since
+    (ParaView does when it captures a screenshot).
+
+    Examples
+    --------
+    >>> from mipcast.core.foveation import plan_frame
+    >>> plan = plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.3, 0.1)
+    >>> kept_disc({}, "scene", None, 0, plan) is None   # nothing kept yet
+    True
     """
     kept = state.get("kept_pictures", {}).get(eye)
-    if kept is None or kept["key"] != key or kept["radius"] <= 2 * MARGIN or not _usable(kept, window):
+    if kept is None or kept["key"] != key or not _usable(kept, window):
         return None
-    return kept["radius"]
+    disc = Disc(kept["gaze"], kept["radius"], exact_radius(plan))
+    gap = float(np.hypot((plan.gaze[0] - disc.gaze[0]) * plan.aspect, plan.gaze[1] - disc.gaze[1]))
+    if min(disc.radius, disc.bound) <= 2 * MARGIN or gap >= disc.radius + disc.bound - 4 * MARGIN:
+        return None
+    return disc
 
 
 def _usable(target: dict, window) -> bool:
@@ -123,16 +168,44 @@ def _usable(target: dict, window) -> bool:
     return target["window"] is window and texture.GetContext() is window and texture.GetHandle() != 0
 
 
-def skip_radius(radius: Optional[float]) -> float:
-    """The disc level 0 skips in a frame that keeps ``radius`` (-inf: none)."""
-    return -math.inf if radius is None else radius - 2 * MARGIN
+def keeps_all(disc: Optional[Disc]) -> bool:
+    """Whether ``disc`` covers the whole view (a converged still frame): level 0 need not be drawn."""
+    return disc is not None and disc.radius == math.inf and disc.bound == math.inf
 
 
-def keep_picture(state: dict, renderer, viewport, plan, key, kept: Optional[float], eye: int = 0) -> None:
-    """Copy the viewport's picture after the levels (on the GPU) for the next still frame, with its exact radius.
+def set_skip_uniforms(uniforms, disc: Optional[Disc]) -> None:
+    """Level 0's ``u_mc_fovSkip*`` uniforms (``shaders/foveated_skip*.glsl``): no ray where ``disc`` is
+    kept, less :data:`MARGIN` (none for None)."""
+    if disc is None:
+        gaze, radius, bound = (0.0, 0.0), -_FAR, -_FAR
+    else:
+        gaze, radius, bound = disc.gaze, disc.radius - 2 * MARGIN, disc.bound - 2 * MARGIN
+    uniforms.SetUniform2f("u_mc_fovSkipGaze", [float(gaze[0]), float(gaze[1])])
+    uniforms.SetUniformf("u_mc_fovSkip", float(min(radius, _FAR)))
+    uniforms.SetUniformf("u_mc_fovSkipBound", float(min(bound, _FAR)))
 
-    ``kept``: the radius this frame kept from the last (None: none); the
-    pixels it wrote are full quality too.
+
+def skipped(disc: Optional[Disc], grid: Sequence[int], plan) -> np.ndarray:
+    """Whether level 0 skipped each ray of ``grid`` (top row first) for ``disc`` (float64, as the shader's test).
+
+    Examples
+    --------
+    >>> from mipcast.core.foveation import plan_frame
+    >>> plan = plan_frame((0, 0, 8, 8), (0.5, 0.5), 0.3, 0.1)
+    >>> int(skipped(Disc((0.5, 0.5), 0.2, 0.3), (8, 8), plan).sum()), int(skipped(None, (8, 8), plan).sum())
+    (4, 0)
+    """
+    if disc is None:
+        return np.zeros((int(grid[1]), int(grid[0])), bool)
+    return ((eccentricity(grid, disc.gaze, plan.aspect) < disc.radius - 2 * MARGIN)
+            & (eccentricity(grid, plan.gaze, plan.aspect) < disc.bound - 2 * MARGIN))
+
+
+def keep_picture(state: dict, renderer, viewport, plan, key, kept: Optional[Disc], eye: int = 0) -> None:
+    """Copy the viewport's picture after the levels (on the GPU) for the next frame, with its gaze and exact radius.
+
+    ``kept``: the :class:`Disc` this frame kept from the last (None: none);
+    when it is concentric, the pixels it wrote are full quality too.
     """
     window = renderer.GetRenderWindow()
     pictures = state.setdefault("kept_pictures", {})
@@ -143,9 +216,9 @@ def keep_picture(state: dict, renderer, viewport, plan, key, kept: Optional[floa
         target = {"window": window, "size": size, "texture": texture, "framebuffer": framebuffer}
     copy_drawn(renderer, viewport, target["framebuffer"])
     radius = exact_radius(plan)
-    if kept is not None:
-        radius = max(radius, kept - MARGIN)
-    target.update(key=key, radius=radius)
+    if kept is not None and tuple(kept.gaze) == tuple(plan.gaze):
+        radius = max(radius, min(kept.radius, kept.bound) - MARGIN)
+    target.update(key=key, radius=radius, gaze=tuple(plan.gaze))
     pictures[eye] = target
 
 
@@ -156,8 +229,8 @@ def forget(state: dict) -> None:
             kept["quad"].ReleaseGraphicsResources(kept["window"])
 
 
-def draw_kept(state: dict, renderer, viewport, plan, radius: float, eye: int = 0) -> None:
-    """Write the kept picture inside the disc of ``radius - MARGIN`` around the gaze (blending, depth test off)."""
+def draw_kept(state: dict, renderer, viewport, plan, disc: Disc, eye: int = 0) -> None:
+    """Write the kept picture inside ``disc`` less :data:`MARGIN` (blending, depth test off)."""
     from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLQuadHelper, vtkOpenGLRenderUtilities
 
     target = state["kept_pictures"][eye]
@@ -179,8 +252,10 @@ def draw_kept(state: dict, renderer, viewport, plan, radius: float, eye: int = 0
         program = window.GetShaderCache().ReadyShaderProgram(*target["sources"], "")
         program.SetUniformi("u_mc_fovKept", target["texture"].GetTextureUnit())
         program.SetUniform2f("u_mc_fovGaze", [float(plan.gaze[0]), float(plan.gaze[1])])
+        program.SetUniform2f("u_mc_fovKeptGaze", [float(disc.gaze[0]), float(disc.gaze[1])])
         program.SetUniformf("u_mc_fovAspect", float(plan.aspect))
-        program.SetUniformf("u_mc_fovKeep", float(min(radius - MARGIN, _FAR)))
+        program.SetUniformf("u_mc_fovKeep", float(min(disc.radius - MARGIN, _FAR)))
+        program.SetUniformf("u_mc_fovKeepBound", float(min(disc.bound - MARGIN, _FAR)))
         program.SetUniform2f("u_mc_fovSize", [float(width), float(height)])
         target["quad"].Render()
     finally:
