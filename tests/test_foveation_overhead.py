@@ -71,3 +71,26 @@ def test_reduced_gpu_masked_levels_in_their_box_keep_no_rays_of_earlier_frames()
         fresh.render_window.Finalize()
     assert object_state(moving.mapper).get("refine_passes", 0) >= 1
     moving.render_window.Finalize()
+
+
+def test_a_viewport_away_from_the_window_corner_keeps_no_rays_of_earlier_frames():
+    """A subplot (a renderer's viewport not at the window's lower left corner): VTK clears a reduced
+    level's buffer under the renderer's box, which starts at the viewport's corner, while the buffer's
+    texels count from its own corner; the coarsest level (no box of its own) left the last frame's rays
+    below and left of it, stretched into the picture after a gaze move (255 grey off). Now its box
+    starts at the window's origin: the picture equals a fresh view's at the new gaze."""
+    from mipcast.offscreen import OffscreenView
+
+    image = make_fixture("vessels", size=32)
+    for tolerance in (0.0, 2.0):
+        def view_at(gaze):
+            view = OffscreenView(image, "foveated", size=(120, 64))
+            view.renderer.SetViewport(0.4, 0.2, 1.0, 1.0)
+            apply_settings(view.mapper, (("ContentTolerance", tolerance), ("GazePoint", gaze)))
+            return view
+
+        moving = view_at((0.3, 0.6))
+        moving.screenshot()
+        moving.mapper.SetGazePoint(0.7, 0.4)
+        picture = moving.screenshot()
+        assert picture.max() > 100 and np.array_equal(picture, view_at((0.7, 0.4)).screenshot()), tolerance

@@ -191,3 +191,22 @@ def test_a_gaze_moved_within_the_fovea_keeps_the_overlap_of_the_two_full_quality
         assert np.array_equal(_grab(fov), _grab(fresh)), gaze
         assert (kept is not None and rays < 0.8 * fresh_rays) if overlaps else (kept is None and rays == fresh_rays), (
             gaze, kept, rays, fresh_rays)
+
+
+def test_a_subplot_converges_bit_for_bit(vessels):
+    """A renderer whose viewport is not at the window's corner, beside another renderer: the copy, the
+    skip and the keep pass work in its viewport (this once kept the stale rays of a reduced level,
+    test_foveation_overhead), and the other renderer's pixels are untouched."""
+    from vtkmodules.vtkRenderingCore import vtkRenderer
+
+    full, fov = _views(vessels, "mip")
+    for view in (full, fov):
+        view.renderer.SetViewport(0.4, 0.2, 1.0, 1.0)
+        other = vtkRenderer()
+        other.SetViewport(0.0, 0.0, 0.4, 1.0)
+        other.SetBackground(0.2, 0.3, 0.4)
+        view.render_window.AddRenderer(other)
+    full.render_window.Render()
+    frames = _frames(fov, FRAMES + 2)
+    assert frames[-1][1] == 0 and frames[2][2] > 0, frames
+    assert np.array_equal(_grab(fov), _grab(full))

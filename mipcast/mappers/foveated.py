@@ -607,6 +607,12 @@ def _draw(mapper, state, volume, renderer) -> None:
                    if kind is None and not readout and values_texture is None else None)
         if margins is not None:
             scissor = None
+        elif scissor is None and not readout and tuple(layer.grid) != tuple(viewport[2:]):
+            # a reduced level without a box of its own: VTK clears its reduced buffer, whose texels count
+            # from the buffer's corner, under the renderer's box, which starts at the viewport's corner:
+            # below or left of it (a viewport not at the window's corner, a subplot) the last frame's
+            # rays stayed and were stretched into the picture. A box from the window's origin holds both.
+            scissor = (0, 0, viewport[0] + viewport[2], viewport[1] + viewport[3])
         if scissor is not None:
             gl_state.vtkglScissor(*scissor)
         mask_texture = None

@@ -193,7 +193,7 @@ def skipped(disc: Optional[Disc], grid: Sequence[int], plan) -> np.ndarray:
     >>> from mipcast.core.foveation import plan_frame
     >>> plan = plan_frame((0, 0, 8, 8), (0.5, 0.5), 0.3, 0.1)
     >>> int(skipped(Disc((0.5, 0.5), 0.2, 0.3), (8, 8), plan).sum()), int(skipped(None, (8, 8), plan).sum())
-    (4, 0)
+    (12, 0)
     """
     if disc is None:
         return np.zeros((int(grid[1]), int(grid[0])), bool)
