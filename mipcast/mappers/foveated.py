@@ -26,8 +26,8 @@ from mipcast.mappers.corner_packing import CornerPacker
 from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms
-from mipcast.mappers.private_draw import (auto_sample_distance, copy_drawn, follow_volume, kept_texture,
-                                          rendering_renderer, texture_target)
+from mipcast.mappers.private_draw import (GL_SCISSOR_BOX, auto_sample_distance, copy_drawn, follow_volume,
+                                          kept_texture, rendering_renderer, texture_target)
 from mipcast.core.ray_cost import grid_cost
 
 #: Stand-in for an unbounded eccentricity in the shader's uniforms.
@@ -136,6 +136,10 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         if self.GetMethod() != method:
             object_state(self).pop("levels_drawn", None)  # new private mappers at the next render
             self._set_parameter("method", method)
+
+    def _draws_reduced(self) -> bool:
+        """Its coarser levels draw into VTK's reduced buffer whatever its own image sample distance."""
+        return True
 
     def SetContentTolerance(self, *tolerance) -> None:
         """Content-adaptive ray density: grey levels a coarse neighbourhood may vary by unrefined (0 = off).
@@ -482,9 +486,10 @@ def _draw(mapper, state, volume, renderer) -> None:
     gaze, radius = _current_gaze(state, renderer, whole_camera, whole)
     state["gaze"] = gaze
     foveate = params["foveation"]
+    first_eye = counts_frame(renderer, camera)
+    signature = scene_signature(params, image, volume, camera, whole)
     if params["progressive"]:
-        radius, foveate = _refine(state, params, image, volume, camera, whole, gaze, radius,
-                                  counts_frame(renderer, camera))
+        radius, foveate = _refine(state, params, image, volume, camera, whole, gaze, radius, first_eye, signature)
     else:
         state.pop("refine_step", None)
     auto = bool(mapper.GetAutoAdjustSampleDistances())
@@ -504,9 +509,8 @@ def _draw(mapper, state, volume, renderer) -> None:
     # refinement's still frames, and a gaze that moved within the last fovea (refine_keep)
     keeping = (not readout and tile_scale == 1.0 and base_isd == 1.0
                and not bricked_foveated.level_limit(mapper, image))
-    eye = 0 if counts_frame(renderer, camera) else 1  # a stereo pair's eyes keep a picture each
-    scene = ((scene_signature(params, image, volume, camera, whole), refine_keep.scene_key(renderer, volume, mapper))
-             if keeping else None)
+    eye = 0 if first_eye else 1  # a stereo pair's eyes keep a picture each
+    scene = (signature, refine_keep.scene_key(renderer, volume, mapper)) if keeping else None
     kept = refine_keep.kept_disc(state, scene, renderer.GetRenderWindow(), eye, plan) if keeping else None
     if kept is not None and not params["progressive"] and tuple(kept.gaze) == tuple(plan.gaze):
         kept = None  # without progressive refinement the same frame again is drawn afresh (as benchmarks time it)
@@ -523,6 +527,8 @@ def _draw(mapper, state, volume, renderer) -> None:
     layers, values = [], {}
     bricks_drawn, bricked_levels = 0, {}
     gl_state = renderer.GetRenderWindow().GetState()
+    box = [0, 0, 0, 0]  # the render's scissor box (from the window's origin: MIPVolumeMapper's observer)
+    gl_state.vtkglGetIntegerv(GL_SCISSOR_BOX, box)
     depth = _capture_depth(state, renderer)
     masks = {}
     refine = None  # the refine pass's texture (GPU masks): the refinement test per coarse texel
@@ -607,12 +613,6 @@ def _draw(mapper, state, volume, renderer) -> None:
                    if kind is None and not readout and values_texture is None else None)
         if margins is not None:
             scissor = None
-        elif scissor is None and not readout and tuple(layer.grid) != tuple(viewport[2:]):
-            # a reduced level without a box of its own: VTK clears its reduced buffer, whose texels count
-            # from the buffer's corner, under the renderer's box, which starts at the viewport's corner:
-            # below or left of it (a viewport not at the window's corner, a subplot) the last frame's
-            # rays stayed and were stretched into the picture. A box from the window's origin holds both.
-            scissor = (0, 0, viewport[0] + viewport[2], viewport[1] + viewport[3])
         if scissor is not None:
             gl_state.vtkglScissor(*scissor)
         mask_texture = None
@@ -654,7 +654,7 @@ def _draw(mapper, state, volume, renderer) -> None:
             for texture in bound:
                 texture.Deactivate()
             if scissor is not None:
-                gl_state.vtkglScissor(*viewport)
+                gl_state.vtkglScissor(*box)
             if readout:
                 values[level] = _level_values(level_mapper, layer.grid)
                 if level in masks:  # rays the mask left out, but level 0's silhouette band (cast whatever the mask)
@@ -696,7 +696,7 @@ def _report_problem(mapper, state, problem: str) -> None:
     mapper.InvokeEvent(vtkCommand.ErrorEvent)
 
 
-def _refine(state, params, image, volume, camera, viewport, gaze, radius, advance=True):
+def _refine(state, params, image, volume, camera, viewport, gaze, radius, advance=True, scene=None):
     """(radius, foveation) of this frame under progressive refinement; counts the still frames.
 
     A frame is still when the camera, the volume's matrix and property, the
@@ -706,7 +706,7 @@ def _refine(state, params, image, volume, camera, viewport, gaze, radius, advanc
     quality (one level, as with foveation off).
     """
     return refined_radius(params, viewport, gaze, radius, refine_step(state, params, image, volume, camera, viewport,
-                                                                      gaze, advance))
+                                                                      gaze, advance, scene))
 
 
 def counts_frame(renderer, camera) -> bool:
@@ -724,12 +724,14 @@ def counts_frame(renderer, camera) -> bool:
     return bool(camera.GetLeftEye())
 
 
-def refine_step(state, params, image, volume, camera, viewport, gaze, advance: bool = True) -> int:
+def refine_step(state, params, image, volume, camera, viewport, gaze, advance: bool = True,
+                scene: Optional[tuple] = None) -> int:
     """This frame's still-frame count under progressive refinement (0: something changed), kept in ``state``.
 
     ``advance``: False for the second eye of a stereo pair (:func:`counts_frame`), which draws the
-    step its left eye drew."""
-    signature = (scene_signature(params, image, volume, camera, viewport), tuple(gaze),
+    step its left eye drew; ``scene``: :func:`scene_signature`, if the caller has it."""
+    scene = scene_signature(params, image, volume, camera, viewport) if scene is None else scene
+    signature = (scene, tuple(gaze),
                  tuple(sorted((k, repr(v)) for k, v in params.items() if k.startswith("gaze_"))))
     frames = int(params["refinement_frames"])
     still = state.get("refine_signature") == signature

@@ -13,7 +13,7 @@ from mipcast.core.prepare import scalar_image
 from mipcast.mappers import brick_rays, bricked_draw, clip_uniforms, shader_pieces
 from mipcast.mappers.float_readout import from_data_units
 from mipcast.mappers.input_preparer import InputPreparer
-from mipcast.mappers.private_draw import rendering_renderer
+from mipcast.mappers.private_draw import rendering_renderer, scissor_from_origin
 from mipcast.mappers.stereo import eye_uniforms
 
 
@@ -82,6 +82,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         self.SetBlendModeToMaximumIntensity()
         self.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, _check_before_render)
         self.AddObserver(vtkCommand.VolumeMapperRenderEndEvent, _restore_after_refused_render)
+        self.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, _reduced_buffer_scissor)
+        self.AddObserver(vtkCommand.VolumeMapperRenderEndEvent, _restore_scissor)
         # after the check (priority 0), before the foveated levels (-1)
         self.AddObserver(vtkCommand.VolumeMapperRenderStartEvent, bricked_draw.draw_bricks, -0.5)
         self.AddObserver(vtkCommand.VolumeMapperRenderEndEvent, bricked_draw.restore_own_draw, -0.5)
@@ -325,6 +327,11 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
                               [shader_pieces.load_piece(n) for n in names + ("clipping_off",)])
         object_state(self)["installed"] = names
 
+    def _draws_reduced(self) -> bool:
+        """Whether a render may use VTK's reduced buffer (image sample distance above 1, or auto-adjusted):
+        then it draws in a scissor box from the window's origin (:func:`_reduced_buffer_scissor`)."""
+        return bool(self.GetAutoAdjustSampleDistances()) or self.GetImageSampleDistance() > 1.0
+
     def _pieces_now(self, volume) -> tuple:
         """:meth:`GetShaderPieces`, plus the stereo piece while an eye of a stereo pair renders and
         ``clip_active`` while something clips (planes, cropping, a slab); ``clip_regions`` instead
@@ -527,6 +534,25 @@ def same_port(a, b) -> bool:
     in Python: tens of microseconds, at every frame.)
     """
     return a is b
+
+
+def _reduced_buffer_scissor(mapper, event) -> None:
+    """A render that may use VTK's reduced buffer (``_draws_reduced``) draws in a scissor box from the
+    window's origin (:func:`mipcast.mappers.private_draw.scissor_from_origin`); the private draws inside it
+    (foveation levels, bricks) inherit the box."""
+    if not mapper._draws_reduced():
+        return
+    volume = mapper.GetAttachedVolume()
+    renderer = rendering_renderer(mapper, volume) if volume is not None else None
+    if renderer is not None and renderer.GetRenderWindow() is not None:
+        object_state(mapper)["scissor_replaced"] = (renderer.GetRenderWindow(),
+                                                    scissor_from_origin(renderer.GetRenderWindow()))
+
+
+def _restore_scissor(mapper, event) -> None:
+    window, box = object_state(mapper).pop("scissor_replaced", (None, None))
+    if box is not None:
+        window.GetState().vtkglScissor(*box)
 
 
 def _check_before_render(mapper, event) -> None:

@@ -91,6 +91,32 @@ def follow_volume(mapper, volume, private_mapper, private_volume, matrix) -> Non
 GL_BLEND, GL_DEPTH_TEST, GL_SCISSOR_TEST = 0x0BE2, 0x0B71, 0x0C11
 GL_ONE, GL_ONE_MINUS_SRC_ALPHA = 1, 0x0303
 GL_READ_FRAMEBUFFER, GL_DRAW_FRAMEBUFFER, GL_COLOR_BUFFER_BIT, GL_NEAREST = 0x8CA8, 0x8CA9, 0x4000, 0x2600
+GL_SCISSOR_BOX = 0x0C10
+
+
+def scissor_from_origin(window) -> Optional[list]:
+    """Widen an enabled scissor box that leaves out the window's origin to one from it; return the box replaced.
+
+    VTK's ray caster at an image sample distance above 1 draws into a
+    reduced buffer whose texels count from the buffer's corner, and clears
+    it under the current scissor box, in window pixels.  A renderer whose
+    viewport is not at the window's lower left corner (a subplot) sets a box
+    starting at its corner, so the buffer's texels below and left of it kept
+    the last frame's rays, stretched into the picture after the camera or
+    the gaze moved (255 grey off a fresh view).  A box holding the origin
+    and the old box holds both; drawing stays within the viewport (the
+    reduced buffer is stretched over the viewport only).  None: the box
+    already held the origin, or the scissor test is off.
+    """
+    gl_state = window.GetState()
+    if not gl_state.GetEnumState(GL_SCISSOR_TEST):
+        return None
+    box = [0, 0, 0, 0]
+    gl_state.vtkglGetIntegerv(GL_SCISSOR_BOX, box)
+    if box[0] <= 0 and box[1] <= 0:
+        return None
+    gl_state.vtkglScissor(0, 0, box[0] + box[2], box[1] + box[3])
+    return box
 
 
 def pixel_texture(window):
