@@ -7,8 +7,12 @@ a 1024² and a 256² window at 0.5, 1 and 2 times the base sample distance (the 
 of the samples, the rest the cost per ray), and an empty window.  Medians of interleaved frames
 after a warm-up frame, auto-adjust off.
 
+``samples``: the samples each level of one frame takes, in % of full quality's
+(``GetLastFrameCost()["levels"]``; counts, not times), acuity-only and content-adaptive (2 grey).
+
 Usage: python tests/foveation_level_profile.py levels [SCENE] [GAZE_X GAZE_Y]
        python tests/foveation_level_profile.py spacing [SCENE]
+       python tests/foveation_level_profile.py samples [SCENE] [GAZE_X GAZE_Y]
 (prints JSON; figures in docs/foveation.md, "The coarsest level's cost").
 """
 import json
@@ -96,11 +100,29 @@ def spacing(scene: str, rounds: int = 5) -> dict:
                                    for name, values in frames.items()}}
 
 
+def samples(scene: str, gaze) -> dict:
+    image, window = _load_scene(scene, 128)
+    out = {}
+    for name, tolerance in (("acuity only", 0.0), ("content-adaptive 2 grey", 2.0)):
+        view = framed_view(image, "foveated", 1024, "fill", window)
+        view.mapper.SetContentTolerance(tolerance)
+        view.mapper.SetGazePoint(*gaze)
+        view.render_window.Render()
+        cost = view.mapper.GetLastFrameCost()
+        out[name] = {"sample_ratio": cost["sample_ratio"],
+                     "levels": {row["level"]: 100.0 * row["samples"] / cost["full_samples"] for row in cost["levels"]}}
+        view.render_window.Finalize()
+    return out
+
+
 if __name__ == "__main__":
     mode = sys.argv[1] if len(sys.argv) > 1 else "levels"
     scene_name = sys.argv[2] if len(sys.argv) > 2 else "vessels@0.25,1"
     if mode == "levels":
         point = (float(sys.argv[3]), float(sys.argv[4])) if len(sys.argv) > 4 else (0.5, 0.5)
         print(json.dumps(levels(scene_name, point), indent=1))
+    elif mode == "samples":
+        point = (float(sys.argv[3]), float(sys.argv[4])) if len(sys.argv) > 4 else (0.5, 0.5)
+        print(json.dumps(samples(scene_name, point), indent=1))
     else:
         print(json.dumps(spacing(scene_name), indent=1))
