@@ -3,12 +3,13 @@
 // mode: augment
 // Content-adaptive foveation with the refinement mask built on the GPU
 // (foveated_skip_coarse): the refinement test of every texel of the
-// coarsest level's grid, computed once per frame by the refine pass
-// (foveated_refine_pass, from the viewport's picture after and before the
-// coarsest level was drawn): RGBA8, one texel per coarse texel (bottom row
-// first), red 1 where the coarse grey of its 3 x 3 neighbourhood spans
-// more than the tolerance, green 1 where that neighbourhood holds
-// structure above the floor. Bound by the foveated mapper.
+// deciding level's grid (mipcast.core.content_adaptive.decided_by),
+// computed once per frame by the refine pass (foveated_refine_pass, from
+// the viewport's picture after that level and before the frame's first
+// level was drawn): RGBA8, one texel per deciding texel (bottom row
+// first), red 1 where the grey of its 3 x 3 neighbourhood spans more than
+// the tolerance, green 1 where that neighbourhood holds structure above
+// the floor. Bound by the foveated mapper.
 uniform sampler2D u_mc_fovRefine;
 // The fovea on this level's grid, as the CPU definition decides it (float64
 // eccentricity of the texel centre below the acuity schedule's start):
@@ -23,13 +24,13 @@ bool mcFovInFovea(int column, int row)
   return float(column) >= span.x && float(column) < span.y;
 }
 
-// mipcast.core.content_adaptive.refinement_masks for the ray at (column,
+// mipcast.core.content_adaptive.refinement_mask for the ray at (column,
 // top-first row) of this level's grid (u_mc_fovLevelW x u_mc_fovLevelH):
-// true when the coarse grey (largest channel) of the nearest coarse
-// texel's 3 x 3 neighbourhood (edges clamped) spans more than the
-// tolerance, or, inside the fovea (inFovea: mcFovInFovea), when that
-// neighbourhood differs from the picture before the coarsest level was
-// drawn (structure above the floor) -- one fetch of the refine pass's texel.
+// true when the grey (largest channel) of the nearest deciding texel's
+// 3 x 3 neighbourhood (edges clamped) spans more than the tolerance, or,
+// inside the fovea (inFovea: mcFovInFovea), when that neighbourhood
+// differs from the picture before the frame's first level was drawn
+// (structure above the floor) -- one fetch of the refine pass's texel.
 bool mcFovRefine(int column, int row, bool inFovea)
 {
   int cx = min(((2 * column + 1) * u_mc_fovCoarseW) / (2 * u_mc_fovLevelW), u_mc_fovCoarseW - 1);

@@ -1,23 +1,25 @@
 // mipcast piece: foveated_refine_pass
 // fills: CompositeMask::Dec
 // mode: augment
-// Content-adaptive foveation, the refinement test once per coarse texel:
-// the fragment code of its own small pass (not installed in the ray
-// caster; mipcast.mappers.refine_pass compiles it into VTK's full-screen
-// quad template, after the coarsest level is drawn). One fragment per
-// texel of the coarsest level's grid (u_mc_fovCoarseW x u_mc_fovCoarseH,
-// bottom row first) writes, for the coarse texel's 3 x 3
-// neighbourhood (edges clamped), read from the viewport's picture after
-// and before the coarsest level was drawn (u_mc_fovAfter/Before, RGBA8,
-// the viewport's size, bottom row first):
-//   red   1 where the coarse grey (largest channel) spans at least
+// Content-adaptive foveation, the refinement test once per texel of the
+// deciding level (mipcast.core.content_adaptive.refinement_test): the
+// fragment code of its own small pass (not installed in the ray caster;
+// mipcast.mappers.refine_pass compiles it into VTK's full-screen quad
+// template, after the deciding level is drawn). One fragment per texel of
+// that level's grid (u_mc_fovCoarseW x u_mc_fovCoarseH, bottom row first)
+// writes, for the texel's 3 x 3 neighbourhood (edges clamped), read from
+// the viewport's picture after that level and before the frame's first
+// level was drawn (u_mc_fovAfter/Before, RGBA8, the viewport's size,
+// bottom row first):
+//   red   1 where the grey (largest channel) spans at least
 //         u_mc_fovEdgeMin grey levels (more than the tolerance),
 //   green 1 where a texel differs from the picture before (structure
-//         above the floor).
-// A finer level's ray then reads its nearest coarse texel once
+//         above the floor), or everywhere when u_mc_fovWholeFovea is 1
+//         (a content level deciding acuity's coarsest level, which casts
+//         the whole fovea).
+// A finer level's ray then reads its nearest texel once
 // (foveated_coarse_dec's mcFovRefine): red, or green inside the fovea --
-// the rule mipcast.core.content_adaptive.refinement_masks defines, which
-// each finer fragment evaluated with 18 texel fetches before.
+// the rule mipcast.core.content_adaptive.refinement_mask defines.
 uniform sampler2D u_mc_fovAfter;
 uniform sampler2D u_mc_fovBefore;
 uniform int u_mc_fovCoarseW;
@@ -25,6 +27,7 @@ uniform int u_mc_fovCoarseH;
 uniform int u_mc_fovViewW;
 uniform int u_mc_fovViewH;
 uniform float u_mc_fovEdgeMin;
+uniform float u_mc_fovWholeFovea;
 
 // The viewport pixel column / row (bottom row first) the CPU definition
 // (mipcast.core.content_adaptive.coarse_texels) reads for coarse texel
@@ -48,7 +51,7 @@ vec3 mcFovGrey(vec4 texel)
   return floor(texel.rgb * 255.0 + 0.5);
 }
 
-// Whether the coarse texel at viewport pixel ``at`` differs from the picture before the coarsest level.
+// Whether the texel at viewport pixel ``at`` differs from the picture before the frame's first level.
 bool mcFovStructure(ivec2 at)
 {
   return any(notEqual(mcFovGrey(texelFetch(u_mc_fovAfter, at, 0)), mcFovGrey(texelFetch(u_mc_fovBefore, at, 0))));
@@ -77,7 +80,7 @@ vec4 mcFovRefineTexel(int cx, int cy)
   vec3 high = max(top, max(middle, bottom));
   vec3 low = min(top, min(middle, bottom));
   bool edge = max(high.x, max(high.y, high.z)) - min(low.x, min(low.y, low.z)) >= u_mc_fovEdgeMin;
-  return vec4(edge ? 1.0 : 0.0, structure ? 1.0 : 0.0, 0.0, 1.0);
+  return vec4(edge ? 1.0 : 0.0, (structure || u_mc_fovWholeFovea > 0.5) ? 1.0 : 0.0, 0.0, 1.0);
 }
 
 // The pass's body: the coarse texel of the fragment at ``at`` (the quad's

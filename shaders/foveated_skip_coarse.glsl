@@ -4,7 +4,7 @@
 // Foveated rendering with content-adaptive ray density, the mask built on
 // the GPU: as foveated_skip (cast only where the eccentricity lies in
 // [u_mc_fovCastFrom, u_mc_fovCastTo)), and only where mcFovRefine
-// (foveated_coarse_dec) asks for a ray, from the coarsest level's picture
+// (foveated_coarse_dec) asks for a ray, from the deciding level's picture
 // read here as a texture -- no readback to the CPU. The ray's index in
 // this level's grid is the texel a nearest-filtered mask of the grid's
 // size would give; whether it lies in the fovea comes from the CPU's

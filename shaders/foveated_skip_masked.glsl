@@ -4,7 +4,7 @@
 // Foveated rendering with content-adaptive ray density: as foveated_skip
 // (cast only where the eccentricity lies in [u_mc_fovCastFrom,
 // u_mc_fovCastTo)), and only where this level's refinement mask asks for
-// a ray (the coarsest level's picture changes there, or, inside the
+// a ray (the deciding level's picture changes there, or, inside the
 // fovea, shows structure). Elsewhere the coarser levels show through.
 // Level 0 also casts in the volume's silhouette band (see foveated_skip).
   {

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from mipcast.core.content_adaptive import adaptive_plan, refinement_masks
+from mipcast.core.content_adaptive import adaptive_plan, refinement_mask, refinement_test
 from mipcast.core.foveation import eccentricity, plan_frame, silhouette_band
 from mipcast.data_fixtures import make_fixture
 from mipcast.offscreen import OffscreenView
@@ -30,16 +30,34 @@ def _pair(image, method, **settings):
 
 def test_masks_follow_edges_everywhere_and_structure_in_the_fovea():
     plan = adaptive_plan(plan_frame((0, 0, 64, 64), (0.25, 0.5), 0.15, 0.1))
-    coarse = np.zeros((16, 16, 3), np.uint8)
+    assert [layer.level for layer in plan.layers] == [3, 2, 1, 0]
+    assert plan.layers[0].cast_from == plan.layers[1].cast_from == -np.inf  # acuity's coarsest: its mask decides
+    coarse = np.zeros((16, 16, 3), np.uint8)   # the picture at level 2's texels
     coarse[:, 2:6] = 120        # flat structure under the gaze
     coarse[:, 12:] = 120        # flat structure in the periphery, with an edge at column 12
-    masks = refinement_masks(coarse, np.zeros_like(coarse), plan, 4.0)
-    fine = masks[0]
+    test = refinement_test(coarse, np.zeros_like(coarse), 4.0)
+    fine = refinement_mask(*test, plan, plan.layers[3])
     assert fine[32, 16] and fine[32, 12]          # structure inside the fovea: cast
     assert not fine[32, 40]                       # background, no edge: interpolated
-    level1 = masks[1]
+    level1 = refinement_mask(*test, plan, plan.layers[2])
     assert level1[16, 23] and not level1[16, 29]  # the periphery's edge only, not its flat inside
-    assert plan.layers[0].cast_from == -np.inf
+    # the next finer level follows the picture its coarser level left: an edge it drew is refined again
+    refined = coarse.copy()
+    refined[:, 13] = 60
+    assert refinement_mask(*refinement_test(refined, np.zeros_like(refined), 4.0), plan, plan.layers[2])[16, 28]
+
+
+def test_content_level_is_one_coarser_than_acuity_unless_the_scene_caps_it():
+    acuity = plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.1)
+    plan = adaptive_plan(acuity)
+    content = plan.layers[0]
+    assert content.level == acuity.top + 1 and content.grid == (8, 8) and content.scissor is None
+    assert plan.layers[2:] == acuity.layers[1:] and plan.layers[1].level == acuity.top
+    capped = adaptive_plan(acuity, max_level=acuity.top)
+    assert [layer.level for layer in capped.layers] == [layer.level for layer in acuity.layers]
+    assert capped.layers[0].cast_from == -np.inf   # the coarsest level cast everywhere instead
+    tiny = adaptive_plan(plan_frame((0, 0, 24, 24), (0.5, 0.5), 0.1, 0.1))   # 3 texels at level 3: too few
+    assert tiny.layers[0].level == 2
 
 
 @pytest.mark.parametrize("method", ["mip", "analytic"])
@@ -86,3 +104,44 @@ def test_tolerance_zero_is_the_acuity_only_picture(vessels):
     assert np.array_equal(adaptive.screenshot(), plain.screenshot())
     with pytest.raises(ValueError):
         adaptive.mapper.SetContentTolerance(-1.0)
+
+
+def test_a_flat_periphery_stays_at_the_content_level():
+    """Acuity's coarsest level casts only the fovea and the content level's edges: fewer rays than acuity
+    alone asks (before the content level it was cast over the whole view), the error outside the fovea
+    no larger."""
+    spheres = make_fixture("spheres", size=32)
+    size, gaze = (128, 128), (0.15, 0.15)
+    views = {}
+    for name, tolerance in (("full", None), ("adaptive", 2.0), ("acuity", 0.0)):
+        view = OffscreenView(spheres, "mip" if tolerance is None else "foveated", size=size, window=WINDOW)
+        view.camera.Zoom(1.6)
+        view.renderer.ResetCameraClippingRange()
+        if tolerance is not None:
+            view.mapper.SetGazePoint(*gaze)
+            view.mapper.SetContentTolerance(tolerance)
+        views[name] = (view.screenshot().astype(int), view)
+    fov, acuity = views["adaptive"][1].mapper, views["acuity"][1].mapper
+    top = acuity.GetLastPlan().top
+    assert fov.GetLastPlan().layers[0].level == top + 1 and fov.GetLastPlan().layers[0].grid == (16, 16)
+    rows = {row["level"]: row["rays"] for row in fov.GetLastFrameCost()["levels"]}
+    plain_rows = {row["level"]: row["rays"] for row in acuity.GetLastFrameCost()["levels"]}
+    assert rows[top + 1] == 16 * 16
+    assert 0 < rows[top] < 0.9 * plain_rows[top], (rows, plain_rows)
+    outside = eccentricity(size, gaze, 1.0) > fov.GetFovealRadius()
+    reference = views["full"][0]
+    error = np.abs(reference - views["adaptive"][0]).max(axis=-1)
+    plain_error = np.abs(reference - views["acuity"][0]).max(axis=-1)
+    assert error[outside].mean() <= plain_error[outside].mean() + 0.05
+
+
+@pytest.mark.parametrize("method", ["mip", "analytic"])
+def test_the_float_readout_has_a_value_wherever_a_ray_meets_the_volume(vessels, method):
+    """Rays a mask left out show the coarser levels (as on the GPU), not 'no ray hit the volume' (NaN)."""
+    full, fov = _pair(vessels, method, GazePoint=(0.5, 0.5), ContentTolerance=2.0)
+    reference, values = full.float_image(), fov.float_image()
+    assert fov.mapper.GetLastFrameCost()["rays"] < 0.6 * SIZE[0] * SIZE[1]   # the masks left rays out
+    assert np.array_equal(np.isnan(values), np.isnan(reference))
+    e = eccentricity(SIZE, (0.5, 0.5), 1.0)
+    background = (e <= fov.mapper.GetFovealRadius()) & (reference <= WINDOW[0])
+    assert background.sum() > 100 and np.all(values[background] <= WINDOW[0] + 0.02)   # below the floor there too

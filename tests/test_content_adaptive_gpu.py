@@ -87,7 +87,10 @@ def test_gpu_masks_give_the_cpu_mask_picture_without_a_readback(readbacks, fixtu
     cpu_picture = cpu.screenshot()
     assert gpu_picture.max() > 150, "something drawn"
     masks = object_state(cpu.mapper)["frame"]["masks"]
-    assert len(masks) == 2 and all(0.05 < mask.mean() < 0.95 for mask in masks.values()), "masks decide"
+    plan = cpu.mapper.GetLastPlan()
+    assert plan.layers[0].level == plan.top + 1, "a content level first"
+    assert sorted(masks) == sorted(layer.level for layer in plan.layers[1:])
+    assert all(0.05 < mask.mean() < 0.95 for mask in masks.values()), "masks decide"
     assert np.array_equal(gpu_first, cpu_first)
     assert np.array_equal(gpu_picture, cpu_picture)
     if lossy:  # skipping shows here: casting wherever the coarse picture varies at all changes it
@@ -95,7 +98,7 @@ def test_gpu_masks_give_the_cpu_mask_picture_without_a_readback(readbacks, fixtu
         assert not np.array_equal(everywhere.screenshot(), gpu_picture)
     # the cost reads the masks back only when asked, after the frame, and counts the same rays
     cost, reference = gpu.mapper.GetLastFrameCost(), cpu.mapper.GetLastFrameCost()
-    assert readbacks["download"] == 2
+    assert readbacks["download"] == 2  # the two deciding levels' refine textures
     assert cost["rays"] == reference["rays"] and cost["samples"] == reference["samples"]
     gpu_masks = object_state(gpu.mapper)["frame"]["masks"]
     assert sorted(gpu_masks) == sorted(masks)

@@ -1,34 +1,51 @@
 """Content-adaptive ray density for foveated rendering (Levoy & Whitaker 1990, section 8).
 
-The coarsest pyramid level is cast over the whole viewport first.  Its
-picture then decides, texel by texel, where the finer levels cast rays:
+The paper's adaptive refinement: local image complexity, as well as
+retinal acuity, decides where rays are cast.  A *content level*, one step
+coarser than acuity's coarsest (:func:`adaptive_plan`), is cast over the
+whole viewport first.  Then:
 
-- everywhere: where the coarse picture's values within one coarse texel
-  (its 3 x 3 neighbourhood) differ by more than the *content tolerance*
-  (grey levels) -- an edge or texture a finer ray can change;
-- inside the fovea (eccentricity below the plan's ``start``) also where any
-  coarse texel of the neighbourhood shows structure (differs from what lay
-  beneath the volume before it was drawn, i.e. the value is above the
-  transfer function's floor), so the fovea stays at full quality wherever
-  a structure is.
+- acuity's coarsest level casts a ray where the content level's picture
+  has an edge (below), and everywhere inside the fovea and two of its
+  texels beyond (:func:`fovea_radius`) -- so the periphery
+  that acuity leaves at its coarsest level stays at the content level where
+  the picture is flat there;
+- every finer level casts a ray only where acuity's coarsest level's
+  picture (the content level showing through where it cast none) says the
+  ray can change the result.
 
-Elsewhere the finer ray is not cast and the coarser picture (bilinearly
+What the picture of the deciding level (:func:`decided_by`) says
+(:func:`refinement_test`, :func:`refinement_mask`):
+
+- everywhere: an edge -- its values within one of its texels (the 3 x 3
+  neighbourhood) differ by more than the *content tolerance* (grey levels);
+- inside the fovea (eccentricity below the plan's ``start``) also structure
+  -- any texel of that neighbourhood differs from what lay beneath the
+  volume before it was drawn, i.e. the value is above the transfer
+  function's floor -- so the fovea stays at full quality wherever a
+  structure is.  That picture is acuity's coarsest level, cast over the
+  whole fovea, as dense as without a content level (a coarser picture would
+  let a thin structure fall between its rays).
+
+Elsewhere the ray is not cast and the coarser picture (bilinearly
 stretched) shows through: background inside the sweet spot needs no
-full-density rays, and smooth regions of the periphery keep the coarse
+full-density rays, and smooth regions of the periphery keep the content
 level.  Pure numpy, the float64 definition: the mapper
-(:mod:`mipcast.mappers.foveated`) evaluates it per ray in the finer levels'
-shader from the coarse picture copied into textures on the GPU
-(``shaders/foveated_coarse_dec.glsl``, the fovea from :func:`fovea_spans`),
-or, on its CPU path, reads the coarse picture back and uploads these masks;
-the cost accounting uses these masks.
+(:mod:`mipcast.mappers.foveated`) evaluates :func:`refinement_test` once per
+texel of the deciding level in a small GPU pass
+(``shaders/foveated_refine_pass.glsl``) after that level is drawn, and the
+finer levels' shader reads it (``shaders/foveated_coarse_dec.glsl``, the
+fovea from :func:`fovea_spans`), or, on its CPU path, reads the picture back
+and uploads these masks; the cost accounting uses these masks.
 """
 from __future__ import annotations
 
-from typing import Dict
+import math
+from typing import Optional
 
 import numpy as np
 
-from mipcast.core.foveation import Plan, eccentricity
+from mipcast.core.foveation import MIN_TEXELS, Layer, Plan, eccentricity, level_grid
 
 
 def neighbourhood_range(values: np.ndarray) -> tuple:
@@ -68,61 +85,137 @@ def coarse_texels(picture: np.ndarray, grid) -> np.ndarray:
     return picture[y][:, x]
 
 
-def refinement_masks(after: np.ndarray, before: np.ndarray, plan: Plan, tolerance: float) -> Dict[int, np.ndarray]:
-    """Where each finer level of ``plan`` casts rays, from the coarsest level's picture.
+def refinement_test(after: np.ndarray, before: np.ndarray, tolerance: float) -> tuple:
+    """Per texel of a coarser level: (edge, structure) of its 3 x 3 neighbourhood.
+
+    What the GPU's refine pass writes (red, green) for each texel of the
+    level drawn before a finer one.
 
     Parameters
     ----------
     after, before : numpy.ndarray, shape (rows, columns, channels), uint8
-        The picture at the coarsest level's texel centres (:func:`coarse_texels`)
-        after and before that level was drawn, top row first.
-    plan : mipcast.core.foveation.Plan
-        Its first layer is the coarsest level (cast everywhere).
+        The picture at the coarser level's texel centres (:func:`coarse_texels`)
+        after that level was drawn, and before the first level of the frame
+        was drawn, top row first.
     tolerance : float
-        Grey levels; neighbouring coarse values differing by more ask for finer rays.
+        Grey levels; neighbouring values differing by more make an edge.
 
     Returns
     -------
-    dict
-        ``{level: bool array (rows, columns) of that level's grid, top row first}``
-        for every layer but the coarsest; True: cast the ray.
+    (edge, structure) : bool arrays (rows, columns)
+        ``edge``: the neighbourhood's grey (largest channel) spans more
+        than ``tolerance``; ``structure``: a texel of the neighbourhood
+        differs from the picture before (structure above the floor).
 
     Examples
     --------
-    >>> from mipcast.core.foveation import plan_frame
-    >>> plan = plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.1)
-    >>> coarse = np.zeros((16, 16, 3), np.uint8); coarse[:, 12:] = 200   # structure on the right
-    >>> masks = refinement_masks(coarse, np.zeros_like(coarse), plan, 2.0)
-    >>> sorted(masks), masks[0].shape, bool(masks[0][32, 32]), bool(masks[0][32, 47])
-    ([0, 1], (64, 64), False, True)
+    >>> coarse = np.zeros((1, 4, 3), np.uint8); coarse[0, 3] = 200
+    >>> edge, structure = refinement_test(coarse, np.zeros_like(coarse), 2.0)
+    >>> edge.tolist(), structure.tolist()
+    ([[False, False, True, True]], [[False, False, True, True]])
     """
     after = np.asarray(after, dtype=np.float64)
     before = np.asarray(before, dtype=np.float64)
     grey = after.max(axis=-1) if after.ndim == 3 else after
     high, low = neighbourhood_range(grey)
-    edges = (high - low) > float(tolerance)
-    structure = np.abs(after - before)
-    structure = structure.max(axis=-1) if structure.ndim == 3 else structure
-    near_structure = neighbourhood_range(structure > 0)[0] > 0
-    rows_c, columns_c = grey.shape
-    masks = {}
-    for layer in plan.layers[1:]:
+    differs = np.abs(after - before)
+    differs = differs.max(axis=-1) if differs.ndim == 3 else differs
+    return (high - low) > float(tolerance), neighbourhood_range(differs > 0)[0] > 0
+
+
+def decided_by(plan: Plan, index: int) -> int:
+    """Index of the layer of ``plan`` (:func:`adaptive_plan`) whose picture decides layer ``index``'s rays.
+
+    The content level decides acuity's coarsest level; that level decides
+    every finer one.  Without a content level the coarsest decides all.
+
+    Examples
+    --------
+    >>> from mipcast.core.foveation import plan_frame
+    >>> plan = adaptive_plan(plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.1))
+    >>> [decided_by(plan, index) for index in range(1, len(plan.layers))]
+    [0, 1, 1]
+    """
+    return 1 if index >= 2 and has_content_level(plan) else 0
+
+
+def has_content_level(plan: Plan) -> bool:
+    """Whether ``plan``'s first layer is a content level (coarser than acuity's coarsest, ``plan.top``)."""
+    return len(plan.layers) > 1 and plan.layers[0].level > plan.top
+
+
+def refinement_mask(edge: np.ndarray, structure: np.ndarray, plan: Plan, layer) -> np.ndarray:
+    """Where ``layer`` casts rays: its texels whose nearest deciding texel has an edge, or structure in the fovea.
+
+    Acuity's coarsest level under a content level casts every ray in the
+    fovea, structure or not (module docstring).
+
+    Parameters
+    ----------
+    edge, structure : numpy.ndarray, bool, shape (rows, columns)
+        :func:`refinement_test` of the deciding level (:func:`decided_by`).
+    plan : mipcast.core.foveation.Plan
+    layer : mipcast.core.foveation.Layer
+        A finer layer of ``plan`` (not the first).
+
+    Returns
+    -------
+    numpy.ndarray, bool, shape of ``layer``'s grid (rows, columns), top row first; True: cast the ray.
+
+    Examples
+    --------
+    >>> from mipcast.core.foveation import plan_frame
+    >>> plan = adaptive_plan(plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.1))
+    >>> [layer.level for layer in plan.layers]   # the content level 3 first
+    [3, 2, 1, 0]
+    >>> coarse = np.zeros((16, 16, 3), np.uint8); coarse[:, 12:] = 200   # structure on the right
+    >>> edge, structure = refinement_test(coarse, np.zeros_like(coarse), 2.0)
+    >>> mask = refinement_mask(edge, structure, plan, plan.layers[3])
+    >>> mask.shape, bool(mask[32, 32]), bool(mask[32, 47])
+    ((64, 64), False, True)
+    >>> bool(refinement_mask(edge, structure, plan, plan.layers[1])[8, 8])   # level 2: the whole fovea
+    True
+    """
+    rows_c, columns_c = edge.shape
+    columns, rows = layer.grid
+    x = np.minimum(((np.arange(columns) + 0.5) * columns_c / columns).astype(int), columns_c - 1)
+    y = np.minimum(((np.arange(rows) + 0.5) * rows_c / rows).astype(int), rows_c - 1)
+    fovea = eccentricity(layer.grid, plan.gaze, plan.aspect) < fovea_radius(plan, layer)
+    if layer.level == plan.top and has_content_level(plan):
+        return edge[y][:, x] | fovea
+    return edge[y][:, x] | (fovea & structure[y][:, x])
+
+
+def fovea_radius(plan: Plan, layer) -> float:
+    """Eccentricity below which ``layer``'s mask treats a ray as inside the fovea: the plan's ``start``.
+
+    Acuity's coarsest level under a content level casts every ray within
+    two of its texels more (the whole fovea plus the neighbourhood the finer
+    levels' structure test reads there: their nearest texel lies within
+    sqrt(2) / 2 of a texel, its neighbours one more).
+
+    Examples
+    --------
+    >>> from mipcast.core.foveation import plan_frame
+    >>> plan = adaptive_plan(plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.1))
+    >>> [round(fovea_radius(plan, layer) - plan.start, 4) for layer in plan.layers[1:]]   # 2 texels of 16
+    [0.125, 0.0, 0.0]
+    """
+    if layer.level == plan.top and has_content_level(plan):
         columns, rows = layer.grid
-        x = np.minimum(((np.arange(columns) + 0.5) * columns_c / columns).astype(int), columns_c - 1)
-        y = np.minimum(((np.arange(rows) + 0.5) * rows_c / rows).astype(int), rows_c - 1)
-        fovea = eccentricity(layer.grid, plan.gaze, plan.aspect) < plan.start
-        masks[layer.level] = edges[y][:, x] | (fovea & near_structure[y][:, x])
-    return masks
+        return plan.start + 2.0 * max(1.0 / rows, plan.aspect / columns)
+    return plan.start
 
 
-def fovea_spans(grid, plan: Plan) -> np.ndarray:
+def fovea_spans(grid, plan: Plan, radius: Optional[float] = None) -> np.ndarray:
     """Per row of ``grid`` (top row first), the columns ``[first, end)`` of its texels inside the fovea.
 
     Inside: the texel centre's eccentricity (float64,
-    :func:`mipcast.core.foveation.eccentricity`) below the plan's ``start``,
-    exactly as :func:`refinement_masks` decides; a disc, so one span per
-    row (``first == end`` when the row misses it).  The GPU-built masks
-    read these spans instead of recomputing the eccentricity in float32.
+    :func:`mipcast.core.foveation.eccentricity`) below ``radius`` (default
+    the plan's ``start``; a level's :func:`fovea_radius`), exactly as
+    :func:`refinement_mask` decides; a disc, so one span per row
+    (``first == end`` when the row misses it).  The GPU-built masks read
+    these spans instead of recomputing the eccentricity in float32.
 
     Examples
     --------
@@ -132,24 +225,43 @@ def fovea_spans(grid, plan: Plan) -> np.ndarray:
     >>> spans.shape, spans[0].tolist(), spans[4].tolist()
     ((8, 2), [0, 0], [3, 5])
     """
-    inside = eccentricity(grid, plan.gaze, plan.aspect) < plan.start
+    inside = eccentricity(grid, plan.gaze, plan.aspect) < (plan.start if radius is None else radius)
     any_inside = inside.any(axis=1)
     first = np.where(any_inside, np.argmax(inside, axis=1), 0)
     end = np.where(any_inside, inside.shape[1] - np.argmax(inside[:, ::-1], axis=1), 0)
     return np.stack([first, end], axis=1)
 
 
-def adaptive_plan(plan: Plan) -> Plan:
-    """``plan`` with its coarsest layer cast over the whole viewport (the picture the masks come from).
+def adaptive_plan(plan: Plan, max_level: int = 99) -> Plan:
+    """``plan`` with a content level: one level coarser than its coarsest, cast over the whole viewport first.
+
+    Acuity's coarsest level may then cast over the whole viewport too (its
+    mask decides where: the whole fovea and the content picture's edges);
+    the finer levels keep their cast ranges (module docstring).  Where no
+    coarser level is possible (its grid would be under
+    :data:`~mipcast.core.foveation.MIN_TEXELS` texels, or coarser than
+    ``max_level``, the scene's cap), acuity's coarsest level is the first,
+    cast over the whole viewport unmasked.  A plan of one level is returned
+    as it is.
 
     Examples
     --------
     >>> from mipcast.core.foveation import plan_frame
     >>> plan = adaptive_plan(plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.1))
-    >>> plan.layers[0].cast_from, plan.layers[0].scissor
-    (-inf, None)
+    >>> content = plan.layers[0]
+    >>> content.level, content.grid, content.image_sample_distance, content.cast_from, content.scissor
+    (3, (8, 8), 8.0, -inf, None)
+    >>> capped = adaptive_plan(plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.1), max_level=2)
+    >>> [layer.level for layer in capped.layers], capped.layers[0].cast_from
+    ([2, 1, 0], -inf)
     """
     if len(plan.layers) < 2:
         return plan
-    top = plan.layers[0]._replace(cast_from=-float("inf"), scissor=None)
-    return plan._replace(layers=(top,) + tuple(plan.layers[1:]))
+    coarsest = plan.layers[0]._replace(cast_from=-math.inf, scissor=None)
+    layers = (coarsest,) + tuple(plan.layers[1:])
+    level = coarsest.level + 1
+    base = coarsest.image_sample_distance / 2 ** coarsest.level
+    grid = level_grid(plan.viewport[2], plan.viewport[3], level, base)
+    if level > max_level or min(grid) < MIN_TEXELS:
+        return plan._replace(layers=layers)
+    return plan._replace(layers=(Layer(level, base * 2 ** level, grid, -math.inf, math.inf, None),) + layers)

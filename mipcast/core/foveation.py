@@ -402,14 +402,17 @@ def _fill_one_texel(values: np.ndarray) -> np.ndarray:
     return filled
 
 
-def composite_values(plan: Plan, values: dict) -> np.ndarray:
+def composite_values(plan: Plan, values: dict, skipped: Optional[dict] = None) -> np.ndarray:
     """The foveated image in data units from each level's float readout.
 
     Each level is stretched over the viewport (:func:`upsample_bilinear`)
-    and weighted by its :func:`blend_shares`; levels without a value at a
-    pixel (a miss) leave their share to the others.  NaN where none has one.
-    Where level 0 has a value outside its share (the silhouette band it
-    casts, shaders/foveated_skip.glsl) the pixel is level 0's value.
+    and weighted by its :func:`blend_shares`; a level without a value at a
+    pixel (a miss) leaves its share to the others (NaN where none has one).
+    A ray a content-adaptive mask left out (``skipped``) is not a miss: the
+    levels beneath show through there, as they do on the GPU, so its share
+    goes to them.  Where level 0 has a value outside its share (the
+    silhouette band it casts, shaders/foveated_skip.glsl) the pixel is level
+    0's value.
 
     Parameters
     ----------
@@ -417,6 +420,9 @@ def composite_values(plan: Plan, values: dict) -> np.ndarray:
     values : dict
         ``{level: array (rows, columns)}`` for the drawn levels, top row
         first, NaN where no ray was cast or the ray missed.
+    skipped : dict, optional
+        ``{level: bool array (rows, columns)}``, True where the level's mask
+        cast no ray (the pixels whose nearest texel it is).
 
     Returns
     -------
@@ -428,25 +434,45 @@ def composite_values(plan: Plan, values: dict) -> np.ndarray:
     >>> flat = {layer.level: np.full(layer.grid[::-1], 3.0) for layer in plan.layers}
     >>> float(np.nanmax(np.abs(composite_values(plan, flat) - 3.0)))
     0.0
+    >>> flat[0][:] = np.nan   # level 0 missed everywhere: NaN where it is all of the picture
+    >>> bool(np.isnan(composite_values(plan, flat)[8, 8]))
+    True
+    >>> skipped = {0: np.ones((16, 16), bool)}   # level 0 cast no ray: the coarser levels show through
+    >>> float(composite_values(plan, flat, skipped)[8, 8])
+    3.0
     """
     _, _, width, height = plan.viewport
+    lam = desired_level(eccentricity((width, height), plan.gaze, plan.aspect), plan)
     total = np.zeros((height, width))
     weight = np.zeros((height, width))
+    remaining = np.ones((height, width))
     band = None
-    for level, share in blend_shares(plan).items():
-        if level not in values:
+    for layer in reversed(plan.layers):  # finest first: it is drawn last, on top
+        if layer.level not in values:
             continue
-        stretched = upsample_bilinear(values[level], (width, height))
-        use = (share > 0) & ~np.isnan(stretched)
-        total[use] += share[use] * stretched[use]
-        weight[use] += share[use]
-        if level == 0:  # level 0 also casts in the volume's silhouette band, with weight 1 there
-            band = (share <= 0) & ~np.isnan(stretched), stretched
+        stretched = upsample_bilinear(values[layer.level], (width, height))
+        present = ~np.isnan(stretched)
+        share = layer_weight(layer.level, lam, plan) * remaining
+        if skipped is not None and layer.level in skipped:
+            share[_nearest_texels(skipped[layer.level], (width, height))] = 0.0
+        total[present] += share[present] * stretched[present]
+        weight[present] += share[present]
+        remaining = remaining - share
+        if layer.level == 0:  # level 0 also casts in the volume's silhouette band, with weight 1 there
+            band = (share <= 0) & present, stretched
     with np.errstate(invalid="ignore", divide="ignore"):
         out = np.where(weight > 0, total / np.where(weight > 0, weight, 1.0), np.nan)
     if band is not None:
         out[band[0]] = band[1][band[0]]
     return out
+
+
+def _nearest_texels(grid_values: np.ndarray, size: Sequence[int]) -> np.ndarray:
+    """A grid's values at the texel nearest each viewport pixel (top row first)."""
+    rows, columns = grid_values.shape
+    x = np.minimum((np.arange(int(size[0])) * columns) // int(size[0]), columns - 1)
+    y = np.minimum((np.arange(int(size[1])) * rows) // int(size[1]), rows - 1)
+    return grid_values[y][:, x]
 
 
 #: Edges of a box's projected outline the shaders take (a convex box projects to at most 6).

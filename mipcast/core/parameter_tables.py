@@ -187,11 +187,13 @@ FOVEATED = (
               "(footprint, default), the paper's one level per image level (level), or full-quality "
               "sampling (rays).", choices=foveation.SAMPLING_POLICIES),
     Parameter("content_tolerance", "float", 0.0,
-              "Content-adaptive ray density, in grey levels (0 = off). The coarsest level is cast over "
-              "the whole view first; a finer ray is cast only where neighbouring coarse values differ by "
-              "more than this, or, inside the fovea, where the coarse picture shows structure (above the "
-              "transfer function's floor); elsewhere the coarser picture is interpolated. Turning it on "
-              "or off installs the mask pieces (one compile each way).",
+              "Content-adaptive ray density, in grey levels (0 = off). A level one step coarser than "
+              "acuity's coarsest is cast over the whole view first; acuity's coarsest level then casts "
+              "only where that picture's neighbouring values differ by more than this (and over the whole "
+              "fovea), and a finer ray only where acuity's coarsest picture differs by more than this, "
+              "or, inside the fovea, shows structure (above the transfer function's floor); elsewhere the "
+              "coarser picture is interpolated. Turning it on or off installs the mask pieces (one "
+              "compile each way).",
               low=0.0, unit="grey levels", pieces=True),
     Parameter("gaze_fixation_radius", "float", 0.02,
               "Gaze streams (PushGaze): how far the eye may wander from the rendered gaze, in viewport "

@@ -118,7 +118,7 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     LEVEL_PIECES = ("foveated_band_dec", "foveated_skip", "foveated_weight")
     #: Pieces of the finer levels with content-adaptive ray density (ContentTolerance > 0).
     MASKED_LEVEL_PIECES = ("foveated_band_dec", "foveated_skip_masked", "foveated_mask_dec", "foveated_weight")
-    #: The same with the refinement mask built on the GPU from the coarsest level's picture (no readback).
+    #: The same with the refinement mask built on the GPU from the deciding level's picture (no readback).
     COARSE_LEVEL_PIECES = ("foveated_band_dec", "foveated_skip_coarse", "foveated_coarse_dec", "foveated_weight")
     PARAMETERS = parameter_tables.FOVEATED
 
@@ -431,9 +431,9 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
         if readout is None:
             super().GetDepthImage(image)
             return
-        plan, values = readout
+        plan, values, skipped = readout
         _, _, width, height = plan.viewport
-        blended = foveation.composite_values(plan, values)
+        blended = foveation.composite_values(plan, values, skipped)
         silhouette = self.GetLastSilhouette()
         if silhouette is not None and len(plan.layers) > 1:  # rays outside the box's outline miss it
             blended[foveation.outline_distance(plan, silhouette, (width, height)) < 0] = np.nan
@@ -519,39 +519,35 @@ def _draw(mapper, state, volume, renderer) -> None:
     tolerance = 0.0 if still else float(params["content_tolerance"])
     adaptive = tolerance > 0 and len(plan.layers) > 1
     if adaptive:
-        plan = content_adaptive.adaptive_plan(plan)
+        plan = content_adaptive.adaptive_plan(plan, _level_cap(image, volume, whole_camera, whole))
     cells = _walks_cells(params["method"])
     spacings = volume_pyramid.pyramid_voxel_sizes(image, params["number_of_levels"])
     world_per_pixel = _world_per_pixel(whole_camera, volume, whole)
     drawn = state.setdefault("levels_drawn", {})
-    layers, values = [], {}
+    layers, values, skipped = [], {}, {}  # a readout: each level's values, and the rays its mask left out
     bricks_drawn, bricked_levels = 0, {}
     gl_state = renderer.GetRenderWindow().GetState()
     box = [0, 0, 0, 0]  # the render's scissor box (from the window's origin: MIPVolumeMapper's observer)
     gl_state.vtkglGetIntegerv(GL_SCISSOR_BOX, box)
     depth = _capture_depth(state, renderer)
     masks = {}
-    refine = None  # the refine pass's texture (GPU masks): the refinement test per coarse texel
+    tests = {}  # per deciding layer: its refinement test, (edge, structure) or, GPU masks, the refine pass's texture
     silhouette = _silhouette(image, volume, camera, viewport, base_isd)
     # masks on the GPU: the finer levels' shader reads the coarse picture as a texture (no readback)
     on_gpu = adaptive and not readout and _gpu_masks_possible(state, renderer)
     coarse = _coarse_textures(state, renderer, viewport) if on_gpu else None
     if on_gpu:
         copy_drawn(renderer, viewport, coarse["framebuffers"]["before"])
-    before = _read_texels(renderer, viewport, plan.layers[0].grid) if adaptive and not readout and not on_gpu else None
+    before = _read_texels(renderer, viewport, viewport[2:]) if adaptive and not readout and not on_gpu else None
     for index, layer in enumerate(plan.layers):
         level = layer.level
-        if adaptive and index == 1:
-            if readout:
-                after = _grey_texels(volume, values[plan.layers[0].level])
-                masks = content_adaptive.refinement_masks(after, np.zeros_like(after), plan, tolerance)
-            elif on_gpu:
-                copy_drawn(renderer, viewport, coarse["framebuffers"]["after"])
-                refine = refine_pass.run_refine_pass(state, renderer.GetRenderWindow(), coarse, viewport,
-                                                     plan.layers[0].grid, tolerance)
-            else:
-                after = _read_texels(renderer, viewport, plan.layers[0].grid)
-                masks = content_adaptive.refinement_masks(after, before, plan, tolerance)
+        if adaptive and index >= 1:  # this level's rays: where the deciding level's picture asks for them
+            decider = content_adaptive.decided_by(plan, index)
+            if decider == index - 1:  # that level was just drawn: its refinement test
+                tests[decider] = _refinement_test(state, renderer, volume, viewport, plan, decider, tolerance,
+                                                  (values, skipped) if readout else None, coarse, before)
+            if not on_gpu:
+                masks[level] = content_adaptive.refinement_mask(*tests[decider], plan, layer)
         footprint = world_per_pixel * viewport[3] / max(layer.grid[1], 1)
         volume_level, distance = volume_pyramid.level_sampling(
             level, footprint, base_distance, spacings, cells, params["peripheral_sampling"])
@@ -618,9 +614,9 @@ def _draw(mapper, state, volume, renderer) -> None:
         mask_texture = None
         bound = ()
         if kind == "coarse":
-            bound = (refine, _fovea_texture(state, renderer, plan, layer))
+            bound = (tests[decider], _fovea_texture(state, renderer, plan, layer))
             _bind_coarse(level_mapper, level_volume, bound)
-            _set_coarse_uniforms(level_volume, plan, layer)
+            _set_coarse_uniforms(level_volume, plan.layers[decider], layer)
         elif level in masks and (not readout or values_texture is not None):
             # (a level drawn from bricks reads one sampler more: its mask must be bound, readout or not)
             mask_texture = _mask_texture(state, renderer, level, masks[level])
@@ -660,6 +656,7 @@ def _draw(mapper, state, volume, renderer) -> None:
                 if level in masks:  # rays the mask left out, but level 0's silhouette band (cast whatever the mask)
                     cast = masks[level] | (foveation.silhouette_band(plan, silhouette, layer.grid) if band else False)
                     values[level][~cast] = np.nan
+                    skipped[level] = ~cast
                 object_state(level_mapper).pop("exact_readout", None)
                 level_mapper.RenderToImageOff()
         layers.append((level, volume_level, distance, level_input))
@@ -673,7 +670,7 @@ def _draw(mapper, state, volume, renderer) -> None:
         refine_keep.forget(state)
     state["bricks_drawn"] = bricks_drawn
     if readout:
-        state["readout"] = (plan, values)
+        state["readout"] = (plan, values, skipped)
     matrix = vtkMatrix4x4()
     matrix.DeepCopy(volume.GetMatrix())
     snapshot = vtkCamera()
@@ -683,8 +680,7 @@ def _draw(mapper, state, volume, renderer) -> None:
                       "base_distance": base_distance, "base_isd": base_isd, "bricked": bricked_levels,
                       "kept": kept}
     if on_gpu:  # the masks for GetLastFrameCost: read back only when asked, after the frame
-        state["frame"]["coarse"] = {"textures": coarse, "window": renderer.GetRenderWindow(),
-                                    "viewport": viewport, "tolerance": tolerance}
+        state["frame"]["coarse"] = {"tests": tests, "window": renderer.GetRenderWindow()}
 
 
 def _report_problem(mapper, state, problem: str) -> None:
@@ -953,11 +949,10 @@ def _bind_coarse(level_mapper, level_volume, textures) -> None:
     object_state(level_mapper)["coarse_units"] = tuple(texture.GetTextureUnit() for texture in textures)
 
 
-def _set_coarse_uniforms(level_volume, plan, layer) -> None:
-    """The grids ``foveated_coarse_dec``'s mask lookup needs (the tolerance went to the refine pass)."""
+def _set_coarse_uniforms(level_volume, coarser, layer) -> None:
+    """The grids ``foveated_coarse_dec``'s mask lookup needs: the level drawn before (``coarser``) and this one."""
     uniforms = level_volume.GetShaderProperty().GetFragmentCustomUniforms()
-    coarse = plan.layers[0].grid
-    for name, value in (("u_mc_fovCoarseW", coarse[0]), ("u_mc_fovCoarseH", coarse[1]),
+    for name, value in (("u_mc_fovCoarseW", coarser.grid[0]), ("u_mc_fovCoarseH", coarser.grid[1]),
                         ("u_mc_fovLevelW", layer.grid[0]), ("u_mc_fovLevelH", layer.grid[1])):
         uniforms.SetUniformi(name, int(value))
 
@@ -975,7 +970,7 @@ def _gpu_masks_possible(state, renderer) -> bool:
 
 
 def _coarse_textures(state, renderer, viewport) -> dict:
-    """The two viewport-sized RGBA8 textures the coarsest level's picture is copied into (after, before)."""
+    """The two viewport-sized RGBA8 textures a deciding level's picture is copied into (after, before the frame)."""
     window = renderer.GetRenderWindow()
     entry = state.get("coarse_textures")
     size = (viewport[2], viewport[3])
@@ -996,7 +991,8 @@ def _fovea_texture(state, renderer, plan, layer):
     from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
 
     window = renderer.GetRenderWindow()
-    key = (window.GetAddressAsString("vtkObjectBase"), tuple(layer.grid), tuple(plan.gaze), plan.aspect, plan.start)
+    radius = content_adaptive.fovea_radius(plan, layer)
+    key = (window.GetAddressAsString("vtkObjectBase"), tuple(layer.grid), tuple(plan.gaze), plan.aspect, radius)
     cache = state.setdefault("fovea_textures", {})
     cached = cache.get(layer.level)
     if cached is not None and cached[0] == key and cached[1].GetContext() is window:
@@ -1005,7 +1001,7 @@ def _fovea_texture(state, renderer, plan, layer):
     texture.SetContext(window)
     texture.SetMinificationFilter(vtkTextureObject.Nearest)
     texture.SetMagnificationFilter(vtkTextureObject.Nearest)
-    spans = np.ascontiguousarray(content_adaptive.fovea_spans(layer.grid, plan), dtype=np.float32)
+    spans = np.ascontiguousarray(content_adaptive.fovea_spans(layer.grid, plan, radius), dtype=np.float32)
     texture.Create2DFromRaw(spans.shape[0], 1, 2, VTK_FLOAT, spans)
     texture.Deactivate()
     cache[layer.level] = (key, texture)
@@ -1025,12 +1021,35 @@ def _download_texels(window, texture, grid) -> np.ndarray:
 
 
 def _gpu_masks(frame) -> dict:
-    """The refinement masks of a frame whose masks the GPU built: its definition on the read-back picture."""
+    """The refinement masks of a frame whose masks the GPU built: its refine passes' tests read back."""
     coarse, plan = frame["coarse"], frame["plan"]
-    grid = plan.layers[0].grid
-    after = _download_texels(coarse["window"], coarse["textures"]["after"], grid)
-    before = _download_texels(coarse["window"], coarse["textures"]["before"], grid)
-    return content_adaptive.refinement_masks(after, before, plan, coarse["tolerance"])
+    tests = {}
+    for source, texture in coarse["tests"].items():
+        test = _download_texels(coarse["window"], texture, plan.layers[source].grid)
+        tests[source] = test[..., 0] > 127, test[..., 1] > 127
+    return {layer.level: content_adaptive.refinement_mask(*tests[content_adaptive.decided_by(plan, index)], plan, layer)
+            for index, layer in enumerate(plan.layers) if index >= 1}
+
+
+def _refinement_test(state, renderer, volume, viewport, plan, source, tolerance, values, coarse, before):
+    """The refinement test of the picture the layers up to ``source`` left, at that layer's texels.
+
+    ``values``: the levels' float readouts and the rays their masks left out
+    (a readout: their composite, over black); else ``coarse``: the GPU's copies (after, before), the refine
+    pass's texture returned; else the picture read back, ``before`` the
+    viewport's before the frame's first level.
+    """
+    grid = plan.layers[source].grid
+    if values is not None:
+        so_far = foveation.composite_values(plan._replace(layers=plan.layers[:source + 1]), *values)
+        after = _grey_texels(volume, content_adaptive.coarse_texels(so_far, grid))
+        return content_adaptive.refinement_test(after, np.zeros_like(after), tolerance)
+    if coarse is not None:
+        copy_drawn(renderer, viewport, coarse["framebuffers"]["after"])
+        return refine_pass.run_refine_pass(state, renderer.GetRenderWindow(), coarse, viewport, grid, tolerance,
+                                           whole_fovea=source == 0 and content_adaptive.has_content_level(plan))
+    after = _read_texels(renderer, viewport, grid)
+    return content_adaptive.refinement_test(after, content_adaptive.coarse_texels(before, grid), tolerance)
 
 
 @calldata_type(VTK_OBJECT)

@@ -205,7 +205,7 @@ def refusal(mapper, renderer=None) -> Optional[str]:
                 f"{method!r} method itself unfoveated")
     if float(params["content_tolerance"]) > 0.0 and renderer is not None and _background(renderer) is None:
         return ("foveated content-adaptive density (content_tolerance > 0) over the ranks needs a single-colour "
-                "background (its masks compare the coarsest level's picture with what lay beneath it, which the "
+                "background (its masks compare the coarse levels' pictures with what lay beneath them, which the "
                 "ranks know only as the background colour): use a single-colour background, or content_tolerance "
                 "0, or render on one rank")
     return None
@@ -335,8 +335,8 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
             plan = foveation.plan_frame(viewport, gaze, radius, params["falloff"], params["number_of_levels"],
                                         foveate, foveated._level_cap(whole_image, box, camera, viewport), base_isd)
             tolerance = float(params["content_tolerance"])
-            if tolerance > 0 and len(plan.layers) > 1:  # content-adaptive: the coarsest level cast everywhere
-                plan = content_adaptive.adaptive_plan(plan)
+            if tolerance > 0 and len(plan.layers) > 1:  # content-adaptive: a coarser content level cast everywhere
+                plan = content_adaptive.adaptive_plan(plan, foveated._level_cap(whole_image, box, camera, viewport))
             cells = foveated._walks_cells(params["method"])
             spacings = volume_pyramid.pyramid_voxel_sizes(whole_image, params["number_of_levels"])
             world_per_pixel = foveated._world_per_pixel(camera, box, viewport)
@@ -625,8 +625,8 @@ def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: O
 
     ``adaptive``: (content tolerance, background RGB 0 .. 255) of a
     content-adaptive frame (``plan`` from :func:`mipcast.core.content_adaptive.adaptive_plan`):
-    the finer levels keep only the rays their refinement masks cast
-    (:func:`mipcast.core.content_adaptive.refinement_masks` of the coarsest
+    each finer level keeps only the rays its refinement mask casts
+    (:func:`mipcast.core.content_adaptive.refinement_mask` of the deciding
     level's picture over the background, and the background: the
     definition the GPU's refine pass evaluates), and level 0 its
     silhouette band, as ``shaders/foveated_skip_coarse.glsl`` casts them.
@@ -641,15 +641,18 @@ def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: O
     """
     _, _, width, height = plan.viewport
     out = np.zeros((height, width, 4))
-    masks = {}
+    masks, tests = {}, {}
     for index, layer in enumerate(plan.layers):  # coarsest first
-        if adaptive is not None and index == 1:  # the masks from the coarsest level's picture
-            tolerance, background = adaptive
-            below = np.broadcast_to(np.asarray(background, dtype=np.float64), (height, width, 3))
-            after = np.minimum(out[..., :3] + _times_8bit(below, 255.0 - out[..., 3:4]), 255.0)
-            grid = plan.layers[0].grid
-            masks = content_adaptive.refinement_masks(content_adaptive.coarse_texels(after, grid),
-                                                      content_adaptive.coarse_texels(below, grid), plan, tolerance)
+        if adaptive is not None and index >= 1:  # the mask from the deciding level's picture
+            source = content_adaptive.decided_by(plan, index)
+            if source == index - 1:  # just drawn: its refinement test
+                tolerance, background = adaptive
+                below = np.broadcast_to(np.asarray(background, dtype=np.float64), (height, width, 3))
+                after = np.minimum(out[..., :3] + _times_8bit(below, 255.0 - out[..., 3:4]), 255.0)
+                grid = plan.layers[source].grid
+                tests[source] = content_adaptive.refinement_test(content_adaptive.coarse_texels(after, grid),
+                                                                 content_adaptive.coarse_texels(below, grid), tolerance)
+            masks[layer.level] = content_adaptive.refinement_mask(*tests[source], plan, layer)
         level_values = values.get(layer.level)
         if level_values is None:
             continue

@@ -1,20 +1,19 @@
 """Content-adaptive foveation: the refinement test once per coarse texel, in its own small GPU pass.
 
 The finer levels of a GPU-masked foveated frame (``ContentTolerance > 0``)
-cast a ray only where :func:`mipcast.core.content_adaptive.refinement_masks`
-asks for one.  That rule depends on the coarsest level's picture in the
-3 x 3 neighbourhood of the ray's nearest coarse texel (and, for structure,
-on whether the ray lies in the fovea).  Each finer fragment evaluated the
-neighbourhood itself (18 texel fetches and 8 integer divisions) -- on
-llvmpipe as costly per fragment as a short ray, paid by every fragment of
-every finer level in its cast range, cast or not.  This pass evaluates it
-once per coarse texel (1/16 of the fragments of the full-resolution level
-alone, at the default three levels) into a texture of the coarse grid
+cast a ray only where :func:`mipcast.core.content_adaptive.refinement_mask`
+asks for one.  That rule depends on the picture the coarser levels left, in
+the 3 x 3 neighbourhood of the ray's nearest texel of the level drawn just
+before (and, for structure, on whether the ray lies in the fovea).  Before
+each finer level this pass evaluates it once per texel of the level drawn
+before (:func:`mipcast.core.content_adaptive.refinement_test`; at most 1/4
+of the finer level's fragments) into a texture of that grid
 (``shaders/foveated_refine_pass.glsl``: red = the grey span exceeds the
-tolerance, green = structure above the floor); the finer levels read one
-texel (``shaders/foveated_coarse_dec.glsl``).  The decisions, and so the
-pictures, are the same bit for bit (``tests/test_content_adaptive_gpu.py``
-holds the GPU masks to the CPU definition).
+tolerance, green = structure above the floor); the finer level's fragments
+read one texel (``shaders/foveated_coarse_dec.glsl``) instead of the 18
+texel fetches of the neighbourhood each.  The decisions, and so the
+pictures, are the CPU definition's bit for bit
+(``tests/test_content_adaptive_gpu.py``).
 """
 from __future__ import annotations
 
@@ -40,9 +39,10 @@ def _sources() -> tuple:
 
 
 def refine_target(state: dict, window, grid) -> dict:
-    """The pass's output (an RGBA8 texture of the coarse ``grid``, its framebuffer, the quad), cached in ``state``.
+    """The pass's output for one coarser grid (an RGBA8 texture of ``grid``, its framebuffer, the quad).
 
-    Made again for another window or grid.
+    Cached in ``state``, one per grid (a frame refines each finer level from
+    the level drawn before it); made again for another window.
 
     Examples
     --------
@@ -50,32 +50,40 @@ def refine_target(state: dict, window, grid) -> dict:
     >>> import vtkmodules.vtkRenderingOpenGL2
     >>> window = vtkRenderWindow(); window.SetOffScreenRendering(True); window.AddRenderer(vtkRenderer())
     >>> window.SetSize(8, 8); window.Render()
-    >>> target = refine_target({}, window, (4, 2))
+    >>> state = {}
+    >>> target = refine_target(state, window, (4, 2))
     >>> target["texture"].GetWidth(), target["texture"].GetHeight()
     (4, 2)
+    >>> refine_target(state, window, (2, 1)) is not target, refine_target(state, window, (4, 2)) is target
+    (True, True)
     """
     from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLQuadHelper
 
-    entry = state.get("refine_target")
-    key = (window.GetAddressAsString("vtkObjectBase"), tuple(grid))
-    if entry is not None and entry["key"] == key:
-        return entry
+    targets = state.setdefault("refine_targets", {})
+    address = window.GetAddressAsString("vtkObjectBase")
+    for stale in [key for key, entry in targets.items() if entry["key"][0] != address]:
+        old = targets.pop(stale)
+        old["quad"].ReleaseGraphicsResources(old["window"])
+    entry = targets.get(tuple(grid))
     if entry is not None:
-        entry["quad"].ReleaseGraphicsResources(entry["window"])
+        return entry
     texture, target = texture_target(window, int(grid[0]), int(grid[1]))
     vertex, fragment = _sources()
     quad = vtkOpenGLQuadHelper(window, vertex, fragment, "")
-    entry = state["refine_target"] = {"key": key, "window": window, "texture": texture, "framebuffer": target,
-                                      "quad": quad, "sources": (vertex, fragment)}
+    entry = targets[tuple(grid)] = {"key": (address, tuple(grid)), "window": window, "texture": texture,
+                                    "framebuffer": target, "quad": quad, "sources": (vertex, fragment)}
     return entry
 
 
-def run_refine_pass(state: dict, window, coarse: dict, viewport, grid, tolerance: float):
+def run_refine_pass(state: dict, window, coarse: dict, viewport, grid, tolerance: float, whole_fovea: bool = False):
     """Evaluate the refinement test of every coarse texel into :func:`refine_target`'s texture; return it.
 
-    ``coarse``: the viewport's picture after and before the coarsest level
-    (``coarse["after"]``, ``coarse["before"]``, viewport-sized RGBA8
-    textures); ``grid``: the coarsest level's (columns, rows). The GL state
+    ``coarse``: the viewport's picture after the level drawn before the
+    finer one and before the frame's first level (``coarse["after"]``,
+    ``coarse["before"]``, viewport-sized RGBA8 textures); ``grid``: that
+    coarser level's (columns, rows).  ``whole_fovea``: every texel counts
+    as structure (a content level deciding acuity's coarsest level, which
+    casts the whole fovea: :func:`mipcast.core.content_adaptive.refinement_mask`). The GL state
     it touches (framebuffer, viewport, blending, depth and scissor tests)
     is restored.
     """
@@ -101,6 +109,7 @@ def run_refine_pass(state: dict, window, coarse: dict, viewport, grid, tolerance
             program.SetUniformi(name, int(value))
         # grey ranges are integers: range > tolerance  <=>  range >= floor(tolerance) + 1 (exact in float32)
         program.SetUniformf("u_mc_fovEdgeMin", float(math.floor(tolerance) + 1))
+        program.SetUniformf("u_mc_fovWholeFovea", 1.0 if whole_fovea else 0.0)
         target["quad"].Render()
     finally:
         coarse["after"].Deactivate()
