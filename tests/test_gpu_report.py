@@ -59,6 +59,9 @@ def test_quick_report_writes_three_files_with_the_expected_keys(quick_report):
     assert all(row["size"] <= 96 for row in rows)
     assert all(row["within_1_grey"] == 1.0 for row in rows if row["method"] == "analytic")
     assert {row["gaze_name"] for row in report["foveation"] if "gaze_name" in row} >= {"centre", "corner"}
+    # issue 17's goal is measured with content-adaptive density: the GPU run must time it
+    assert {(row.get("variant"), row.get("gaze_name")) for row in report["foveation"]} >= {
+        ("default", "centre"), ("content-adaptive 2 grey", "centre"), ("content-adaptive 2 grey", "corner")}
     assert [row["method"] for row in report["first_frame"]] == list(gpu_report.METHODS)
     assert all(row["texture_bytes"]["total"] > 0 for row in report["first_frame"])
     assert {"analytic_over_stock", "goal", "met"} <= set(report["first_frame_goal"])
