@@ -497,12 +497,12 @@ def _draw(mapper, state, volume, renderer) -> None:
     base_distance = auto_sample_distance(image, volume) if auto else float(mapper.GetSampleDistance())
     # a tile of a bigger picture (SaveScreenshot beyond the window's size): the plan is made in
     # this tile's viewport, with the gaze, radius and falloff of the whole picture carried over
+    cap = _level_cap(image, volume, whole_camera, whole)
     plan = foveation.plan_frame(viewport, to_tile(gaze), radius * tile_scale, params["falloff"] * tile_scale,
-                                params["number_of_levels"], foveate, _level_cap(image, volume, whole_camera, whole),
-                                base_isd)
+                                params["number_of_levels"], foveate, cap, base_isd)
     if tile_scale != 1.0:  # a tile the fovea's level 0 does not reach still casts its silhouette band
         whole_plan = foveation.plan_frame(whole, gaze, radius, params["falloff"], params["number_of_levels"],
-                                          foveate, _level_cap(image, volume, whole_camera, whole), base_isd)
+                                          foveate, cap, base_isd)
         plan = foveated_tiles.band_layer(plan, whole_plan, base_isd)
     readout = bool(state.get("exact_readout"))
     # a frame keeps what the last one left at full quality where it is full quality itself: progressive
@@ -519,7 +519,7 @@ def _draw(mapper, state, volume, renderer) -> None:
     tolerance = 0.0 if still else float(params["content_tolerance"])
     adaptive = tolerance > 0 and len(plan.layers) > 1
     if adaptive:
-        plan = content_adaptive.adaptive_plan(plan, _level_cap(image, volume, whole_camera, whole))
+        plan = content_adaptive.adaptive_plan(plan, cap)
     cells = _walks_cells(params["method"])
     spacings = volume_pyramid.pyramid_voxel_sizes(image, params["number_of_levels"])
     world_per_pixel = _world_per_pixel(whole_camera, volume, whole)
