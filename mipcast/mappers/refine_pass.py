@@ -24,6 +24,8 @@ from mipcast.mappers.shader_pieces import load_piece
 
 #: OpenGL enums the pass saves and restores.
 _GL_BLEND, _GL_DEPTH_TEST, _GL_SCISSOR_TEST, _GL_VIEWPORT = 0x0BE2, 0x0B71, 0x0C11, 0x0BA2
+#: Refine targets kept (twice the deciding levels of a content-adaptive frame: a frame's own, and the last size's).
+KEPT_TARGETS = 4
 #: The pass's one statement (a constant: the piece holds the code).
 _IMPL = "gl_FragData[0] = mcFovRefinePass(texCoord);"
 
@@ -41,8 +43,9 @@ def _sources() -> tuple:
 def refine_target(state: dict, window, grid) -> dict:
     """The pass's output for one coarser grid (an RGBA8 texture of ``grid``, its framebuffer, the quad).
 
-    Cached in ``state``, one per grid (a frame refines each finer level from
-    the level drawn before it); made again for another window.
+    Cached in ``state``, one per grid (a frame's deciding levels have one
+    each), the :data:`KEPT_TARGETS` used last (a resized window makes new
+    grids); made again for another window.
 
     Examples
     --------
@@ -56,6 +59,10 @@ def refine_target(state: dict, window, grid) -> dict:
     (4, 2)
     >>> refine_target(state, window, (2, 1)) is not target, refine_target(state, window, (4, 2)) is target
     (True, True)
+    >>> for columns in range(3, 9):   # a window resized again and again keeps the last few
+    ...     _ = refine_target(state, window, (columns, 1))
+    >>> len(state["refine_targets"]) == KEPT_TARGETS and (8, 1) in state["refine_targets"]
+    True
     """
     from vtkmodules.vtkRenderingOpenGL2 import vtkOpenGLQuadHelper
 
@@ -64,9 +71,13 @@ def refine_target(state: dict, window, grid) -> dict:
     for stale in [key for key, entry in targets.items() if entry["key"][0] != address]:
         old = targets.pop(stale)
         old["quad"].ReleaseGraphicsResources(old["window"])
-    entry = targets.get(tuple(grid))
+    entry = targets.pop(tuple(grid), None)
     if entry is not None:
+        targets[tuple(grid)] = entry  # the most recently used last
         return entry
+    while len(targets) >= KEPT_TARGETS:
+        old = targets.pop(next(iter(targets)))
+        old["quad"].ReleaseGraphicsResources(old["window"])
     texture, target = texture_target(window, int(grid[0]), int(grid[1]))
     vertex, fragment = _sources()
     quad = vtkOpenGLQuadHelper(window, vertex, fragment, "")
