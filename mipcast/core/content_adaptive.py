@@ -45,7 +45,7 @@ from typing import Optional
 
 import numpy as np
 
-from mipcast.core.foveation import MIN_TEXELS, Layer, Plan, eccentricity, level_grid
+from mipcast.core.foveation import MIN_TEXELS, Layer, Plan, coarse_texels, eccentricity, level_grid
 
 
 def neighbourhood_range(values: np.ndarray) -> tuple:
@@ -62,27 +62,6 @@ def neighbourhood_range(values: np.ndarray) -> tuple:
     rows, columns = values.shape
     windows = [padded[dy:dy + rows, dx:dx + columns] for dy in range(3) for dx in range(3)]
     return np.max(windows, axis=0), np.min(windows, axis=0)
-
-
-def coarse_texels(picture: np.ndarray, grid) -> np.ndarray:
-    """The picture at the pixel centres nearest a coarse grid's texel centres, top row first.
-
-    Parameters
-    ----------
-    picture : numpy.ndarray, shape (height, width[, channels])
-        Top row first.
-    grid : (columns, rows)
-
-    Examples
-    --------
-    >>> coarse_texels(np.arange(16).reshape(4, 4), (2, 2)).tolist()
-    [[5, 7], [13, 15]]
-    """
-    height, width = picture.shape[:2]
-    columns, rows = int(grid[0]), int(grid[1])
-    x = np.minimum(((np.arange(columns) + 0.5) * width / columns).astype(int), width - 1)
-    y = np.minimum(((np.arange(rows) + 0.5) * height / rows).astype(int), height - 1)
-    return picture[y][:, x]
 
 
 def refinement_test(after: np.ndarray, before: np.ndarray, tolerance: float) -> tuple:
@@ -176,14 +155,23 @@ def refinement_mask(edge: np.ndarray, structure: np.ndarray, plan: Plan, layer) 
     >>> bool(refinement_mask(edge, structure, plan, plan.layers[1])[8, 8])   # level 2: the whole fovea
     True
     """
-    rows_c, columns_c = edge.shape
-    columns, rows = layer.grid
-    x = np.minimum(((np.arange(columns) + 0.5) * columns_c / columns).astype(int), columns_c - 1)
-    y = np.minimum(((np.arange(rows) + 0.5) * rows_c / rows).astype(int), rows_c - 1)
     fovea = eccentricity(layer.grid, plan.gaze, plan.aspect) < fovea_radius(plan, layer)
-    if layer.level == plan.top and has_content_level(plan):
-        return edge[y][:, x] | fovea
-    return edge[y][:, x] | (fovea & structure[y][:, x])
+    if casts_whole_fovea(plan, layer):
+        return coarse_texels(edge, layer.grid) | fovea
+    return coarse_texels(edge, layer.grid) | (fovea & coarse_texels(structure, layer.grid))
+
+
+def casts_whole_fovea(plan: Plan, layer) -> bool:
+    """Whether ``layer`` is acuity's coarsest level under a content level: it casts the whole fovea, structure or not.
+
+    Examples
+    --------
+    >>> from mipcast.core.foveation import plan_frame
+    >>> plan = adaptive_plan(plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.1))
+    >>> [casts_whole_fovea(plan, layer) for layer in plan.layers[1:]]
+    [True, False, False]
+    """
+    return layer.level == plan.top and has_content_level(plan)
 
 
 def fovea_radius(plan: Plan, layer) -> float:
@@ -201,7 +189,7 @@ def fovea_radius(plan: Plan, layer) -> float:
     >>> [round(fovea_radius(plan, layer) - plan.start, 4) for layer in plan.layers[1:]]   # 2 texels of 16
     [0.125, 0.0, 0.0]
     """
-    if layer.level == plan.top and has_content_level(plan):
+    if casts_whole_fovea(plan, layer):
         columns, rows = layer.grid
         return plan.start + 2.0 * max(1.0 / rows, plan.aspect / columns)
     return plan.start

@@ -402,6 +402,27 @@ def _fill_one_texel(values: np.ndarray) -> np.ndarray:
     return filled
 
 
+def coarse_texels(picture: np.ndarray, grid) -> np.ndarray:
+    """The picture at the pixel centres nearest a coarse grid's texel centres, top row first.
+
+    Parameters
+    ----------
+    picture : numpy.ndarray, shape (height, width[, channels])
+        Top row first.
+    grid : (columns, rows)
+
+    Examples
+    --------
+    >>> coarse_texels(np.arange(16).reshape(4, 4), (2, 2)).tolist()
+    [[5, 7], [13, 15]]
+    """
+    height, width = picture.shape[:2]
+    columns, rows = int(grid[0]), int(grid[1])
+    x = np.minimum(((np.arange(columns) + 0.5) * width / columns).astype(int), width - 1)
+    y = np.minimum(((np.arange(rows) + 0.5) * height / rows).astype(int), height - 1)
+    return picture[y][:, x]
+
+
 def composite_values(plan: Plan, values: dict, skipped: Optional[dict] = None) -> np.ndarray:
     """The foveated image in data units from each level's float readout.
 
@@ -454,7 +475,7 @@ def composite_values(plan: Plan, values: dict, skipped: Optional[dict] = None) -
         present = ~np.isnan(stretched)
         share = layer_weight(layer.level, lam, plan) * remaining
         if skipped is not None and layer.level in skipped:
-            share[_nearest_texels(skipped[layer.level], (width, height))] = 0.0
+            share[coarse_texels(skipped[layer.level], (width, height))] = 0.0
         total[present] += share[present] * stretched[present]
         weight[present] += share[present]
         remaining = remaining - share
@@ -465,14 +486,6 @@ def composite_values(plan: Plan, values: dict, skipped: Optional[dict] = None) -
     if band is not None:
         out[band[0]] = band[1][band[0]]
     return out
-
-
-def _nearest_texels(grid_values: np.ndarray, size: Sequence[int]) -> np.ndarray:
-    """A grid's values at the texel nearest each viewport pixel (top row first)."""
-    rows, columns = grid_values.shape
-    x = np.minimum((np.arange(int(size[0])) * columns) // int(size[0]), columns - 1)
-    y = np.minimum((np.arange(int(size[1])) * rows) // int(size[1]), rows - 1)
-    return grid_values[y][:, x]
 
 
 #: Edges of a box's projected outline the shaders take (a convex box projects to at most 6).

@@ -1047,7 +1047,7 @@ def _refinement_test(state, renderer, volume, viewport, plan, source, tolerance,
     if coarse is not None:
         copy_drawn(renderer, viewport, coarse["framebuffers"]["after"])
         return refine_pass.run_refine_pass(state, renderer.GetRenderWindow(), coarse, viewport, grid, tolerance,
-                                           whole_fovea=source == 0 and content_adaptive.has_content_level(plan))
+                                           whole_fovea=content_adaptive.casts_whole_fovea(plan, plan.layers[source + 1]))
     after = _read_texels(renderer, viewport, grid)
     return content_adaptive.refinement_test(after, content_adaptive.coarse_texels(before, grid), tolerance)
 
