@@ -12,7 +12,7 @@ from mipcast.app.cli import main
 from mipcast.bench import gpu_report
 
 TOP_KEYS = {"renderer", "software", "quick", "sizes", "notes", "parity", "speed_accuracy", "foveation",
-            "first_frame", "first_frame_goal", "peers", "elapsed_s"}
+            "foveation_phantoms", "first_frame", "first_frame_goal", "peers", "elapsed_s"}
 ROW_KEYS = {"scene", "window", "size", "method", "median_ms", "ratio_to_stock", "p99_pct", "max_pct",
             "within_1_grey", "rays", "misses"}
 
@@ -62,6 +62,14 @@ def test_quick_report_writes_three_files_with_the_expected_keys(quick_report):
     # issue 17's goal is measured with content-adaptive density: the GPU run must time it
     assert {(row.get("variant"), row.get("gaze_name")) for row in report["foveation"]} >= {
         ("default", "centre"), ("content-adaptive 2 grey", "centre"), ("content-adaptive 2 grey", "corner")}
+    # ... on the scenes the issue names too (the head where it is installed), at the largest size only
+    phantoms = report["foveation_phantoms"]
+    expected = {"vessels@0.25,1"} | ({"head@100,1500"} if "head" in {row["scene"] for row in rows} else set())
+    assert {row["scene"] for row in phantoms} == expected
+    assert {row["size"] for row in phantoms} == {max(gpu_report.QUICK.images)}
+    assert {(row["scene"], row.get("variant"), row.get("gaze_name")) for row in phantoms} >= {
+        (scene, variant, "centre") for scene in expected
+        for variant in ("default", "content-adaptive 2 grey", "content-adaptive 8 grey")}
     assert [row["method"] for row in report["first_frame"]] == list(gpu_report.METHODS)
     assert all(row["texture_bytes"]["total"] > 0 for row in report["first_frame"])
     assert {"analytic_over_stock", "goal", "met"} <= set(report["first_frame_goal"])
@@ -72,7 +80,8 @@ def test_quick_report_markdown_starts_with_the_renderer(quick_report):
     _, out, _ = quick_report
     text = (out / "gpu-report.md").read_text()
     assert text.splitlines()[2].startswith("OpenGL renderer: **")
-    for section in ("## Parity", "## Speed x accuracy", "## Foveation", "## First frame and memory"):
+    for section in ("## Parity", "## Speed x accuracy", "## Foveation (", "## Foveation on issue 17's scenes",
+                    "## First frame and memory"):
         assert section in text
 
 
