@@ -14,7 +14,10 @@
 //   red   1 where the grey (largest channel) spans at least
 //         u_mc_fovEdgeMin grey levels (more than the tolerance),
 //   green 1 where a texel differs from the picture before (structure
-//         above the floor), or everywhere when u_mc_fovWholeFovea is 1
+//         above the floor), where u_mc_fovBound (R8, the grid's size,
+//         bottom row first) is set (the data says a full-quality ray in the
+//         texel's cell may meet structure the coarse rays missed:
+//         mipcast.core.structure_bound), or everywhere when u_mc_fovWholeFovea is 1
 //         (a content level deciding acuity's coarsest level, which casts
 //         the whole fovea).
 // A finer level's ray then reads its nearest texel once
@@ -22,6 +25,7 @@
 // the rule mipcast.core.content_adaptive.refinement_mask defines.
 uniform sampler2D u_mc_fovAfter;
 uniform sampler2D u_mc_fovBefore;
+uniform sampler2D u_mc_fovBound;
 uniform int u_mc_fovCoarseW;
 uniform int u_mc_fovCoarseH;
 uniform int u_mc_fovViewW;
@@ -64,8 +68,8 @@ float mcFovValue(ivec2 at)
   return max(after.r, max(after.g, after.b));
 }
 
-// (edge, structure, 0, 1) of the coarse texel at (column, top-first row).
-vec4 mcFovRefineTexel(int cx, int cy)
+// (edge, structure, 0, 1) of the coarse texel at (column, top-first row); ``bound``: structure whatever the picture.
+vec4 mcFovRefineTexel(int cx, int cy, bool bound)
 {
   ivec3 xs = ivec3(mcFovCoarseX(cx - 1), mcFovCoarseX(cx), mcFovCoarseX(cx + 1));
   ivec3 ys = ivec3(mcFovCoarseY(cy - 1), mcFovCoarseY(cy), mcFovCoarseY(cy + 1));
@@ -80,7 +84,7 @@ vec4 mcFovRefineTexel(int cx, int cy)
   vec3 high = max(top, max(middle, bottom));
   vec3 low = min(top, min(middle, bottom));
   bool edge = max(high.x, max(high.y, high.z)) - min(low.x, min(low.y, low.z)) >= u_mc_fovEdgeMin;
-  return vec4(edge ? 1.0 : 0.0, (structure || u_mc_fovWholeFovea > 0.5) ? 1.0 : 0.0, 0.0, 1.0);
+  return vec4(edge ? 1.0 : 0.0, (structure || bound || u_mc_fovWholeFovea > 0.5) ? 1.0 : 0.0, 0.0, 1.0);
 }
 
 // The pass's body: the coarse texel of the fragment at ``at`` (the quad's
@@ -90,5 +94,6 @@ vec4 mcFovRefinePass(vec2 at)
 {
   int cx = clamp(int(floor(at.x * float(u_mc_fovCoarseW))), 0, u_mc_fovCoarseW - 1);
   int rowUp = clamp(int(floor(at.y * float(u_mc_fovCoarseH))), 0, u_mc_fovCoarseH - 1);
-  return mcFovRefineTexel(cx, u_mc_fovCoarseH - 1 - rowUp);
+  bool bound = texelFetch(u_mc_fovBound, ivec2(cx, rowUp), 0).r > 0.5;
+  return mcFovRefineTexel(cx, u_mc_fovCoarseH - 1 - rowUp, bound);
 }

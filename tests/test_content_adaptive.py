@@ -145,3 +145,65 @@ def test_the_float_readout_has_a_value_wherever_a_ray_meets_the_volume(vessels, 
     e = eccentricity(SIZE, (0.5, 0.5), 1.0)
     background = (e <= fov.mapper.GetFovealRadius()) & (reference <= WINDOW[0])
     assert background.sum() > 100 and np.all(values[background] <= WINDOW[0] + 0.02)   # below the floor there too
+
+
+def _speck_views(method, view="oblique", turn=None, **settings):
+    from mipcast.bench.stability import SPECK_WINDOW, _specks
+
+    image = _specks()   # one-voxel specks that clear the window's floor by 0.4 of their height
+    full = OffscreenView(image, method, size=(128, 128), view=view, window=SPECK_WINDOW)
+    fov = OffscreenView(image, "foveated", size=(128, 128), view=view, window=SPECK_WINDOW)
+    fov.mapper.SetMethod(method)
+    for scene in (full, fov):
+        if turn is not None:   # the volume placed by its matrix: turned, stretched, moved, and framed again
+            turn(scene.volume)
+            scene.renderer.ResetCamera()
+            scene.camera.Zoom(2.0)
+            scene.renderer.ResetCameraClippingRange()
+    for name, value in settings.items():
+        getattr(fov.mapper, "Set" + name)(*np.atleast_1d(value))
+    return full, fov
+
+
+def _fovea_structure_errors(full, fov, gaze):
+    reference, picture = full.screenshot()[..., :3].astype(int), fov.screenshot()[..., :3].astype(int)
+    fovea = eccentricity((128, 128), gaze, 1.0) <= fov.mapper.GetFovealRadius()
+    structure = fovea & (reference.max(axis=-1) > 0)
+    return structure.sum(), int(np.sum(np.abs(reference - picture).max(axis=-1)[structure] > 1))
+
+
+def _turn(volume):
+    volume.RotateZ(25.0)
+    volume.RotateX(-40.0)
+    volume.SetScale(1.0, 1.3, 0.8)
+    volume.SetPosition(3.0, -2.0, 1.0)
+
+
+@pytest.mark.parametrize("view, turn", [("oblique", None), ("perspective", _turn)], ids=["oblique", "perspective-turned"])
+def test_specks_between_the_coarse_rays_stay_in_the_fovea(view, turn, monkeypatch):
+    """Structure smaller than the deciding level's ray spacing: the data's bound casts the fovea's rays there.
+
+    Without the bound (mipcast.core.structure_bound) most of these specks fell between acuity's coarsest
+    rays (4 pixels apart), no coarse ray saw them above the floor, and they vanished from the fovea.
+    """
+    import mipcast.mappers.foveated as foveated
+
+    gaze = (0.5, 0.5)
+    full, fov = _speck_views("mip", view, turn, GazePoint=gaze, ContentTolerance=2.0)
+    structure, wrong = _fovea_structure_errors(full, fov, gaze)
+    assert structure >= 20 and wrong == 0
+    assert fov.mapper.GetLastFrameCost()["sample_ratio"] > 1.05   # it still skips rays
+    monkeypatch.setattr(foveated, "_structure_bound", lambda *args: None)   # the picture alone decides
+    assert _fovea_structure_errors(full, fov, gaze)[1] > 0.3 * structure
+
+
+def test_analytic_specks_stay_exact_in_the_fovea_of_the_float_readout():
+    from mipcast.bench.stability import SPECK_WINDOW
+
+    gaze = (0.45, 0.5)
+    full, fov = _speck_views("analytic", GazePoint=gaze, ContentTolerance=2.0)
+    reference, values = full.float_image(), fov.float_image()
+    fovea = eccentricity((128, 128), gaze, 1.0) <= fov.mapper.GetFovealRadius()
+    structure = fovea & (np.nan_to_num(reference, nan=-1.0) > SPECK_WINDOW[0])
+    assert structure.sum() >= 20
+    assert np.allclose(values[structure], reference[structure], rtol=1e-5, atol=1e-6)

@@ -179,6 +179,39 @@ def test_demip_layers_missing_values_and_content_adaptive_density_reduce_exactly
     assert (one.max(axis=-1) > 10).mean() > 0.2 and difference.max() <= 1, (difference.max(), (difference > 1).sum())
 
 
+@pytest.mark.parametrize("layer", ["mip", "analytic"])
+def test_content_adaptive_specks_the_coarse_rays_missed_stay_in_the_fovea_over_pieces(layer):
+    """The data's structure bound (mipcast.core.structure_bound) over 3 pieces: each rank's piece's bound, reduced
+    with MAX, casts the fovea's rays at specks no coarse ray saw; the picture is the one-texture one, and its fovea
+    shows every speck."""
+    from mipcast.bench.stability import SPECK_WINDOW, _specks
+    from mipcast.core.foveation import eccentricity
+    from mipcast.offscreen import grey_property
+
+    specks = _specks()
+    mapper, renderer, window = pipeline(specks, "foveated")
+    mapper.SetMethod(layer)
+    mapper.SetContentTolerance(2.0)
+    mapper.GetAttachedVolume().SetProperty(grey_property(SPECK_WINDOW))
+    renderer.SetBackground(0.0, 0.0, 0.0)
+    one = picture(window)
+    results = simulate(mapper, renderer, _pieces(specks, 1, 3) + [None], _stub(specks))
+    (rgba, problem) = results[0]
+    assert problem is None and rgba is not None, problem
+    plan, values, _ = object_state(mapper)["rank_foveated_values"]
+    assert np.array_equal(_grey(rgba), _grey(results[1][0]))
+    difference = np.abs(_grey(rgba) - one).max(axis=-1)
+    assert difference.max() <= 1, (difference.max(), (difference > 1).sum())
+    full_mapper, full_renderer, full_window = pipeline(specks, layer)
+    full_mapper.GetAttachedVolume().SetProperty(grey_property(SPECK_WINDOW))
+    full_renderer.SetBackground(0.0, 0.0, 0.0)
+    full = picture(full_window)
+    height, width = full.shape[:2]
+    fovea = eccentricity((width, height), plan.gaze, width / height) <= mapper.GetFovealRadius()
+    structure = fovea & (full.max(axis=-1) > 0)
+    assert structure.sum() >= 10 and np.abs(_grey(rgba) - full).max(axis=-1)[structure].max() <= 1
+
+
 def test_content_adaptive_density_on_a_gradient_background_is_refused(image):
     """The masks compare the coarsest level with what lay beneath it: the ranks know only a single colour."""
     mapper, renderer, window = pipeline(image, "foveated")

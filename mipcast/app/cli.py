@@ -485,7 +485,7 @@ def _run_stability(args) -> int:
         print(f"[{number}/{len(all_cases)}] {case.method}: {case.name}: "
               f"p99 {rows[-1]['p99_pct']:.3g}% ({rows[-1]['measured']})", flush=True)
     columns = ["method", "case", "measured", "p99_pct", "max_pct", "within_1_grey", "depth_jump_pct",
-               "fovea_within_1_grey", "explanation"]
+               "fovea_within_1_grey", "fovea_structure_within_1_grey", "explanation"]
     (args.out / "stability.json").write_text(strict_json(rows, indent=2))
     (args.out / "stability.md").write_text(markdown_table(rows, columns) + "\n")
     print(markdown_table(rows, columns))

@@ -22,10 +22,14 @@ What the picture of the deciding level (:func:`decided_by`) says
 - inside the fovea (eccentricity below the plan's ``start``) also structure
   -- any texel of that neighbourhood differs from what lay beneath the
   volume before it was drawn, i.e. the value is above the transfer
-  function's floor -- so the fovea stays at full quality wherever a
-  structure is.  That picture is acuity's coarsest level, cast over the
-  whole fovea, as dense as without a content level (a coarser picture would
-  let a thin structure fall between its rays).
+  function's floor, or the data says a full-quality ray through the
+  texel's cell may meet a value above the floor
+  (:mod:`mipcast.core.structure_bound`: a speck or a vessel's tip smaller
+  than the ray spacing, which no coarse ray met) -- so the fovea stays at
+  full quality wherever a structure is.  That picture is acuity's coarsest
+  level, cast over the whole fovea, as dense as without a content level (a
+  coarser picture would let more fall between its rays);
+  :func:`structure_source` names it.
 
 Elsewhere the ray is not cast and the coarser picture (bilinearly
 stretched) shows through: background inside the sweet spot needs no
@@ -116,6 +120,26 @@ def decided_by(plan: Plan, index: int) -> int:
     [0, 1, 1]
     """
     return 1 if index >= 2 and has_content_level(plan) else 0
+
+
+def structure_source(plan: Plan) -> Optional[int]:
+    """Index of the layer whose structure test decides the fovea's finer rays (None: no finer level tests it).
+
+    Acuity's coarsest level under a content level (which casts the whole
+    fovea itself, structure or not), else the coarsest.  The data's bound
+    (:mod:`mipcast.core.structure_bound`) joins this layer's structure test.
+
+    Examples
+    --------
+    >>> from mipcast.core.foveation import plan_frame
+    >>> structure_source(adaptive_plan(plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.1)))
+    1
+    >>> structure_source(adaptive_plan(plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.1), max_level=2))
+    0
+    """
+    sources = [decided_by(plan, index) for index in range(1, len(plan.layers))
+               if not casts_whole_fovea(plan, plan.layers[index])]
+    return sources[0] if sources else None
 
 
 def has_content_level(plan: Plan) -> bool:

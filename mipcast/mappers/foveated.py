@@ -14,7 +14,7 @@ from vtkmodules.vtkCommonMath import vtkMatrix4x4
 from vtkmodules.vtkRenderingCore import vtkCamera, vtkVolume
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
-from mipcast.core import content_adaptive, foveation, parameter_tables
+from mipcast.core import content_adaptive, foveation, parameter_tables, structure_bound
 from mipcast.core.gaze import GazeStream
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
 from mipcast.core.parameters import parameter_accessors
@@ -22,7 +22,10 @@ from mipcast.mappers import (bricked_draw, bricked_foveated, float_readout, fove
                              refine_pass, volume_pyramid)
 from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
 from mipcast.core.camera_rays import matrix_array
+from mipcast.core.prepare import prepare_scalars
+from mipcast.core.transfer_bounds import constant_ends
 from mipcast.mappers.corner_packing import CornerPacker
+from mipcast.mappers.max_blocks import block_maxima
 from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms
@@ -544,8 +547,16 @@ def _draw(mapper, state, volume, renderer) -> None:
         if adaptive and index >= 1:  # this level's rays: where the deciding level's picture asks for them
             decider = content_adaptive.decided_by(plan, index)
             if decider == index - 1:  # that level was just drawn: its refinement test
+                # with the texels where the data says a full-quality ray may meet structure its rays missed
+                bound = (_structure_bound(plan, decider, image, volume, camera, viewport,
+                                          _blocks_above(state, image, volume))
+                         if decider == content_adaptive.structure_source(plan) else None)
+                if coarse is not None:
+                    coarse["bound"] = _bound_texture(state, renderer, plan.layers[decider].grid, bound)
                 tests[decider] = _refinement_test(state, renderer, volume, viewport, plan, decider, tolerance,
                                                   (values, skipped) if readout else None, coarse, before)
+                if coarse is None and bound is not None:
+                    tests[decider] = (tests[decider][0], tests[decider][1] | bound)
             if not on_gpu:
                 masks[level] = content_adaptive.refinement_mask(*tests[decider], plan, layer)
         footprint = world_per_pixel * viewport[3] / max(layer.grid[1], 1)
@@ -1084,6 +1095,61 @@ def _grey_texels(volume, values) -> np.ndarray:
     table = np.array([colour.GetColor(v)[0] * opacity.GetValue(v) for v in points])
     grey = np.interp(np.clip(finite, low, high), points, table) * 255.0
     return np.where(np.isfinite(finite), np.round(grey), 0.0)[..., None]
+
+
+def _structure_bound(plan, source, image, volume, camera, viewport, boxes) -> np.ndarray:
+    """Texels of ``plan.layers[source]`` near the fovea whose cell a full-quality ray above the floor may cross.
+
+    :mod:`mipcast.core.structure_bound` with ``boxes``, the blocks of
+    ``image`` above the transfer functions' floor (:func:`_blocks_above`;
+    an MPI rank: its piece's); the texels that matter are those a fovea
+    ray's nearest texel can be (eccentricity below the plan's ``start`` plus
+    half a texel's diagonal).
+    """
+    grid = plan.layers[source].grid
+    columns, rows = grid
+    reach = 0.5 * math.hypot(plan.aspect / columns, 1.0 / rows)
+    near_fovea = foveation.eccentricity(grid, plan.gaze, plan.aspect) < plan.start + reach
+    to_ndc = structure_bound.ndc_from_index(image, camera, viewport[2] / viewport[3], volume.GetMatrix())
+    return structure_bound.splat_texels(boxes, to_ndc, grid, near_fovea)
+
+
+def _blocks_above(state, image, volume, values=None, data_range=None, dims=None) -> np.ndarray:
+    """:func:`mipcast.core.structure_bound.blocks_above` of the drawn values over the transfer functions' floor.
+
+    The block maxima are kept per input, the boxes per floor.  ``values``
+    (z, y, x; NaN: missing), ``data_range`` and ``dims`` (the whole
+    volume's, for the block size) for an MPI rank's piece; by default the
+    input's prepared values, range and dimensions.
+    """
+    component = state["preparer"].GetComponent() if "preparer" in state else -1
+    dims = tuple(dims or image.GetDimensions())
+    block = structure_bound.block_size(dims)
+    stamp = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime(), component, data_range, dims)
+    cached = state.get("block_maxima")
+    if cached is None or cached[0] != stamp:
+        if values is None:
+            prepared = prepare_scalars(image, component)
+            values, data_range = prepared.values, (prepared.low, prepared.high)
+        values = np.asarray(values)
+        if np.issubdtype(values.dtype, np.floating) and np.isnan(values).any():  # missing: below every value
+            values = np.where(np.isnan(values), -np.inf, values)
+        cached = state["block_maxima"] = (stamp, block_maxima(values, block), data_range, {})
+    _, maxima, (low, high), boxes = cached
+    floor = constant_ends(volume.GetProperty(), low, high)[0]
+    if floor not in boxes:
+        boxes.clear()  # one transfer function at a time
+        boxes[floor] = structure_bound.blocks_above(maxima, floor, block, image.GetDimensions())
+    return boxes[floor]
+
+
+def _bound_texture(state, renderer, grid, bound: Optional[np.ndarray]):
+    """The structure bound as a 2D texture of ``grid`` (bottom row first; zeros for None), one kept texture."""
+    columns, rows = grid
+    texture = kept_texture(state, "bound_texture", renderer.GetRenderWindow())
+    data = np.zeros((rows, columns), np.uint8) if bound is None else np.ascontiguousarray(bound[::-1], np.uint8)
+    texture.Create2DFromRaw(columns, rows, 1, VTK_UNSIGNED_CHAR, data * np.uint8(255))
+    return texture
 
 
 def _mask_texture(state, renderer, level, mask):

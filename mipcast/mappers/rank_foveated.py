@@ -348,7 +348,7 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
             problem, plan = repr(error), None
     # 1: the head: shape, finite range, whole dims, the plan's layers (grid, volume level), a failure flag,
     # missing values
-    head = np.full(8 + 3 + 1 + 3 * _MAX_LEVELS + 2, _LOW)
+    head = np.full(8 + 3 + 1 + 3 * _MAX_LEVELS + 3, _LOW)
     finite = usable and high >= low
     head[:6] = [shape[0], shape[1], -shape[0], -shape[1], -low if finite else _LOW, high if finite else _LOW]
     if whole_image is not None:
@@ -361,6 +361,9 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     head[10] = float(params["number_of_levels"]) if params is not None else _LOW
     head[-1] = 1.0 if missing else 0.0
     head[-2] = 1.0 if params is not None and _is_demip(params["method"]) else 0.0
+    if plan is not None and tolerance > 0 and len(plan.layers) > 1:  # the layer the data's structure bound joins
+        source = content_adaptive.structure_source(plan)
+        head[-3] = float(source) if source is not None else _LOW
     head = reduce(head, "max")
     if head[0] != -head[2] or head[1] != -head[3]:
         return None, f"the ranks' viewports differ ({int(head[0])}x{int(head[1])} vs {int(-head[2])}x{int(-head[3])})"
@@ -480,8 +483,21 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
             except Exception as error:  # noqa: BLE001
                 problem = repr(error)
         layer_values.append(np.where(np.isnan(local), _LOW, local).ravel())
+    # and the texels where this rank's piece may put structure above the floor that the coarse rays missed
+    bound_source = int(head[-3]) if head[-3] > 0.5 * _LOW else None
+    bound_part = []
+    if bound_source is not None:
+        columns, rows, _ = layers[bound_source]
+        local = np.zeros((rows, columns))
+        if usable and problem is None:
+            try:
+                boxes = foveated._blocks_above(state, piece, volume, values0, (low_global, high_global), whole_dims)
+                local = foveated._structure_bound(plan, bound_source, piece, volume, camera, viewport, boxes) * 1.0
+            except Exception as error:  # noqa: BLE001
+                problem = repr(error)
+        bound_part = [local.ravel()]
     flag = np.array([1.0 if problem else 0.0])
-    reduced = reduce(np.concatenate(layer_values + [flag]), "max") if layers else flag
+    reduced = reduce(np.concatenate(layer_values + bound_part + [flag]), "max") if layers else flag
     if reduced[-1] > 0.0:
         return None, problem or "a rank failed to render its piece"
     at = 0
@@ -489,6 +505,10 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
         level_values = reduced[at:at + rows * columns].reshape(rows, columns)
         at += rows * columns
         values[index] = np.where(level_values <= 0.5 * _LOW, np.nan, level_values)
+    bound = None
+    if bound_source is not None:
+        columns, rows, _ = layers[bound_source]
+        bound = (bound_source, reduced[at:at + rows * columns].reshape(rows, columns) > 0.5)
     # the level volumes' scalar ranges (VTK's transfer-function textures span them): the whole volume's, the
     # reduced coarse levels' (with missing values: from the fill up, as their mappers prepare them)
     dtype = values0.dtype if values0 is not None else np.float64
@@ -520,7 +540,7 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
         2.0 * max(layer.image_sample_distance for layer in plan.layers))
     band = silhouette if len(plan.layers) > 1 else None
     ranges = {layer.level: ranges[index] for index, layer in enumerate(plan.layers)}
-    adaptive = (tolerance, _background(renderer)) if tolerance > 0 and len(plan.layers) > 1 else None
+    adaptive = (tolerance, _background(renderer), bound) if tolerance > 0 and len(plan.layers) > 1 else None
     return blend_levels(plan, values, volume.GetProperty(), band, ranges, adaptive, colours), None
 
 
@@ -623,7 +643,8 @@ def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: O
     8 bits, as the window's framebuffer blends.  On one rank this is the
     GPU's picture bit for bit (tests/test_rank_foveated.py).
 
-    ``adaptive``: (content tolerance, background RGB 0 .. 255) of a
+    ``adaptive``: (content tolerance, background RGB 0 .. 255[, (layer index,
+    the data's structure bound of that layer's texels)]) of a
     content-adaptive frame (``plan`` from :func:`mipcast.core.content_adaptive.adaptive_plan`):
     each finer level keeps only the rays its refinement mask casts
     (:func:`mipcast.core.content_adaptive.refinement_mask` of the deciding
@@ -646,12 +667,16 @@ def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: O
         if adaptive is not None and index >= 1:  # the mask from the deciding level's picture
             source = content_adaptive.decided_by(plan, index)
             if source == index - 1:  # just drawn: its refinement test
-                tolerance, background = adaptive
+                tolerance, background, bound = (tuple(adaptive) + (None,))[:3]
                 below = np.broadcast_to(np.asarray(background, dtype=np.float64), (height, width, 3))
                 after = np.minimum(out[..., :3] + _times_8bit(below, 255.0 - out[..., 3:4]), 255.0)
                 grid = plan.layers[source].grid
-                tests[source] = content_adaptive.refinement_test(content_adaptive.coarse_texels(after, grid),
-                                                                 content_adaptive.coarse_texels(below, grid), tolerance)
+                edge, structure = content_adaptive.refinement_test(content_adaptive.coarse_texels(after, grid),
+                                                                   content_adaptive.coarse_texels(below, grid),
+                                                                   tolerance)
+                if bound is not None and bound[0] == source:  # the data's bound on structure the rays missed
+                    structure = structure | bound[1]
+                tests[source] = edge, structure
             masks[layer.level] = content_adaptive.refinement_mask(*tests[source], plan, layer)
         level_values = values.get(layer.level)
         if level_values is None:

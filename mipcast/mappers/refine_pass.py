@@ -9,7 +9,9 @@ each finer level this pass evaluates it once per texel of the level drawn
 before (:func:`mipcast.core.content_adaptive.refinement_test`; at most 1/4
 of the finer level's fragments) into a texture of that grid
 (``shaders/foveated_refine_pass.glsl``: red = the grey span exceeds the
-tolerance, green = structure above the floor); the finer level's fragments
+tolerance, green = structure above the floor, in the picture or where the
+data says a full-quality ray may meet it, :mod:`mipcast.core.structure_bound`,
+a texture the CPU uploads); the finer level's fragments
 read one texel (``shaders/foveated_coarse_dec.glsl``) instead of the 18
 texel fetches of the neighbourhood each.  The decisions, and so the
 pictures, are the CPU definition's bit for bit
@@ -91,7 +93,10 @@ def run_refine_pass(state: dict, window, coarse: dict, viewport, grid, tolerance
 
     ``coarse``: the viewport's picture after the level drawn before the
     finer one and before the frame's first level (``coarse["after"]``,
-    ``coarse["before"]``, viewport-sized RGBA8 textures); ``grid``: that
+    ``coarse["before"]``, viewport-sized RGBA8 textures), and
+    ``coarse["bound"]``, a texture of ``grid`` whose texels count as
+    structure whatever the picture says
+    (:mod:`mipcast.core.structure_bound`, all zero where none); ``grid``: that
     coarser level's (columns, rows).  ``whole_fovea``: every texel counts
     as structure (a content level deciding acuity's coarsest level, which
     casts the whole fovea: :func:`mipcast.core.content_adaptive.refinement_mask`). The GL state
@@ -110,11 +115,12 @@ def run_refine_pass(state: dict, window, coarse: dict, viewport, grid, tolerance
         for flag in enabled:
             gl_state.vtkglDisable(flag)
         gl_state.vtkglViewport(0, 0, int(grid[0]), int(grid[1]))
-        coarse["after"].Activate()
-        coarse["before"].Activate()
+        for texture in (coarse["after"], coarse["before"], coarse["bound"]):
+            texture.Activate()
         program = window.GetShaderCache().ReadyShaderProgram(*target["sources"], "")
         program.SetUniformi("u_mc_fovAfter", coarse["after"].GetTextureUnit())
         program.SetUniformi("u_mc_fovBefore", coarse["before"].GetTextureUnit())
+        program.SetUniformi("u_mc_fovBound", coarse["bound"].GetTextureUnit())
         for name, value in (("u_mc_fovCoarseW", grid[0]), ("u_mc_fovCoarseH", grid[1]),
                             ("u_mc_fovViewW", viewport[2]), ("u_mc_fovViewH", viewport[3])):
             program.SetUniformi(name, int(value))
@@ -123,8 +129,8 @@ def run_refine_pass(state: dict, window, coarse: dict, viewport, grid, tolerance
         program.SetUniformf("u_mc_fovWholeFovea", 1.0 if whole_fovea else 0.0)
         target["quad"].Render()
     finally:
-        coarse["after"].Deactivate()
-        coarse["before"].Deactivate()
+        for texture in (coarse["after"], coarse["before"], coarse["bound"]):
+            texture.Deactivate()
         gl_state.PopFramebufferBindings()
         gl_state.vtkglViewport(*saved_viewport)
         for flag, on in enabled.items():
