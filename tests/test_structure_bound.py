@@ -73,3 +73,37 @@ def test_only_the_texels_asked_for_and_all_of_them_when_the_volume_reaches_behin
     scene.camera.SetPosition(*scene.volume.GetCenter())   # the eye inside the volume
     inside = ndc_from_index(image, scene.camera, SIZE[0] / SIZE[1], scene.volume.GetMatrix())
     assert np.array_equal(splat_texels(boxes, inside, GRID, some), some)
+
+
+@pytest.mark.parametrize("cells", [False, True], ids=["point scalars", "cell scalars"])
+def test_the_foveated_mappers_blocks_bound_what_its_rays_draw(cells):
+    """The mapper's blocks (its drawn values over its transfer functions' floor), for point and cell scalars: cell
+    values are drawn on the cell centres, half a cell in from the points, VTK filling the outer half cell."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    from mipcast.mappers import foveated
+
+    rng = np.random.default_rng(3)
+    values = np.zeros((9, 11, 13), np.float32)   # (z, y, x): the cells' or the points' values
+    points = rng.integers(0, values.shape, size=(40, 3))
+    values[points[:, 0], points[:, 1], points[:, 2]] = rng.uniform(0.9, 2.0, 40)
+    values[-1, -1, -1] = values[0, 0, 0] = values[-1, 0, 5] = values[4, -1, 0] = 2.0   # at the box's faces
+    image = vtkImageData()
+    image.SetDimensions(*(np.array(values.shape[::-1]) + (1 if cells else 0)))
+    image.SetSpacing(1.0, 1.5, 0.7)
+    array = numpy_to_vtk(values.ravel(), deep=True)
+    array.SetName("v")
+    (image.GetCellData() if cells else image.GetPointData()).SetScalars(array)
+    scene = _placed_view(image, "oblique")
+    scene.set_window((FLOOR, 2.0))
+    matrix = scene.volume.GetMatrix()
+    exact = reference.render(image, scene.camera, SIZE, method="analytic", matrix=matrix)
+    above = np.nan_to_num(exact, nan=-1.0) > FLOOR
+    boxes = foveated._blocks_above({}, image, scene.volume)
+    # a texel per pixel: the boxes' own placement, not the slack of coarse texels, decides
+    bound = splat_texels(boxes, ndc_from_index(image, scene.camera, SIZE[0] / SIZE[1], matrix), SIZE,
+                         np.ones(SIZE[::-1], bool))
+    assert above.sum() >= 10
+    assert np.all(bound[above])
+    assert bound.mean() < 0.9

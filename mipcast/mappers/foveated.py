@@ -1120,7 +1120,10 @@ def _blocks_above(state, image, volume, values=None, data_range=None, dims=None)
     The block maxima are kept per input, the boxes per floor.  ``values``
     (z, y, x; NaN: missing), ``data_range`` and ``dims`` (the whole
     volume's, for the block size) for an MPI rank's piece; by default the
-    input's prepared values, range and dimensions.
+    input's prepared values, range and dimensions.  Cell scalars (values
+    one point fewer per axis: drawn on the cell centres, VTK filling the
+    outer half cell with the edge values) give boxes in the input's index
+    space grown by half a cell on every side: ``[lower, upper + 1]``.
     """
     component = state["preparer"].GetComponent() if "preparer" in state else -1
     dims = tuple(dims or image.GetDimensions())
@@ -1134,12 +1137,15 @@ def _blocks_above(state, image, volume, values=None, data_range=None, dims=None)
         values = np.asarray(values)
         if np.issubdtype(values.dtype, np.floating) and np.isnan(values).any():  # missing: below every value
             values = np.where(np.isnan(values), -np.inf, values)
-        cached = state["block_maxima"] = (stamp, block_maxima(values, block), data_range, {})
-    _, maxima, (low, high), boxes = cached
+        cached = state["block_maxima"] = (stamp, block_maxima(values, block), data_range, values.shape[::-1], {})
+    _, maxima, (low, high), drawn, boxes = cached
     floor = constant_ends(volume.GetProperty(), low, high)[0]
     if floor not in boxes:
         boxes.clear()  # one transfer function at a time
-        boxes[floor] = structure_bound.blocks_above(maxima, floor, block, image.GetDimensions())
+        found = structure_bound.blocks_above(maxima, floor, block, drawn)
+        if tuple(drawn) != tuple(image.GetDimensions()):  # cell scalars: centre i at index i + 1/2, +-1/2 cell
+            found[:, 1] += 1.0
+        boxes[floor] = found
     return boxes[floor]
 
 
