@@ -179,7 +179,8 @@ def _turn(volume):
     volume.SetPosition(3.0, -2.0, 1.0)
 
 
-@pytest.mark.parametrize("view, turn", [("oblique", None), ("perspective", _turn)], ids=["oblique", "perspective-turned"])
+@pytest.mark.parametrize("view, turn", [("oblique", None), ("perspective", _turn)],
+                         ids=["oblique", "perspective-turned"])
 def test_specks_between_the_coarse_rays_stay_in_the_fovea(view, turn, monkeypatch):
     """Structure smaller than the deciding level's ray spacing: the data's bound casts the fovea's rays there.
 

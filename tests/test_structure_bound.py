@@ -10,7 +10,7 @@ from vtkmodules.vtkCommonTransforms import vtkTransform
 
 from mipcast import reference
 from mipcast.core.foveation import coarse_texels
-from mipcast.core.structure_bound import blocks_above, ndc_from_index, splat_texels
+from mipcast.core.structure_bound import blocks_above, halved_cells, ndc_from_index, splat_texels
 from mipcast.mappers.max_blocks import block_maxima
 from mipcast.data_fixtures import image_from_array
 from mipcast.offscreen import OffscreenView
@@ -59,6 +59,9 @@ def test_every_pixel_above_the_floor_has_its_texel_in_the_bound(view, block, see
     assert above.sum() >= 10   # the specks are seen
     assert np.all(coarse_texels(bound, SIZE)[above])   # the nearest texel of every such pixel is in the bound
     assert bound.mean() < 0.9   # and it is a bound, not the whole view
+    if block == 1:  # the half cells above the floor: a tighter bound, still holding every such pixel
+        halves = splat_texels(halved_cells(values, boxes, FLOOR), to_ndc, SIZE, np.ones(SIZE[::-1], bool))
+        assert np.all(halves[above]) and halves.sum() < splat_texels(boxes, to_ndc, SIZE, halves | True).sum()
 
 
 def test_only_the_texels_asked_for_and_all_of_them_when_the_volume_reaches_behind_the_eye():
@@ -100,7 +103,7 @@ def test_the_foveated_mappers_blocks_bound_what_its_rays_draw(cells):
     matrix = scene.volume.GetMatrix()
     exact = reference.render(image, scene.camera, SIZE, method="analytic", matrix=matrix)
     above = np.nan_to_num(exact, nan=-1.0) > FLOOR
-    boxes = foveated._blocks_above({}, image, scene.volume)
+    boxes = foveated._above_floor({}, image, scene.volume)
     # a texel per pixel: the boxes' own placement, not the slack of coarse texels, decides
     bound = splat_texels(boxes, ndc_from_index(image, scene.camera, SIZE[0] / SIZE[1], matrix), SIZE,
                          np.ones(SIZE[::-1], bool))

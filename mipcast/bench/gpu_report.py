@@ -471,8 +471,8 @@ def phantom_foveation_rows(scenes: dict, sizes: Sizes, progress=None) -> list:
     """The foveation benchmark on issue 17's scenes, the vessel fixture and the windowed head CT, largest size.
 
     Windows :data:`PHANTOM_WINDOWS`; acuity only and content-adaptive
-    density at 2 and 8 grey levels (llvmpipe, 1024²: 5.5x and 5.6x fewer
-    samples than full quality on the vessels at the centre, but about 2.4x
+    density at 2 and 8 grey levels (llvmpipe, 1024²: 5.6x and 5.75x fewer
+    samples than full quality on the vessels at the centre, but about 2.8x
     in time, which only a GPU can say more about).  The head comes from ``scenes``
     (:func:`_scenes`; absent when it is not installed).
 

@@ -17,9 +17,11 @@ that *may* meet a value above the floor; the structure test adds them.
   ray and the exact maximum of analytic MIP) exceeds the floor
   (:func:`mipcast.core.transfer_bounds.constant_ends`: at or below it the
   premultiplied colour is the one the data's minimum gets).
-- **Splat** (:func:`splat_texels`): each such block's 8 corners are
-  projected; every texel whose cell meets their bounding rectangle is
-  marked.
+- **Half cells** (:func:`halved_cells`): a block of one cell shrinks to the
+  box around its half cells above the floor (exact maxima of the
+  trilinear interpolant), where the view magnifies the cells.
+- **Splat** (:func:`splat_texels`): each box's 8 corners are projected;
+  every texel whose cell meets their bounding rectangle is marked.
 
 Why no structure is missed: a ray that meets a value above the floor does so
 inside a block above the floor, so its pixel centre lies in that block's
@@ -32,6 +34,7 @@ remove samples, so the bound holds with them too.
 from __future__ import annotations
 
 import math
+
 import numpy as np
 
 from mipcast.core.camera_rays import index_space, matrix_array
@@ -109,7 +112,8 @@ def ndc_from_index(image, camera, aspect: float, volume_matrix=None) -> np.ndarr
     """
     to_index, _ = index_space(image)
     world = np.eye(4) if volume_matrix is None else matrix_array(volume_matrix)
-    return matrix_array(camera.GetCompositeProjectionTransformMatrix(aspect, -1.0, 1.0)) @ world @ np.linalg.inv(to_index)
+    projection = matrix_array(camera.GetCompositeProjectionTransformMatrix(aspect, -1.0, 1.0))
+    return projection @ world @ np.linalg.inv(to_index)
 
 
 def splat_texels(boxes: np.ndarray, ndc_from_index: np.ndarray, grid, texels: np.ndarray) -> np.ndarray:
@@ -117,8 +121,8 @@ def splat_texels(boxes: np.ndarray, ndc_from_index: np.ndarray, grid, texels: np
 
     Parameters
     ----------
-    boxes : numpy.ndarray, shape (blocks, 2, 3)
-        :func:`blocks_above`.
+    boxes : numpy.ndarray, shape (boxes, 2, 3)
+        :func:`blocks_above` (or :func:`halved_cells`).
     ndc_from_index : numpy.ndarray, shape (4, 4)
         The volume's index space -> NDC.
     grid : (columns, rows)
@@ -142,50 +146,125 @@ def splat_texels(boxes: np.ndarray, ndc_from_index: np.ndarray, grid, texels: np
     hit = np.zeros((rows, columns), bool)
     if len(boxes) == 0 or not texels.any():
         return hit
-    low, high = _rectangles(boxes, ndc_from_index)
-    if low is None:  # a corner behind the eye: its projection is unbounded
+    ranges = _texel_ranges(boxes, ndc_from_index, grid)
+    if ranges is None:  # a corner behind the eye: its projection is unbounded
         return texels.copy()
-    first_column = np.clip(np.floor(low[:, 0] * columns), 0, columns).astype(np.int64)
-    end_column = np.clip(np.floor(high[:, 0] * columns) + 1, 0, columns).astype(np.int64)
-    first_row = np.clip(np.floor((1.0 - high[:, 1]) * rows), 0, rows).astype(np.int64)   # top row first
-    end_row = np.clip(np.floor((1.0 - low[:, 1]) * rows) + 1, 0, rows).astype(np.int64)
-    rows_of, columns_of = np.nonzero(texels)
-    keep = ((end_column > columns_of.min()) & (first_column <= columns_of.max())
-            & (end_row > rows_of.min()) & (first_row <= rows_of.max()))
+    keep = _meeting(ranges, texels)
+    first_row, end_row, first_column, end_column = (part[keep] for part in ranges)
     # a difference array: +1 at each rectangle's first corner, -1 past its ends, summed along both axes
     width = columns + 1
-    corners = np.concatenate([first_row[keep] * width + first_column[keep], end_row[keep] * width + end_column[keep],
-                              first_row[keep] * width + end_column[keep], end_row[keep] * width + first_column[keep]])
-    signs = np.repeat(np.array([1, 1, -1, -1]), keep.sum())
+    corners = np.concatenate([first_row * width + first_column, end_row * width + end_column,
+                              first_row * width + end_column, end_row * width + first_column])
+    signs = np.repeat(np.array([1, 1, -1, -1]), len(first_row))
     counts = np.bincount(corners, weights=signs, minlength=(rows + 1) * width).reshape(rows + 1, width)
     return (counts.cumsum(axis=0).cumsum(axis=1)[:rows, :columns] > 0.5) & texels
 
 
+def _texel_ranges(boxes: np.ndarray, ndc_from_index: np.ndarray, grid):
+    """Per box, the texel rows ``[first, end)`` (top row first) and columns ``[first, end)`` its projected
+    rectangle meets: 4 int arrays; None when a box corner lies behind the eye."""
+    columns, rows = int(grid[0]), int(grid[1])
+    low, high = _rectangles(boxes, ndc_from_index)
+    if low is None:
+        return None
+
+    def index(values, scale, shift):
+        return np.clip(np.floor(values * scale + shift), 0, scale).astype(np.int64)
+
+    return (index(-high[1], rows, rows), index(-low[1], rows, rows + 1),
+            index(low[0], columns, 0.0), index(high[0], columns, 1.0))
+
+
+def _meeting(ranges, texels: np.ndarray) -> np.ndarray:
+    """Which boxes' :func:`_texel_ranges` meet the bounding rectangle of ``texels`` (a cheap, generous filter)."""
+    rows_of, columns_of = np.nonzero(texels)
+    if rows_of.size == 0:
+        return np.zeros(len(ranges[0]), bool)
+    first_row, end_row, first_column, end_column = ranges
+    return ((end_column > columns_of.min()) & (first_column <= columns_of.max())
+            & (end_row > rows_of.min()) & (first_row <= rows_of.max()))
+
+
+def halved_cells(values: np.ndarray, boxes: np.ndarray, floor: float) -> np.ndarray:
+    """Each one-cell box shrunk to the box around its half cells whose trilinear maximum exceeds ``floor``.
+
+    The trilinear interpolant is linear along each axis, so its values at a
+    cell's edge, face and body midpoints are averages of the corners', and
+    its maximum over each of the cell's 8 half cells (halved along each
+    axis) is the largest of that half cell's 8 corner values: exact, not a
+    bound.  The box around the half cells above the floor is a tighter
+    bound than the cell where a view magnifies the cells (a cell spans
+    several texels), for no more boxes to project.
+
+    Parameters
+    ----------
+    values : numpy.ndarray, shape (nz, ny, nx)
+        The point values (missing below every finite value).
+    boxes : numpy.ndarray, shape (boxes, 2, 3)
+        :func:`blocks_above` with blocks of one cell.
+    floor : float
+
+    Returns
+    -------
+    numpy.ndarray, shape (boxes, 2, 3)
+        (A box without a half cell above the floor keeps its whole cell.)
+
+    Examples
+    --------
+    >>> values = np.zeros((2, 2, 2)); values[0, 0, 0] = 1.0    # one cell, its value 1 at the corner (0, 0, 0)
+    >>> halved_cells(values, np.array([[[0.0, 0.0, 0.0], [1.0, 1.0, 1.0]]]), 0.5).tolist()   # only there
+    [[[0.0, 0.0, 0.0], [0.5, 0.5, 0.5]]]
+    """
+    nz, ny, nx = values.shape
+    x, y, z = boxes[:, 0].astype(np.int64).T
+    fine = np.empty((3, 3, 3, len(boxes)))   # (z, y, x) at the cell's corners and midpoints, per cell
+    for c in (0, 1):
+        for b in (0, 1):
+            for a in (0, 1):
+                fine[2 * c, 2 * b, 2 * a] = values[np.minimum(z + c, nz - 1), np.minimum(y + b, ny - 1),
+                                                   np.minimum(x + a, nx - 1)]
+    fine[1, ::2, ::2] = (fine[0, ::2, ::2] + fine[2, ::2, ::2]) / 2.0
+    fine[:, 1, ::2] = (fine[:, 0, ::2] + fine[:, 2, ::2]) / 2.0
+    fine[:, :, 1] = (fine[:, :, 0] + fine[:, :, 2]) / 2.0
+    low = np.full((len(boxes), 3), np.inf)
+    high = np.full((len(boxes), 3), -np.inf)
+    for c in (0, 1):
+        for b in (0, 1):
+            for a in (0, 1):
+                above = fine[c:c + 2, b:b + 2, a:a + 2].max(axis=(0, 1, 2)) > floor
+                half = np.array([0.5 * a, 0.5 * b, 0.5 * c])
+                low[above] = np.minimum(low[above], half)
+                high[above] = np.maximum(high[above], half + 0.5)
+    none = ~np.isfinite(low[:, 0])
+    low[none], high[none] = 0.0, 1.0
+    lower = boxes[:, 0] + low
+    return np.stack([lower, np.minimum(boxes[:, 0] + high, boxes[:, 1])], axis=1)
+
+
 def _rectangles(boxes: np.ndarray, ndc_from_index: np.ndarray) -> tuple:
-    """(low, high) corners, 0..1 over the viewport (y up), of each box's projected bounding rectangle; (None, None)
-    when a corner lies behind the eye.  An affine projection (orthographic) moves every box's corners by the same
-    offsets from its first corner (those of the largest box, which hold a smaller box's), so one point a box is
-    projected; a perspective one projects all 8.  Element-wise arithmetic, not matrix products: a BLAS library's
-    threads would stay busy after the call and take the cores a software rasteriser draws the frame with."""
+    """(low, high): x and y rows (2, boxes), 0..1 over the viewport (y up), of each box's projected bounding
+    rectangle; (None, None) when a corner lies behind the eye.  An affine projection (orthographic) moves every
+    box's corners by the same offsets from its first corner (those of the largest box, which hold a smaller box's),
+    so one point a box is projected; a perspective one projects all 8.  Element-wise arithmetic, not matrix
+    products: a BLAS library's threads would stay busy after the call and take the cores a software rasteriser
+    draws the frame with."""
     offsets = np.array([[a, b, c] for a in (0, 1) for b in (0, 1) for c in (0, 1)], np.float64)
-    sizes = boxes[:, 1] - boxes[:, 0]
-    affine = np.allclose(ndc_from_index[3], [0.0, 0.0, 0.0, ndc_from_index[3, 3]]) and ndc_from_index[3, 3] > 0
-    if affine:  # the largest box's offsets: a box clipped at the volume's far faces gets a rectangle too big
-        spread = _apply(ndc_from_index, offsets * sizes.max(axis=0), translate=False)[:, :2] / ndc_from_index[3, 3]
-        origin = _apply(ndc_from_index, boxes[:, 0])[:, :2] / ndc_from_index[3, 3]
-        return (origin + spread.min(axis=0) + 1.0) / 2.0, (origin + spread.max(axis=0) + 1.0) / 2.0
-    corners = (boxes[:, None, 0] + offsets[None] * sizes[:, None]).reshape(-1, 3)
-    clip = _apply(ndc_from_index, corners)
-    if np.any(clip[:, 3] <= 1e-12):
+    lower, sizes = boxes[:, 0], boxes[:, 1] - boxes[:, 0]
+    m = ndc_from_index
+    if np.allclose(m[3], [0.0, 0.0, 0.0, m[3, 3]]) and m[3, 3] > 0:  # affine: the largest box's offsets
+        spread = offsets * sizes.max(axis=0)   # (8, 3)
+        spread = np.array([[sum(row[k] * m[axis, k] for k in range(3)) for row in spread] for axis in (0, 1)])
+        low, high = [], []
+        for axis in (0, 1):
+            first = (lower[:, 0] * m[axis, 0] + lower[:, 1] * m[axis, 1] + lower[:, 2] * m[axis, 2]
+                     + m[axis, 3]) / m[3, 3]
+            low.append((first + spread[axis].min() / m[3, 3] + 1.0) / 2.0)
+            high.append((first + spread[axis].max() / m[3, 3] + 1.0) / 2.0)
+        return np.array(low), np.array(high)
+    corners = (lower[:, None] + offsets[None] * sizes[:, None]).reshape(-1, 3)
+    clip = [corners[:, 0] * m[row, 0] + corners[:, 1] * m[row, 1] + corners[:, 2] * m[row, 2] + m[row, 3]
+            for row in (0, 1, 3)]
+    if np.any(clip[2] <= 1e-12):
         return None, None
-    xy = ((clip[:, :2] / clip[:, 3:] + 1.0) / 2.0).reshape(-1, 8, 2)
-    return xy.min(axis=1), xy.max(axis=1)
-
-
-def _apply(matrix: np.ndarray, points: np.ndarray, translate: bool = True) -> np.ndarray:
-    """``matrix @ (x, y, z, 1)`` (or ``(x, y, z, 0)``) for each point, element-wise: (points, 4)."""
-    out = np.empty((len(points), 4))
-    for row in range(4):
-        out[:, row] = (points[:, 0] * matrix[row, 0] + points[:, 1] * matrix[row, 1] + points[:, 2] * matrix[row, 2]
-                       + (matrix[row, 3] if translate else 0.0))
-    return out
+    xy = [((clip[axis] / clip[2] + 1.0) / 2.0).reshape(-1, 8) for axis in (0, 1)]
+    return np.array([v.min(axis=1) for v in xy]), np.array([v.max(axis=1) for v in xy])

@@ -549,7 +549,7 @@ def _draw(mapper, state, volume, renderer) -> None:
             if decider == index - 1:  # that level was just drawn: its refinement test
                 # with the texels where the data says a full-quality ray may meet structure its rays missed
                 bound = (_structure_bound(plan, decider, image, volume, camera, viewport,
-                                          _blocks_above(state, image, volume))
+                                          _above_floor(state, image, volume))
                          if decider == content_adaptive.structure_source(plan) else None)
                 if coarse is not None:
                     coarse["bound"] = _bound_texture(state, renderer, plan.layers[decider].grid, bound)
@@ -1100,11 +1100,11 @@ def _grey_texels(volume, values) -> np.ndarray:
 def _structure_bound(plan, source, image, volume, camera, viewport, boxes) -> np.ndarray:
     """Texels of ``plan.layers[source]`` near the fovea whose cell a full-quality ray above the floor may cross.
 
-    :mod:`mipcast.core.structure_bound` with ``boxes``, the blocks of
-    ``image`` above the transfer functions' floor (:func:`_blocks_above`;
-    an MPI rank: its piece's); the texels that matter are those a fovea
-    ray's nearest texel can be (eccentricity below the plan's ``start`` plus
-    half a texel's diagonal).
+    :func:`mipcast.core.structure_bound.splat_texels` of ``boxes``, the
+    blocks of ``image`` above the transfer functions' floor
+    (:func:`_above_floor`; an MPI rank: its piece's); the texels that matter
+    are those a fovea ray's nearest texel can be (eccentricity below the
+    plan's ``start`` plus half a texel's diagonal).
     """
     grid = plan.layers[source].grid
     columns, rows = grid
@@ -1114,16 +1114,20 @@ def _structure_bound(plan, source, image, volume, camera, viewport, boxes) -> np
     return structure_bound.splat_texels(boxes, to_ndc, grid, near_fovea)
 
 
-def _blocks_above(state, image, volume, values=None, data_range=None, dims=None) -> np.ndarray:
-    """:func:`mipcast.core.structure_bound.blocks_above` of the drawn values over the transfer functions' floor.
+def _above_floor(state, image, volume, values=None, data_range=None, dims=None) -> np.ndarray:
+    """The boxes of ``image``'s drawn values above the transfer functions' floor, in its index space.
 
-    The block maxima are kept per input, the boxes per floor.  ``values``
-    (z, y, x; NaN: missing), ``data_range`` and ``dims`` (the whole
-    volume's, for the block size) for an MPI rank's piece; by default the
-    input's prepared values, range and dimensions.  Cell scalars (values
-    one point fewer per axis: drawn on the cell centres, VTK filling the
-    outer half cell with the edge values) give boxes in the input's index
-    space grown by half a cell on every side: ``[lower, upper + 1]``.
+    :func:`mipcast.core.structure_bound.blocks_above`; blocks of one cell
+    (volumes up to :data:`~mipcast.core.structure_bound.FLAG_CELLS` + 1
+    points along every axis) shrunk to their half cells above the floor
+    (:func:`~mipcast.core.structure_bound.halved_cells`).  The block maxima
+    are kept per input, the boxes per floor.  ``values`` (z, y, x; NaN:
+    missing), ``data_range`` and ``dims`` (the whole volume's, for the
+    block size) for an MPI rank's piece; by default the input's prepared
+    values, range and dimensions.  Cell scalars (values one point fewer per
+    axis: drawn on the cell centres, VTK filling the outer half cell with
+    the edge values) give whole blocks grown by half a cell on every side:
+    ``[lower, upper + 1]``.
     """
     component = state["preparer"].GetComponent() if "preparer" in state else -1
     dims = tuple(dims or image.GetDimensions())
@@ -1137,16 +1141,21 @@ def _blocks_above(state, image, volume, values=None, data_range=None, dims=None)
         values = np.asarray(values)
         if np.issubdtype(values.dtype, np.floating) and np.isnan(values).any():  # missing: below every value
             values = np.where(np.isnan(values), -np.inf, values)
-        cached = state["block_maxima"] = (stamp, block_maxima(values, block), data_range, values.shape[::-1], {})
-    _, maxima, (low, high), drawn, boxes = cached
+        drawn = values.shape[::-1]
+        cells = tuple(drawn) != tuple(image.GetDimensions())
+        halving = values if block == 1 and not cells else None   # (a large volume's values are not kept)
+        cached = state["block_maxima"] = (stamp, block_maxima(values, block), data_range, drawn, cells, halving, {})
+    _, maxima, (low, high), drawn, cells, halving, found = cached
     floor = constant_ends(volume.GetProperty(), low, high)[0]
-    if floor not in boxes:
-        boxes.clear()  # one transfer function at a time
-        found = structure_bound.blocks_above(maxima, floor, block, drawn)
-        if tuple(drawn) != tuple(image.GetDimensions()):  # cell scalars: centre i at index i + 1/2, +-1/2 cell
-            found[:, 1] += 1.0
-        boxes[floor] = found
-    return boxes[floor]
+    if floor not in found:
+        found.clear()  # one transfer function at a time
+        boxes = structure_bound.blocks_above(maxima, floor, block, drawn)
+        if cells:  # cell scalars: centre i at index i + 1/2, and half a cell more each side
+            boxes[:, 1] += 1.0
+        elif halving is not None:
+            boxes = structure_bound.halved_cells(halving, boxes, floor)
+        found[floor] = boxes
+    return found[floor]
 
 
 def _bound_texture(state, renderer, grid, bound: Optional[np.ndarray]):

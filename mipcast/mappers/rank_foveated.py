@@ -491,8 +491,8 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
         local = np.zeros((rows, columns))
         if usable and problem is None:
             try:
-                boxes = foveated._blocks_above(state, piece, volume, values0, (low_global, high_global), whole_dims)
-                local = foveated._structure_bound(plan, bound_source, piece, volume, camera, viewport, boxes) * 1.0
+                above = foveated._above_floor(state, piece, volume, values0, (low_global, high_global), whole_dims)
+                local = foveated._structure_bound(plan, bound_source, piece, volume, camera, viewport, above) * 1.0
             except Exception as error:  # noqa: BLE001
                 problem = repr(error)
         bound_part = [local.ravel()]
