@@ -208,3 +208,24 @@ def test_analytic_specks_stay_exact_in_the_fovea_of_the_float_readout():
     structure = fovea & (np.nan_to_num(reference, nan=-1.0) > SPECK_WINDOW[0])
     assert structure.sum() >= 20
     assert np.allclose(values[structure], reference[structure], rtol=1e-5, atol=1e-6)
+
+
+@pytest.mark.xfail(strict=True, reason="known bug (issue 17 note, session 11): a cast fovea ray through missing "
+                                       "data only draws nothing, so the coarse levels drawn under the fovea show "
+                                       "through as a blurred halo; it must show what lay beneath instead")
+def test_a_fovea_ray_through_missing_data_only_shows_the_background_not_the_coarse_levels():
+    """Missing (NaN) voxels around two small finite blocks: full quality lights 66 pixels, acuity-only foveation
+    the same 66; content-adaptive density 640 (measured 2026-12-03, the same before the structure bound)."""
+    from mipcast.data_fixtures import image_from_array
+
+    values = np.full((32, 32, 32), np.nan, np.float32)
+    values[0, :4, :4] = 1.0
+    values[10:14, 10:14, 10:14] = 0.9
+    image = image_from_array(values)
+    full = OffscreenView(image, "mip", size=SIZE, window=(0.2, 1.0))
+    fov = OffscreenView(image, "foveated", size=SIZE, window=(0.2, 1.0))
+    fov.mapper.SetContentTolerance(2.0)
+    reference, picture = full.screenshot()[..., :3].astype(int), fov.screenshot()[..., :3].astype(int)
+    assert (reference.max(axis=-1) > 0).sum() > 20
+    fovea = eccentricity(SIZE, (0.5, 0.5), 1.0) <= fov.mapper.GetFovealRadius()
+    assert np.abs(reference - picture).max(axis=-1)[fovea].max() <= 1
