@@ -40,3 +40,8 @@ bool mcFovKept(vec2 at, float ecc)
 {
   return length((at - u_mc_fovSkipGaze) * vec2(u_mc_fovAspect, 1.0)) < u_mc_fovSkip && ecc < u_mc_fovSkipBound;
 }
+
+// The blend weight foveated_weight gave this fragment (a cast ray of a
+// masked level that met missing data only paints the picture beneath with
+// it: foveated_missing_paint).
+float mc_fovWeight = 1.0;

@@ -38,3 +38,12 @@ bool mcFovRefine(int column, int row, bool inFovea)
   vec4 refine = texelFetch(u_mc_fovRefine, ivec2(cx, u_mc_fovCoarseH - 1 - cy), 0);
   return refine.r > 0.5 || (inFovea && refine.g > 0.5);
 }
+
+// A masked level (content-adaptive density) drew coarser levels under this
+// one: a cast ray that meets missing data only paints the picture that lay
+// beneath the volume before the frame's first level (u_mc_fovBeneath,
+// RGBA8, the viewport's size u_mc_fovViewSize, bottom row first), not
+// nothing (foveated_missing_paint); u_mc_fovPaintMiss 0 (a float readout):
+// it draws nothing, as missing_exit. (Those two are custom uniforms, which
+// VTK declares.)
+uniform sampler2D u_mc_fovBeneath;

@@ -15,5 +15,6 @@
     float mc_fovSpacing = 1.0 + u_mc_fovGain * max(mc_fovEcc - u_mc_fovStart, 0.0);
     float mc_fovLambda = clamp(log2(mc_fovSpacing), 0.0, u_mc_fovTop);
     bool mc_fovBand = mcFovBand(mc_fovAt, mc_fovEcc);  // foveated_band_dec
-    g_fragColor *= mc_fovBand ? 1.0 : clamp(u_mc_fovLevel + 1.0 - mc_fovLambda, 0.0, 1.0);
+    mc_fovWeight = mc_fovBand ? 1.0 : clamp(u_mc_fovLevel + 1.0 - mc_fovLambda, 0.0, 1.0);
+    g_fragColor *= mc_fovWeight;
   }

@@ -70,10 +70,8 @@ NAN_METHODS = ("mip+nan", "analytic+nan", "minip+nan", "analytic_minip+nan", "av
 #: foveated's settings drawn over the ranks since (2 ranks along x; refused, hidden, before): content-adaptive
 #: density (the masks from the reduced coarsest level's picture), progressive refinement (the still frames agreed
 #: over the ranks: the picture after the check's two renders, between the foveated frame and full quality), DEMIP
-#: levels (two phases per level), and content-adaptive density on missing values (also the one-process fix: a frame
-#: whose masked levels rebuild drew level 0's silhouette band twice, 91.3 % of the reference then).
-FOVEATED_METHODS = ("foveated@content_tolerance=4", "foveated@progressive=1", "foveated@method=demip",
-                    "foveated@content_tolerance=4+nan")
+#: levels (two phases per level).  Content-adaptive density on missing values is refused over ranks (REFUSED).
+FOVEATED_METHODS = ("foveated@content_tolerance=4", "foveated@progressive=1", "foveated@method=demip")
 #: The camera inside the volume (2 ranks along x): every route, the pieces' samples counted from VTK's near-plane
 #: cap as one rank's (brick_rays.near_cap: global_phase, global_cells, stock_phase).  Before, the sampled methods
 #: were refused there (measured before the refusal: mip 37.6 %, stock 37.6 %, stock_minip 30.7 %, demip 15.0 %,
@@ -94,7 +92,10 @@ INSIDE_ORDERED = ("demip@projection=attenuated+inside",)
 MOVED_METHODS = ("mip+moved", "analytic+moved", "minip+moved", "average+moved", "demip+moved", "foveated+moved",
                  "stock+inside+moved")
 #: Refused on several ranks (hidden, with a message naming what to use): (entry, words of the message).
-REFUSED = (("cpu", "cpu cannot be drawn on 2 ranks"),)
+REFUSED = (("cpu", "cpu cannot be drawn on 2 ranks"),
+           # one process paints what lies beneath a fovea ray through missing data only; the ranks' blend does not
+           # yet (drawn before that fix, with the coarse levels' halo on both: 100 % of the one-rank picture)
+           ("foveated@content_tolerance=4+nan", "over MPI ranks is not supported on data with missing"))
 #: Share of pixels within 1 grey level of the one-rank picture.
 MATCH = 0.999
 #: Every method at MATCH.  Measured before: foveated 99.0 % (its coarse levels' stretch beyond the volume's

@@ -542,6 +542,7 @@ def _draw(mapper, state, volume, renderer) -> None:
     if on_gpu:
         copy_drawn(renderer, viewport, coarse["framebuffers"]["before"])
     before = _read_texels(renderer, viewport, viewport[2:]) if adaptive and not readout and not on_gpu else None
+    beneath = _beneath_texture(state, renderer, before) if before is not None else None  # the CPU masks' levels
     for index, layer in enumerate(plan.layers):
         level = layer.level
         if adaptive and index >= 1:  # this level's rays: where the deciding level's picture asks for them
@@ -624,16 +625,24 @@ def _draw(mapper, state, volume, renderer) -> None:
             gl_state.vtkglScissor(*scissor)
         mask_texture = None
         bound = ()
+        if kind is not None:  # a cast ray through missing data only paints the picture beneath (not in a readout)
+            uniforms = level_volume.GetShaderProperty().GetFragmentCustomUniforms()
+            uniforms.SetUniform2f("u_mc_fovViewSize", [float(viewport[2]), float(viewport[3])])
+            uniforms.SetUniformf("u_mc_fovPaintMiss", 0.0 if readout else 1.0)
         if kind == "coarse":
-            bound = (tests[decider], _fovea_texture(state, renderer, plan, layer))
+            bound = (tests[decider], _fovea_texture(state, renderer, plan, layer), coarse["before"])
             _bind_coarse(level_mapper, level_volume, bound)
             _set_coarse_uniforms(level_volume, plan.layers[decider], layer)
         elif level in masks and (not readout or values_texture is not None):
             # (a level drawn from bricks reads one sampler more: its mask must be bound, readout or not)
             mask_texture = _mask_texture(state, renderer, level, masks[level])
             mask_texture.Activate()
+            if beneath is not None:
+                beneath.Activate()
+                bound = (beneath,)
             level_state = object_state(level_mapper)
-            level_state["mask_unit"] = mask_texture.GetTextureUnit()
+            level_state["mask_unit"] = (mask_texture.GetTextureUnit(),
+                                        (beneath if beneath is not None else mask_texture).GetTextureUnit())
             if level_state.get("mask_unit_built") not in (None, level_state["mask_unit"]):
                 # VTK sets our sampler only when it builds the shader: rebuild it for the new unit
                 level_mapper._install_pieces(level_volume)
@@ -838,11 +847,12 @@ def _new_level(method: str, kind: Optional[str] = None, bricks: bool = False) ->
 
 @calldata_type(VTK_OBJECT)
 def _bind_coarse_samplers(level_mapper, event, program) -> None:
-    """Point a GPU-masked level's samplers (the refine pass's texture, fovea spans) at their textures' units."""
+    """Point a GPU-masked level's samplers (the refine pass's texture, fovea spans, the picture beneath) at their
+    textures' units."""
     level_state = object_state(level_mapper)
     units = level_state.get("coarse_units")
     if program is not None and units is not None and min(units) >= 0:
-        for name, unit in zip(("u_mc_fovRefine", "u_mc_fovFovea"), units):
+        for name, unit in zip(("u_mc_fovRefine", "u_mc_fovFovea", "u_mc_fovBeneath"), units):
             program.SetUniformi(name, int(unit))
         level_state["samplers_set"] = True
 
@@ -1065,15 +1075,16 @@ def _refinement_test(state, renderer, volume, viewport, plan, source, tolerance,
 
 @calldata_type(VTK_OBJECT)
 def _bind_mask_sampler(level_mapper, event, program) -> None:
-    """Point the masked level's ``u_mc_fovMask`` at the texture unit its mask is bound to.
+    """Point the masked level's ``u_mc_fovMask`` and ``u_mc_fovBeneath`` at their textures' units.
 
     VTK invokes UpdateShaderEvent when it builds the shader, not every frame;
     :func:`_draw` re-installs the pieces (a rebuild) should the unit change.
     """
-    unit = object_state(level_mapper).get("mask_unit")
-    if program is not None and unit is not None and unit >= 0:
-        program.SetUniformi("u_mc_fovMask", int(unit))
-        object_state(level_mapper)["mask_unit_built"] = unit
+    units = object_state(level_mapper).get("mask_unit")
+    if program is not None and units is not None and min(units) >= 0:
+        program.SetUniformi("u_mc_fovMask", int(units[0]))
+        program.SetUniformi("u_mc_fovBeneath", int(units[1]))  # (the mask's own unit when nothing is beneath)
+        object_state(level_mapper)["mask_unit_built"] = units
 
 
 def _read_texels(renderer, viewport, grid) -> np.ndarray:
@@ -1167,6 +1178,16 @@ def _bound_texture(state, renderer, grid, bound: Optional[np.ndarray]):
     return texture
 
 
+def _beneath_texture(state, renderer, before: np.ndarray):
+    """The viewport's picture before the frame's first level (RGB, top row first) as an RGBA8 texture."""
+    height, width = before.shape[:2]
+    texture = kept_texture(state, "beneath_texture", renderer.GetRenderWindow())
+    data = np.empty((height, width, 4), np.uint8)
+    data[..., :3], data[..., 3] = before[::-1], 255
+    texture.Create2DFromRaw(width, height, 4, VTK_UNSIGNED_CHAR, np.ascontiguousarray(data))
+    return texture
+
+
 def _mask_texture(state, renderer, level, mask):
     """A level's refinement mask as a nearest-filtered 2D texture (bottom row first)."""
     textures = state.setdefault("mask_textures", {})
@@ -1196,9 +1217,11 @@ def _level_class(base, kind: Optional[str] = None):
             return tuple(base.GetShaderPieces(self)) + extra
 
         name = f"Foveated{base.__name__}{(kind or '').capitalize()}Level"
-        cls = type(name, (base,), {
-            "__doc__": f"One pyramid level of a FoveatedVolumeMapper rendering with {base.__name__}.",
-            "GetShaderPieces": GetShaderPieces})
+        members = {"__doc__": f"One pyramid level of a FoveatedVolumeMapper rendering with {base.__name__}.",
+                   "GetShaderPieces": GetShaderPieces}
+        if kind is not None and base.MISSING_PIECE == "missing_exit":  # coarser levels lie beneath: paint, not skip
+            members["MISSING_PIECE"] = "foveated_missing_paint"
+        cls = type(name, (base,), members)
         _LEVEL_CLASSES[(base, kind)] = cls
     return cls
 

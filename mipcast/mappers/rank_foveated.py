@@ -69,6 +69,11 @@ _MISSING = -1.0e299
 _LAYERS = ("max", "demip")
 #: Most pyramid levels / plan layers the fixed-size head carries.
 _MAX_LEVELS = 12
+#: Why content-adaptive density with missing values is refused over ranks.
+MISSING_ADAPTIVE = ("foveated content-adaptive density (content_tolerance > 0) over MPI ranks is not supported on "
+                    "data with missing (NaN/Inf) values: a fovea ray that meets missing data only paints what lies "
+                    "beneath on one process (shaders/foveated_missing_paint.glsl), which the ranks' blend does not "
+                    "reproduce yet; use content_tolerance 0 (acuity-only foveation) or fill the missing values")
 
 
 def partial_max_reduce_axis(values: np.ndarray, axis: int, start: int, whole: int) -> Tuple[int, np.ndarray]:
@@ -374,6 +379,8 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     low_global, high_global, missing = float(-head[4]), float(head[5]), bool(head[-1] > 0.0)
     if not high_global >= low_global:
         return None, "no rank has finite data"
+    if missing and head[-3] > 0.5 * _LOW:  # (every rank returns here: the same head)
+        return None, MISSING_ADAPTIVE
     whole_dims = tuple(int(v) for v in head[6:9])
     layers = [tuple(int(v) for v in head[12 + 3 * i: 15 + 3 * i]) for i in range(int(head[11]))]
     coarse_dims = whole_coarse_dims(whole_dims, int(head[10]))
