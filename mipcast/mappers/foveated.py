@@ -1170,12 +1170,8 @@ def _above_floor(state, image, volume, values=None, data_range=None, dims=None) 
 
 
 def _bound_texture(state, renderer, grid, bound: Optional[np.ndarray]):
-    """The structure bound as a 2D texture of ``grid`` (bottom row first; zeros for None), one kept texture."""
-    columns, rows = grid
-    texture = kept_texture(state, "bound_texture", renderer.GetRenderWindow())
-    data = np.zeros((rows, columns), np.uint8) if bound is None else np.ascontiguousarray(bound[::-1], np.uint8)
-    texture.Create2DFromRaw(columns, rows, 1, VTK_UNSIGNED_CHAR, data * np.uint8(255))
-    return texture
+    """The structure bound as a 2D texture of ``grid`` (:func:`_mask_texture`; zeros for None)."""
+    return _mask_texture(state, renderer, "bound", np.zeros(tuple(grid)[::-1], bool) if bound is None else bound)
 
 
 def _beneath_texture(state, renderer, before: np.ndarray):
@@ -1189,7 +1185,8 @@ def _beneath_texture(state, renderer, before: np.ndarray):
 
 
 def _mask_texture(state, renderer, level, mask):
-    """A level's refinement mask as a nearest-filtered 2D texture (bottom row first)."""
+    """A bool grid (a level's refinement mask, the structure bound) as a nearest-filtered 2D texture (bottom row
+    first), kept per ``level`` key."""
     textures = state.setdefault("mask_textures", {})
     window = renderer.GetRenderWindow()
     texture = kept_texture(textures, level, window)
