@@ -124,7 +124,7 @@ McRay mcBeginRay()
   float capStart;
   if (!mcGlobalRay(entry, dir, capStart))
   {
-    discard;  // the ray misses the whole volume (or leaves it before the near-plane cap)
+    MC_DRAW_NOTHING(ray)  // the ray misses the whole volume (or leaves it before the near-plane cap)
   }
   ray.origin = entry;
   ray.dir = dir;
@@ -143,7 +143,7 @@ McRay mcBeginRay()
   ray.length = min(min(min(hi.x, hi.y), hi.z), min(min(whole.x, whole.y), whole.z));
   if (ray.start > ray.length)
   {
-    discard;  // the whole ray passes this brick by
+    MC_DRAW_NOTHING(ray)  // the whole ray passes this brick by
   }
   ray.firstCell = ivec3(u_mc_brickLo);
   ray.lastCell = max(ivec3(u_mc_brickHi) - 1, ray.firstCell);
@@ -168,7 +168,7 @@ McRay mcBeginRay()
     mcClipRange(entryTex, dirTex, ray.start, ray.length);
     if (ray.start > ray.length)
     {
-      discard;  // clipped away: nothing of the ray is left
+      MC_DRAW_NOTHING(ray)  // clipped away: nothing of the ray is left
     }
   }
 #endif
@@ -185,7 +185,7 @@ McRay mcBeginRay()
   mcCropVisibleHull(ray.origin, ray.dir, mc_cropLowIndex, mc_cropHighIndex, ray.start, ray.length);
   if (ray.start > ray.length)
   {
-    discard;  // the ray crosses hidden cropping regions only
+    MC_DRAW_NOTHING(ray)  // the ray crosses hidden cropping regions only
   }
 #endif
   return ray;

@@ -11,6 +11,10 @@
 // it reaches the ceiling (mcCellsBegin / mcCellsGoOn), which leaves the colour
 // unchanged. The float readout sets them to -/+1e30, so it stays exact in data units.
   McRay mc_ray = mcBeginRay();
+  if (mc_drawsNothing)
+  {
+    return g_fragColor;  // (mip_globals: MC_DRAW_NOTHING)
+  }
   vec3 mc_tNext = mcPlanesAfter(mc_ray, mc_ray.start);
   int mc_steps = int(u_mc_dims.x + u_mc_dims.y + u_mc_dims.z) + 3;
   float mc_t0 = mc_ray.start;

@@ -8,6 +8,10 @@
 // is not above the running maximum cannot change the answer and is jumped
 // over. Otherwise as amip_loop (floor, ceiling, exact float readout).
   McRay mc_ray = mcBeginRay();
+  if (mc_drawsNothing)
+  {
+    return g_fragColor;  // (mip_globals: MC_DRAW_NOTHING)
+  }
   vec3 mc_tNext = mcPlanesAfter(mc_ray, mc_ray.start);
   int mc_steps = 2 * int(u_mc_dims.x + u_mc_dims.y + u_mc_dims.z) + 8;  // cells and jumps
   int mc_blockSize = int(u_mc_blockSize);

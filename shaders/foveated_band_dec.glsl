@@ -43,5 +43,5 @@ bool mcFovKept(vec2 at, float ecc)
 
 // The blend weight foveated_weight gave this fragment (a cast ray of a
 // masked level that met missing data only paints the picture beneath with
-// it: foveated_missing_paint).
+// it: foveated_paint_beneath).
 float mc_fovWeight = 1.0;

@@ -14,8 +14,9 @@
 // texture. The box is drawn without the user's cropping (the bricks
 // honoured it, and with no sample marched the loop would discard every
 // ray): where the user crops (u_mc_fovNoValueDiscard 1) a ray without a
-// value is discarded, as the single texture discards a ray crossing hidden
-// regions only. A DEMIP level's composited premultiplied colours arrive
+// value draws nothing, as the single texture's ray crossing hidden regions
+// only (discarded, or in a masked level painting what lies beneath:
+// foveated_paint_beneath). A DEMIP level's composited premultiplied colours arrive
 // the same way in u_mc_fovColours (bricked_demip's depth, Eq. 1 and sphere
 // on the CPU), which foveated_brick_color writes as the ray's colour; the
 // other layers' levels leave it unused.
@@ -39,6 +40,10 @@ void mcEndRay(int count)
   mc_rayMax = texture2D(u_mc_fovValues, mc_fovValueAt).r;
   if (mc_rayMax < -1.0e29 && u_mc_fovNoValueDiscard > 0.5)
   {
-    discard;
+    if (!mc_paintsNothing)  // (mip_globals: MC_DRAW_NOTHING, in a function that returns nothing)
+    {
+      discard;
+    }
+    mc_drawsNothing = true;
   }
 }

@@ -39,11 +39,11 @@ bool mcFovRefine(int column, int row, bool inFovea)
   return refine.r > 0.5 || (inFovea && refine.g > 0.5);
 }
 
-// A masked level (content-adaptive density) drew coarser levels under this
-// one: a cast ray that meets missing data only paints the picture that lay
-// beneath the volume before the frame's first level (u_mc_fovBeneath,
-// RGBA8, the viewport's size u_mc_fovViewSize, bottom row first), not
-// nothing (foveated_missing_paint); u_mc_fovPaintMiss 0 (a float readout):
-// it draws nothing, as missing_exit. (Those two are custom uniforms, which
-// VTK declares.)
+// A masked level (content-adaptive density) is drawn over coarser levels:
+// a ray it casts is drawn over the picture that lay beneath the volume
+// before the frame's first level (u_mc_fovBeneath, RGBA8, the viewport's
+// size u_mc_fovViewSize, bottom row first), and a cast ray that draws
+// nothing paints that picture (foveated_paint_beneath); u_mc_fovPaintMiss 0
+// (a float readout): neither, such a ray draws nothing. (Those two are
+// custom uniforms, which VTK declares.)
 uniform sampler2D u_mc_fovBeneath;

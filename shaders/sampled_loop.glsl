@@ -73,7 +73,7 @@
     mc_count = min(mc_count, int(floor(clamp(mc_hi, -1.0, float(mc_count)))) + 1);
     if (mc_count <= mc_first)
     {
-      discard;  // clipped away: nothing of the ray is left
+      MC_DRAW_NOTHING(g_fragColor)  // clipped away: nothing of the ray is left
     }
   }
 #endif
@@ -86,7 +86,7 @@
     mcCropVisibleHull(mc_base, g_dirStep, u_mc_cropLow, u_mc_cropHigh, mc_lo, mc_hi);
     if (mc_lo > mc_hi)
     {
-      discard;  // the ray crosses hidden cropping regions only
+      MC_DRAW_NOTHING(g_fragColor)  // the ray crosses hidden cropping regions only
     }
     mc_first = max(mc_first, int(ceil(mc_lo)) - 1);
     mc_count = min(mc_count, int(floor(mc_hi)) + 2);
@@ -123,7 +123,7 @@
 #ifdef MC_CROP_REGIONS
   if (!mc_seen)
   {
-    discard;  // no sample in a visible cropping region
+    MC_DRAW_NOTHING(g_fragColor)  // no sample in a visible cropping region
   }
 #endif
 #ifdef MC_SECOND_MARCH

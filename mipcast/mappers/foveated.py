@@ -120,9 +120,12 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     #: Pieces every level adds to its method's own.
     LEVEL_PIECES = ("foveated_band_dec", "foveated_skip", "foveated_weight")
     #: Pieces of the finer levels with content-adaptive ray density (ContentTolerance > 0).
-    MASKED_LEVEL_PIECES = ("foveated_band_dec", "foveated_skip_masked", "foveated_mask_dec", "foveated_weight")
+    #: A cast ray of theirs is drawn over the picture beneath the volume, not over the coarser levels.
+    MASKED_LEVEL_PIECES = ("foveated_band_dec", "foveated_skip_masked", "foveated_mask_dec", "foveated_weight",
+                           "foveated_paint_beneath")
     #: The same with the refinement mask built on the GPU from the deciding level's picture (no readback).
-    COARSE_LEVEL_PIECES = ("foveated_band_dec", "foveated_skip_coarse", "foveated_coarse_dec", "foveated_weight")
+    COARSE_LEVEL_PIECES = ("foveated_band_dec", "foveated_skip_coarse", "foveated_coarse_dec", "foveated_weight",
+                           "foveated_paint_beneath")
     PARAMETERS = parameter_tables.FOVEATED
 
     def __init__(self) -> None:
@@ -1217,7 +1220,7 @@ def _level_class(base, kind: Optional[str] = None):
         members = {"__doc__": f"One pyramid level of a FoveatedVolumeMapper rendering with {base.__name__}.",
                    "GetShaderPieces": GetShaderPieces}
         if kind is not None and base.MISSING_PIECE == "missing_exit":  # coarser levels lie beneath: paint, not skip
-            members["MISSING_PIECE"] = "foveated_missing_paint"
+            members["MISSING_PIECE"] = "foveated_missing_flag"
         cls = type(name, (base,), members)
         _LEVEL_CLASSES[(base, kind)] = cls
     return cls

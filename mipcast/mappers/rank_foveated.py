@@ -59,6 +59,7 @@ from mipcast.core.object_state import object_state
 from mipcast.core.prepare import missing_fill, prepare_scalars
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
 from mipcast.mappers.mip import MIPVolumeMapper
+from mipcast.mappers.clip_uniforms import cuts
 
 Reduce = Callable[[np.ndarray, str], np.ndarray]
 
@@ -72,8 +73,15 @@ _MAX_LEVELS = 12
 #: Why content-adaptive density with missing values is refused over ranks.
 MISSING_ADAPTIVE = ("foveated content-adaptive density (content_tolerance > 0) over MPI ranks is not supported on "
                     "data with missing (NaN/Inf) values: a fovea ray that meets missing data only paints what lies "
-                    "beneath on one process (shaders/foveated_missing_paint.glsl), which the ranks' blend does not "
+                    "beneath on one process (shaders/foveated_paint_beneath.glsl), which the ranks' blend does not "
                     "reproduce yet; use content_tolerance 0 (acuity-only foveation) or fill the missing values")
+
+#: Why content-adaptive density with cropping, clipping planes or a slab is refused over ranks.
+CUT_ADAPTIVE = ("foveated content-adaptive density (content_tolerance > 0) over MPI ranks is not supported with "
+                "cropping, clipping planes or a slab: a fovea ray they cut away entirely paints what lies beneath on "
+                "one process (shaders/foveated_paint_beneath.glsl), which the ranks' blend cannot tell from a ray "
+                "outside the volume in the values it reduces; use content_tolerance 0 (acuity-only foveation), or "
+                "render on one rank")
 
 
 def partial_max_reduce_axis(values: np.ndarray, axis: int, start: int, whole: int) -> Tuple[int, np.ndarray]:
@@ -213,6 +221,8 @@ def refusal(mapper, renderer=None) -> Optional[str]:
                 "background (its masks compare the coarse levels' pictures with what lay beneath them, which the "
                 "ranks know only as the background colour): use a single-colour background, or content_tolerance "
                 "0, or render on one rank")
+    if float(params["content_tolerance"]) > 0.0 and cuts(mapper, renderer.GetActiveCamera() if renderer else None):
+        return CUT_ADAPTIVE
     return None
 
 
@@ -701,9 +711,15 @@ def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: O
         weight = foveation.layer_weight(layer.level, lam, plan)
         if silhouette is not None and layer.level == 0:
             weight = np.where(foveation.silhouette_band(plan, silhouette, layer.grid), 1.0, weight)
+        rgba = rgba * weight[..., None]
+        if layer.level in masks:  # a cast ray is drawn over the background, not the coarser levels
+            below = np.asarray(adaptive[1], dtype=np.float64) / 255.0  # (shaders/foveated_paint_beneath.glsl)
+            painted = np.concatenate([rgba[..., :3] + (weight - rgba[..., 3])[..., None] * below,
+                                      weight[..., None]], axis=-1)
+            rgba = np.where(np.isfinite(level_values)[..., None], painted, rgba)
         # the level's rays are written to an 8-bit target: VTK's image-sample framebuffer for a reduced
         # grid (then stretched over the viewport), else the window's; blended "over" in 8 bits
-        drawn = _stretch(_to_8bit(rgba * weight[..., None]), (width, height))
+        drawn = _stretch(_to_8bit(rgba), (width, height))
         out = np.minimum(drawn + _times_8bit(out, 255.0 - drawn[..., 3:4]), 255.0)
     return (out / 255.0).astype(np.float32)
 

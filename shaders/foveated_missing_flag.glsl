@@ -1,0 +1,13 @@
+// mipcast piece: foveated_missing_flag
+// fills: Base::Exit
+// mode: augment
+// missing_exit for the masked levels of content-adaptive foveation: a cast
+// ray whose value is below the finite minimum saw no finite data, so it
+// draws nothing; coarser levels lie beneath, so it is marked
+// (mc_drawsNothing) for foveated_paint_beneath to paint what lay beneath
+// the volume, or, in a float readout, to draw nothing. Once per ray, after
+// the loop.
+  if (mc_rayMax < u_mc_missingBelow)
+  {
+    mc_drawsNothing = true;
+  }
