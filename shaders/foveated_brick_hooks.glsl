@@ -40,10 +40,6 @@ void mcEndRay(int count)
   mc_rayMax = texture2D(u_mc_fovValues, mc_fovValueAt).r;
   if (mc_rayMax < -1.0e29 && u_mc_fovNoValueDiscard > 0.5)
   {
-    if (!mc_paintsNothing)  // (mip_globals: MC_DRAW_NOTHING, in a function that returns nothing)
-    {
-      discard;
-    }
-    mc_drawsNothing = true;
+    mcDrawNothing();  // (mip_globals)
   }
 }

@@ -10,7 +10,7 @@ uniform sampler2D u_mc_fovMask;
 // a ray it casts is drawn over the picture that lay beneath the volume
 // before the frame's first level (u_mc_fovBeneath, RGBA8, the viewport's
 // size u_mc_fovViewSize, bottom row first), and a cast ray that draws
-// nothing paints that picture (foveated_paint_beneath); u_mc_fovPaintMiss 0
+// nothing paints that picture (foveated_paint_beneath); u_mc_fovPaintBeneath 0
 // (a float readout): neither, such a ray draws nothing. (Those two are
 // custom uniforms, which VTK declares.)
 uniform sampler2D u_mc_fovBeneath;

@@ -10,10 +10,10 @@
 // (foveated_weight has made g_fragColor w (c, a)): colour w (c + (1 - a) B),
 // alpha w. A ray that draws nothing (mc_drawsNothing: clipped or cropped
 // away, MC_DRAW_NOTHING in mip_globals, or missing data only,
-// foveated_missing_flag) paints w B. A float readout (u_mc_fovPaintMiss 0)
+// foveated_missing_flag) paints w B. A float readout (u_mc_fovPaintBeneath 0)
 // paints nothing: such a ray draws nothing and keeps its miss. Once per
 // ray, after the loop.
-  if (u_mc_fovPaintMiss < 0.5)
+  if (u_mc_fovPaintBeneath < 0.5)
   {
     if (mc_drawsNothing)
     {

@@ -11,7 +11,7 @@
 // float64 spans (mcFovInFovea), which depend on the gaze, not on the
 // picture. Elsewhere the coarser levels show through.
 // Level 0 also casts in the volume's silhouette band (see foveated_skip).
-  mc_paintsNothing = u_mc_fovPaintMiss > 0.5;  // a cast ray never lets the coarser levels show through
+  mc_paintsNothing = u_mc_fovPaintBeneath > 0.5;  // a cast ray never lets the coarser levels show through
   {
     vec2 mc_fovAt = (gl_FragCoord.xy - in_windowLowerLeftCorner) * in_inverseWindowSize;
     float mc_fovEcc = length((mc_fovAt - u_mc_fovGaze) * vec2(u_mc_fovAspect, 1.0));

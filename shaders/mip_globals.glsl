@@ -21,16 +21,28 @@ float mcNormalised(float raw)
 }
 
 // A cast ray that draws nothing (clipped or cropped away, missing the
-// volume): MC_DRAW_NOTHING(result) where it is found, in place of discard.
-// It discards, unless mc_paintsNothing is set: the masked levels of
+// volume): MC_DRAW_NOTHING(result) where it is found, in place of discard
+// (mcDrawNothing() where the function goes on to its end anyway). It
+// discards, unless mc_paintsNothing is set: the masked levels of
 // content-adaptive foveation (foveated_skip_masked, foveated_skip_coarse)
 // are drawn over coarser levels, which must not show through, so there the
-// ray returns `result` from the function it is in, marked mc_drawsNothing,
-// and foveated_paint_beneath paints what lay beneath the volume instead
-// (a caller of a function that can return so checks mc_drawsNothing).
+// ray is marked mc_drawsNothing and returns `result` from the function it
+// is in, and foveated_paint_beneath paints what lay beneath the volume
+// instead (a caller of a function that can return so checks
+// mc_drawsNothing).
 bool mc_drawsNothing = false;
 bool mc_paintsNothing = false;
-#define MC_DRAW_NOTHING(result) { if (!mc_paintsNothing) { discard; } mc_drawsNothing = true; return result; }
+
+void mcDrawNothing()
+{
+  if (!mc_paintsNothing)
+  {
+    discard;
+  }
+  mc_drawsNothing = true;
+}
+
+#define MC_DRAW_NOTHING(result) { mcDrawNothing(); return result; }
 
 // A mipcast mapper that refuses to render (bad input, a limit exceeded; the
 // reason goes to VTK's error output) sets u_mc_refused: no ray is cast and

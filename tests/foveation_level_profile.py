@@ -4,8 +4,12 @@
 the other engineers' load disturbs less than wall time), full quality, acuity-only and
 content-adaptive (2 grey) foveation, 1024² fill, at a gaze point.  ``spacing``: full-quality MIP in
 a 1024² and a 256² window at 0.5, 1 and 2 times the base sample distance (the slope is the cost
-of the samples, the rest the cost per ray), and an empty window.  Medians of interleaved frames
+of the samples, the rest the cost per ray), an empty window, and 1024² at image sample distances
+2, 4 and 8 (a reduced pass alone: against 1/isd² of the full frame, its fixed cost).  Medians of interleaved frames
 after a warm-up frame, auto-adjust off.
+
+``overhead``: frame times in 32² and 64² windows (full quality, acuity only, content-adaptive), where
+the rays cost next to nothing: the per-frame work a fast GPU would leave.
 
 ``samples``: the samples each level of one frame takes, in % of full quality's
 (``GetLastFrameCost()["levels"]``; counts, not times), acuity-only and content-adaptive (2 grey).
@@ -13,6 +17,7 @@ after a warm-up frame, auto-adjust off.
 Usage: python tests/foveation_level_profile.py levels [SCENE] [GAZE_X GAZE_Y]
        python tests/foveation_level_profile.py spacing [SCENE]
        python tests/foveation_level_profile.py samples [SCENE] [GAZE_X GAZE_Y]
+       python tests/foveation_level_profile.py overhead [SCENE]
 (prints JSON; figures in docs/foveation.md, "The coarsest level's cost").
 """
 import json
@@ -80,7 +85,8 @@ def levels(scene: str, gaze, rounds: int = 4) -> dict:
 
 
 def spacing(scene: str, rounds: int = 5) -> dict:
-    """Full-quality MIP in 1024² and 256² windows at three sample distances, and empty windows."""
+    """Full-quality MIP in 1024² and 256² windows at three sample distances, empty windows, and 1024² at three
+    image sample distances."""
     image, window = _load_scene(scene, 128)
     views = {}
     for size in (256, 1024):
@@ -92,6 +98,30 @@ def spacing(scene: str, rounds: int = 5) -> dict:
         view = framed_view(image, "mip", size, "fill", window)
         view.volume.VisibilityOff()
         views[f"{size}² empty"] = view
+    for isd in (2.0, 4.0, 8.0):  # a reduced pass on its own: its rays' share of a full frame, plus a fixed cost
+        view = framed_view(image, "mip", 1024, "fill", window)
+        view.mapper.SetImageSampleDistance(isd)
+        views[f"1024² isd {isd:g}"] = view
+    frames = {name: [] for name in views}
+    for _ in range(rounds):
+        for name, view in views.items():
+            frames[name].append(_timed(view))
+    return {"scene": scene, "ms": {name: round(1000 * statistics.median(values[1:]), 1)
+                                   for name, values in frames.items()}}
+
+
+def overhead(scene: str, rounds: int = 7) -> dict:
+    """Frame ms in 32² and 64² windows, where the GL work is next to nothing: full quality, acuity-only and
+    content-adaptive (2 grey) foveation -- the per-frame work a fast GPU would leave (planning, the structure
+    bound, uniforms, passes)."""
+    image, window = _load_scene(scene, 128)
+    views = {}
+    for size in (32, 64):
+        for name in ("full", "acuity", "content-adaptive"):
+            view = framed_view(image, "mip" if name == "full" else "foveated", size, "fill", window)
+            if name == "content-adaptive":
+                view.mapper.SetContentTolerance(2.0)
+            views[f"{size}² {name}"] = view
     frames = {name: [] for name in views}
     for _ in range(rounds):
         for name, view in views.items():
@@ -124,5 +154,7 @@ if __name__ == "__main__":
     elif mode == "samples":
         point = (float(sys.argv[3]), float(sys.argv[4])) if len(sys.argv) > 4 else (0.5, 0.5)
         print(json.dumps(samples(scene_name, point), indent=1))
+    elif mode == "overhead":
+        print(json.dumps(overhead(scene_name), indent=1))
     else:
         print(json.dumps(spacing(scene_name), indent=1))

@@ -628,10 +628,10 @@ def _draw(mapper, state, volume, renderer) -> None:
             gl_state.vtkglScissor(*scissor)
         mask_texture = None
         bound = ()
-        if kind is not None:  # a cast ray through missing data only paints the picture beneath (not in a readout)
+        if kind is not None:  # a cast ray is drawn over the picture beneath (shaders/foveated_paint_beneath.glsl)
             uniforms = level_volume.GetShaderProperty().GetFragmentCustomUniforms()
             uniforms.SetUniform2f("u_mc_fovViewSize", [float(viewport[2]), float(viewport[3])])
-            uniforms.SetUniformf("u_mc_fovPaintMiss", 0.0 if readout else 1.0)
+            uniforms.SetUniformf("u_mc_fovPaintBeneath", 0.0 if readout else 1.0)
         if kind == "coarse":
             bound = (tests[decider], _fovea_texture(state, renderer, plan, layer), coarse["before"])
             _bind_coarse(level_mapper, level_volume, bound)
