@@ -11,6 +11,9 @@ after a warm-up frame, auto-adjust off.
 ``overhead``: frame times in 32² and 64² windows (full quality, acuity only, content-adaptive), where
 the rays cost next to nothing: the per-frame work a fast GPU would leave.
 
+``cover``: content-adaptive frames with the whole volume in view and the gaze near a corner, with and
+without the outline cover (process CPU time, alternated).
+
 ``samples``: the samples each level of one frame takes, in % of full quality's
 (``GetLastFrameCost()["levels"]``; counts, not times), acuity-only and content-adaptive (2 grey).
 
@@ -18,6 +21,7 @@ Usage: python tests/foveation_level_profile.py levels [SCENE] [GAZE_X GAZE_Y]
        python tests/foveation_level_profile.py spacing [SCENE]
        python tests/foveation_level_profile.py samples [SCENE] [GAZE_X GAZE_Y]
        python tests/foveation_level_profile.py overhead [SCENE]
+       python tests/foveation_level_profile.py cover [SCENE]
 (prints JSON; figures in docs/foveation.md, "The coarsest level's cost").
 """
 import json
@@ -130,6 +134,25 @@ def overhead(scene: str, rounds: int = 7) -> dict:
                                    for name, values in frames.items()}}
 
 
+def cover(scene: str, gaze=(0.1, 0.1), rounds: int = 7) -> dict:
+    """Frame ms of content-adaptive (2 grey) foveation, the whole volume in a 1024² view, with and without the
+    outline cover (foveated._outline_cover, which reads the picture beneath back where it applies), alternated."""
+    image, window = _load_scene(scene, 128)
+    view = framed_view(image, "foveated", 1024, "whole", window)
+    view.mapper.SetContentTolerance(2.0)
+    view.mapper.SetGazePoint(*gaze)
+    real = foveated._outline_cover
+    frames = {"with": [], "without": []}
+    _timed(view)
+    for _ in range(rounds):
+        for name in frames:
+            foveated._outline_cover = real if name == "with" else (lambda *args: None)
+            frames[name].append(_timed(view))
+    foveated._outline_cover = real
+    return {"scene": scene, "gaze": list(gaze), "ms": {name: round(1000 * statistics.median(values), 1)
+                                                       for name, values in frames.items()}}
+
+
 def samples(scene: str, gaze) -> dict:
     image, window = _load_scene(scene, 128)
     out = {}
@@ -154,6 +177,8 @@ if __name__ == "__main__":
     elif mode == "samples":
         point = (float(sys.argv[3]), float(sys.argv[4])) if len(sys.argv) > 4 else (0.5, 0.5)
         print(json.dumps(samples(scene_name, point), indent=1))
+    elif mode == "cover":
+        print(json.dumps(cover(scene_name), indent=1))
     elif mode == "overhead":
         print(json.dumps(overhead(scene_name), indent=1))
     else:

@@ -296,14 +296,13 @@ def test_a_cast_fovea_ray_is_drawn_over_the_background_not_over_the_coarse_level
         assert fov.mapper.GetLastFrameCost()["sample_ratio"] > 1.05   # it still skips rays
 
 
-@pytest.mark.xfail(strict=True, reason="known bug: the coarse levels drawn under a content-adaptive fovea spill past "
-                                       "the volume's edge (VTK stretches their reduced picture), where level 0 has "
-                                       "no fragment to paint the background")
 def test_the_content_adaptive_fovea_shows_the_background_beyond_the_volumes_edge(vessels):
     """Gaze near a corner, where the volume's outline crosses the fovea, on a coloured background: full
-    quality shows the background beyond the edge, content-adaptive density 14 pixels 76 grey off (the
-    coarse levels' black, one coarse texel past the edge); acuity only is exact (its coarse levels are not
-    drawn in the fovea)."""
+    quality shows the background beyond the edge.  The deciding coarse levels drawn under the fovea are
+    stretched up to one of their texels past the edge, where level 0 has no fragment; the picture beneath
+    now goes over them there with level 0's weight (foveated._cover_outline).  Before, 14 pixels were 76
+    grey off (the coarse levels' black); acuity only is exact either way (its coarse levels are not drawn
+    in the fovea)."""
     views = []
     for name in ("mip", "foveated"):
         view = OffscreenView(vessels, name, size=SIZE, window=WINDOW)

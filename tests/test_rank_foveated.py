@@ -277,6 +277,29 @@ def test_content_adaptive_density_on_missing_values_is_refused_with_the_reason(i
     assert "content_tolerance 0" in rank_foveated.MISSING_ADAPTIVE
 
 
+@pytest.mark.parametrize("gaze", [(0.1, 0.5), (0.85, 0.8)])
+def test_content_adaptive_background_covers_the_coarse_levels_past_the_outline_as_on_one_process(image, gaze):
+    """The volume's outline crosses the fovea, on a coloured background: the background goes over the deciding
+    levels' stretch past the outline with level 0's weight (content_adaptive.outline_cover), on one process and
+    in the ranks' blend.  Without it in rank_foveated.blend_levels 157-270 pixels are 44-105 grey off the
+    one-process picture; with it up to 2 grey (the order of 8-bit rounding where the cover is not opaque, as in
+    the opacity-ramp test above)."""
+    from mipcast.core import content_adaptive
+
+    mapper, renderer, window = pipeline(image, "foveated")
+    mapper.SetGazePoint(*gaze)
+    mapper.SetContentTolerance(4.0)
+    renderer.SetBackground(0.1, 0.2, 0.3)
+    one = picture(window)
+    assert content_adaptive.outline_cover(mapper.GetLastPlan(), mapper.GetLastSilhouette()) is not None
+    (rgba, problem), (other, _) = simulate(mapper, renderer, _pieces(image, 0, 2), _stub(image))
+    assert problem is None and np.array_equal(_grey(rgba), _grey(other)), problem
+    background = np.round(np.array([0.1, 0.2, 0.3]) * 255.0)
+    over = _grey(rgba) + np.floor((1.0 - rgba[..., 3:4]) * background + 0.5).astype(int)  # over the background
+    difference = np.abs(over - one).max(axis=-1)
+    assert difference.max() <= 2, (difference.max(), (difference > 1).sum())
+
+
 @pytest.mark.parametrize("cut", [_clip_plane, _crop], ids=["clipping", "cropping"])
 def test_content_adaptive_density_with_cuts_is_refused_with_the_reason(image, cut):
     """A fovea ray cut away entirely paints what lies beneath on one process; the ranks cannot tell it from a ray

@@ -49,7 +49,8 @@ from typing import Optional
 
 import numpy as np
 
-from mipcast.core.foveation import MIN_TEXELS, Layer, Plan, coarse_texels, eccentricity, level_grid
+from mipcast.core.foveation import (MIN_TEXELS, Layer, Plan, coarse_texels, desired_level, eccentricity, layer_weight,
+                                    level_border, level_grid, outline_distance)
 
 
 def neighbourhood_range(values: np.ndarray) -> tuple:
@@ -277,3 +278,60 @@ def adaptive_plan(plan: Plan, max_level: int = 99) -> Plan:
     if level > max_level or min(grid) < MIN_TEXELS:
         return plan._replace(layers=layers)
     return plan._replace(layers=(Layer(level, base * 2 ** level, grid, -math.inf, math.inf, None),) + layers)
+
+
+def outline_cover(plan: Plan, silhouette) -> Optional[tuple]:
+    """Where a content-adaptive frame must be covered by what lay beneath the volume, beyond its outline.
+
+    The deciding levels are drawn under the fovea, and their reduced
+    pictures, stretched over the viewport, reach up to one of their texels
+    past the volume's outline, where level 0 has no fragment to draw over
+    them. There level 0 would have drawn nothing over what lay beneath (as
+    ``shaders/foveated_paint_beneath.glsl`` paints a ray that draws nothing):
+    the picture beneath goes over them with level 0's weight.
+
+    Returns ``(box, weight)``: the pixel box (x0, y0, columns, rows, from the
+    viewport's lower left) around level 0's blend disc, and level 0's weight
+    there outside the outline (rows top first; 0 inside it), or None where
+    the outline does not reach that disc (``silhouette``: ``(edges, unit)``,
+    :func:`mipcast.core.foveation.silhouette_edges`).
+
+    Examples
+    --------
+    >>> from mipcast.core.foveation import plan_frame, silhouette_edges
+    >>> plan = plan_frame((0, 0, 64, 64), (0.1, 0.5), 0.1, 0.2)
+    >>> right = (silhouette_edges(np.array([[0.1, 0.0], [1.0, 0.0], [1.0, 1.0], [0.1, 1.0]]), 1.0), 0.02)
+    >>> box, weight = outline_cover(plan, right)
+    >>> box[0], float(weight.max()), float(weight[:, 7:].max())   # beyond the outline (x < 0.1): level 0's weight
+    (0, 1.0, 0.0)
+    >>> outline_cover(plan_frame((0, 0, 64, 64), (0.6, 0.5), 0.1, 0.2), right) is None   # far inside the outline
+    True
+    """
+    edges = silhouette[0]
+    _, _, width, height = plan.viewport
+    gaze = np.array([plan.gaze[0] * plan.aspect, plan.gaze[1]])
+    reach = level_border(plan, 1)  # level 0's weight is 0 beyond it
+    if min(float(nx * gaze[0] + ny * gaze[1] + c) for nx, ny, c in edges) > reach:
+        return None  # (the distance along the axes changes no faster than the Euclidean one)
+    x0, x1 = (int(np.clip(math.floor((plan.gaze[0] - r / plan.aspect) * width), 0, width)) for r in (reach, -reach))
+    y0, y1 = (int(np.clip(math.floor((plan.gaze[1] - r) * height), 0, height)) for r in (reach, -reach))
+    box = (x0, y0, min(x1 + 1, width) - x0, min(y1 + 1, height) - y0)
+    if box[2] <= 0 or box[3] <= 0:
+        return None
+    x = (x0 + np.arange(box[2]) + 0.5) / width
+    y = ((y0 + np.arange(box[3]) + 0.5) / height)[::-1]
+    e = np.hypot((x[None, :] - plan.gaze[0]) * plan.aspect, y[:, None] - plan.gaze[1])
+    weight = layer_weight(0, desired_level(e, plan), plan)
+    weight = np.where(outline_distance(plan, silhouette, (width, height), box) < 0.0, weight, 0.0)
+    return (box, weight) if weight.any() else None
+
+
+def cover_patch(weight: np.ndarray, beneath: np.ndarray) -> np.ndarray:
+    """The premultiplied RGBA8 values (0 .. 255, float) :func:`outline_cover` draws: ``beneath`` (RGB 0 .. 255,
+    or one colour) times ``weight``, alpha ``weight``, drawn "over" the levels.
+
+    >>> cover_patch(np.array([[1.0, 0.5]]), np.array([100.0, 50.0, 0.0])).tolist()
+    [[[100.0, 50.0, 0.0, 255.0], [50.0, 25.0, 0.0, 128.0]]]
+    """
+    weight = np.asarray(weight, dtype=np.float64)[..., None]
+    return np.floor(np.concatenate([weight * np.asarray(beneath, dtype=np.float64), 255.0 * weight], axis=-1) + 0.5)

@@ -614,9 +614,11 @@ def band_reaches_view(silhouette, aspect: float) -> bool:
     return inside < (2.0 ** SILHOUETTE_LEVEL_CAP + 1.0) * unit + BAND_MARGIN
 
 
-def outline_distance(plan: Plan, silhouette, grid: Sequence[int]) -> np.ndarray:
+def outline_distance(plan: Plan, silhouette, grid: Sequence[int], box: Optional[Sequence[int]] = None) -> np.ndarray:
     """Distance (viewport heights, along the axes) of each texel centre of ``grid`` inside the
     box's outline (:func:`silhouette_edges`; negative outside), top row first.
+
+    ``box``: only the texels (x0, y0, columns, rows) of ``grid``, counted from its lower left.
 
     Examples
     --------
@@ -624,12 +626,15 @@ def outline_distance(plan: Plan, silhouette, grid: Sequence[int]) -> np.ndarray:
     >>> square = np.array([[0.0, 0.0], [0.5, 0.0], [0.5, 1.0], [0.0, 1.0]])
     >>> outline_distance(plan, (silhouette_edges(square, 1.0), 0.25), (4, 1))
     array([[ 0.125,  0.125, -0.125, -0.375]])
+    >>> outline_distance(plan, (silhouette_edges(square, 1.0), 0.25), (4, 1), (1, 0, 2, 1))
+    array([[ 0.125, -0.125]])
     """
     edges = silhouette[0]
     columns, rows = int(grid[0]), int(grid[1])
-    x = (np.arange(columns) + 0.5) / columns * plan.aspect
-    y = ((np.arange(rows) + 0.5) / rows)[::-1]
-    inside = np.full((rows, columns), np.inf)
+    x0, y0, width, height = box if box is not None else (0, 0, columns, rows)
+    x = (x0 + np.arange(width) + 0.5) / columns * plan.aspect
+    y = ((y0 + np.arange(height) + 0.5) / rows)[::-1]
+    inside = np.full((height, width), np.inf)
     for nx, ny, c in edges:
         inside = np.minimum(inside, nx * x[None, :] + ny * y[:, None] + c)
     return inside

@@ -29,7 +29,7 @@ from mipcast.mappers.max_blocks import block_maxima
 from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms
-from mipcast.mappers.private_draw import (GL_SCISSOR_BOX, auto_sample_distance, copy_drawn, follow_volume,
+from mipcast.mappers.private_draw import (GL_SCISSOR_BOX, auto_sample_distance, copy_drawn, draw_over, follow_volume,
                                           kept_texture, rendering_renderer, texture_target)
 from mipcast.core.ray_cost import grid_cost
 
@@ -546,6 +546,9 @@ def _draw(mapper, state, volume, renderer) -> None:
         copy_drawn(renderer, viewport, coarse["framebuffers"]["before"])
     before = _read_texels(renderer, viewport, viewport[2:]) if adaptive and not readout and not on_gpu else None
     beneath = _beneath_texture(state, renderer, before) if before is not None else None  # the CPU masks' levels
+    # the picture beneath, to go over the deciding levels' stretch past the volume's outline near the fovea
+    cover = (_outline_cover(renderer, plan, silhouette, coarse, before)
+             if adaptive and not readout and silhouette is not None else None)
     for index, layer in enumerate(plan.layers):
         level = layer.level
         if adaptive and index >= 1:  # this level's rays: where the deciding level's picture asks for them
@@ -683,6 +686,8 @@ def _draw(mapper, state, volume, renderer) -> None:
                 object_state(level_mapper).pop("exact_readout", None)
                 level_mapper.RenderToImageOff()
         layers.append((level, volume_level, distance, level_input))
+    if cover is not None:
+        _draw_cover(renderer, state, viewport, *cover)
     if depth is not None:
         depth.Deactivate()
     if kept is not None:
@@ -1037,11 +1042,44 @@ def _download_texels(window, texture, grid) -> np.ndarray:
 
     A readback: only :meth:`FoveatedVolumeMapper.GetLastFrameCost` calls it, after the frame.
     """
+    return content_adaptive.coarse_texels(_download_picture(window, texture), grid)
+
+
+def _download_picture(window, texture) -> np.ndarray:
+    """An RGBA8 picture texture's RGB (uint8), top row first (a readback)."""
     window.MakeCurrent()
     width, height = texture.GetWidth(), texture.GetHeight()
     data = np.zeros((height, width, 4), np.uint8)
     texture.Download().Download2D(VTK_UNSIGNED_CHAR, data, [width, height], 4, [0, 0])
-    return content_adaptive.coarse_texels(data[::-1, :, :3], grid)
+    return data[::-1, :, :3]
+
+
+def _outline_cover(renderer, plan, silhouette, coarse, before) -> Optional[tuple]:
+    """(box, RGBA8 patch): the picture from before the frame's first level over the deciding levels' stretch past
+    the volume's outline, with level 0's weight (:func:`mipcast.core.content_adaptive.outline_cover`), or None
+    (and no readback) where the outline does not reach level 0's disc.  ``coarse``: the GPU path's copies (that
+    picture read back from them), else ``before``, the picture the CPU path read."""
+    cover = content_adaptive.outline_cover(plan, silhouette)
+    if cover is None:
+        return None
+    (x0, y0, columns, rows), weight = cover
+    picture = _download_picture(renderer.GetRenderWindow(), coarse["before"]) if coarse is not None else before
+    height = picture.shape[0]
+    beneath = picture[height - y0 - rows:height - y0, x0:x0 + columns]
+    return (x0, y0, columns, rows), content_adaptive.cover_patch(weight, beneath.astype(np.float64)).astype(np.uint8)
+
+
+def _draw_cover(renderer, state, viewport, box, patch) -> None:
+    """Draw an :func:`_outline_cover` patch over its box of the viewport, premultiplied "over"."""
+    x0, y0, columns, rows = box
+    _, _, width, height = viewport
+    window = renderer.GetRenderWindow()
+    texture = kept_texture(state, "outline_texture", window)
+    texture.Create2DFromRaw(columns, rows, 4, VTK_UNSIGNED_CHAR, np.ascontiguousarray(patch[::-1]))
+    left, right = 2.0 * x0 / width - 1.0, 2.0 * (x0 + columns) / width - 1.0
+    bottom, top = 2.0 * y0 / height - 1.0, 2.0 * (y0 + rows) / height - 1.0
+    draw_over(window, texture, viewport, [([0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0],
+                                           [left, bottom, 0.0, right, bottom, 0.0, right, top, 0.0, left, top, 0.0])])
 
 
 def _gpu_masks(frame) -> dict:

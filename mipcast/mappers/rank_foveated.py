@@ -721,6 +721,12 @@ def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: O
         # grid (then stretched over the viewport), else the window's; blended "over" in 8 bits
         drawn = _stretch(_to_8bit(rgba), (width, height))
         out = np.minimum(drawn + _times_8bit(out, 255.0 - drawn[..., 3:4]), 255.0)
+    cover = content_adaptive.outline_cover(plan, silhouette) if adaptive is not None and silhouette is not None else None
+    if cover is not None:  # the background over the deciding levels' stretch past the outline (foveated._cover_outline)
+        (x0, y0, columns, rows), weight = cover
+        patch = content_adaptive.cover_patch(weight, np.asarray(adaptive[1], dtype=np.float64))
+        part = out[height - y0 - rows:height - y0, x0:x0 + columns]
+        part[...] = np.minimum(patch + _times_8bit(part, 255.0 - patch[..., 3:4]), 255.0)
     return (out / 255.0).astype(np.float32)
 
 
