@@ -24,6 +24,13 @@
 //   void mcEndRay(int count)
 //       after the loop(s), count the samples marched: leave the ray's
 //       normalised value in mc_rayMax for the colour and readout pieces.
+// Optional block skipping, when the hook piece does "#define
+// MC_SAMPLE_BLOCKS" (mip_hooks_blocks; block maxima in in_mask, their edge
+// u_mc_blockSize cells, the volume u_mc_dims points):
+//   float mcBlockBound()
+//       the running value a block's maximum must exceed to be read; the
+//       samples of a block whose maximum does not are jumped over (indices
+//       keep their positions). Not with a global phase or cropping regions.
 // Optional second march over the same samples (DEMIP's same-material
 // search), run when the hook piece does "#define MC_SECOND_MARCH"; DEMIP's
 // second-march hooks are in demip_helpers:
@@ -96,8 +103,36 @@
 #ifdef MC_CROP_REGIONS
   bool mc_seen = false;
 #endif
+#if defined(MC_SAMPLE_BLOCKS) && !defined(MC_GLOBAL_PHASE) && !defined(MC_CROP_REGIONS)
+  // the samples in point coordinates (point k of an axis at k); samples
+  // before mc_blockEnd lie in the block checked last
+  vec3 mc_pointBase = mc_base * u_mc_dims - 0.5;
+  vec3 mc_pointStep = g_dirStep * u_mc_dims;
+  int mc_blockEnd = mc_first;
+#endif
   for (int mc_i = mc_first; mc_i < mc_count; ++mc_i)
   {
+#if defined(MC_SAMPLE_BLOCKS) && !defined(MC_GLOBAL_PHASE) && !defined(MC_CROP_REGIONS)
+    if (mc_i >= mc_blockEnd)
+    {
+      // the block of cells holding sample mc_i, and the last sample in its
+      // box (where the ray leaves it); jump past them if the block cannot
+      // raise the running maximum
+      float mc_size = u_mc_blockSize;
+      vec3 mc_lastBlock = floor((u_mc_dims - 2.0) / mc_size);
+      vec3 mc_block = clamp(floor((mc_pointBase + float(mc_i) * mc_pointStep) / mc_size), vec3(0.0), mc_lastBlock);
+      vec3 mc_face = (mc_block + vec3(greaterThan(mc_pointStep, vec3(0.0)))) * mc_size;
+      vec3 mc_toFace = (mc_face - mc_pointBase) / mix(mc_pointStep, vec3(1.0), vec3(equal(mc_pointStep, vec3(0.0))));
+      mc_toFace = mix(mc_toFace, vec3(1.0e30), vec3(equal(mc_pointStep, vec3(0.0))));
+      float mc_leave = min(min(mc_toFace.x, mc_toFace.y), mc_toFace.z);
+      mc_blockEnd = max(mc_i + 1, int(min(floor(mc_leave), float(mc_count))) + 1);
+      if (mcRaw(texelFetch(in_mask, ivec3(mc_block), 0).r) <= mcBlockBound())
+      {
+        mc_i = mc_blockEnd - 1;
+        continue;
+      }
+    }
+#endif
 #ifdef MC_CROP_REGIONS
     if (!mcCropSampleVisible(mc_base, g_dirStep, mc_i))
     {

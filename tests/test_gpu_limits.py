@@ -34,7 +34,8 @@ def test_the_driver_is_asked_for_its_limits():
 def test_each_method_reports_its_texture_bytes():
     image = make_fixture("vessels", size=24)  # float32
     volume = 24 ** 3 * 4
-    expected = {"mip": volume, "demip": volume,
+    expected = {"mip": volume + 3 ** 3 * 4,  # the default window has a floor: block maxima for skipping
+                "demip": volume,
                 "analytic": 4 * volume + 3 ** 3 * 4,          # packed corners + 3^3 float block maxima
                 "demip_two_pass": 2 * volume + 32 * 24 * 8}   # two uploads + pass 1's RGBA8 + float image
     for name, bytes_ in expected.items():
@@ -44,6 +45,10 @@ def test_each_method_reports_its_texture_bytes():
     view = OffscreenView(image, "analytic", size=(32, 24))
     view.mapper.SetPackedCorners(False)
     assert view.mapper.GetTextureBytes() == volume + 3 ** 3 * 4
+    view = OffscreenView(image, "mip", size=(32, 24))
+    view.mapper.SetSkipping(False)
+    view.screenshot()
+    assert view.mapper.GetTextureBytes() == volume
     foveated = OffscreenView(image, "foveated", size=(32, 24)).mapper
     assert foveated.GetTextureBytes() > volume  # the pyramid: the volume and its coarser levels
 

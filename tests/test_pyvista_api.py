@@ -82,8 +82,10 @@ def test_method_parameters_are_the_methods_table_not_its_setters():
         def SetDepthWeight(self, value):
             pass
 
-    # a setter is not a parameter until the table says so (MIP's table is the shared slab only)
-    assert method_parameters(Weighted()) == ("slab_centre", "slab_normal", "slab_thickness")
+    # a setter is not a parameter until the table says so (MIP's table: skipping and the shared slab)
+    assert method_parameters(Weighted()) == ("skipping", "slab_centre", "slab_normal", "slab_thickness")
+    with pytest.raises(AttributeError, match="MinIPVolumeMapper has no parameter 'skipping'"):
+        create_mapper("minip").SetSkipping(False)  # inherited from MIP's accessors, not in MinIP's table
 
 
 @pytest.mark.skipif("demip" not in METHODS, reason="DEMIP is not registered yet")

@@ -311,7 +311,8 @@ class _Viewer:
         return {p.name: p for p in METHODS[self.method].parameters}
 
     def _has(self, name: str) -> bool:
-        return name in self._table() or callable(getattr(self.mapper, setter_name(name), None))
+        # the method's table, not its setters: a subclass inherits setters of parameters it does not have
+        return name in self._table()
 
     def _set_param(self, name: str, value) -> None:
         self.params[name] = value

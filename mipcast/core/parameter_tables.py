@@ -55,9 +55,19 @@ SLAB = (
               "the camera).", convert=_slab_normal, variadic=True),
 )
 
-#: The sampled MIP loop has no parameters of its own (VTK's sample distance,
-#: image sample distance and jittering apply) besides the slab.
-MIP = SLAB
+#: Sampled MIP (VTK's sample distance, image sample distance and jittering
+#: apply): block skipping, and the slab.
+MIP = (
+    Parameter("skipping", "bool", True,
+              "Skip samples that cannot change the answer (False only to measure what it saves). True: with "
+              "a transfer-function floor above the data minimum (a window above the background) the running "
+              "maximum starts at the floor, the ray jumps over blocks of cells whose maximum is not above it "
+              "and stops at the ceiling; the same picture. False: every sample is read.", pieces=True),
+) + SLAB
+
+#: The other sampled projections (minimum, average) have no parameters of
+#: their own besides the slab.
+SAMPLED = SLAB
 
 ANALYTIC = (
     Parameter("packed_corners", "bool", True,

@@ -13,10 +13,8 @@ from mipcast.core.object_state import object_state
 from mipcast.core.parameters import parameter_accessors
 from mipcast.mappers import bricked_draw
 from mipcast.mappers.corner_packing import CornerPacker, packable
-from mipcast.mappers.max_blocks import block_maxima_image
+from mipcast.mappers.max_blocks import block_bytes
 from mipcast.mappers.mip import MIPVolumeMapper, same_port
-from mipcast.core.transfer_bounds import normalised_ends
-from mipcast.core.validation import check_image
 
 
 @parameter_accessors
@@ -66,8 +64,8 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
     #: Replacements of pieces while the packed four-component copy is drawn.
     PACKED = {"amip_corners": "amip_corners_packed", "mip_color": "mip_color_packed"}
 
-    #: Cells per edge of a skipping block (the coarse level is 1/BLOCK^3 the size).
-    BLOCK = 8
+    #: The cell walk knows each value's cell: a block's maximum covers its own cells only.
+    BLOCK_MARGIN = 0
     #: Largest packed copy (bytes) made for a new input's first frame under the automatic
     #: packing delay (:meth:`SetPackingDelay`); larger ones wait one frame.  32 MiB: a 128^3 int16
     #: volume packs at once, a 512x512x400 CT (800 MiB packed) draws its first frame unpacked.
@@ -270,7 +268,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         if image is None or image.GetPointData().GetScalars() is None:
             return 0
         volume = volume_texture_bytes(image, 4 if self._packing_wanted() else None)
-        return volume + _block_bytes(image.GetDimensions(), self.BLOCK)
+        return volume + block_bytes(image.GetDimensions(), self.BLOCK)
 
     def SetTextureBudget(self, budget: int) -> None:
         """Most bytes of texture the packed corners may take; 0 (default): the driver's free memory.
@@ -320,7 +318,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
             return True
         from mipcast.mappers.gpu_limits import volume_texture_bytes
 
-        packed = volume_texture_bytes(image, 4) + _block_bytes(image.GetDimensions(), self.BLOCK)
+        packed = volume_texture_bytes(image, 4) + block_bytes(image.GetDimensions(), self.BLOCK)
         if packed <= budget:
             return True
         state = object_state(self)
@@ -385,43 +383,9 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
             return tuple(names)
         return tuple(self.PACKED.get(n, n) for n in names) + ("gradient_opacity_packed",)
 
-    def _transfer_floor_ceiling(self) -> tuple:
-        """Normalised (floor, ceiling) of the attached volume's transfer functions."""
-        image, volume = self.GetRenderedInput(), self.GetAttachedVolume()
-        if image is None or volume is None or image.GetPointData().GetScalars() is None:
-            return 0.0, 1.0
-        return normalised_ends(volume.GetProperty(), image.GetPointData().GetScalars()) or (0.0, 1.0)
-
     def _push_derived_uniforms(self, uniforms, settings) -> None:
-        image = self.GetRenderedInput()
-        dims = image.GetDimensions() if image is not None else (2, 2, 2)
-        uniforms.SetUniform3f("u_mc_dims", [float(n) for n in dims])
-        uniforms.SetUniformf("u_mc_blockSize", float(self.BLOCK))
-
-        floor, ceiling = self._transfer_floor_ceiling()
-        skipping = settings["skipping"]
-        # the float readout is exact in data units; counting work keeps the display's shortcuts
-        exact = (object_state(self).get("exact_readout", False) and object_state(self).get("stat") is None) \
-            or not skipping
         uniforms.SetUniformf("u_mc_stat", float(object_state(self).get("stat") or 0))
-        # with missing values the ray starts below them (not at the floor), so that a ray that saw
-        # no finite data stays below the missing threshold (shaders/missing_exit.glsl)
-        exact = exact or self._missing_below() is not None
-        uniforms.SetUniformf("u_mc_floor", -1.0e30 if exact else floor)
-        uniforms.SetUniformf("u_mc_ceiling", 1.0e30 if exact else ceiling)
-        if image is not None and image.GetNumberOfPoints() > 0 and not bricked_draw.bricking_limit(self):
-            self._update_block_maxima(image)  # (drawn in bricks: each brick has its own)
-
-    def _update_block_maxima(self, image) -> None:
-        """(Re)build the block-maximum level when the input changed; it rides in the mask slot."""
-        state = object_state(self)
-        stamp = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime())
-        if state.get("blocks_of") == stamp:
-            return
-        low, high = image.GetPointData().GetScalars().GetRange(0)
-        self.SetMaskInput(block_maxima_image(check_image(image), self.BLOCK, low, high))
-        self.SetMaskTypeToBinary()
-        state["blocks_of"] = stamp
+        self._push_skipping(uniforms, settings["skipping"])
 
 
 def _route_before_render(mapper, event) -> None:
@@ -434,11 +398,3 @@ def _route_before_render(mapper, event) -> None:
 
 def _pack_after_render(mapper, event) -> None:
     mapper._pack_in_background()
-
-
-def _block_bytes(dims, block: int) -> int:
-    """Bytes of the float32 block-maximum level of a volume with ``dims`` points."""
-    count = 1
-    for n in dims:
-        count *= max(1, -(-(max(n, 2) - 1) // block))
-    return 4 * count

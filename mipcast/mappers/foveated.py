@@ -791,9 +791,14 @@ def refined_radius(params, viewport, gaze, radius, step: int):
 
 def _property_stamp(prop) -> tuple:
     """What of a volume property changes the picture (its own MTime moves at the first render).
-    Reads only: ``GetGradientOpacity`` would create a function on the user's property."""
+    Reads only: ``GetGradientOpacity`` would create a function on the user's property.  A discretizable
+    colour map (ParaView's) rebuilds its table at its first lookup after a change, which moves its MTime,
+    and a lookup may come later in the frame (the skipping floor, :mod:`mipcast.core.transfer_bounds`):
+    it is built here first (as any render would), so the next frame reads the same stamp."""
     gradient = prop.GetGradientOpacity(0).GetMTime() if prop.HasGradientOpacity(0) else None
-    return (prop.GetRGBTransferFunction(0).GetMTime(), prop.GetScalarOpacity(0).GetMTime(),
+    colour = prop.GetRGBTransferFunction(0)
+    colour.Build()  # a no-op for a plain vtkColorTransferFunction
+    return (colour.GetMTime(), prop.GetScalarOpacity(0).GetMTime(),
             gradient, prop.GetInterpolationType(), prop.GetShade(0),
             prop.GetScalarOpacityUnitDistance(0))
 

@@ -10,9 +10,12 @@ from mipcast.core.object_state import object_state
 from mipcast.core.errors import InputError
 from mipcast.core.parameters import defaults, parameter_accessors, uniform_values
 from mipcast.core.prepare import scalar_image
+from mipcast.core.transfer_bounds import normalised_ends
+from mipcast.core.validation import check_image
 from mipcast.mappers import brick_rays, bricked_draw, clip_uniforms, shader_pieces
 from mipcast.mappers.float_readout import from_data_units
 from mipcast.mappers.input_preparer import InputPreparer
+from mipcast.mappers.max_blocks import block_bytes, block_maxima_image
 from mipcast.mappers.private_draw import rendering_renderer, scissor_from_origin
 from mipcast.mappers.stereo import eye_uniforms
 
@@ -76,6 +79,14 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     BRICKS = "max"
     #: A brick's readout piece when the bricks combine by their mean (``BRICKS`` "mean"), else None.
     BRICK_READOUT = None
+
+    #: Cells per edge of a skipping block (:mod:`mipcast.mappers.max_blocks`): the block-maximum
+    #: level, in VTK's mask slot, is 1/BLOCK^3 the volume.
+    BLOCK = 8
+    #: Points a block's maximum reaches past its cells.  A sample on a block's face may be read from
+    #: the neighbouring cell (rounding in its position or in the texture unit), so sampled rays need
+    #: 1; the exact cell walk knows its cell and needs 0.
+    BLOCK_MARGIN = 1
 
     def __init__(self) -> None:
         super().__init__()
@@ -274,7 +285,64 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         pieces depend on their settings override this; the pieces are
         re-installed at the next render when the answer changes.
         """
-        return self._with_missing(self._with_readout(self.PIECES))
+        names = self._with_missing(self._with_readout(self.PIECES))
+        if self._skips_blocks():
+            names = tuple("mip_hooks_blocks" if n == "mip_hooks" else n for n in names)
+        return names
+
+    def _skips_blocks(self) -> bool:
+        """Whether sampled MIP skips blocks (``mip_hooks_blocks``, block maxima in the mask slot).
+
+        MIP's own hooks with skipping on, transfer functions with a floor above
+        the data minimum (a window above the background: most blocks then lie
+        below the running maximum from the start; without a floor the check
+        costs more than it saves), and one texture (not a brick of a
+        distributed volume, whose samples are read by hand, nor drawn in bricks).
+        """
+        if "mip_hooks" not in type(self).PIECES or not self._parameters().get("skipping", False):
+            return False
+        if object_state(self).get("global_box") is not None or self._transfer_floor_ceiling()[0] <= 0.0:
+            return False
+        return not bricked_draw.bricking_limit(self)
+
+    def _transfer_floor_ceiling(self) -> tuple:
+        """Normalised (floor, ceiling) of the attached volume's transfer functions (:mod:`mipcast.core.transfer_bounds`)."""
+        image, volume = self.GetRenderedInput(), self.GetAttachedVolume()
+        if image is None or volume is None or image.GetPointData().GetScalars() is None:
+            return 0.0, 1.0
+        return normalised_ends(volume.GetProperty(), image.GetPointData().GetScalars()) or (0.0, 1.0)
+
+    def _push_skipping(self, uniforms, skipping: bool) -> None:
+        """The floor, ceiling and block uniforms of the skipping loops, and the block maxima (once per input).
+
+        The float readout is exact in data units (floor and ceiling off), and so is input with missing
+        values: the ray then starts below them (not at the floor), so that a ray that saw no finite data
+        stays below the missing threshold (shaders/missing_exit.glsl).
+        """
+        image = self.GetRenderedInput()
+        dims = image.GetDimensions() if image is not None else (2, 2, 2)
+        uniforms.SetUniform3f("u_mc_dims", [float(n) for n in dims])
+        uniforms.SetUniformf("u_mc_blockSize", float(self.BLOCK))
+        floor, ceiling = self._transfer_floor_ceiling()
+        state = object_state(self)
+        # counting work (mipcast.mappers.amip_stats) keeps the display's shortcuts
+        exact = (state.get("exact_readout", False) and state.get("stat") is None) or not skipping
+        exact = exact or self._missing_below() is not None
+        uniforms.SetUniformf("u_mc_floor", -1.0e30 if exact else floor)
+        uniforms.SetUniformf("u_mc_ceiling", 1.0e30 if exact else ceiling)
+        if image is not None and image.GetNumberOfPoints() > 0 and not bricked_draw.bricking_limit(self):
+            self._update_block_maxima(image)  # (drawn in bricks: each brick has its own)
+
+    def _update_block_maxima(self, image) -> None:
+        """(Re)build the block-maximum level when the input changed; it rides in the mask slot."""
+        state = object_state(self)
+        stamp = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime())
+        if state.get("blocks_of") == stamp:
+            return
+        low, high = image.GetPointData().GetScalars().GetRange(0)
+        self.SetMaskInput(block_maxima_image(check_image(image), self.BLOCK, low, high, margin=self.BLOCK_MARGIN))
+        self.SetMaskTypeToBinary()
+        state["blocks_of"] = stamp
 
     def _with_missing(self, names) -> tuple:
         """``names`` plus :attr:`MISSING_PIECE` while the input holds missing values."""
@@ -411,12 +479,22 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         return state["parameters"]
 
     def _get_parameter(self, name: str):
-        return self._parameters()[name]
+        return self._own_parameters(name)[name]
 
     def _set_parameter(self, name: str, value) -> None:
         """Store a checked value; its uniforms go up at the next render (nothing recompiles)."""
-        self._parameters()[name] = value
+        self._own_parameters(name)[name] = value
         self.Modified()
+
+    def _own_parameters(self, name: str) -> dict:
+        """The parameter values, where ``name`` is one of this method's (a subclass inherits the
+        accessors of MIP's table, e.g. ``SetSkipping``, whether or not its own table has them)."""
+        parameters = self._parameters()
+        if name not in parameters:
+            own = ", ".join(sorted(parameters)) or "none"
+            raise AttributeError(f"{type(self).__name__} has no parameter {name!r} (its parameters: {own}); "
+                                 "see mipcast.core.parameters.method_parameters")
+        return parameters
 
     def _push_uniforms(self, uniforms) -> None:
         """Write this method's custom uniforms (``u_mc_*``); called at Attach and every render.
@@ -433,6 +511,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
             else:
                 uniforms.SetUniformf(name, float(value))
         self._push_derived_uniforms(uniforms, settings)
+        if self._skips_blocks():
+            self._push_skipping(uniforms, True)
         missing = self._missing_below()
         if missing is not None:  # shaders/missing_exit.glsl (missing_exit_above.glsl: MISSING_FILL "above")
             uniforms.SetUniformf("u_mc_missingBelow" if type(self).MISSING_FILL == "below" else "u_mc_missingAbove",
@@ -475,7 +555,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         """Bytes of GPU texture this method uploads for its input (the 3D volume texture).
 
         Points x components x the uploaded component size
-        (:func:`mipcast.mappers.gpu_limits.volume_texture_bytes`); the small
+        (:func:`mipcast.mappers.gpu_limits.volume_texture_bytes`), plus the
+        block maxima while MIP skips blocks (:meth:`SetSkipping`); the small
         transfer-function tables are not counted.  Subclasses add what their
         method uploads besides (analytic MIP's packed corners and block
         maxima, the foveated pyramid, two-pass DEMIP's first pass).
@@ -490,7 +571,9 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         """
         from mipcast.mappers.gpu_limits import volume_texture_bytes
 
-        return volume_texture_bytes(self.GetInput())
+        image = self.GetInput()
+        blocks = block_bytes(image.GetDimensions(), self.BLOCK) if image is not None and self._skips_blocks() else 0
+        return volume_texture_bytes(image) + blocks
 
     def IsAttached(self) -> bool:
         """True when the attached volume uses this mapper and still carries its pieces."""
@@ -639,4 +722,6 @@ def sampled_projection_mapper(hooks: str, color: str = "mip_color") -> type:
     return type(f"SampledProjectionMapper_{hooks}", (MIPVolumeMapper,), {
         "__doc__": f"Sampled projection through the hook piece {hooks!r} (see sampled_projection_mapper).",
         "PIECES": tuple(swap.get(name, name) for name in MIPVolumeMapper.PIECES),
+        # block skipping bounds a maximum: MIP's own hooks only
+        "PARAMETERS": MIPVolumeMapper.PARAMETERS if hooks == "mip_hooks" else parameter_tables.SAMPLED,
         "BRICKS": None})  # a new projection's composite over bricks is unknown: refused beyond one texture

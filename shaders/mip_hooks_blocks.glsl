@@ -1,0 +1,53 @@
+// mipcast piece: mip_hooks_blocks
+// fills: Picking::Dec
+// mode: augment
+// Sampled MIP's hooks (as mip_hooks) with block skipping, used when the
+// transfer functions have a floor above the data minimum (a window above
+// the background). The running maximum starts at the floor and the ray
+// stops at the ceiling (the float readout sets them to -/+1e30), and
+// sampled_loop jumps over the samples in blocks that cannot raise it
+// (MC_SAMPLE_BLOCKS; mcBlockBound is the value a block must exceed). The
+// block maxima (in_mask, mipcast/mappers/max_blocks.py, margin 1: a block
+// bounds every sample within one point of its cells, so rounding in the
+// sample's position or in the texture unit's choice of cell never lets a
+// jumped sample escape) make the jumps exact: a jumped sample is not above
+// the running maximum. A ray still at the floor is drawn as the tables'
+// bottom (normalised 0.0), one at or above the ceiling as their top (1.0),
+// where the tables hold exactly the constant colours (amip_max_hooks).
+#define MC_SAMPLE_BLOCKS
+float mc_samplesFloor;
+float mc_samplesCeiling;
+
+void mcBeginRay(inout int first, inout int count)
+{
+  mc_samplesFloor = mcRaw(u_mc_floor);
+  mc_samplesCeiling = mcRaw(u_mc_ceiling);
+  mc_rayMax = mc_samplesFloor;
+}
+
+float mcBlockBound()
+{
+  return mc_rayMax;
+}
+
+bool mcSample(float value, int i)
+{
+  mc_rayMax = max(mc_rayMax, value);
+  return mc_rayMax < mc_samplesCeiling;
+}
+
+void mcEndRay(int count)
+{
+  if (mc_rayMax <= mc_samplesFloor)
+  {
+    mc_rayMax = 0.0;
+  }
+  else if (mc_rayMax >= mc_samplesCeiling)
+  {
+    mc_rayMax = 1.0;
+  }
+  else
+  {
+    mc_rayMax = mcNormalised(mc_rayMax);
+  }
+}
