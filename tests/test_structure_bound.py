@@ -110,3 +110,37 @@ def test_the_foveated_mappers_blocks_bound_what_its_rays_draw(cells):
     assert above.sum() >= 10
     assert np.all(bound[above])
     assert bound.mean() < 0.9
+
+
+def test_the_kept_projections_follow_the_view_and_the_gaze():
+    """foveated._structure_bound keeps the boxes' projections while the view stands still: a moved gaze, a
+    turned camera and a moved volume give what a fresh splat gives."""
+    from types import SimpleNamespace
+
+    from mipcast.core.foveation import eccentricity
+    from mipcast.mappers import foveated
+
+    image = _specks(2)
+    scene = _placed_view(image, "perspective")
+    scene.set_window((FLOOR, 2.0))
+    boxes = foveated._above_floor({}, image, scene.volume)
+    state, viewport = {}, (0, 0) + SIZE
+
+    def fresh(plan):
+        near = eccentricity(GRID, plan.gaze, plan.aspect) < plan.start + 0.5 * np.hypot(
+            plan.aspect / GRID[0], 1.0 / GRID[1])
+        to_ndc = ndc_from_index(image, scene.camera, SIZE[0] / SIZE[1], scene.volume.GetMatrix())
+        return splat_texels(boxes, to_ndc, GRID, near)
+
+    seen = []
+    for step in range(5):
+        plan = SimpleNamespace(layers=[SimpleNamespace(grid=GRID)], aspect=SIZE[0] / SIZE[1], start=0.2,
+                               gaze=(0.3 + 0.1 * step, 0.5))
+        if step == 3:
+            scene.camera.Azimuth(20.0)
+        if step == 4:
+            scene.volume.AddPosition(1.5, 0.0, 0.0)
+        kept = foveated._structure_bound(state, plan, 0, image, scene.volume, scene.camera, viewport, boxes)
+        assert np.array_equal(kept, fresh(plan)), step
+        seen.append(kept)
+    assert all(seen[k].any() for k in range(5)) and not np.array_equal(seen[0], seen[1])

@@ -142,13 +142,31 @@ def splat_texels(boxes: np.ndarray, ndc_from_index: np.ndarray, grid, texels: np
     >>> np.argwhere(hit).tolist()                                          # its cell and the cells its edges touch
     [[4, 3], [4, 4], [5, 3], [5, 4]]
     """
+    if len(boxes) == 0 or not texels.any():
+        return np.zeros(np.shape(texels), bool)
+    return splat_ranges(texel_ranges(boxes, ndc_from_index, grid), grid, texels)
+
+
+def splat_ranges(ranges, grid, texels: np.ndarray) -> np.ndarray:
+    """:func:`splat_texels` from the boxes' :func:`texel_ranges` (which depend on the view, not on ``texels``:
+    a caller whose view stands still while the texels that matter move, e.g. with the gaze, keeps them).
+
+    Examples
+    --------
+    >>> to_ndc = np.diag([0.25, 0.25, 0.25, 1.0]); to_ndc[:3, 3] = -1.0
+    >>> ranges = texel_ranges(np.array([[[3.0, 3.0, 0.0], [4.0, 4.0, 8.0]]]), to_ndc, (8, 8))
+    >>> near = np.zeros((8, 8), bool); near[5, :] = True          # only row 5 matters
+    >>> np.argwhere(splat_ranges(ranges, (8, 8), near)).tolist()
+    [[5, 3], [5, 4]]
+    """
     columns, rows = int(grid[0]), int(grid[1])
     hit = np.zeros((rows, columns), bool)
-    if len(boxes) == 0 or not texels.any():
+    if not texels.any():
         return hit
-    ranges = _texel_ranges(boxes, ndc_from_index, grid)
     if ranges is None:  # a corner behind the eye: its projection is unbounded
         return texels.copy()
+    if len(ranges[0]) == 0:
+        return hit
     keep = _meeting(ranges, texels)
     first_row, end_row, first_column, end_column = (part[keep] for part in ranges)
     # a difference array: +1 at each rectangle's first corner, -1 past its ends, summed along both axes
@@ -160,9 +178,16 @@ def splat_texels(boxes: np.ndarray, ndc_from_index: np.ndarray, grid, texels: np
     return (counts.cumsum(axis=0).cumsum(axis=1)[:rows, :columns] > 0.5) & texels
 
 
-def _texel_ranges(boxes: np.ndarray, ndc_from_index: np.ndarray, grid):
+def texel_ranges(boxes: np.ndarray, ndc_from_index: np.ndarray, grid):
     """Per box, the texel rows ``[first, end)`` (top row first) and columns ``[first, end)`` its projected
-    rectangle meets: 4 int arrays; None when a box corner lies behind the eye."""
+    rectangle meets: 4 int arrays; None when a box corner lies behind the eye.
+
+    Examples
+    --------
+    >>> to_ndc = np.diag([0.25, 0.25, 0.25, 1.0]); to_ndc[:3, 3] = -1.0   # index [0, 8] -> NDC [-1, 1]
+    >>> [int(part[0]) for part in texel_ranges(np.array([[[3.0, 3.0, 0.0], [4.0, 4.0, 8.0]]]), to_ndc, (8, 8))]
+    [4, 6, 3, 5]
+    """
     columns, rows = int(grid[0]), int(grid[1])
     low, high = _rectangles(boxes, ndc_from_index)
     if low is None:
@@ -176,7 +201,7 @@ def _texel_ranges(boxes: np.ndarray, ndc_from_index: np.ndarray, grid):
 
 
 def _meeting(ranges, texels: np.ndarray) -> np.ndarray:
-    """Which boxes' :func:`_texel_ranges` meet the bounding rectangle of ``texels`` (a cheap, generous filter)."""
+    """Which boxes' :func:`texel_ranges` meet the bounding rectangle of ``texels`` (a cheap, generous filter)."""
     rows_of, columns_of = np.nonzero(texels)
     if rows_of.size == 0:
         return np.zeros(len(ranges[0]), bool)

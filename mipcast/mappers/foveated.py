@@ -555,7 +555,7 @@ def _draw(mapper, state, volume, renderer) -> None:
             decider = content_adaptive.decided_by(plan, index)
             if decider == index - 1:  # that level was just drawn: its refinement test
                 # with the texels where the data says a full-quality ray may meet structure its rays missed
-                bound = (_structure_bound(plan, decider, image, volume, camera, viewport,
+                bound = (_structure_bound(state, plan, decider, image, volume, camera, viewport,
                                           _above_floor(state, image, volume))
                          if decider == content_adaptive.structure_source(plan) else None)
                 if coarse is not None:
@@ -1154,21 +1154,30 @@ def _grey_texels(volume, values) -> np.ndarray:
     return np.where(np.isfinite(finite), np.round(grey), 0.0)[..., None]
 
 
-def _structure_bound(plan, source, image, volume, camera, viewport, boxes) -> np.ndarray:
+def _structure_bound(state, plan, source, image, volume, camera, viewport, boxes) -> np.ndarray:
     """Texels of ``plan.layers[source]`` near the fovea whose cell a full-quality ray above the floor may cross.
 
     :func:`mipcast.core.structure_bound.splat_texels` of ``boxes``, the
     blocks of ``image`` above the transfer functions' floor
     (:func:`_above_floor`; an MPI rank: its piece's); the texels that matter
     are those a fovea ray's nearest texel can be (eccentricity below the
-    plan's ``start`` plus half a texel's diagonal).
+    plan's ``start`` plus half a texel's diagonal).  The boxes' projections
+    (:func:`~mipcast.core.structure_bound.texel_ranges`) are kept in
+    ``state`` while the view and the boxes stand still: a moving gaze
+    alone only splats them again (vessels 128³ at 1024²: 4.0 -> 2.2 ms a
+    frame; head CT: 7.5 -> 3.0 ms; cProfile, 10 frames, the gaze moving).
     """
     grid = plan.layers[source].grid
     columns, rows = grid
     reach = 0.5 * math.hypot(plan.aspect / columns, 1.0 / rows)
     near_fovea = foveation.eccentricity(grid, plan.gaze, plan.aspect) < plan.start + reach
     to_ndc = structure_bound.ndc_from_index(image, camera, viewport[2] / viewport[3], volume.GetMatrix())
-    return structure_bound.splat_texels(boxes, to_ndc, grid, near_fovea)
+    view = (to_ndc.tobytes(), tuple(grid))
+    kept = state.get("bound_ranges")
+    if kept is None or kept[0] is not boxes or kept[1] != view:
+        kept = state["bound_ranges"] = (boxes, view, structure_bound.texel_ranges(boxes, to_ndc, grid)
+                                        if len(boxes) else ((np.zeros(0, np.int64),) * 4))
+    return structure_bound.splat_ranges(kept[2], grid, near_fovea)
 
 
 def _above_floor(state, image, volume, values=None, data_range=None, dims=None) -> np.ndarray:

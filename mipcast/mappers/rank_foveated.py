@@ -509,7 +509,8 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
         if usable and problem is None:
             try:
                 above = foveated._above_floor(state, piece, volume, values0, (low_global, high_global), whole_dims)
-                local = foveated._structure_bound(plan, bound_source, piece, volume, camera, viewport, above) * 1.0
+                local = foveated._structure_bound(state, plan, bound_source, piece, volume, camera, viewport,
+                                                   above) * 1.0
             except Exception as error:  # noqa: BLE001
                 problem = repr(error)
         bound_part = [local.ravel()]
