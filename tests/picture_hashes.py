@@ -13,7 +13,9 @@ method has one, the float readout, and prints one JSON object
 Hashes depend on the renderer (Mesa version, GPU driver): compare runs made
 on one machine only.  ``docs/refactor-hashes.json`` holds the run made on
 the development machine (llvmpipe) before the "one definition per method"
-restructuring.
+restructuring; its 46 foveated entries were made again when the foveation
+plan's ``start`` began keeping every coarse level out of the fovea (at these
+64 x 56 views the full-quality disc grew; every other entry unchanged).
 """
 from __future__ import annotations
 

@@ -112,9 +112,9 @@ def test_bench_writes_tables(tmp_path):
     assert (tmp_path / "bench.png").stat().st_size > 10000
     assert "mipcast, llvmpipe: vessels@0.2,0.9 oblique 32" in (tmp_path / "papers.md").read_text()
     assert rows["analytic"]["skipped_cells"] > 0.1  # the window lets analytic MIP skip blocks
-    corner = rows["foveated mip, gaze at a corner"]
-    assert corner["ray_ratio"] > rows["foveated mip"]["ray_ratio"]  # the fovea is partly off screen
-    assert rows["foveated analytic"]["p99_pct"] > rows["analytic"]["p99_pct"]  # peripheral levels are coarser
+    # (the corner's saving and the coarser periphery's error are checked at 96² below: at 32² the disc that
+    # keeps every coarse level out of the fovea covers nearly the whole view)
+    assert rows["foveated analytic"]["p99_pct"] >= rows["analytic"]["p99_pct"]
     assert "gaze at a corner" in (tmp_path / "papers.md").read_text()
     assert "2 passes / 1 pass" in (tmp_path / "papers.md").read_text()
     assert rows["demip two passes"]["p99_pct"] == pytest.approx(rows["demip"]["p99_pct"])  # same pictures
@@ -132,17 +132,23 @@ def test_bench_foveation_writes_table_chart_and_ring_errors(tmp_path, capsys):
         assert off["ray_ratio"] == 1.0 and off["mean_grey_error"] == 0.0
         centre, corner = by[framing, "default | centre"], by[framing, "default | corner"]
         assert centre["fovea_within_1"] >= 0.99 and corner["fovea_within_1"] >= 0.99
-        assert corner["ray_ratio"] > centre["ray_ratio"] > 1.0
+        assert corner["ray_ratio"] > centre["ray_ratio"] and corner["ray_ratio"] > 1.0
+        # (the whole volume at 96², gaze at the centre: the disc that keeps every coarse level out of the fovea
+        # holds most of the volume, and the levels overlap: 0.95, no saving; filling the view: 2.2)
+        assert centre["ray_ratio"] > (1.0 if framing == "fill" else 0.9)
         assert 1.0 < centre["ceiling"] < corner["ceiling"]
         # full quality inside the radius, coarser levels outside it
         inner = [ring for ring in centre["rings"] if ring["e_to"] <= centre["radius"]]
         outer = [ring for ring in centre["rings"] if ring["e_from"] >= centre["radius"] + centre["falloff"]]
         assert inner and max(ring["p99"] for ring in inner) <= 1
         assert outer and max(ring["mean"] for ring in outer) > 0.5
-        # off-screen gaze: the coarsest level alone casts fewer rays than any gaze; a 4th level fewer than 3
+        # off-screen gaze: the coarsest level alone casts fewer rays than any gaze
         alone = by[framing, "periphery alone | off-screen"]
         assert alone["ray_ratio"] > corner["ray_ratio"] and alone["ceiling"] is None  # infinite, null in JSON
-        assert by[framing, "default, 4 levels | corner"]["ray_ratio"] > corner["ray_ratio"]
+        # a 4th level's 8-pixel texels at 96² would reach into the fovea: the full-quality disc grows to keep
+        # them out (start 0.27 -> 0.38 of the height), so here 4 levels cast more rays than 3, not fewer
+        four = by[framing, "default, 4 levels | corner"]
+        assert 1.0 < four["ray_ratio"] < corner["ray_ratio"] and four["fovea_within_1"] >= 0.99
     # the smaller fovea casts fewer rays than the default one
     assert by["fill", "radius 0.12 | centre"]["rays"] < by["fill", "default | centre"]["rays"]
     assert "Levoy & Whitaker" in (tmp_path / "foveation.md").read_text()

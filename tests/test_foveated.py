@@ -191,6 +191,56 @@ def test_levels_cast_rays_wherever_they_have_a_share(viewport, gaze, radius, fal
         assert np.all(used < layer.cast_to - reach + 1e-9), layer
 
 
+@pytest.mark.parametrize("viewport, falloff, levels", [
+    ((0, 0, 96, 96), 0.127, 3), ((0, 0, 96, 96), 0.0, 3), ((0, 0, 128, 96), 0.05, 4), ((0, 0, 1024, 1024), 0.0, 5),
+    ((0, 0, 1024, 1024), 0.127, 3),
+])
+def test_no_coarse_level_reaches_into_the_fovea(viewport, falloff, levels):
+    # a level's picture is stretched over the window: a pixel reads texels up to `reach` away, so the texels it
+    # casts (from cast_from on) show down to cast_from - reach; inside the radius only level 0 may show
+    plan = plan_frame(viewport, (0.4, 0.6), 0.188, falloff, levels)
+    assert plan.top >= 2
+    for layer in plan.layers[:-1]:
+        grid = layer.grid
+        reach = REACH_TEXELS * max(1.0 / grid[1], plan.aspect / grid[0])
+        assert layer.cast_from - reach >= 0.188 - 1e-9, layer
+
+
+@pytest.mark.parametrize("falloff", [None, 0.0])
+@pytest.mark.parametrize("cut", ["opacity ramp", "clipping plane"])
+def test_a_semi_transparent_or_clipped_fovea_is_full_quality(falloff, cut):
+    """Acuity-only foveation on a coloured background, where level 0's ray is semi-transparent or clipped away:
+    the coarse levels drawn beneath must not show.  Before every level kept out of the fovea (start), level 2's
+    stretched picture reached into the fovea's rim: vessels 96², up to 4 grey (default falloff), 41 (falloff 0)."""
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_content_adaptive import _clip_plane, _opacity_ramp
+
+    image = make_fixture("vessels", size=32)
+    views = []
+    for name in ("mip", "foveated"):
+        view = OffscreenView(image, name, size=(96, 96), window=(0.25, 1.0))
+        view.renderer.SetBackground(0.1, 0.2, 0.3)
+        view.camera.Zoom(1.6)
+        view.renderer.ResetCameraClippingRange()
+        (_opacity_ramp if cut == "opacity ramp" else _clip_plane)(view.mapper)
+        views.append(view)
+    full, fov = views
+    if falloff is not None:
+        fov.mapper.SetFalloff(falloff)
+    reference = full.screenshot().astype(int)
+    worst = 0
+    for gaze in ((0.3, 0.5), (0.7, 0.5), (0.7, 0.1), (0.5, 0.3)):
+        fov.mapper.SetGazePoint(*gaze)
+        fovea = eccentricity((96, 96), gaze, 1.0) <= fov.mapper.GetFovealRadius()
+        error = np.abs(fov.screenshot().astype(int) - reference).max(axis=-1)
+        worst = max(worst, int(error[fovea].max()))
+        assert len(fov.mapper.GetLastPlan().layers) == 3
+    assert worst <= 1, worst
+
+
 def test_falloff_zero_switches_levels_at_the_fovea_edge():
     plan = plan_frame((0, 0, 256, 256), (0.5, 0.5), 0.1, 0.0)
     assert plan.top == 2

@@ -112,12 +112,14 @@ def test_a_demip_layer_beyond_the_limit_gives_the_single_texture_foveated_pictur
     assert got.max() > 200 and (got.max(axis=-1) > 10).mean() > 0.3  # a picture, not a black frame
     mip = foveated(image, "mip", 8.0).screenshot().astype(int)  # DEMIP's depth term shows: not MIP's picture
     assert (np.abs(got - mip).max(axis=-1) > 10).mean() > 0.1
-    assert (grey <= 1).all()
     assert outline_rays(bricked).sum() >= 3  # some rays whose one sample no brick holds: the CPU's (exact)
-    # blended after compositing: where two levels mix, the picture is still the single texture's
+    # blended after compositing: where two levels mix, the picture is still the single texture's; there each
+    # level's colour (the CPU's composite against the GPU's tables) may round its own way, and the two
+    # weighted errors add: a rare mixed pixel 2 grey off (gazes (0.5, 0.5), (0.4, 0.6): 1-2 pixels)
     shares = foveation.blend_shares(plan)
     mixed = np.max(np.stack(list(shares.values())), axis=0) < 1.0 - 1e-6
-    assert mixed.sum() > 1000 and (grey[mixed] <= 1).mean() >= 0.999
+    assert (grey[~mixed] <= 1).all()
+    assert mixed.sum() > 1000 and (grey[mixed] <= 1).mean() >= 0.999 and grey[mixed].max() <= 2
     # the blend weight is the level's (foveated_weight after the composited colour), never a brick's
     bricked_levels = [entry for key, entry in object_state(mapper)["levels_drawn"].items()
                       if isinstance(key, tuple) and key[-1] == "bricks"]

@@ -236,7 +236,7 @@ def fovea_spans(grid, plan: Plan, radius: Optional[float] = None) -> np.ndarray:
     >>> plan = plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.1)
     >>> spans = fovea_spans((8, 8), plan)
     >>> spans.shape, spans[0].tolist(), spans[4].tolist()
-    ((8, 2), [0, 0], [3, 5])
+    ((8, 2), [0, 0], [2, 6])
     """
     inside = eccentricity(grid, plan.gaze, plan.aspect) < (plan.start if radius is None else radius)
     any_inside = inside.any(axis=1)

@@ -182,8 +182,12 @@ def plan_frame(viewport: Sequence[int], gaze: Sequence[float], radius: float, fa
             usable = level
     reach = [0.0] + [REACH_TEXELS * max(1.0 / g[1], aspect / g[0]) for g in
                      (level_grid(width, height, k, base_sample_distance) for k in range(1, usable + 1))]
-    start = radius + (2.0 * reach[1] if usable >= 1 else 0.0)
     gain = schedule_gain(falloff, levels)
+    # no coarse level reaches into the fovea: level k is cast from its border e_(k-1) less its bilinear reach, and
+    # its stretched picture reaches that far further in, so start is where e_(k-1) - 2 reach_k >= radius for every
+    # k (level 1 decides with the default falloff from 256² up; a narrower falloff or a smaller view: a coarser
+    # one, whose picture reached into the fovea's rim, under a semi-transparent or clipped level-0 ray)
+    start = radius + max([2.0 * reach[k] - (2.0 ** (k - 1) - 1.0) / gain for k in range(1, usable + 1)], default=0.0)
     # eccentricities the viewport spans
     dx = max(0.0, -gx, gx - 1.0) * aspect
     dy = max(0.0, -gy, gy - 1.0)
@@ -451,15 +455,15 @@ def composite_values(plan: Plan, values: dict, skipped: Optional[dict] = None) -
 
     Examples
     --------
-    >>> plan = plan_frame((0, 0, 16, 16), (0.5, 0.5), 0.1, 0.2)
+    >>> plan = plan_frame((0, 0, 64, 64), (0.5, 0.5), 0.1, 0.2)
     >>> flat = {layer.level: np.full(layer.grid[::-1], 3.0) for layer in plan.layers}
     >>> float(np.nanmax(np.abs(composite_values(plan, flat) - 3.0)))
     0.0
     >>> flat[0][:] = np.nan   # level 0 missed everywhere: NaN where it is all of the picture
-    >>> bool(np.isnan(composite_values(plan, flat)[8, 8]))
+    >>> bool(np.isnan(composite_values(plan, flat)[32, 32]))
     True
-    >>> skipped = {0: np.ones((16, 16), bool)}   # level 0 cast no ray: the coarser levels show through
-    >>> float(composite_values(plan, flat, skipped)[8, 8])
+    >>> skipped = {0: np.ones((64, 64), bool)}   # level 0 cast no ray: the coarser levels show through
+    >>> float(composite_values(plan, flat, skipped)[32, 32])
     3.0
     """
     _, _, width, height = plan.viewport
