@@ -306,6 +306,9 @@ def outline_cover(plan: Plan, silhouette) -> Optional[tuple]:
     (0, 1.0, 0.0)
     >>> outline_cover(plan_frame((0, 0, 64, 64), (0.6, 0.5), 0.1, 0.2), right) is None   # far inside the outline
     True
+    >>> wide = (silhouette_edges(np.array([[-0.5, -0.5], [1.5, -0.5], [1.5, 1.5], [-0.5, 1.5]]), 1.0), 0.02)
+    >>> outline_cover(plan_frame((0, 0, 64, 64), (0.1, 0.1), 0.3, 0.2), wide) is None   # the outline beyond the view
+    True
     """
     edges = silhouette[0]
     _, _, width, height = plan.viewport
@@ -318,6 +321,9 @@ def outline_cover(plan: Plan, silhouette) -> Optional[tuple]:
     box = (x0, y0, min(x1 + 1, width) - x0, min(y1 + 1, height) - y0)
     if box[2] <= 0 or box[3] <= 0:
         return None
+    corners = [((x0 + dx) / width * plan.aspect, (y0 + dy) / height) for dx in (0, box[2]) for dy in (0, box[3])]
+    if all(min(nx * cx + ny * cy for cx, cy in corners) + c >= 0.0 for nx, ny, c in edges):
+        return None  # the box lies inside the (convex) outline, e.g. a volume filling the view: nothing to cover
     x = (x0 + np.arange(box[2]) + 0.5) / width
     y = ((y0 + np.arange(box[3]) + 0.5) / height)[::-1]
     e = np.hypot((x[None, :] - plan.gaze[0]) * plan.aspect, y[:, None] - plan.gaze[1])
