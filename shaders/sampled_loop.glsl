@@ -108,6 +108,10 @@
   // before mc_blockEnd lie in the block checked last
   vec3 mc_pointBase = mc_base * u_mc_dims - 0.5;
   vec3 mc_pointStep = g_dirStep * u_mc_dims;
+  vec3 mc_lastBlock = floor((u_mc_dims - 2.0) / u_mc_blockSize);
+  vec3 mc_stepSign = vec3(greaterThan(mc_pointStep, vec3(0.0)));
+  vec3 mc_still = vec3(equal(mc_pointStep, vec3(0.0)));
+  vec3 mc_safeStep = mix(mc_pointStep, vec3(1.0), mc_still);
   int mc_blockEnd = mc_first;
 #endif
   for (int mc_i = mc_first; mc_i < mc_count; ++mc_i)
@@ -118,12 +122,10 @@
       // the block of cells holding sample mc_i, and the last sample in its
       // box (where the ray leaves it); jump past them if the block cannot
       // raise the running maximum
-      float mc_size = u_mc_blockSize;
-      vec3 mc_lastBlock = floor((u_mc_dims - 2.0) / mc_size);
-      vec3 mc_block = clamp(floor((mc_pointBase + float(mc_i) * mc_pointStep) / mc_size), vec3(0.0), mc_lastBlock);
-      vec3 mc_face = (mc_block + vec3(greaterThan(mc_pointStep, vec3(0.0)))) * mc_size;
-      vec3 mc_toFace = (mc_face - mc_pointBase) / mix(mc_pointStep, vec3(1.0), vec3(equal(mc_pointStep, vec3(0.0))));
-      mc_toFace = mix(mc_toFace, vec3(1.0e30), vec3(equal(mc_pointStep, vec3(0.0))));
+      vec3 mc_block = clamp(floor((mc_pointBase + float(mc_i) * mc_pointStep) / u_mc_blockSize), vec3(0.0),
+                            mc_lastBlock);
+      vec3 mc_toFace = mix(((mc_block + mc_stepSign) * u_mc_blockSize - mc_pointBase) / mc_safeStep, vec3(1.0e30),
+                           mc_still);
       float mc_leave = min(min(mc_toFace.x, mc_toFace.y), mc_toFace.z);
       mc_blockEnd = max(mc_i + 1, int(min(floor(mc_leave), float(mc_count))) + 1);
       if (mcRaw(texelFetch(in_mask, ivec3(mc_block), 0).r) <= mcBlockBound())

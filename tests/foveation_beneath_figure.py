@@ -14,20 +14,6 @@ import numpy as np
 SIZE = (128, 128)
 
 
-def _crop(mapper):
-    mapper.SetCropping(True)
-    mapper.SetCroppingRegionPlanes(6.5, 22.3, 8.1, 24.7, 5.2, 20.9)
-    mapper.SetCroppingRegionFlagsToInvertedCross()
-
-
-def _ramp(mapper):
-    opacity = mapper.GetAttachedVolume().GetProperty().GetScalarOpacity()
-    opacity.RemoveAllPoints()
-    opacity.AddPoint(0.0, 0.0)
-    opacity.AddPoint(0.3, 0.0)
-    opacity.AddPoint(1.0, 0.8)
-
-
 def render() -> np.ndarray:
     """(2 cases, [full quality, content-adaptive], H, W, 3) uint8."""
     from mipcast.data_fixtures import make_fixture
@@ -35,7 +21,9 @@ def render() -> np.ndarray:
 
     image = make_fixture("vessels", size=32)
     out = []
-    for change, gaze in ((_crop, (0.3, 0.5)), (_ramp, (0.5, 0.5))):
+    from test_content_adaptive import _crop_fence, _opacity_ramp  # the cases the tests check
+
+    for change, gaze in ((_crop_fence, (0.3, 0.5)), (_opacity_ramp, (0.5, 0.5))):
         row = []
         for method in ("mip", "foveated"):
             view = OffscreenView(image, method, size=SIZE, window=(0.25, 1.0))

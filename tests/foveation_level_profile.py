@@ -45,6 +45,15 @@ def _timed(view) -> float:
     return time.process_time() - start
 
 
+def _medians(views: dict, rounds: int) -> dict:
+    """ms a frame of each view: the median of interleaved rounds after the first (a warm-up)."""
+    frames = {name: [] for name in views}
+    for _ in range(rounds):
+        for name, view in views.items():
+            frames[name].append(_timed(view))
+    return {name: round(1000 * statistics.median(values[1:]), 1) for name, values in frames.items()}
+
+
 def levels(scene: str, gaze, rounds: int = 4) -> dict:
     """ms a frame and per level draw (keyed by the level's image sample distance)."""
     draws, current = {}, [None]
@@ -106,12 +115,7 @@ def spacing(scene: str, rounds: int = 5) -> dict:
         view = framed_view(image, "mip", 1024, "fill", window)
         view.mapper.SetImageSampleDistance(isd)
         views[f"1024² isd {isd:g}"] = view
-    frames = {name: [] for name in views}
-    for _ in range(rounds):
-        for name, view in views.items():
-            frames[name].append(_timed(view))
-    return {"scene": scene, "ms": {name: round(1000 * statistics.median(values[1:]), 1)
-                                   for name, values in frames.items()}}
+    return {"scene": scene, "ms": _medians(views, rounds)}
 
 
 def overhead(scene: str, rounds: int = 7) -> dict:
@@ -126,12 +130,7 @@ def overhead(scene: str, rounds: int = 7) -> dict:
             if name == "content-adaptive":
                 view.mapper.SetContentTolerance(2.0)
             views[f"{size}² {name}"] = view
-    frames = {name: [] for name in views}
-    for _ in range(rounds):
-        for name, view in views.items():
-            frames[name].append(_timed(view))
-    return {"scene": scene, "ms": {name: round(1000 * statistics.median(values[1:]), 1)
-                                   for name, values in frames.items()}}
+    return {"scene": scene, "ms": _medians(views, rounds)}
 
 
 def cover(scene: str, gaze=(0.1, 0.1), rounds: int = 7) -> dict:

@@ -212,10 +212,6 @@ def test_a_semi_transparent_or_clipped_fovea_is_full_quality(falloff, cut):
     """Acuity-only foveation on a coloured background, where level 0's ray is semi-transparent or clipped away:
     the coarse levels drawn beneath must not show.  Before every level kept out of the fovea (start), level 2's
     stretched picture reached into the fovea's rim: vessels 96², up to 4 grey (default falloff), 41 (falloff 0)."""
-    import sys
-    from pathlib import Path
-
-    sys.path.insert(0, str(Path(__file__).parent))
     from test_content_adaptive import _clip_plane, _opacity_ramp
 
     image = make_fixture("vessels", size=32)

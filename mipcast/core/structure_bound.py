@@ -142,7 +142,7 @@ def splat_texels(boxes: np.ndarray, ndc_from_index: np.ndarray, grid, texels: np
     >>> np.argwhere(hit).tolist()                                          # its cell and the cells its edges touch
     [[4, 3], [4, 4], [5, 3], [5, 4]]
     """
-    if len(boxes) == 0 or not texels.any():
+    if not texels.any():
         return np.zeros(np.shape(texels), bool)
     return splat_ranges(texel_ranges(boxes, ndc_from_index, grid), grid, texels)
 
@@ -189,6 +189,8 @@ def texel_ranges(boxes: np.ndarray, ndc_from_index: np.ndarray, grid):
     [4, 6, 3, 5]
     """
     columns, rows = int(grid[0]), int(grid[1])
+    if len(boxes) == 0:
+        return (np.zeros(0, np.int64),) * 4
     low, high = _rectangles(boxes, ndc_from_index)
     if low is None:
         return None

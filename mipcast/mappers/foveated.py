@@ -1175,8 +1175,7 @@ def _structure_bound(state, plan, source, image, volume, camera, viewport, boxes
     view = (to_ndc.tobytes(), tuple(grid))
     kept = state.get("bound_ranges")
     if kept is None or kept[0] is not boxes or kept[1] != view:
-        kept = state["bound_ranges"] = (boxes, view, structure_bound.texel_ranges(boxes, to_ndc, grid)
-                                        if len(boxes) else ((np.zeros(0, np.int64),) * 4))
+        kept = state["bound_ranges"] = (boxes, view, structure_bound.texel_ranges(boxes, to_ndc, grid))
     return structure_bound.splat_ranges(kept[2], grid, near_fovea)
 
 
