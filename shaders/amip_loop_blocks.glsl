@@ -7,6 +7,12 @@
 // cells whose maximum (the coarse level in in_mask, mipcast/mappers/max_blocks.py)
 // is not above the running maximum cannot change the answer and is jumped
 // over. Otherwise as amip_loop (floor, ceiling, exact float readout).
+// Analytic MinIP runs it mirrored (block minima, a ceiling below the data
+// maximum). The cell hooks (amip_max_hooks, amip_min_hooks) decide, besides
+// amip_cell's hooks:
+//   bool mcCellsBlockSkips(float blockBound, float value)
+//       whether a block whose bound (raw: its maximum, or minimum) is
+//       blockBound cannot change the running value.
   McRay mc_ray = mcBeginRay();
   if (mc_drawsNothing)
   {
@@ -16,14 +22,13 @@
   int mc_steps = 2 * int(u_mc_dims.x + u_mc_dims.y + u_mc_dims.z) + 8;  // cells and jumps
   int mc_blockSize = int(u_mc_blockSize);
   float mc_t0 = mc_ray.start;
-  mc_rayMax = mcCellsBegin();  // the floor (amip_max_hooks)
-  float mc_ceiling = mcRaw(u_mc_ceiling);
-  for (int mc_i = 0; mc_i < mc_steps && (mc_i == 0 || mc_t0 < mc_ray.length) && mc_rayMax < mc_ceiling; ++mc_i)
+  mc_rayMax = mcCellsBegin();  // the floor (amip_max_hooks; amip_min_hooks: the ceiling)
+  for (int mc_i = 0; mc_i < mc_steps && (mc_i == 0 || mc_t0 < mc_ray.length) && mcCellsGoOn(mc_rayMax); ++mc_i)
   {
     float mc_t1 = min(min(min(mc_tNext.x, mc_tNext.y), mc_tNext.z), mc_ray.length);
     ivec3 mc_cell = mcCellOf(mc_ray, mc_t0, mc_t1);
     ivec3 mc_block = mc_cell / mc_blockSize;
-    if (mcRaw(texelFetch(in_mask, mc_block, 0).r) <= mc_rayMax)
+    if (mcCellsBlockSkips(mcRaw(texelFetch(in_mask, mc_block, 0).r), mc_rayMax))
     {
       // Jump to where the ray leaves this block and restart the DDA there
       // (at least to t1, so the walk always moves on).
@@ -38,5 +43,5 @@
     }
     mcWalkCell(mc_ray, mc_cell, mc_t1, mc_t0, mc_tNext, mc_rayMax);
   }
-  mc_rayMax = mcCellsEnd(mc_rayMax);  // the bounds drawn as the tables' ends (amip_max_hooks)
+  mc_rayMax = mcCellsEnd(mc_rayMax);  // the bounds drawn as the tables' ends
   g_exit = true;

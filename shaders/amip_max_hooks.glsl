@@ -37,6 +37,11 @@ void mcCell(vec4 lo, vec4 hi, vec3 u0, vec3 du, float span, inout float value)
   }
 }
 
+bool mcCellsBlockSkips(float blockBound, float value)
+{
+  return blockBound <= value;
+}
+
 float mcCellsEnd(float value)
 {
   if (value <= mc_cellsFloor) return 0.0;

@@ -6,7 +6,7 @@
 // the background). The running maximum starts at the floor and the ray
 // stops at the ceiling (the float readout sets them to -/+1e30), and
 // sampled_loop jumps over the samples in blocks that cannot raise it
-// (MC_SAMPLE_BLOCKS; mcBlockBound is the value a block must exceed). The
+// (MC_SAMPLE_BLOCKS; mcBlockSkips says which blocks cannot). The
 // block maxima (in_mask, mipcast/mappers/max_blocks.py, margin 1: a block
 // bounds every sample within one point of its cells, so rounding in the
 // sample's position or in the texture unit's choice of cell never lets a
@@ -25,9 +25,9 @@ void mcBeginRay(inout int first, inout int count)
   mc_rayMax = mc_samplesFloor;
 }
 
-float mcBlockBound()
+bool mcBlockSkips(float blockMax)
 {
-  return mc_rayMax;
+  return blockMax <= mc_rayMax;
 }
 
 bool mcSample(float value, int i)

@@ -25,12 +25,14 @@
 //       after the loop(s), count the samples marched: leave the ray's
 //       normalised value in mc_rayMax for the colour and readout pieces.
 // Optional block skipping, when the hook piece does "#define
-// MC_SAMPLE_BLOCKS" (mip_hooks_blocks; block maxima in in_mask, their edge
-// u_mc_blockSize cells, the volume u_mc_dims points):
-//   float mcBlockBound()
-//       the running value a block's maximum must exceed to be read; the
-//       samples of a block whose maximum does not are jumped over (indices
-//       keep their positions). Not with a global phase or cropping regions.
+// MC_SAMPLE_BLOCKS" (mip_hooks_blocks: block maxima in in_mask;
+// minip_hooks_blocks: block minima; their edge u_mc_blockSize cells, the
+// volume u_mc_dims points):
+//   bool mcBlockSkips(float blockBound)
+//       whether a block whose bound (raw, as the samples) is blockBound
+//       cannot change the running value; its samples are then jumped over
+//       (indices keep their positions). Not with a global phase or cropping
+//       regions.
 // Optional second march over the same samples (DEMIP's same-material
 // search), run when the hook piece does "#define MC_SECOND_MARCH"; DEMIP's
 // second-march hooks are in demip_helpers:
@@ -121,14 +123,14 @@
     {
       // the block of cells holding sample mc_i, and the last sample in its
       // box (where the ray leaves it); jump past them if the block cannot
-      // raise the running maximum
+      // change the running value
       vec3 mc_block = clamp(floor((mc_pointBase + float(mc_i) * mc_pointStep) / u_mc_blockSize), vec3(0.0),
                             mc_lastBlock);
       vec3 mc_toFace = mix(((mc_block + mc_stepSign) * u_mc_blockSize - mc_pointBase) / mc_safeStep, vec3(1.0e30),
                            mc_still);
       float mc_leave = min(min(mc_toFace.x, mc_toFace.y), mc_toFace.z);
       mc_blockEnd = max(mc_i + 1, int(min(floor(mc_leave), float(mc_count))) + 1);
-      if (mcRaw(texelFetch(in_mask, ivec3(mc_block), 0).r) <= mcBlockBound())
+      if (mcBlockSkips(mcRaw(texelFetch(in_mask, ivec3(mc_block), 0).r)))
       {
         mc_i = mc_blockEnd - 1;
         continue;

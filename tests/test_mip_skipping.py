@@ -1,27 +1,34 @@
-"""Sampled MIP's block skipping: the same picture and the same float readout as reading every sample.
+"""Block skipping of sampled MIP and MinIP (and the exact MinIP): the same picture and the same float
+readout as reading every sample.
 
 With a window above the background (a transfer-function floor above the data
 minimum) sampled MIP starts each ray at the floor, jumps over blocks of cells
 whose maximum (block maxima one point wider than the block) is not above the
 running maximum, and stops at the ceiling (shaders/mip_hooks_blocks.glsl,
-the block section of shaders/sampled_loop.glsl).  Every test compares
-``Skipping`` on with ``Skipping`` off (every sample read) pixel for pixel, in
-settings that move the samples (perspective, jittering, reduced images,
-clipping, slabs, cropping, scaled and rotated volumes).
+the block section of shaders/sampled_loop.glsl).  MinIP mirrors it: with a
+ceiling below the data maximum, block minima, the ray starting at the ceiling
+and stopping at the floor (shaders/minip_hooks_blocks.glsl; the exact MinIP's
+cell walk, shaders/amip_loop_blocks.glsl).  Every test compares ``Skipping``
+on with ``Skipping`` off (every sample read) pixel for pixel, in settings
+that move the samples (perspective, jittering, reduced images, clipping,
+slabs, cropping, scaled and rotated volumes), on a volume and on its mirror
+image (dark specks in bright noise) for the minimum.
 """
 import numpy as np
 import pytest
 from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPlane
-from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
 from mipcast.data_fixtures import make_fixture
+from mipcast.mappers.max_blocks import block_minima
 from mipcast.offscreen import OffscreenView
 
 SIZE = (96, 80)
 
 
-def _face_specks(shape=(33, 41, 49), block: int = 8) -> vtkImageData:
-    """Dim noise with bright single voxels on and next to the faces of the skipping blocks.
+def _face_specks(shape=(33, 41, 49), block: int = 8, mirrored: bool = False) -> vtkImageData:
+    """Dim noise with bright single voxels on and next to the faces of the skipping blocks
+    (``mirrored``: 1 minus that, dark specks in bright noise, for the minimum).
 
     A sample near a block's face may be read from the neighbouring block's
     cell; block maxima that covered the block's own points only would let a
@@ -34,6 +41,8 @@ def _face_specks(shape=(33, 41, 49), block: int = 8) -> vtkImageData:
         point = [rng.choice([k for k in range(n) if k % block in (0, 1, 2, block - 2, block - 1)])
                  if axis == face else rng.integers(n) for axis, n in enumerate(shape)]
         values[tuple(point)] = 0.5 + 0.5 * rng.random()
+    if mirrored:
+        values = 1.0 - values
     image = vtkImageData()
     image.SetDimensions(shape[2], shape[1], shape[0])
     image.SetSpacing(1.0, 0.9, 1.3)
@@ -44,9 +53,15 @@ def _face_specks(shape=(33, 41, 49), block: int = 8) -> vtkImageData:
     return image
 
 
+#: method: (the volume mirrored, the specks' window, the skipping piece)
+METHODS = {"mip": (False, (0.3, 1.0), "mip_hooks_blocks"),
+           "minip": (True, (0.0, 0.7), "minip_hooks_blocks"),
+           "analytic_minip": (True, (0.0, 0.7), "amip_loop_blocks")}
+
+
 @pytest.fixture(scope="module")
 def specks():
-    return _face_specks()
+    return {mirrored: _face_specks(mirrored=mirrored) for mirrored in (False, True)}
 
 
 @pytest.fixture(scope="module")
@@ -54,18 +69,30 @@ def vessels():
     return make_fixture("vessels", size=48)
 
 
-def _pair(image, window, view="oblique", configure=None, readout=False):
+def _pair(image, window, view="oblique", configure=None, readout=False, method="mip"):
     """(skipping on, skipping off): screenshots, or float readouts."""
     out = []
     for skipping in (True, False):
-        scene = OffscreenView(image, "mip", size=SIZE, view=view, window=window)
+        scene = OffscreenView(image, method, size=SIZE, view=view, window=window)
         scene.mapper.SetSkipping(skipping)
         if configure is not None:
             configure(scene)
         out.append(scene.float_image() if readout else scene.screenshot())
         if not readout:
-            assert ("mip_hooks_blocks" in scene.mapper.GetShaderPieces()) == skipping
+            assert (METHODS[method][2] in scene.mapper.GetShaderPieces()) == skipping
     return out
+
+
+def _specks_pair(specks, method, **kwargs):
+    mirrored, window, _ = METHODS[method]
+    return _pair(specks[mirrored], window, method=method, **kwargs)
+
+
+def _specks_shown(picture) -> float:
+    """Share of the pixels drawn apart from the background and the noise: the specks."""
+    grey = picture.astype(int).sum(axis=2)
+    background = np.bincount(grey.ravel()).argmax()  # the noise's colour (at the window's floor or ceiling)
+    return float(np.mean(grey != background))
 
 
 def _clip(scene):
@@ -101,10 +128,17 @@ CONFIGURATIONS = {
 
 @pytest.mark.parametrize("view", ["oblique", "perspective"])
 @pytest.mark.parametrize("name", sorted(CONFIGURATIONS))
-def test_specks_on_block_faces_are_never_jumped(specks, view, name):
-    on, off = _pair(specks, (0.3, 1.0), view, CONFIGURATIONS[name])
-    drawn = off.max(axis=2) > 0
-    assert drawn.mean() > 0.005, "the scene must show specks"
+@pytest.mark.parametrize("method", ["mip", "minip"])
+def test_specks_on_block_faces_are_never_jumped(specks, method, view, name):
+    on, off = _specks_pair(specks, method, view=view, configure=CONFIGURATIONS[name])
+    assert _specks_shown(off) > 0.005, "the scene must show specks"
+    assert np.array_equal(on, off), (np.abs(on.astype(int) - off).max(), np.sum(np.any(on != off, axis=2)))
+
+
+@pytest.mark.parametrize("name", ["plain", "clipping plane", "slab", "rotated volume"])
+def test_exact_minip_jumps_blocks_without_losing_a_speck(specks, name):
+    on, off = _specks_pair(specks, "analytic_minip", view="perspective", configure=CONFIGURATIONS[name])
+    assert _specks_shown(off) > 0.005, "the scene must show specks"
     assert np.array_equal(on, off), (np.abs(on.astype(int) - off).max(), np.sum(np.any(on != off, axis=2)))
 
 
@@ -116,22 +150,40 @@ def test_vessels_picture_is_unchanged(vessels, window):
 
 
 @pytest.mark.parametrize("name", ["plain", "clipping plane", "cropping regions"])
-def test_float_readout_is_unchanged(specks, name):
-    # the readout turns floor and ceiling off (exact data units) and still jumps blocks below the running maximum
-    on, off = _pair(specks, (0.3, 1.0), "oblique", CONFIGURATIONS[name], readout=True)
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_float_readout_is_unchanged(specks, method, name):
+    # the readout turns floor and ceiling off (exact data units) and still jumps blocks that cannot change the
+    # running value
+    on, off = _specks_pair(specks, method, configure=CONFIGURATIONS[name], readout=True)
     assert np.isfinite(off).mean() > 0.2
     assert np.array_equal(on, off, equal_nan=True)
 
 
-def test_skipping_needs_a_floor(vessels):
-    low, high = vessels.GetPointData().GetScalars().GetRange(0)
-    full = OffscreenView(vessels, "mip", size=(32, 32), window=(low, high))
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_skipping_needs_a_bound(specks, method):
+    mirrored, window, piece = METHODS[method]
+    image = specks[mirrored]
+    low, high = image.GetPointData().GetScalars().GetRange(0)
+    full = OffscreenView(image, method, size=(32, 32), window=(low, high))
     full.screenshot()
-    assert "mip_hooks_blocks" not in full.mapper.GetShaderPieces()  # no floor: nothing to jump from the start
-    windowed = OffscreenView(vessels, "mip", size=(32, 32), window=(0.25, 1.0))
+    assert piece not in full.mapper.GetShaderPieces()  # no floor (ceiling): nothing to jump from the start
+    windowed = OffscreenView(image, method, size=(32, 32), window=window)
     windowed.screenshot()
-    assert "mip_hooks_blocks" in windowed.mapper.GetShaderPieces()
+    assert piece in windowed.mapper.GetShaderPieces()
     assert windowed.mapper.GetMaskInput() is not None
+
+
+@pytest.mark.parametrize("method", ["minip", "analytic_minip"])
+def test_minimum_projections_hold_block_minima(specks, method):
+    windowed = OffscreenView(specks[True], method, size=(32, 32), window=METHODS[method][1])
+    windowed.screenshot()
+    level = windowed.mapper.GetMaskInput()
+    assert level.GetPointData().GetScalars().GetName() == "block_min"
+    scalars = specks[True].GetPointData().GetScalars()
+    values = vtk_to_numpy(scalars).reshape(specks[True].GetDimensions()[::-1])
+    low, high = scalars.GetRange(0)
+    minima = (block_minima(values, windowed.mapper.BLOCK, windowed.mapper.BLOCK_MARGIN) - low) / (high - low)
+    assert np.allclose(vtk_to_numpy(level.GetPointData().GetScalars()).reshape(minima.shape), minima, atol=1e-6)
 
 
 def test_missing_values_keep_their_picture(vessels):

@@ -65,8 +65,17 @@ MIP = (
               "and stops at the ceiling; the same picture. False: every sample is read.", pieces=True),
 ) + SLAB
 
-#: The other sampled projections (minimum, average) have no parameters of
-#: their own besides the slab.
+#: Sampled MinIP: block skipping mirrored (block minima, the ceiling), and the slab.
+MINIP = (
+    Parameter("skipping", "bool", True,
+              "Skip samples that cannot change the answer (False only to measure what it saves). True: with "
+              "a transfer-function ceiling below the data maximum (a window below the tissue, as for airways) "
+              "the running minimum starts at the ceiling, the ray jumps over blocks of cells whose minimum is "
+              "not below it and stops at the floor; the same picture. False: every sample is read.", pieces=True),
+) + SLAB
+
+#: The other sampled projections (average, new hook pieces) have no parameters
+#: of their own besides the slab.
 SAMPLED = SLAB
 
 ANALYTIC = (

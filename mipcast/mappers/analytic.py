@@ -251,8 +251,9 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         With packed corners wanted the volume texture holds four components
         (four times the unpacked volume) in the steady state; the first
         :meth:`GetPackingDelay` frames of an input draw the one-component
-        volume (1x) instead.  The block-maximum level (float32, one value per
-        :data:`BLOCK`^3 cells) rides in the mask texture.
+        volume (1x) instead.  The block level (maxima, the exact MinIP's minima;
+        float32, one value per :data:`BLOCK`^3 cells) rides in the mask
+        texture; the exact average has none.
 
         Examples
         --------
@@ -268,7 +269,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         if image is None or image.GetPointData().GetScalars() is None:
             return 0
         volume = volume_texture_bytes(image, 4 if self._packing_wanted() else None)
-        return volume + block_bytes(image.GetDimensions(), self.BLOCK)
+        return volume + (block_bytes(image.GetDimensions(), self.BLOCK) if self.BLOCK_EXTREME else 0)
 
     def SetTextureBudget(self, budget: int) -> None:
         """Most bytes of texture the packed corners may take; 0 (default): the driver's free memory.
@@ -357,19 +358,21 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         return None
 
     def GetShaderPieces(self) -> tuple:
-        """:data:`PIECES`, with the block-skipping loop when the transfer functions have a floor.
+        """:data:`PIECES`, with the block-skipping loop when the transfer functions have a floor
+        (the exact MinIP: a ceiling).
 
         Skipping blocks pays only when most of them lie below the running
         maximum from the start, i.e. when colour and opacity are constant
-        from the data minimum up to a floor (a window above the background).
-        Without a floor the check costs more than it saves on llvmpipe, so
-        the plain loop is used.
+        from the data minimum up to a floor (a window above the background;
+        mirrored for the minimum, :meth:`_window_bounds_blocks`).  Without one
+        the check costs more than it saves on llvmpipe, so the plain loop is
+        used.
         """
         names = self._packed_pieces(super().GetShaderPieces())
         state = object_state(self)
         # a brick walking the whole volume's ray (global_cells): the plain walk
         distributed = state.get("global_box") is not None and state.get("global_cells", True)
-        if self.GetSkipping() and self._transfer_floor_ceiling()[0] > 0.0 and not distributed:
+        if self.GetSkipping() and self._window_bounds_blocks() and not distributed:
             names = tuple("amip_loop_blocks" if n == "amip_loop" else n for n in names)
         if object_state(self).get("stat") is not None:  # mipcast.mappers.amip_stats reads work counters
             names = tuple("amip_stats_readout" if n == "float_readout" else n for n in names)

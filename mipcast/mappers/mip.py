@@ -15,13 +15,15 @@ from mipcast.core.validation import check_image
 from mipcast.mappers import brick_rays, bricked_draw, clip_uniforms, shader_pieces
 from mipcast.mappers.float_readout import from_data_units
 from mipcast.mappers.input_preparer import InputPreparer
-from mipcast.mappers.max_blocks import block_bytes, block_maxima_image
+from mipcast.mappers.max_blocks import block_bytes, block_level_image
 from mipcast.mappers.private_draw import rendering_renderer, scissor_from_origin
 from mipcast.mappers.stereo import eye_uniforms
 
 
 #: The piece every mipcast mapper adds to its own: stereo-correct ray directions.
 STEREO_PIECE = "stereo_ray_direction"
+#: The sampled hook pieces that skip blocks, and their skipping variants (MIP's, MinIP's).
+_BLOCK_HOOKS = {"mip_hooks": "mip_hooks_blocks", "minip_hooks": "minip_hooks_blocks"}
 
 
 @parameter_accessors
@@ -80,8 +82,11 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     #: A brick's readout piece when the bricks combine by their mean (``BRICKS`` "mean"), else None.
     BRICK_READOUT = None
 
-    #: Cells per edge of a skipping block (:mod:`mipcast.mappers.max_blocks`): the block-maximum
-    #: level, in VTK's mask slot, is 1/BLOCK^3 the volume.
+    #: What the skipping blocks bound (:mod:`mipcast.mappers.max_blocks`): ``"max"`` (maximum
+    #: projections: block maxima, skipping with a transfer-function floor), ``"min"`` (minimum
+    #: projections: block minima, with a ceiling), or None (no block skipping).
+    BLOCK_EXTREME = "max"
+    #: Cells per edge of a skipping block: the block level, in VTK's mask slot, is 1/BLOCK^3 the volume.
     BLOCK = 8
     #: Points a block's maximum reaches past its cells.  A sample on a block's face may be read from
     #: the neighbouring cell (rounding in its position or in the texture unit), so sampled rays need
@@ -287,23 +292,33 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         """
         names = self._with_missing(self._with_readout(self.PIECES))
         if self._skips_blocks():
-            names = tuple("mip_hooks_blocks" if n == "mip_hooks" else n for n in names)
+            names = tuple(_BLOCK_HOOKS.get(n, n) for n in names)
         return names
 
     def _skips_blocks(self) -> bool:
-        """Whether sampled MIP skips blocks (``mip_hooks_blocks``, block maxima in the mask slot).
+        """Whether the sampled loop skips blocks (``mip_hooks_blocks`` or ``minip_hooks_blocks``, the
+        block level in the mask slot).
 
-        MIP's own hooks with skipping on, transfer functions with a floor above
-        the data minimum (a window above the background: most blocks then lie
-        below the running maximum from the start; without a floor the check
-        costs more than it saves), and one texture (not a brick of a
-        distributed volume, whose samples are read by hand, nor drawn in bricks).
+        MIP's or MinIP's own hooks with skipping on, a window that leaves
+        blocks to skip (:meth:`_window_bounds_blocks`), and one texture (not a
+        brick of a distributed volume, whose samples are read by hand, nor
+        drawn in bricks).
         """
-        if "mip_hooks" not in type(self).PIECES or not self._parameters().get("skipping", False):
+        if not any(n in _BLOCK_HOOKS for n in type(self).PIECES) or not self._parameters().get("skipping", False):
             return False
-        if object_state(self).get("global_box") is not None or self._transfer_floor_ceiling()[0] <= 0.0:
+        if object_state(self).get("global_box") is not None or not self._window_bounds_blocks():
             return False
         return not bricked_draw.bricking_limit(self)
+
+    def _window_bounds_blocks(self) -> bool:
+        """Whether the transfer functions are constant beyond a bound most blocks lie past from the
+        start: a floor above the data minimum (a window above the background, :data:`BLOCK_EXTREME`
+        "max") or a ceiling below the data maximum ("min").  Without one a block's check costs more
+        than it saves."""
+        floor, ceiling = self._transfer_floor_ceiling()
+        if self.BLOCK_EXTREME == "max":
+            return floor > 0.0
+        return self.BLOCK_EXTREME == "min" and ceiling < 1.0
 
     def _transfer_floor_ceiling(self) -> tuple:
         """Normalised (floor, ceiling) of the attached volume's transfer functions (:mod:`mipcast.core.transfer_bounds`)."""
@@ -331,16 +346,18 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         uniforms.SetUniformf("u_mc_floor", -1.0e30 if exact else floor)
         uniforms.SetUniformf("u_mc_ceiling", 1.0e30 if exact else ceiling)
         if image is not None and image.GetNumberOfPoints() > 0 and not bricked_draw.bricking_limit(self):
-            self._update_block_maxima(image)  # (drawn in bricks: each brick has its own)
+            self._update_block_level(image)  # (drawn in bricks: each brick has its own)
 
-    def _update_block_maxima(self, image) -> None:
-        """(Re)build the block-maximum level when the input changed; it rides in the mask slot."""
+    def _update_block_level(self, image) -> None:
+        """(Re)build the block level (maxima or minima, :data:`BLOCK_EXTREME`) when the input changed;
+        it rides in the mask slot."""
         state = object_state(self)
         stamp = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime())
-        if state.get("blocks_of") == stamp:
+        if self.BLOCK_EXTREME is None or state.get("blocks_of") == stamp:
             return
         low, high = image.GetPointData().GetScalars().GetRange(0)
-        self.SetMaskInput(block_maxima_image(check_image(image), self.BLOCK, low, high, margin=self.BLOCK_MARGIN))
+        self.SetMaskInput(block_level_image(check_image(image), self.BLOCK, low, high, margin=self.BLOCK_MARGIN,
+                                            extreme=self.BLOCK_EXTREME))
         self.SetMaskTypeToBinary()
         state["blocks_of"] = stamp
 
@@ -722,6 +739,6 @@ def sampled_projection_mapper(hooks: str, color: str = "mip_color") -> type:
     return type(f"SampledProjectionMapper_{hooks}", (MIPVolumeMapper,), {
         "__doc__": f"Sampled projection through the hook piece {hooks!r} (see sampled_projection_mapper).",
         "PIECES": tuple(swap.get(name, name) for name in MIPVolumeMapper.PIECES),
-        # block skipping bounds a maximum: MIP's own hooks only
+        # block skipping: MIP's and MinIP's own hooks only (_BLOCK_HOOKS)
         "PARAMETERS": MIPVolumeMapper.PARAMETERS if hooks == "mip_hooks" else parameter_tables.SAMPLED,
         "BRICKS": None})  # a new projection's composite over bricks is unknown: refused beyond one texture

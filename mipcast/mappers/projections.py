@@ -26,22 +26,28 @@ from __future__ import annotations
 import numpy as np
 from vtkmodules.vtkCommonCore import vtkFloatArray
 
-from mipcast.core.object_state import object_state
+from mipcast.core import parameter_tables
+from mipcast.core.parameters import parameter_accessors
 from mipcast.core.prepare import shade_range
 from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
 from mipcast.mappers.float_readout import from_data_units
-from mipcast.mappers.mip import MIPVolumeMapper, sampled_projection_mapper
+from mipcast.mappers.mip import sampled_projection_mapper
 
 #: Normalised bounds beyond any value (VTK's default AverageIPScalarRange is all floats).
 _FAR = 1.0e30
 
 
+@parameter_accessors
 class MinIPVolumeMapper(sampled_projection_mapper("minip_hooks")):
     """Sampled minimum intensity projection: the smallest of stock VTK's samples.
 
     The same samples as stock VTK's MINIMUM_INTENSITY blend (``entry + i *
     step``), coloured through the volume property's colour and opacity
-    transfer functions like MIP.  Attach it with :meth:`Attach`.
+    transfer functions like MIP.  With a window whose ceiling lies below the
+    data maximum (lung, airways) each ray starts at the ceiling, jumps over
+    blocks of cells whose minimum is not below its running minimum and stops
+    at the floor (``SetSkipping``; the same picture).  Attach it with
+    :meth:`Attach`.
 
     Examples
     --------
@@ -57,6 +63,8 @@ class MinIPVolumeMapper(sampled_projection_mapper("minip_hooks")):
     MISSING_PIECE = "missing_exit_above"
     #: The minimum over bricks is the minimum (:mod:`mipcast.mappers.bricked_draw`).
     BRICKS = "min"
+    BLOCK_EXTREME = "min"
+    PARAMETERS = parameter_tables.MINIP
 
 
 class AverageVolumeMapper(sampled_projection_mapper("average_hooks", color="average_color")):
@@ -131,21 +139,14 @@ def _exact_pieces(hooks: str, color=None) -> tuple:
 
 
 class _ExactProjection(AnalyticMIPVolumeMapper):
-    """Analytic MIP's cell walk with other cell hooks, never block skipping (its coarse level holds maxima)."""
+    """Analytic MIP's cell walk with other cell hooks; block skipping where :data:`BLOCK_EXTREME` says
+    what a block's bound is (the exact MinIP: its minimum)."""
 
     #: Over bricks: none by default (the average's sum of integrals over the ray's length is not
     #: a maximum); the exact MinIP takes the minimum.
     BRICKS = None
-
-    def _update_block_maxima(self, image) -> None:
-        """No coarse level: block maxima bound only a maximum (amip_loop_blocks is MIP's)."""
-
-    def GetShaderPieces(self) -> tuple:
-        """:data:`PIECES` (packed-corner variants when packing is active), never block skipping."""
-        names = self._packed_pieces(MIPVolumeMapper.GetShaderPieces(self))
-        if object_state(self).get("stat") is not None:  # mipcast.mappers.amip_stats reads work counters
-            names = tuple("amip_stats_readout" if n == "float_readout" else n for n in names)
-        return names
+    #: No block level by default (every cell counts in an average).
+    BLOCK_EXTREME = None
 
 
 class AnalyticMinIPVolumeMapper(_ExactProjection):
@@ -154,9 +155,10 @@ class AnalyticMinIPVolumeMapper(_ExactProjection):
     Analytic MIP's walk with the mirrored bounds: the minimum of each cell's
     cubic (the maximum of the negated cubic), cells none of whose corners is
     below the running minimum skipped (``SetSkipping``), the walk starting at
-    the transfer functions' ceiling and ending at their floor.  No block
-    skipping.  Sees thin dark structure (airways) between samples that
-    sampled MinIP steps over.
+    the transfer functions' ceiling and ending at their floor, and (with a
+    ceiling below the data maximum) blocks whose minimum is not below the
+    running minimum jumped over.  Sees thin dark structure (airways) between
+    samples that sampled MinIP steps over.
 
     Examples
     --------
@@ -167,6 +169,7 @@ class AnalyticMinIPVolumeMapper(_ExactProjection):
     MISSING_FILL = "above"  # a missing voxel is never the minimum
     MISSING_PIECE = "missing_exit_above"
     BRICKS = "min"
+    BLOCK_EXTREME = "min"
 
     PIECES = _exact_pieces("amip_min_hooks")
 

@@ -60,6 +60,8 @@ SAMPLED_HOOKS = {
     "mcSample": "bool mcSample(float value, int i)",
     "mcEndRay": "void mcEndRay(int count)",
 }
+#: What a hook piece that skips blocks (``#define MC_SAMPLE_BLOCKS``) defines besides.
+SAMPLED_BLOCK_HOOKS = {"mcBlockSkips": "bool mcBlockSkips(float blockBound)"}
 
 #: The exact projections' cell helpers (``shaders/amip_cell.glsl``), whose cell
 #: hooks one hook piece per exact projection defines at :data:`HOOK_TAG`
@@ -72,6 +74,9 @@ CELL_HOOKS = {
     "mcCell": "void mcCell(vec4 lo, vec4 hi, vec3 u0, vec3 du, float span, inout float value)",
     "mcCellsEnd": "float mcCellsEnd(float value)",
 }
+#: The cell walk that skips blocks (``shaders/amip_loop_blocks.glsl``), and what its hook piece defines besides.
+CELL_BLOCKS_LOOP = "amip_loop_blocks"
+CELL_BLOCK_HOOKS = {"mcCellsBlockSkips": "bool mcCellsBlockSkips(float blockBound, float value)"}
 
 #: Folders searched, in order, after the package's own ``shaders`` folder
 #: (see :func:`register_folder`).
@@ -180,7 +185,9 @@ def check_hooks(piece: Piece, hooks: Optional[dict] = None) -> Piece:
 
     It must fill :data:`HOOK_TAG` and define every function of ``hooks``
     (default :data:`SAMPLED_HOOKS`; :data:`CELL_HOOKS` for the cell walk's
-    hook pieces); ``ValueError`` names what is missing.
+    hook pieces); a sampled hook piece that skips blocks (``#define
+    MC_SAMPLE_BLOCKS``) also :data:`SAMPLED_BLOCK_HOOKS`.  ``ValueError``
+    names what is missing.
 
     Examples
     --------
@@ -189,17 +196,20 @@ def check_hooks(piece: Piece, hooks: Optional[dict] = None) -> Piece:
     >>> check_hooks(load_piece("amip_min_hooks"), CELL_HOOKS).name
     'amip_min_hooks'
     """
+    sampled = hooks is None or hooks is SAMPLED_HOOKS
     hooks = SAMPLED_HOOKS if hooks is None else hooks
-    loop = "sampled loop" if hooks is SAMPLED_HOOKS else "cell walk"
+    loop = "sampled loop" if sampled else "cell walk"
     if piece.tag != HOOK_TAG:
         raise ValueError(
             f"shader piece {piece.name!r} fills {piece.tag}, but the {loop}'s hook "
             f"piece must fill {HOOK_TAG}")
     code = re.sub(r"//[^\n]*", "", piece.text)
+    if sampled and re.search(r"#define\s+MC_SAMPLE_BLOCKS\b", code):
+        hooks = {**hooks, **SAMPLED_BLOCK_HOOKS}
     missing = [signature for name, signature in hooks.items()
                if not re.search(rf"\b{signature.split()[0]}\s+{name}\s*\(", code)]
     if missing:
-        where = "shaders/sampled_loop.glsl" if hooks is SAMPLED_HOOKS else "shaders/amip_cell.glsl"
+        where = "shaders/sampled_loop.glsl" if sampled else "shaders/amip_cell.glsl, shaders/amip_loop_blocks.glsl"
         raise ValueError(
             f"shader piece {piece.name!r} does not define the {loop}'s hook(s) "
             f"{'; '.join(missing)} (see {where})")
@@ -260,7 +270,8 @@ def install(shader_property, pieces: Iterable[Piece]) -> None:
                 raise ValueError(
                     f"the {loop} piece needs a {kind} filling {HOOK_TAG} "
                     f"(defining {', '.join(hooks)}); none is among the pieces")
-            check_hooks(found[0], hooks)
+            blocks = loop == CELL_HELPERS and any(piece.name == CELL_BLOCKS_LOOP for piece in pieces)
+            check_hooks(found[0], {**hooks, **CELL_BLOCK_HOOKS} if blocks else hooks)
     claimed: dict = {}
     for piece in pieces:
         if piece.vtk_tag in claimed:

@@ -1,0 +1,54 @@
+// mipcast piece: minip_hooks_blocks
+// fills: Picking::Dec
+// mode: augment
+// Sampled MinIP's hooks (as minip_hooks) with block skipping, mirrored from
+// mip_hooks_blocks: used when the transfer functions have a ceiling below
+// the data maximum (a window below the tissue, as for airways). The running
+// minimum starts at the ceiling and the ray stops at the floor (the float
+// readout sets them to +/-1e30), and sampled_loop jumps over the samples in
+// blocks whose minimum (in_mask, block minima with a margin of one point,
+// mipcast/mappers/max_blocks.py) is not below it: a jumped sample cannot
+// lower the running minimum. A ray still at the ceiling is drawn as the
+// tables' top (normalised 1.0), one at or below the floor as their bottom
+// (0.0), where the tables hold exactly the constant colours (amip_min_hooks).
+// MC_NO_SAMPLE_FLAG / mc_noSample: the ray has no sample (minip_hooks).
+#define MC_SAMPLE_BLOCKS
+#define MC_NO_SAMPLE_FLAG
+bool mc_noSample;
+float mc_samplesFloor;
+float mc_samplesCeiling;
+
+void mcBeginRay(inout int first, inout int count)
+{
+  mc_samplesFloor = mcRaw(u_mc_floor);
+  mc_samplesCeiling = mcRaw(u_mc_ceiling);
+  mc_rayMax = mc_samplesCeiling;
+  mc_noSample = count <= first;
+}
+
+bool mcBlockSkips(float blockMin)
+{
+  return blockMin >= mc_rayMax;
+}
+
+bool mcSample(float value, int i)
+{
+  mc_rayMax = min(mc_rayMax, value);
+  return mc_rayMax > mc_samplesFloor;
+}
+
+void mcEndRay(int count)
+{
+  if (mc_rayMax >= mc_samplesCeiling)
+  {
+    mc_rayMax = 1.0;
+  }
+  else if (mc_rayMax <= mc_samplesFloor)
+  {
+    mc_rayMax = 0.0;
+  }
+  else
+  {
+    mc_rayMax = mcNormalised(mc_rayMax);
+  }
+}
