@@ -81,7 +81,7 @@ from vtkmodules.vtkRenderingCore import vtkVolume
 from mipcast import methods
 from mipcast.core.camera_rays import placed
 from mipcast.core.object_state import object_state
-from mipcast.core.parameter_tables import DEMIP
+from mipcast.core.parameter_tables import DEMIP_SETTINGS
 from mipcast.core.parameters import set_parameters
 from mipcast.core.validation import check_choice, check_image
 from mipcast.mappers.brick_rays import global_texture_box, ray_uniforms, set_brick_uniforms, set_ray_uniforms  # noqa: F401
@@ -511,7 +511,7 @@ class DistributedView:
         """The DEMIP settings of the ``"demip"`` route (name -> value, from the phase-2 mapper)."""
         if self.depth_mapper is None:
             raise ValueError(f"the {self.route!r} route has no DEMIP parameters")
-        return {p.name: getattr(self.depth_mapper, p.getter)() for p in DEMIP}
+        return {p.name: getattr(self.depth_mapper, p.getter)() for p in DEMIP_SETTINGS}
 
     @property
     def camera(self):

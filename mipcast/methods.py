@@ -248,6 +248,7 @@ def demip_reference(image, camera, size, *, sample_distance: float, window, clip
 
 _DEMIP_BENCH = (
     ("demip", 1, ()),
+    ("demip, no skipping", 1, (("Skipping", False),)),
     ("demip window depth", 1, (("DepthMode", "window"),)),
     ("demip steps depth", 1, (("DepthMode", "steps"),)),
     ("demip eye distance", 1, (("DepthMode", "eye_distance"),)),
@@ -303,7 +304,7 @@ for _method in (
            bench=_DEMIP_BENCH),
     Method("demip_two_pass", "DEMIP (two passes)", "DEMIP split into two GPU passes, for timing the split",
            _demip_two_pass, reference=demip_reference, reference_tolerance=1e-4,
-           parameters=parameter_tables.DEMIP, distributed="demip", bricks="demip",
+           parameters=parameter_tables.DEMIP_SETTINGS, distributed="demip", bricks="demip",
            bench=(("demip two passes", 1, ()),)),
     Method("foveated", "Foveated", "full quality around a gaze point, fewer rays and samples elsewhere",
            FoveatedVolumeMapper, parameters=parameter_tables.FOVEATED, bricks="foveated", rank_view="foveated",

@@ -6,7 +6,7 @@
 // exact maximum; amip_min_hooks, amip_average_hooks), which keeps the running
 // value in mc_rayMax. Analytic MIP uses it when the transfer functions have
 // no floor above the data minimum (see amip_loop_blocks). For display,
-// u_mc_floor / u_mc_ceiling (normalised) are where the transfer functions stop
+// u_mc_skipFloor / u_mc_skipCeiling (normalised) are where the transfer functions stop
 // changing: MIP's running maximum starts at the floor and the walk ends once
 // it reaches the ceiling (mcCellsBegin / mcCellsGoOn), which leaves the colour
 // unchanged. The float readout sets them to -/+1e30, so it stays exact in data units.

@@ -18,8 +18,8 @@ float mc_cellsCeiling;
 
 float mcCellsBegin()
 {
-  mc_cellsFloor = mcRaw(u_mc_floor);
-  mc_cellsCeiling = mcRaw(u_mc_ceiling);
+  mc_cellsFloor = mcRaw(u_mc_skipFloor);
+  mc_cellsCeiling = mcRaw(u_mc_skipCeiling);
   return mc_cellsCeiling;
 }
 
@@ -45,7 +45,5 @@ bool mcCellsBlockSkips(float blockBound, float value)
 
 float mcCellsEnd(float value)
 {
-  if (value >= mc_cellsCeiling) return 1.0;
-  if (value <= mc_cellsFloor) return 0.0;
-  return mcNormalised(value);
+  return mcBoundedNormalised(value, mc_cellsFloor, mc_cellsCeiling);
 }

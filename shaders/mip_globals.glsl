@@ -20,6 +20,19 @@ float mcNormalised(float raw)
   return raw * in_volume_scale[0].r + in_volume_bias[0].r;
 }
 
+// A running value (raw) that started at one of the transfer functions'
+// bounds and stopped at the other (the skipping hooks: *_hooks_blocks,
+// amip_max_hooks, amip_min_hooks) -> the normalised value to colour: the
+// tables' bottom (0.0) at or below the floor, their top (1.0) at or above the
+// ceiling, where VTK's tables hold exactly the transfer functions' constant
+// colours (the bound itself may lie between two table texels).
+float mcBoundedNormalised(float raw, float floorRaw, float ceilingRaw)
+{
+  if (raw <= floorRaw) return 0.0;
+  if (raw >= ceilingRaw) return 1.0;
+  return mcNormalised(raw);
+}
+
 // A cast ray that draws nothing (clipped or cropped away, missing the
 // volume): MC_DRAW_NOTHING(result) where it is found, in place of discard
 // (mcDrawNothing() where the function goes on to its end anyway). It

@@ -20,8 +20,8 @@ float mc_samplesCeiling;
 
 void mcBeginRay(inout int first, inout int count)
 {
-  mc_samplesFloor = mcRaw(u_mc_floor);
-  mc_samplesCeiling = mcRaw(u_mc_ceiling);
+  mc_samplesFloor = mcRaw(u_mc_skipFloor);
+  mc_samplesCeiling = mcRaw(u_mc_skipCeiling);
   mc_rayMax = mc_samplesFloor;
 }
 
@@ -38,16 +38,5 @@ bool mcSample(float value, int i)
 
 void mcEndRay(int count)
 {
-  if (mc_rayMax <= mc_samplesFloor)
-  {
-    mc_rayMax = 0.0;
-  }
-  else if (mc_rayMax >= mc_samplesCeiling)
-  {
-    mc_rayMax = 1.0;
-  }
-  else
-  {
-    mc_rayMax = mcNormalised(mc_rayMax);
-  }
+  mc_rayMax = mcBoundedNormalised(mc_rayMax, mc_samplesFloor, mc_samplesCeiling);
 }

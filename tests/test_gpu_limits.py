@@ -35,7 +35,7 @@ def test_each_method_reports_its_texture_bytes():
     image = make_fixture("vessels", size=24)  # float32
     volume = 24 ** 3 * 4
     expected = {"mip": volume + 3 ** 3 * 4,  # the default window has a floor: block maxima for skipping
-                "demip": volume,
+                "demip": volume + 3 ** 3 * 4,  # skipping blocks too (its maximum's march)
                 "analytic": 4 * volume + 3 ** 3 * 4,          # packed corners + 3^3 float block maxima
                 "demip_two_pass": 2 * volume + 32 * 24 * 8}   # two uploads + pass 1's RGBA8 + float image
     for name, bytes_ in expected.items():

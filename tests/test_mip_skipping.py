@@ -56,7 +56,8 @@ def _face_specks(shape=(33, 41, 49), block: int = 8, mirrored: bool = False) -> 
 #: method: (the volume mirrored, the specks' window, the skipping piece)
 METHODS = {"mip": (False, (0.3, 1.0), "mip_hooks_blocks"),
            "minip": (True, (0.0, 0.7), "minip_hooks_blocks"),
-           "analytic_minip": (True, (0.0, 0.7), "amip_loop_blocks")}
+           "analytic_minip": (True, (0.0, 0.7), "amip_loop_blocks"),
+           "demip": (False, (0.3, 1.0), "demip_hooks_blocks")}
 
 
 @pytest.fixture(scope="module")
@@ -128,7 +129,7 @@ CONFIGURATIONS = {
 
 @pytest.mark.parametrize("view", ["oblique", "perspective"])
 @pytest.mark.parametrize("name", sorted(CONFIGURATIONS))
-@pytest.mark.parametrize("method", ["mip", "minip"])
+@pytest.mark.parametrize("method", ["mip", "minip", "demip"])
 def test_specks_on_block_faces_are_never_jumped(specks, method, view, name):
     on, off = _specks_pair(specks, method, view=view, configure=CONFIGURATIONS[name])
     assert _specks_shown(off) > 0.005, "the scene must show specks"
@@ -195,3 +196,55 @@ def test_missing_values_keep_their_picture(vessels):
     image.GetPointData().SetScalars(numpy_to_vtk(array, deep=True))
     on, off = _pair(image, (0.25, 1.0), "oblique")
     assert np.array_equal(on, off)
+
+
+DEMIP_SETTINGS = {
+    "default": {},
+    "sphere, eye distance": {"sphere_weight": 0.6, "depth_mode": "eye_distance", "depth_weight": 0.3},
+    "narrow material": {"material_threshold": 0.02, "depth_mode": "window"},
+    "depth of the maximum": {"depth_of": "maximum", "chroma_depth_weight": 0.5},
+}
+
+
+def _demip(settings):
+    def configure(scene):
+        for name, value in settings.items():
+            getattr(scene.mapper, "Set" + "".join(part.title() for part in name.split("_")))(value)
+    return configure
+
+
+@pytest.mark.parametrize("view", ["oblique", "perspective"])
+@pytest.mark.parametrize("settings", sorted(DEMIP_SETTINGS))
+@pytest.mark.parametrize("window", [(0.25, 1.0), (0.5, 0.7)])
+def test_demip_picture_and_depth_are_unchanged(vessels, window, settings, view):
+    # the depth cue comes from the first sample of the maximum's material: the jumps must neither move it nor
+    # lose it (the ceiling stop keeps the sample that reached it)
+    configure = _demip(DEMIP_SETTINGS[settings])
+    on, off = _pair(vessels, window, view, configure, method="demip")
+    assert off.max() > 0
+    assert np.array_equal(on, off), (np.abs(on.astype(int) - off).max(), np.sum(np.any(on != off, axis=2)))
+
+    def depth(scene):
+        configure(scene)
+        scene.mapper.SetReadout("depth")
+
+    on, off = _pair(vessels, window, view, depth, readout=True, method="demip")
+    assert np.isfinite(off).mean() > 0.03  # the vessels' pixels (a depth where the maximum is above the floor)
+    assert np.array_equal(on, off, equal_nan=True)
+
+
+@pytest.mark.parametrize("projection", ["lmip", "attenuated", "mida"])
+def test_other_demip_projections_read_every_sample(vessels, projection):
+    scene = OffscreenView(vessels, "demip", size=(32, 32), window=(0.25, 1.0))
+    scene.mapper.SetProjection(projection)
+    scene.screenshot()
+    assert not any(n.endswith("_blocks") for n in scene.mapper.GetShaderPieces())
+
+
+def test_demip_without_depth_skips_as_mip(vessels):
+    scene = OffscreenView(vessels, "demip", size=(32, 32), window=(0.25, 1.0))
+    scene.mapper.SetDepthWeight(0.0)
+    scene.screenshot()
+    assert "mip_hooks_blocks" in scene.mapper.GetShaderPieces()
+    assert np.array_equal(scene.screenshot(), OffscreenView(vessels, "mip", size=(32, 32), window=(0.25, 1.0))
+                          .screenshot())

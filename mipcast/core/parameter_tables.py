@@ -99,7 +99,9 @@ def _local_threshold(value, settings) -> float:
     return settings["floor"] + value * (settings["ceiling"] - settings["floor"])
 
 
-DEMIP = (
+#: DEMIP's settings and the slab: two-pass DEMIP's table (its first pass marches every sample), and
+#: what DEMIP's bricks follow.
+DEMIP_SETTINGS = (
     Parameter("depth_weight", "float", 0.15,
               "Weight d_w of the depth term in Eq. 1 (the paper's default 0.15). "
               "0 is plain MIP; larger values brighten near and darken far structures.",
@@ -151,6 +153,16 @@ DEMIP = (
               "Attenuated MIP's attenuation per voxel of full material (0 gives the MIP picture).",
               low=0.0, unit="per voxel", uniforms=(Uniform("u_mc_attenuation"),)),
 ) + SLAB
+
+#: DEMIP in one pass: its settings, the slab and block skipping (projection "mip").
+DEMIP = DEMIP_SETTINGS + (
+    Parameter("skipping", "bool", True,
+              "Skip samples that cannot change the answer (False only to measure what it saves). True: with "
+              "a transfer-function floor above the data minimum, the maximum's march (projection 'mip') "
+              "starts at the floor, jumps over blocks of cells whose maximum is not above it and ends after "
+              "the ceiling; the same picture and depth. LMIP, attenuated MIP and MIDA read every sample.",
+              pieces=True),
+)
 
 
 def _gaze_point(*xy) -> tuple:

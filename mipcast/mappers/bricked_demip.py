@@ -58,7 +58,7 @@ import numpy as np
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.core.object_state import object_state
-from mipcast.core.parameter_tables import DEMIP
+from mipcast.core.parameter_tables import DEMIP_SETTINGS
 from mipcast.mappers import clip_uniforms, float_readout
 from mipcast.mappers.brick_rays import box_in_view, brick_entry, cached_bricks, placed, push_rays, whole_of
 from mipcast.mappers.bricked_draw import seen
@@ -161,7 +161,7 @@ def follow_demip_brick(mapper, volume, entry, distance: float, demip: bool,
     """
     brick_mapper = entry["mapper"]
     if demip:
-        for parameter in DEMIP:
+        for parameter in DEMIP_SETTINGS:
             value = getattr(mapper, parameter.getter)()
             if getattr(brick_mapper, parameter.getter)() != value:
                 getattr(brick_mapper, parameter.setter)(value)
@@ -400,7 +400,7 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
     if completed.any():  # their one sample is the maximum: the first of its material, if it has a DEMIP term
         index[completed & _above_floor(values, volume.GetProperty(), data_range)] = 0.0
     object_state(mapper)["bricks_drawn"] = len(in_view)
-    params = {p.name: getattr(mapper, p.getter)() for p in DEMIP}
+    params = {p.name: getattr(mapper, p.getter)() for p in DEMIP_SETTINGS}
     depth, rgb = demip_composite(_whole(mapper.GetInput(), volume), camera, distance, values, index, params,
                                  volume.GetProperty(), slab=clip_uniforms.slab_of(mapper, camera),
                                  aspect=size[0] / size[1])
@@ -448,7 +448,7 @@ def face_picture(mapper, volume, renderer, rgba: np.ndarray, face, pixels: np.nd
     data_range = mapper.GetInput().GetPointData().GetScalars().GetRange(0)
     floor, ceiling = constant_ends(volume.GetProperty(), *data_range)
     window = ceiling > floor  # else no material anywhere: no DEMIP term, no attenuation, no MIDA fading
-    params = {p.name: getattr(mapper, p.getter)() for p in DEMIP}
+    params = {p.name: getattr(mapper, p.getter)() for p in DEMIP_SETTINGS}
     valid = np.isfinite(samples)
     if projection == "mida":  # a ray that saw no finite data (its maximum below the missing threshold): nothing
         shown = np.isfinite(seen(mapper, np.fmax.reduce(samples, axis=1)))[:, None]

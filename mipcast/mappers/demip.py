@@ -116,7 +116,7 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
         """
         projection = self.GetProjection()
         if projection == "mip" and not self._needs_depth():
-            return self._with_missing(self._with_readout(MIPVolumeMapper.PIECES))
+            return self._with_blocks(self._with_missing(self._with_readout(MIPVolumeMapper.PIECES)))
         swap = {"float_readout": "demip_readout"}
         if projection == "lmip":
             swap["demip_hooks"] = "demip_lmip_hooks"
@@ -124,7 +124,12 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
             swap["demip_hooks"] = "demip_attenuated_hooks"
         elif projection == "mida":
             swap.update(demip_hooks="demip_mida_hooks", demip_color="demip_mida_color")
-        return self._with_missing(swap.get(n, n) for n in self._with_readout(self.PIECES))
+        return self._with_blocks(self._with_missing(swap.get(n, n) for n in self._with_readout(self.PIECES)))
+
+    def _skips_blocks(self) -> bool:
+        """Block skipping for the maximum's march (projection ``"mip"``, :meth:`SetSkipping`); LMIP,
+        attenuated MIP and MIDA read every sample."""
+        return self.GetProjection() == "mip" and super()._skips_blocks()
 
     def _needs_depth(self) -> bool:
         """Whether anything uses the depth: a weight above 0, or a depth readout rendering."""

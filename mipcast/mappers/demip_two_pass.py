@@ -15,6 +15,7 @@ from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow
 from vtkmodules.vtkCommonMath import vtkMatrix4x4
 from vtkmodules.vtkRenderingCore import vtkVolume
 
+from mipcast.core import parameter_tables
 from mipcast.mappers.demip import DEMIPVolumeMapper
 from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.core.object_state import object_state
@@ -97,6 +98,7 @@ class DEMIPTwoPassVolumeMapper(DEMIPVolumeMapper):
 
     PIECES = ("mip_globals", "demip_two_pass_globals", "demip_two_pass_fetch", "demip_helpers",
               "sampled_loop", "demip_two_pass_second_hooks", "no_stock_sample", "demip_color")
+    PARAMETERS = parameter_tables.DEMIP_SETTINGS
 
     #: The one projection the two passes implement.
     PROJECTIONS = ("mip",)

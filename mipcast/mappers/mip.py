@@ -22,8 +22,9 @@ from mipcast.mappers.stereo import eye_uniforms
 
 #: The piece every mipcast mapper adds to its own: stereo-correct ray directions.
 STEREO_PIECE = "stereo_ray_direction"
-#: The sampled hook pieces that skip blocks, and their skipping variants (MIP's, MinIP's).
-_BLOCK_HOOKS = {"mip_hooks": "mip_hooks_blocks", "minip_hooks": "minip_hooks_blocks"}
+#: The sampled hook pieces that skip blocks, and their skipping variants (MIP's, MinIP's, DEMIP's).
+_BLOCK_HOOKS = {"mip_hooks": "mip_hooks_blocks", "minip_hooks": "minip_hooks_blocks",
+                "demip_hooks": "demip_hooks_blocks"}
 
 
 @parameter_accessors
@@ -290,10 +291,13 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         pieces depend on their settings override this; the pieces are
         re-installed at the next render when the answer changes.
         """
-        names = self._with_missing(self._with_readout(self.PIECES))
-        if self._skips_blocks():
-            names = tuple(_BLOCK_HOOKS.get(n, n) for n in names)
-        return names
+        return self._with_blocks(self._with_missing(self._with_readout(self.PIECES)))
+
+    def _with_blocks(self, names) -> tuple:
+        """``names`` with the hook piece's block-skipping variant while :meth:`_skips_blocks`."""
+        if not self._skips_blocks():
+            return tuple(names)
+        return tuple(_BLOCK_HOOKS.get(n, n) for n in names)
 
     def _skips_blocks(self) -> bool:
         """Whether the sampled loop skips blocks (``mip_hooks_blocks`` or ``minip_hooks_blocks``, the
@@ -343,8 +347,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         # counting work (mipcast.mappers.amip_stats) keeps the display's shortcuts
         exact = (state.get("exact_readout", False) and state.get("stat") is None) or not skipping
         exact = exact or self._missing_below() is not None
-        uniforms.SetUniformf("u_mc_floor", -1.0e30 if exact else floor)
-        uniforms.SetUniformf("u_mc_ceiling", 1.0e30 if exact else ceiling)
+        uniforms.SetUniformf("u_mc_skipFloor", -1.0e30 if exact else floor)
+        uniforms.SetUniformf("u_mc_skipCeiling", 1.0e30 if exact else ceiling)
         if image is not None and image.GetNumberOfPoints() > 0 and not bricked_draw.bricking_limit(self):
             self._update_block_level(image)  # (drawn in bricks: each brick has its own)
 

@@ -48,7 +48,7 @@ from typing import Callable, Optional, Tuple
 import numpy as np
 
 from mipcast.core.object_state import object_state
-from mipcast.core.parameter_tables import DEMIP
+from mipcast.core.parameter_tables import DEMIP_SETTINGS
 from mipcast.mappers import bricked_draw, float_readout
 from mipcast.mappers.private_draw import draw_over, kept_texture
 from mipcast.mappers.brick_rays import box_in_view, brick_entry, push_whole_rays, whole_geometry
@@ -310,7 +310,7 @@ def _demip(mapper, volume, renderer, entries, whole_image, camera, shape, reduce
         return None, None  # a rank without data: it took part, it draws nothing
     index = reduced[:-1].reshape(shape)
     index = np.where(index >= 0.5 * _HIGH, np.inf, index)
-    params = {p.name: getattr(mapper, p.getter)() for p in DEMIP}
+    params = {p.name: getattr(mapper, p.getter)() for p in DEMIP_SETTINGS}
     from mipcast.mappers.clip_uniforms import slab_of
 
     depth, rgb = demip_composite(whole_image, camera, mapper.GetSampleDistance(), values, index, params,

@@ -599,9 +599,9 @@ def _demip_levels(renderer, layers, values, entries, level_entry, camera, shape,
         return None, problem or "a rank failed to render its piece"
     if whole_image is None:
         return None, None
-    from mipcast.core.parameter_tables import DEMIP
+    from mipcast.core.parameter_tables import DEMIP_SETTINGS
 
-    params = {p.name: getattr(DEMIPBrickDepthMapper(), p.getter)() for p in DEMIP}  # a DEMIP mapper's defaults
+    params = {p.name: getattr(DEMIPBrickDepthMapper(), p.getter)() for p in DEMIP_SETTINGS}  # a DEMIP mapper's defaults
     colours, at = {}, 0
     for index, (columns, rows, volume_level) in enumerate(layers):
         index_values = reduced[at:at + rows * columns].reshape(rows, columns)

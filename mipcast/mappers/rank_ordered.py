@@ -40,7 +40,7 @@ from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
-from mipcast.core.parameter_tables import DEMIP
+from mipcast.core.parameter_tables import DEMIP_SETTINGS
 
 #: The projections drawn here, turn by turn; "mip" is rank_composite's (MAX / MIN).
 ORDERED = ("lmip", "attenuated", "mida")
@@ -369,7 +369,7 @@ def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera,
 
             values = np.where(values < missing_fill(*data_range)[1], np.nan, values)
         values = values.astype(np.float32).astype(np.float64)
-    params = {p.name: getattr(mapper, p.getter)() for p in DEMIP}
+    params = {p.name: getattr(mapper, p.getter)() for p in DEMIP_SETTINGS}
     depth, rgb = demip_composite(whole_image, camera, mapper.GetSampleDistance(), values, found, params,
                                  volume.GetProperty(), slab=clip_uniforms.slab_of(mapper, camera))
     # the frame's floats, for callers that offer them (mipcast.distributed.DistributedView)
