@@ -45,5 +45,5 @@ bool mcCellsBlockSkips(float blockBound, float value)
 
 float mcCellsEnd(float value)
 {
-  return mcBoundedNormalised(value, mc_cellsFloor, mc_cellsCeiling);
+  return MC_BOUNDED_NORMALISED(value, mc_cellsFloor, mc_cellsCeiling);
 }

@@ -39,5 +39,5 @@ bool mcSample(float value, int i)
 
 void mcEndRay(int count)
 {
-  mc_rayMax = mcBoundedNormalised(mc_rayMax, mc_samplesFloor, mc_samplesCeiling);
+  mc_rayMax = MC_BOUNDED_NORMALISED(mc_rayMax, mc_samplesFloor, mc_samplesCeiling);
 }

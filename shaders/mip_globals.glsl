@@ -21,17 +21,15 @@ float mcNormalised(float raw)
 }
 
 // A running value (raw) that started at one of the transfer functions'
-// bounds and stopped at the other (the skipping hooks: *_hooks_blocks,
-// amip_max_hooks, amip_min_hooks) -> the normalised value to colour: the
-// tables' bottom (0.0) at or below the floor, their top (1.0) at or above the
-// ceiling, where VTK's tables hold exactly the transfer functions' constant
-// colours (the bound itself may lie between two table texels).
-float mcBoundedNormalised(float raw, float floorRaw, float ceilingRaw)
-{
-  if (raw <= floorRaw) return 0.0;
-  if (raw >= ceilingRaw) return 1.0;
-  return mcNormalised(raw);
-}
+// bounds (lo: the floor, hi: the ceiling) and stopped at the other (the
+// skipping hooks: *_hooks_blocks, amip_max_hooks, amip_min_hooks) -> the
+// normalised value to colour: the tables' bottom (0.0) at or below the
+// floor, their top (1.0) at or above the ceiling, where VTK's tables hold
+// exactly the transfer functions' constant colours (the bound itself may lie
+// between two table texels). A macro, not a function: a brick of a
+// distributed volume redefines mcNormalised after this piece (global_cells,
+// global_phase), and the hooks that use it come after that.
+#define MC_BOUNDED_NORMALISED(raw, lo, hi) ((raw) <= (lo) ? 0.0 : ((raw) >= (hi) ? 1.0 : mcNormalised(raw)))
 
 // A cast ray that draws nothing (clipped or cropped away, missing the
 // volume): MC_DRAW_NOTHING(result) where it is found, in place of discard
