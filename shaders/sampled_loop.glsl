@@ -31,8 +31,9 @@
 //   bool mcBlockSkips(float blockBound)
 //       whether a block whose bound (raw, as the samples) is blockBound
 //       cannot change the running value; its samples are then jumped over
-//       (indices keep their positions). Not with a global phase or cropping
-//       regions.
+//       (indices keep their positions; with cropping regions only their
+//       visibility is tested, while the ray has no visible sample yet). Not
+//       with a global phase.
 // Optional second march over the same samples (DEMIP's same-material
 // search), run when the hook piece does "#define MC_SECOND_MARCH"; DEMIP's
 // second-march hooks are in demip_helpers:
@@ -105,7 +106,7 @@
 #ifdef MC_CROP_REGIONS
   bool mc_seen = false;
 #endif
-#if defined(MC_SAMPLE_BLOCKS) && !defined(MC_GLOBAL_PHASE) && !defined(MC_CROP_REGIONS)
+#if defined(MC_SAMPLE_BLOCKS) && !defined(MC_GLOBAL_PHASE)
   // the samples in point coordinates (point k of an axis at k); samples
   // before mc_blockEnd lie in the block checked last
   vec3 mc_pointBase = mc_base * u_mc_dims - 0.5;
@@ -118,7 +119,7 @@
 #endif
   for (int mc_i = mc_first; mc_i < mc_count; ++mc_i)
   {
-#if defined(MC_SAMPLE_BLOCKS) && !defined(MC_GLOBAL_PHASE) && !defined(MC_CROP_REGIONS)
+#if defined(MC_SAMPLE_BLOCKS) && !defined(MC_GLOBAL_PHASE)
     if (mc_i >= mc_blockEnd)
     {
       // the block of cells holding sample mc_i, and the last sample in its
@@ -132,6 +133,13 @@
       mc_blockEnd = max(mc_i + 1, int(min(floor(mc_leave), float(mc_count))) + 1);
       if (mcBlockSkips(mcRaw(texelFetch(in_mask, ivec3(mc_block), 0).r)))
       {
+#ifdef MC_CROP_REGIONS
+        // a jumped sample cannot change the value, but a visible one means the ray has one
+        for (int mc_j = mc_i; mc_j < mc_blockEnd && !mc_seen; ++mc_j)
+        {
+          mc_seen = mcCropSampleVisible(mc_base, g_dirStep, mc_j);
+        }
+#endif
         mc_i = mc_blockEnd - 1;
         continue;
       }

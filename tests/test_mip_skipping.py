@@ -11,8 +11,8 @@ and stopping at the floor (shaders/minip_hooks_blocks.glsl; the exact MinIP's
 cell walk, shaders/amip_loop_blocks.glsl).  Every test compares ``Skipping``
 on with ``Skipping`` off (every sample read) pixel for pixel, in settings
 that move the samples (perspective, jittering, reduced images, clipping,
-slabs, cropping, scaled and rotated volumes), on a volume and on its mirror
-image (dark specks in bright noise) for the minimum.
+slabs, cropping and cropping regions, scaled and rotated volumes), on a
+volume and on its mirror image (dark specks in bright noise) for the minimum.
 """
 import numpy as np
 import pytest
@@ -123,6 +123,8 @@ CONFIGURATIONS = {
     "slab": lambda s: s.mapper.SetSlabThickness(6.0),
     "cropping": _crop,
     "cropping regions": lambda s: _crop(s, fence=True),
+    # a ray whose visible samples all lie in jumped blocks is drawn at the floor (opaque black), not as nothing
+    "cropping regions, background": lambda s: (_crop(s, fence=True), s.renderer.SetBackground(0.1, 0.2, 0.3)),
     "rotated volume": lambda s: (s.volume.RotateZ(33.0), s.volume.RotateX(-20.0), s.volume.SetScale(1.0, 1.7, 0.6)),
 }
 
@@ -248,3 +250,18 @@ def test_demip_without_depth_skips_as_mip(vessels):
     assert "mip_hooks_blocks" in scene.mapper.GetShaderPieces()
     assert np.array_equal(scene.screenshot(), OffscreenView(vessels, "mip", size=(32, 32), window=(0.25, 1.0))
                           .screenshot())
+
+
+@pytest.mark.parametrize("method", ["mip", "demip"])
+def test_cropped_rays_through_jumped_blocks_are_drawn_at_the_floor(vessels, method):
+    # fence regions over the vessels: many visible rays meet only blocks below the floor, every one jumped;
+    # such a ray is drawn at the floor (opaque black), a ray with no visible sample not at all (the background)
+    def configure(scene):
+        _crop(scene, fence=True)
+        scene.renderer.SetBackground(0.1, 0.2, 0.3)
+
+    on, off = _pair(vessels, (0.25, 1.0), "oblique", configure, method=method)
+    black = np.all(off == 0, axis=2).mean()
+    background = np.all(np.abs(off.astype(int) - [26, 51, 76]) <= 1, axis=2).mean()
+    assert black > 0.05 and background > 0.05, (black, background)
+    assert np.array_equal(on, off), (np.abs(on.astype(int) - off).max(), np.sum(np.any(on != off, axis=2)))
