@@ -11,7 +11,7 @@ from mipcast.data_fixtures.ct_phantom import ct_volume
 from mipcast.app.cli import main
 from mipcast.bench import gpu_report
 
-TOP_KEYS = {"renderer", "software", "quick", "sizes", "notes", "parity", "speed_accuracy", "foveation",
+TOP_KEYS = {"renderer", "software", "quick", "sizes", "notes", "parity", "speed_accuracy", "skipping", "foveation",
             "foveation_phantoms", "first_frame", "first_frame_goal", "peers", "elapsed_s"}
 ROW_KEYS = {"scene", "window", "size", "method", "median_ms", "ratio_to_stock", "p99_pct", "max_pct",
             "within_1_grey", "rays", "misses"}
@@ -58,6 +58,11 @@ def test_quick_report_writes_three_files_with_the_expected_keys(quick_report):
     assert {tuple(row["window"] or ()) for row in rows} == {(), gpu_report.CLINICAL_WINDOW}
     assert all(row["size"] <= 96 for row in rows)
     assert all(row["within_1_grey"] == 1.0 for row in rows if row["method"] == "analytic")
+    skipping = report["skipping"]
+    assert {(row["scene"], row["method"]) for row in skipping} == {
+        (scene, method) for scene in {row["scene"] for row in rows} for method in gpu_report.SKIPPING_METHODS}
+    assert all(row["identical"] for row in skipping if row["method"] != "analytic")  # sampled: the same samples
+    assert all(row["skipping_ms"] > 0 and row["every_ms"] > 0 and row["skips_blocks"] for row in skipping)
     assert {row["gaze_name"] for row in report["foveation"] if "gaze_name" in row} >= {"centre", "corner"}
     # issue 17's goal is measured with content-adaptive density: the GPU run must time it
     assert {(row.get("variant"), row.get("gaze_name")) for row in report["foveation"]} >= {
@@ -80,7 +85,8 @@ def test_quick_report_markdown_starts_with_the_renderer(quick_report):
     _, out, _ = quick_report
     text = (out / "gpu-report.md").read_text()
     assert text.splitlines()[2].startswith("OpenGL renderer: **")
-    for section in ("## Parity", "## Speed x accuracy", "## Foveation (", "## Foveation on issue 17's scenes",
+    for section in ("## Parity", "## Speed x accuracy", "## Block skipping", "## Foveation (",
+                    "## Foveation on issue 17's scenes",
                     "## First frame and memory"):
         assert section in text
 
@@ -98,6 +104,7 @@ def test_a_run_cut_short_keeps_the_sections_it_finished(tmp_path, monkeypatch):
     monkeypatch.setattr(gpu_report, "parity_checks", lambda sizes: {"mip_vs_stock": {"oblique": {"passed": True}}})
     monkeypatch.setattr(gpu_report, "_scenes", lambda sizes, notes: {"ct": ct_volume((8, 8, 8))})
     monkeypatch.setattr(gpu_report, "speed_accuracy", lambda *args, **kwargs: [])
+    monkeypatch.setattr(gpu_report, "skipping_rows", lambda *args, **kwargs: [])
 
     def fails(*args, **kwargs):
         raise RuntimeError("cut short")
@@ -105,9 +112,10 @@ def test_a_run_cut_short_keeps_the_sections_it_finished(tmp_path, monkeypatch):
     with pytest.raises(RuntimeError, match="cut short"):
         gpu_report.run_report(tmp_path, quick=True, allow_software=True)
     report = json.loads((tmp_path / "gpu-report.json").read_text())
-    assert report["complete"] is False and report["sections_done"] == ["parity", "speed_accuracy ct"]
+    assert report["complete"] is False and report["sections_done"] == ["parity", "speed_accuracy ct", "skipping"]
     assert report["parity"]["mip_vs_stock"]["oblique"]["passed"] is True
-    assert "Incomplete: the run stopped after parity, speed_accuracy ct" in (tmp_path / "gpu-report.md").read_text()
+    assert ("Incomplete: the run stopped after parity, speed_accuracy ct, skipping"
+            in (tmp_path / "gpu-report.md").read_text())
 
 
 @pytest.mark.parametrize("renderer, software", [("llvmpipe (LLVM 15.0.6, 256 bits)", True), ("softpipe", True),
