@@ -265,3 +265,44 @@ def test_cropped_rays_through_jumped_blocks_are_drawn_at_the_floor(vessels, meth
     background = np.all(np.abs(off.astype(int) - [26, 51, 76]) <= 1, axis=2).mean()
     assert black > 0.05 and background > 0.05, (black, background)
     assert np.array_equal(on, off), (np.abs(on.astype(int) - off).max(), np.sum(np.any(on != off, axis=2)))
+
+
+#: The bad-input catalogue's drawn cases (tests/test_bad_input.py) the skipping loops must draw as reading every
+#: sample does: missing values, every scalar type, components, geometry, cell scalars.
+CATALOGUE_CASES = ("nan_sparse_f32", "nan_half_land_mask", "pos_inf", "int8", "uint16", "int64", "uint64",
+                   "uint32_full_range", "float64", "vec3_magnitude", "vec3_component_1", "vec4_uint8_component_3",
+                   "anisotropic_spacing", "rotated_direction", "thin_2x2x16", "cell_scalars_only")
+
+
+@pytest.mark.parametrize("case", CATALOGUE_CASES)
+@pytest.mark.parametrize("method", ["mip", "minip", "demip", "analytic", "analytic_minip"])
+def test_real_inputs_draw_the_same_with_skipping(method, case):
+    # the catalogue's own test windows over the whole finite range (no floor: nothing skipped); here a window
+    # whose floor (maximum projections) or ceiling (minimum) leaves blocks to jump
+    from test_bad_input import CASES
+
+    from mipcast.core.prepare import prepare_scalars
+
+    make, component, _ = CASES[case]
+    image = make()
+    prepared = prepare_scalars(image, component)
+    low, high = prepared.low, prepared.high
+    minimum = method.endswith("minip")
+    window = (low, low + 0.6 * (high - low)) if minimum else (low + 0.3 * (high - low), high)
+    pictures, readouts = [], []
+    for skipping in (True, False):
+        scene = OffscreenView(image, method, size=(40, 40), view="oblique", window=window, component=component)
+        scene.mapper.SetSkipping(skipping)
+        pictures.append(scene.screenshot().astype(int))
+        if skipping:
+            assert any(n.endswith("_blocks") for n in scene.mapper.GetShaderPieces()), "nothing skipped"
+        readouts.append(scene.float_image())
+    assert len(np.unique(pictures[1])) > 2, "a flat picture tests nothing"
+    if method.startswith("analytic"):  # floor and ceiling off without skipping, and the walk restarted
+        assert np.abs(pictures[0] - pictures[1]).max() <= 1
+        span = high - low
+        assert np.array_equal(np.isnan(readouts[0]), np.isnan(readouts[1]))
+        assert np.nanmax(np.abs(readouts[0] - readouts[1])) <= 1e-4 * span
+    else:
+        assert np.array_equal(pictures[0], pictures[1]), (np.abs(pictures[0] - pictures[1]).max(),)
+        assert np.array_equal(readouts[0], readouts[1], equal_nan=True)
