@@ -300,10 +300,10 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         return tuple(_BLOCK_HOOKS.get(n, n) for n in names)
 
     def _skips_blocks(self) -> bool:
-        """Whether the sampled loop skips blocks (``mip_hooks_blocks`` or ``minip_hooks_blocks``, the
-        block level in the mask slot).
+        """Whether the sampled loop skips blocks (the hook piece's variant in ``_BLOCK_HOOKS``: MIP's,
+        MinIP's, DEMIP's; the block level in the mask slot).
 
-        MIP's or MinIP's own hooks with skipping on, a window that leaves
+        One of those hook pieces with skipping on, a window that leaves
         blocks to skip (:meth:`_window_bounds_blocks`), and one texture (not a
         brick of a distributed volume, whose samples are read by hand, nor
         drawn in bricks).
@@ -743,6 +743,6 @@ def sampled_projection_mapper(hooks: str, color: str = "mip_color") -> type:
     return type(f"SampledProjectionMapper_{hooks}", (MIPVolumeMapper,), {
         "__doc__": f"Sampled projection through the hook piece {hooks!r} (see sampled_projection_mapper).",
         "PIECES": tuple(swap.get(name, name) for name in MIPVolumeMapper.PIECES),
-        # block skipping: MIP's and MinIP's own hooks only (_BLOCK_HOOKS)
+        # block skipping: the hook pieces of _BLOCK_HOOKS only, with a skipping parameter (MIP's here)
         "PARAMETERS": MIPVolumeMapper.PARAMETERS if hooks == "mip_hooks" else parameter_tables.SAMPLED,
         "BRICKS": None})  # a new projection's composite over bricks is unknown: refused beyond one texture
