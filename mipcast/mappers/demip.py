@@ -126,11 +126,6 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
             swap.update(demip_hooks="demip_mida_hooks", demip_color="demip_mida_color")
         return self._with_blocks(self._with_missing(swap.get(n, n) for n in self._with_readout(self.PIECES)))
 
-    def _skips_blocks(self) -> bool:
-        """Block skipping for the maximum's march (projection ``"mip"``, :meth:`SetSkipping`); LMIP,
-        attenuated MIP and MIDA read every sample."""
-        return self.GetProjection() == "mip" and super()._skips_blocks()
-
     def _needs_depth(self) -> bool:
         """Whether anything uses the depth: a weight above 0, or a depth readout rendering."""
         settings = self._parameters()

@@ -25,6 +25,7 @@ STEREO_PIECE = "stereo_ray_direction"
 #: The sampled hook pieces that skip blocks, and their skipping variants (MIP's, MinIP's, DEMIP's).
 _BLOCK_HOOKS = {"mip_hooks": "mip_hooks_blocks", "minip_hooks": "minip_hooks_blocks",
                 "demip_hooks": "demip_hooks_blocks"}
+_BLOCK_PIECES = frozenset(_BLOCK_HOOKS.values())
 
 
 @parameter_accessors
@@ -294,25 +295,28 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         return self._with_blocks(self._with_missing(self._with_readout(self.PIECES)))
 
     def _with_blocks(self, names) -> tuple:
-        """``names`` with the hook piece's block-skipping variant while :meth:`_skips_blocks`."""
-        if not self._skips_blocks():
-            return tuple(names)
+        """``names`` with their hook piece's block-skipping variant (``_BLOCK_HOOKS``: MIP's, MinIP's,
+        DEMIP's) while :meth:`_skips_blocks`; hook pieces without one (LMIP's, ...) stay."""
+        names = tuple(names)
+        if not any(n in _BLOCK_HOOKS for n in names) or not self._skips_blocks():
+            return names
         return tuple(_BLOCK_HOOKS.get(n, n) for n in names)
 
     def _skips_blocks(self) -> bool:
-        """Whether the sampled loop skips blocks (the hook piece's variant in ``_BLOCK_HOOKS``: MIP's,
-        MinIP's, DEMIP's; the block level in the mask slot).
+        """Whether a hook piece with a skipping variant skips blocks now (the block level in the mask slot).
 
-        One of those hook pieces with skipping on, a window that leaves
-        blocks to skip (:meth:`_window_bounds_blocks`), and one texture (not a
-        brick of a distributed volume, whose samples are read by hand, nor
-        drawn in bricks).
+        Skipping on, a window that leaves blocks to skip
+        (:meth:`_window_bounds_blocks`), and one texture (not a brick of a
+        distributed volume, whose samples are read by hand, nor drawn in
+        bricks).
         """
-        if not any(n in _BLOCK_HOOKS for n in type(self).PIECES) or not self._parameters().get("skipping", False):
+        if not self._parameters().get("skipping", False) or object_state(self).get("global_box") is not None:
             return False
-        if object_state(self).get("global_box") is not None or not self._window_bounds_blocks():
-            return False
-        return not bricked_draw.bricking_limit(self)
+        return self._window_bounds_blocks() and not bricked_draw.bricking_limit(self)
+
+    def _draws_blocks(self, names=None) -> bool:
+        """Whether the pieces ``names`` (default: :meth:`GetShaderPieces`) skip blocks."""
+        return not _BLOCK_PIECES.isdisjoint(self.GetShaderPieces() if names is None else names)
 
     def _window_bounds_blocks(self) -> bool:
         """Whether the transfer functions are constant beyond a bound most blocks lie past from the
@@ -532,7 +536,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
             else:
                 uniforms.SetUniformf(name, float(value))
         self._push_derived_uniforms(uniforms, settings)
-        if self._skips_blocks():
+        if self._draws_blocks(object_state(self).get("installed", ())):  # the pieces drawn with
             self._push_skipping(uniforms, True)
         missing = self._missing_below()
         if missing is not None:  # shaders/missing_exit.glsl (missing_exit_above.glsl: MISSING_FILL "above")
@@ -593,7 +597,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         from mipcast.mappers.gpu_limits import volume_texture_bytes
 
         image = self.GetInput()
-        blocks = block_bytes(image.GetDimensions(), self.BLOCK) if image is not None and self._skips_blocks() else 0
+        blocks = block_bytes(image.GetDimensions(), self.BLOCK) if image is not None and self._draws_blocks() else 0
         return volume_texture_bytes(image) + blocks
 
     def IsAttached(self) -> bool:
