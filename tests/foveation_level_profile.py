@@ -31,7 +31,8 @@ import time
 
 from vtkmodules.vtkRenderingCore import vtkVolume
 
-import mipcast.mappers.foveated as foveated
+import mipcast.mappers.foveated_levels as foveated_levels
+import mipcast.mappers.foveated_masks as foveated_masks
 from mipcast.app.cli import _load_scene
 from mipcast.bench.foveation_bench import framed_view
 
@@ -70,13 +71,13 @@ def levels(scene: str, gaze, rounds: int = 4) -> dict:
                 draws.setdefault(current[0], {}).setdefault(key, []).append(time.process_time() - start)
             return result
 
-    copy_settings = foveated._copy_settings
+    copy_settings = foveated_levels.copy_settings
 
     def noting_isd(mapper, volume, level_mapper, level_volume, matrix, distance, isd):
         level_volume.isd = isd
         return copy_settings(mapper, volume, level_mapper, level_volume, matrix, distance, isd)
 
-    foveated.vtkVolume, foveated._copy_settings = TimedVolume, noting_isd
+    foveated_levels.vtkVolume, foveated_levels.copy_settings = TimedVolume, noting_isd
     image, window = _load_scene(scene, 128)
     views = {}
     for name in ("full", "acuity", "content-adaptive"):
@@ -135,19 +136,19 @@ def overhead(scene: str, rounds: int = 7) -> dict:
 
 def cover(scene: str, gaze=(0.1, 0.1), rounds: int = 7) -> dict:
     """Frame ms of content-adaptive (2 grey) foveation, the whole volume in a 1024² view, with and without the
-    outline cover (foveated._outline_cover, which reads the picture beneath back where it applies), alternated."""
+    outline cover (foveated_masks.outline_cover, which reads the picture beneath back where it applies), alternated."""
     image, window = _load_scene(scene, 128)
     view = framed_view(image, "foveated", 1024, "whole", window)
     view.mapper.SetContentTolerance(2.0)
     view.mapper.SetGazePoint(*gaze)
-    real = foveated._outline_cover
+    real = foveated_masks.outline_cover
     frames = {"with": [], "without": []}
     _timed(view)
     for _ in range(rounds):
         for name in frames:
-            foveated._outline_cover = real if name == "with" else (lambda *args: None)
+            foveated_masks.outline_cover = real if name == "with" else (lambda *args: None)
             frames[name].append(_timed(view))
-    foveated._outline_cover = real
+    foveated_masks.outline_cover = real
     return {"scene": scene, "gaze": list(gaze), "ms": {name: round(1000 * statistics.median(values), 1)
                                                        for name, values in frames.items()}}
 

@@ -187,14 +187,14 @@ def test_specks_between_the_coarse_rays_stay_in_the_fovea(view, turn, monkeypatc
     Without the bound (mipcast.core.structure_bound) most of these specks fell between acuity's coarsest
     rays (4 pixels apart), no coarse ray saw them above the floor, and they vanished from the fovea.
     """
-    import mipcast.mappers.foveated as foveated
+    import mipcast.mappers.foveated_masks as foveated_masks
 
     gaze = (0.5, 0.5)
     full, fov = _speck_views("mip", view, turn, GazePoint=gaze, ContentTolerance=2.0)
     structure, wrong = _fovea_structure_errors(full, fov, gaze)
     assert structure >= 20 and wrong == 0
     assert fov.mapper.GetLastFrameCost()["sample_ratio"] > 1.05   # it still skips rays
-    monkeypatch.setattr(foveated, "_structure_bound", lambda *args: None)   # the picture alone decides
+    monkeypatch.setattr(foveated_masks, "structure_texels", lambda *args: None)   # the picture alone decides
     assert _fovea_structure_errors(full, fov, gaze)[1] > 0.3 * structure
 
 
@@ -300,7 +300,7 @@ def test_the_content_adaptive_fovea_shows_the_background_beyond_the_volumes_edge
     """Gaze near a corner, where the volume's outline crosses the fovea, on a coloured background: full
     quality shows the background beyond the edge.  The deciding coarse levels drawn under the fovea are
     stretched up to one of their texels past the edge, where level 0 has no fragment; the picture beneath
-    now goes over them there with level 0's weight (foveated._cover_outline).  Before, 14 pixels were 76
+    now goes over them there with level 0's weight (foveated_masks.outline_cover).  Before, 14 pixels were 76
     grey off (the coarse levels' black); acuity only is exact either way (its coarse levels are not drawn
     in the fovea)."""
     views = []

@@ -4,7 +4,7 @@ import pytest
 
 from mipcast.core.object_state import object_state
 from mipcast.data_fixtures import make_fixture
-from mipcast.mappers import foveated
+from mipcast.mappers import foveated_masks
 from mipcast.offscreen import OffscreenView
 
 
@@ -30,7 +30,7 @@ def _view(image, size, window, gaze, tolerance, on_cpu, method="mip", multisampl
 def readbacks(monkeypatch):
     """Counts of the CPU path's mid-frame reads and of the GPU path's (after-frame) downloads."""
     counts = {"read": 0, "download": 0}
-    read, download = foveated._read_texels, foveated._download_texels
+    read, download = foveated_masks.read_texels, foveated_masks.download_texels
 
     def counting_read(*args):
         counts["read"] += 1
@@ -40,8 +40,8 @@ def readbacks(monkeypatch):
         counts["download"] += 1
         return download(*args)
 
-    monkeypatch.setattr(foveated, "_read_texels", counting_read)
-    monkeypatch.setattr(foveated, "_download_texels", counting_download)
+    monkeypatch.setattr(foveated_masks, "read_texels", counting_read)
+    monkeypatch.setattr(foveated_masks, "download_texels", counting_download)
     return counts
 
 

@@ -435,10 +435,10 @@ def test_settings_are_validated():
 
 
 def test_level_pieces_fit_every_method():
-    from mipcast.mappers.foveated import _level_class
+    from mipcast.mappers.foveated_levels import level_class
 
     for name in layer_methods():
-        tags = [load_piece(n).tag for n in _level_class(METHODS[name].factory)().GetShaderPieces()]
+        tags = [load_piece(n).tag for n in level_class(METHODS[name].factory)().GetShaderPieces()]
         assert len(tags) == len(set(tags)), name
 
 

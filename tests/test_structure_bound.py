@@ -85,7 +85,7 @@ def test_the_foveated_mappers_blocks_bound_what_its_rays_draw(cells):
     from vtkmodules.util.numpy_support import numpy_to_vtk
     from vtkmodules.vtkCommonDataModel import vtkImageData
 
-    from mipcast.mappers import foveated
+    from mipcast.mappers import foveated_masks
 
     rng = np.random.default_rng(3)
     values = np.zeros((9, 11, 13), np.float32)   # (z, y, x): the cells' or the points' values
@@ -103,7 +103,7 @@ def test_the_foveated_mappers_blocks_bound_what_its_rays_draw(cells):
     matrix = scene.volume.GetMatrix()
     exact = reference.render(image, scene.camera, SIZE, method="analytic", matrix=matrix)
     above = np.nan_to_num(exact, nan=-1.0) > FLOOR
-    boxes = foveated._above_floor({}, image, scene.volume)
+    boxes = foveated_masks.above_floor_boxes({}, image, scene.volume)
     # a texel per pixel: the boxes' own placement, not the slack of coarse texels, decides
     bound = splat_texels(boxes, ndc_from_index(image, scene.camera, SIZE[0] / SIZE[1], matrix), SIZE,
                          np.ones(SIZE[::-1], bool))
@@ -113,17 +113,17 @@ def test_the_foveated_mappers_blocks_bound_what_its_rays_draw(cells):
 
 
 def test_the_kept_projections_follow_the_view_and_the_gaze():
-    """foveated._structure_bound keeps the boxes' projections while the view stands still: a moved gaze, a
+    """foveated_masks.structure_texels keeps the boxes' projections while the view stands still: a moved gaze, a
     turned camera and a moved volume give what a fresh splat gives."""
     from types import SimpleNamespace
 
     from mipcast.core.foveation import eccentricity
-    from mipcast.mappers import foveated
+    from mipcast.mappers import foveated_masks
 
     image = _specks(2)
     scene = _placed_view(image, "perspective")
     scene.set_window((FLOOR, 2.0))
-    boxes = foveated._above_floor({}, image, scene.volume)
+    boxes = foveated_masks.above_floor_boxes({}, image, scene.volume)
     state, viewport = {}, (0, 0) + SIZE
 
     def fresh(plan):
@@ -140,7 +140,7 @@ def test_the_kept_projections_follow_the_view_and_the_gaze():
             scene.camera.Azimuth(20.0)
         if step == 4:
             scene.volume.AddPosition(1.5, 0.0, 0.0)
-        kept = foveated._structure_bound(state, plan, 0, image, scene.volume, scene.camera, viewport, boxes)
+        kept = foveated_masks.structure_texels(state, plan, 0, image, scene.volume, scene.camera, viewport, boxes)
         assert np.array_equal(kept, fresh(plan)), step
         seen.append(kept)
     assert all(seen[k].any() for k in range(5)) and not np.array_equal(seen[0], seen[1])

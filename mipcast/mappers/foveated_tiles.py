@@ -29,6 +29,7 @@ from typing import Optional
 import numpy as np
 
 from vtkmodules.vtkCommonCore import VTK_FLOAT
+from vtkmodules.vtkRenderingCore import vtkCamera
 
 from mipcast.core.object_state import object_state
 from mipcast.mappers.private_draw import GL_SCISSOR_TEST, draw_over, kept_texture, pixel_texture
@@ -201,8 +202,8 @@ def _extended_depth(state: dict, window, viewport, margins):
 
 
 def _rescale_uniforms(level_volume, viewport, margins, plan, layer) -> None:
-    """The level's gaze, aspect and eccentricity uniforms (``_set_uniforms`` of
-    :mod:`mipcast.mappers.foveated`) in the extended box's normalised coordinates.
+    """The level's gaze, aspect and eccentricity uniforms
+    (:func:`mipcast.mappers.foveated_levels.set_uniforms`) in the extended box's normalised coordinates.
 
     An eccentricity is a distance in viewport heights: the extended box's
     are ``height / extended height`` times the tile's.
@@ -232,3 +233,49 @@ def _draw_part(window, texture, viewport, margins, size) -> None:
     tcoords = [s0, t0, s1, t0, s1, t1, s0, t1]
     verts = [-1.0, -1.0, 0.0, 1.0, -1.0, 0.0, 1.0, 1.0, 0.0, -1.0, 1.0, 0.0]
     draw_over(window, texture, viewport, [(tcoords, verts)])
+
+
+def whole_viewport(renderer, viewport):
+    """(whole, to_tile, scale): the renderer's viewport in the whole picture's pixels, a function
+    taking a gaze in its normalised coordinates to this tile's, and the whole viewport's height
+    in tile viewport heights.  Without tiles (a window's TileScale of 1): ``viewport``, the
+    identity and 1.
+
+    A tile's pixels are the whole picture's pixels (VTK's tiles: TileScale, TileViewport), so
+    eccentricities measured in the tile's viewport heights are ``scale`` times the whole
+    picture's, across and up alike (the tile's aspect ratio is its own).
+    """
+    window = renderer.GetRenderWindow()
+    sx, sy = window.GetTileScale()
+    if (sx, sy) == (1, 1):
+        return viewport, (lambda gaze: gaze), 1.0
+    columns, rows = window.GetSize()  # the whole picture (the window's size times the tile scale)
+    tile = window.GetTileViewport()
+    vp = renderer.GetViewport()
+    rx0, ry0 = vp[0] * columns, vp[1] * rows
+    rw, rh = max((vp[2] - vp[0]) * columns, 1.0), max((vp[3] - vp[1]) * rows, 1.0)
+    tx0, ty0 = tile[0] * columns, tile[1] * rows
+    x0, y0, width, height = viewport
+
+    def to_tile(gaze):
+        return ((gaze[0] * rw + rx0 - tx0 - x0) / width, (gaze[1] * rh + ry0 - ty0 - y0) / height)
+
+    whole = (int(round(rx0)), int(round(ry0)), int(round(rw)), int(round(rh)))
+    return whole, to_tile, rh / height
+
+
+def whole_camera(camera, renderer):
+    """The camera of the whole picture while a tile renders: vtkWindowToImageFilter narrows the
+    view angle (``2 atan(tan(a / 2) / scale)``) or the parallel scale by the tile scale and moves
+    the window centre for each tile; undone here (the whole picture's window centre taken as
+    the middle)."""
+    scale = float(renderer.GetRenderWindow().GetTileScale()[1])
+    whole = vtkCamera()
+    whole.DeepCopy(camera)
+    whole.SetWindowCenter(0.0, 0.0)
+    if camera.GetParallelProjection():
+        whole.SetParallelScale(camera.GetParallelScale() * scale)
+    else:
+        half = math.tan(math.radians(camera.GetViewAngle()) / 2.0) * scale
+        whole.SetViewAngle(math.degrees(2.0 * math.atan(half)))
+    return whole

@@ -303,7 +303,7 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
     rule ``"foveated"``); ``mapper`` a :class:`~mipcast.mappers.foveated.FoveatedVolumeMapper`.
     Every rank enters the same reductions whatever happens locally.
     """
-    from mipcast.mappers import foveated, volume_pyramid
+    from mipcast.mappers import foveated, foveated_levels, foveated_masks, volume_pyramid
     from mipcast.mappers.brick_rays import box_in_view, placed, whole_geometry
     from mipcast.mappers.bricks import extract_brick
 
@@ -347,14 +347,15 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
                 radius, foveate = foveated.refined_radius(params, viewport, gaze, radius, state["refine_step"])
             base_isd = float(mapper.GetImageSampleDistance())
             base_distance = float(mapper.GetSampleDistance())
+            cap = foveated_levels.level_cap(whole_image, box, camera, viewport)
             plan = foveation.plan_frame(viewport, gaze, radius, params["falloff"], params["number_of_levels"],
-                                        foveate, foveated._level_cap(whole_image, box, camera, viewport), base_isd)
+                                        foveate, cap, base_isd)
             tolerance = float(params["content_tolerance"])
             if tolerance > 0 and len(plan.layers) > 1:  # content-adaptive: a coarser content level cast everywhere
-                plan = content_adaptive.adaptive_plan(plan, foveated._level_cap(whole_image, box, camera, viewport))
-            cells = foveated._walks_cells(params["method"])
+                plan = content_adaptive.adaptive_plan(plan, cap)
+            cells = foveated_levels.walks_cells(params["method"])
             spacings = volume_pyramid.pyramid_voxel_sizes(whole_image, params["number_of_levels"])
-            world_per_pixel = foveated._world_per_pixel(camera, box, viewport)
+            world_per_pixel = foveated_levels.world_per_pixel(camera, box, viewport)
             for layer in plan.layers:
                 footprint = world_per_pixel * viewport[3] / max(layer.grid[1], 1)
                 sampling.append(volume_pyramid.level_sampling(layer.level, footprint, base_distance, spacings,
@@ -447,7 +448,7 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
         from mipcast.mappers.rank_composite import _clear_depth
 
         try:
-            silhouette = foveated._silhouette(whole_image, volume, camera, viewport,
+            silhouette = foveated_levels.silhouette(whole_image, volume, camera, viewport,
                                               float(mapper.GetImageSampleDistance()))
             _clear_depth(renderer)  # the rays end at the depth they find: the last frame's, before this one
         except Exception as error:  # noqa: BLE001
@@ -478,13 +479,13 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
         brick_mapper, brick_volume = entry["mapper"], entry["volume"]
         if brick_mapper.GetComponent() != component:
             brick_mapper.SetComponent(component)
-        foveated._copy_settings(mapper, volume, brick_mapper, brick_volume, entry["matrix"], distance,
+        foveated_levels.copy_settings(mapper, volume, brick_mapper, brick_volume, entry["matrix"], distance,
                                 layer.image_sample_distance)
         # this rank's piece fills its missing values as the whole volume (a coarse level is whole)
         brick_mapper.GetInputPreparer().SetWholeRange((low_global, high_global) if missing and volume_level == 0
                                                       else None)
-        foveated._set_uniforms(brick_volume, plan, layer)
-        foveated._set_silhouette(brick_volume, silhouette if len(plan.layers) > 1 else None, layer.level)
+        foveated_levels.set_uniforms(brick_volume, plan, layer)
+        foveated_levels.set_silhouette(brick_volume, silhouette if len(plan.layers) > 1 else None, layer.level)
         return entry, rays
 
     layer_values = []
@@ -508,9 +509,10 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
         local = np.zeros((rows, columns))
         if usable and problem is None:
             try:
-                above = foveated._above_floor(state, piece, volume, values0, (low_global, high_global), whole_dims)
-                local = foveated._structure_bound(state, plan, bound_source, piece, volume, camera, viewport,
-                                                   above) * 1.0
+                above = foveated_masks.above_floor_boxes(state, piece, volume, values0, (low_global, high_global),
+                                                         whole_dims)
+                local = foveated_masks.structure_texels(state, plan, bound_source, piece, volume, camera, viewport,
+                                                        above) * 1.0
             except Exception as error:  # noqa: BLE001
                 problem = repr(error)
         bound_part = [local.ravel()]
@@ -722,8 +724,10 @@ def blend_levels(plan, values: dict, volume_property, silhouette=None, ranges: O
         # grid (then stretched over the viewport), else the window's; blended "over" in 8 bits
         drawn = _stretch(_to_8bit(rgba), (width, height))
         out = np.minimum(drawn + _times_8bit(out, 255.0 - drawn[..., 3:4]), 255.0)
-    cover = content_adaptive.outline_cover(plan, silhouette) if adaptive is not None and silhouette is not None else None
-    if cover is not None:  # the background over the deciding levels' stretch past the outline (foveated._cover_outline)
+    cover = (content_adaptive.outline_cover(plan, silhouette)
+             if adaptive is not None and silhouette is not None else None)
+    # the background over the deciding levels' stretch past the outline (foveated_masks.outline_cover)
+    if cover is not None:
         (x0, y0, columns, rows), weight = cover
         patch = content_adaptive.cover_patch(weight, np.asarray(adaptive[1], dtype=np.float64))
         part = out[height - y0 - rows:height - y0, x0:x0 + columns]
