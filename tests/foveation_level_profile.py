@@ -9,7 +9,8 @@ of the samples, the rest the cost per ray), an empty window, and 1024² at image
 after a warm-up frame, auto-adjust off.
 
 ``overhead``: frame times in 32² and 64² windows (full quality, acuity only, content-adaptive), where
-the rays cost next to nothing: the per-frame work a fast GPU would leave.
+the rays cost next to nothing: the per-frame work a fast GPU would leave; still frames, and content-adaptive
+frames whose gaze moves or whose camera turns every frame.
 
 ``cover``: content-adaptive frames with the whole volume in view and the gaze near a corner, with and
 without the outline cover (process CPU time, alternated).
@@ -46,11 +47,15 @@ def _timed(view) -> float:
     return time.process_time() - start
 
 
-def _medians(views: dict, rounds: int) -> dict:
-    """ms a frame of each view: the median of interleaved rounds after the first (a warm-up)."""
+def _medians(views: dict, rounds: int, moves: dict = None) -> dict:
+    """ms a frame of each view: the median of interleaved rounds after the first (a warm-up).
+
+    ``moves``: per view name, a function of the round called before its frame (a gaze or camera move)."""
     frames = {name: [] for name in views}
-    for _ in range(rounds):
+    for index in range(rounds):
         for name, view in views.items():
+            if moves and name in moves:
+                moves[name](view, index)
             frames[name].append(_timed(view))
     return {name: round(1000 * statistics.median(values[1:]), 1) for name, values in frames.items()}
 
@@ -119,19 +124,27 @@ def spacing(scene: str, rounds: int = 5) -> dict:
     return {"scene": scene, "ms": _medians(views, rounds)}
 
 
-def overhead(scene: str, rounds: int = 7) -> dict:
+def overhead(scene: str, rounds: int = 9) -> dict:
     """Frame ms in 32² and 64² windows, where the GL work is next to nothing: full quality, acuity-only and
     content-adaptive (2 grey) foveation -- the per-frame work a fast GPU would leave (planning, the structure
-    bound, uniforms, passes)."""
+    bound, uniforms, passes).  Still frames (the same frame again), and at 32² content-adaptive frames whose
+    gaze moves every frame (an eye tracker's fixations elsewhere) or whose camera turns 1 degree a frame."""
     image, window = _load_scene(scene, 128)
-    views = {}
+    views, moves = {}, {}
     for size in (32, 64):
         for name in ("full", "acuity", "content-adaptive"):
             view = framed_view(image, "mip" if name == "full" else "foveated", size, "fill", window)
             if name == "content-adaptive":
                 view.mapper.SetContentTolerance(2.0)
             views[f"{size}² {name}"] = view
-    return {"scene": scene, "ms": _medians(views, rounds)}
+    gazes = [(0.3, 0.4), (0.6, 0.55), (0.45, 0.7), (0.7, 0.3)]
+    for name in ("gaze moving", "camera turning"):
+        view = framed_view(image, "foveated", 32, "fill", window)
+        view.mapper.SetContentTolerance(2.0)
+        views[f"32² content-adaptive, {name}"] = view
+    moves["32² content-adaptive, gaze moving"] = lambda view, index: view.mapper.SetGazePoint(*gazes[index % 4])
+    moves["32² content-adaptive, camera turning"] = lambda view, index: view.renderer.GetActiveCamera().Azimuth(1.0)
+    return {"scene": scene, "ms": _medians(views, rounds, moves)}
 
 
 def cover(scene: str, gaze=(0.1, 0.1), rounds: int = 7) -> dict:

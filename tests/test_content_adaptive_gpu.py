@@ -167,3 +167,35 @@ def test_a_frame_that_rebuilds_the_masked_levels_draws_the_steady_picture(vessel
     assert object_state(level).get("sampler_probes", 0) == probes + 1
     assert (steady.max(axis=-1) > 10).mean() > 0.1
     assert np.array_equal(rebuilt, steady)
+
+
+def test_a_turning_camera_probes_each_masked_level_before_vtk_rebuilds_it(vessels):
+    """The headlight follows the camera: VTK rebuilds a volume mapper's shader (from its cache) at every frame whose
+    camera moved, as it reads each light's modification time.  The probe's stamp reads them too, so no real draw
+    builds the shader unseen (its samplers would be set only if the cache kept them: before, every other frame of
+    a turning camera), each probe draws nothing (the picture is a fresh view's at every camera), and a still
+    camera does not probe."""
+    def view_at(camera=None):
+        view = OffscreenView(vessels, "foveated", size=(96, 96))
+        view.mapper.SetGazePoint(0.45, 0.55)
+        view.mapper.SetContentTolerance(2.0)
+        if camera is not None:
+            view.camera.DeepCopy(camera)
+        return view
+
+    turning = view_at()
+    turning.screenshot()
+    levels = [turning.mapper.GetLevelMapper(level) for level in range(3)]
+    for _ in range(4):
+        turning.camera.Azimuth(2.0)
+        picture = turning.screenshot()
+        fresh = view_at(turning.camera)
+        assert np.array_equal(picture, fresh.screenshot())
+        assert picture.max() > 100, "something drawn"
+        fresh.render_window.Finalize()
+    assert all(object_state(level).get("sampler_misses", 0) == 0 for level in levels)
+    probes = [object_state(level)["sampler_probes"] for level in levels]
+    assert min(probes) >= 5  # the first frame and every turn
+    turning.screenshot()
+    assert [object_state(level)["sampler_probes"] for level in levels] == probes
+    turning.render_window.Finalize()

@@ -623,7 +623,7 @@ def _draw_level(mapper, state, volume, renderer, frame, index: int, layer) -> bo
     bound = _bind_level_textures(state, renderer, frame, index, layer, kind, entry, values_texture, colours_texture)
     try:
         if kind == "coarse" or values_texture is not None:
-            foveated_levels.render_coarse_level(level_mapper, level_volume, renderer, plan, layer)
+            foveated_levels.render_coarse_level(level_mapper, level_volume, renderer, plan, layer, frame.kept)
         elif margins is not None:
             foveated_tiles.draw_extended(state, renderer, frame.viewport, margins, level_volume, plan, layer,
                                          frame.depth, lambda: level_volume.RenderVolumetricGeometry(renderer))

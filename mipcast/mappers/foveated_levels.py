@@ -29,7 +29,7 @@ from mipcast.core.camera_rays import matrix_array
 from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
 from mipcast.mappers import bricked_draw, bricked_foveated, clip_uniforms, float_readout, refine_keep, volume_pyramid
-from mipcast.mappers.private_draw import follow_volume
+from mipcast.mappers.private_draw import GL_SCISSOR_BOX, GL_SCISSOR_TEST, follow_volume
 
 #: Stand-in for an unbounded eccentricity in the shader's uniforms.
 FAR = 1.0e30
@@ -169,37 +169,22 @@ def composite_level(mapper, state, volume, renderer, level, volume_level, level_
     return boxes[volume_level][1], bricked_foveated.level_texture(state, renderer, level, normalised, "values"), colours
 
 
-def render_coarse_level(level_mapper, level_volume, renderer, plan, layer) -> None:
+def render_coarse_level(level_mapper, level_volume, renderer, plan, layer, kept=None) -> None:
     """Draw a GPU-masked level, its samplers pointing at the coarse pictures.
 
     VTK invokes UpdateShaderEvent (where :func:`bind_coarse_samplers` sets
     the samplers) on every draw except one that (re)builds the shader, whose
     samplers would all read unit 0.  So when the level may need a build (its
     first draw, or anything VTK's rebuild test watches changed since the last
-    draw that set the samplers), it is first drawn with every ray discarded
-    (the cast range emptied, the silhouette band off: the picture does not change), which builds the
-    shader; the real draw then sets them.
+    draw that set the samplers: :func:`shader_stamp`), it is first drawn with every ray discarded
+    (:func:`_probe`), which builds the shader; the real draw then sets them.
+    ``kept``: the :class:`refine_keep.Disc` level 0 casts no ray in (:func:`set_uniforms`).
     """
     level_state = object_state(level_mapper)
-    stamp = (level_mapper.GetMTime(), level_volume.GetShaderProperty().GetShaderMTime(),
-             level_volume.GetProperty().GetMTime(), renderer.GetLights().GetMTime(),
-             renderer.GetRenderWindow().GetAddressAsString("vtkObjectBase"))
+    stamp = shader_stamp(level_mapper, level_volume, renderer)
     if level_state.get("sampler_stamp") != stamp:
         level_state["sampler_probes"] = level_state.get("sampler_probes", 0) + 1
-        uniforms = level_volume.GetShaderProperty().GetFragmentCustomUniforms()
-        uniforms.SetUniformf("u_mc_fovCastFrom", FAR)
-        uniforms.SetUniformf("u_mc_fovCastTo", FAR)
-        band = reference(0.0)
-        uniforms.GetUniformf("u_mc_fovSilOn", band)
-        # nor the silhouette band: level 0 casts it whatever the mask (and a level drawn from bricks reads the
-        # samplers there too), so the probe drew it once more, blended over the real draw's (a frame that
-        # probes: 93 % of the pixels within 1 grey, up to 35 off along the box's outline)
-        uniforms.SetUniformf("u_mc_fovSilOn", 0.0)
-        try:
-            level_volume.RenderVolumetricGeometry(renderer)
-        finally:
-            set_uniforms(level_volume, plan, layer)
-            uniforms.SetUniformf("u_mc_fovSilOn", float(band))
+        _probe(level_volume, renderer, plan, layer, kept)
     level_state["samplers_set"] = False
     level_volume.RenderVolumetricGeometry(renderer)
     if level_state["samplers_set"]:
@@ -207,6 +192,51 @@ def render_coarse_level(level_mapper, level_volume, renderer, plan, layer) -> No
     else:  # built again by the real draw: this frame's masks read the wrong textures; probe next frame
         level_state.pop("sampler_stamp", None)
         level_state["sampler_misses"] = level_state.get("sampler_misses", 0) + 1
+
+
+def shader_stamp(level_mapper, level_volume, renderer) -> tuple:
+    """What VTK's test for rebuilding a volume mapper's shader reads (besides render passes and picking):
+    the mapper's, the shader property's and the volume property's modification times, the lights' (the light
+    collection's and each light's: a headlight moves with the camera, so VTK rebuilds the shader, from its
+    cache, at every frame whose camera moved), and the window."""
+    lights = renderer.GetLights()
+    light_time = lights.GetMTime()
+    lights.InitTraversal()
+    light = lights.GetNextItem()
+    while light is not None:
+        light_time = max(light_time, light.GetMTime())
+        light = lights.GetNextItem()
+    return (level_mapper.GetMTime(), level_volume.GetShaderProperty().GetShaderMTime(),
+            level_volume.GetProperty().GetMTime(), light_time,
+            renderer.GetRenderWindow().GetAddressAsString("vtkObjectBase"))
+
+
+def _probe(level_volume, renderer, plan, layer, kept) -> None:
+    """Draw the level with every ray discarded, which (re)builds its shader: the cast range emptied and the
+    silhouette band off (level 0 casts it whatever the mask, and a level drawn from bricks reads the samplers
+    there too: drawn by the probe it was blended over the real draw's, a frame that probed 93 % of the pixels
+    within 1 grey, up to 35 off along the box's outline), in a scissor box of one pixel (it draws nothing: VTK's
+    fixed cost of a pass, not a fragment per pixel of the level's box)."""
+    uniforms = level_volume.GetShaderProperty().GetFragmentCustomUniforms()
+    uniforms.SetUniformf("u_mc_fovCastFrom", FAR)
+    uniforms.SetUniformf("u_mc_fovCastTo", FAR)
+    band = reference(0.0)
+    uniforms.GetUniformf("u_mc_fovSilOn", band)
+    uniforms.SetUniformf("u_mc_fovSilOn", 0.0)
+    gl_state = renderer.GetRenderWindow().GetState()
+    scissor = gl_state.GetEnumState(GL_SCISSOR_TEST)
+    box = [0, 0, 0, 0]
+    gl_state.vtkglGetIntegerv(GL_SCISSOR_BOX, box)
+    gl_state.vtkglEnable(GL_SCISSOR_TEST)
+    gl_state.vtkglScissor(box[0], box[1], 1, 1)
+    try:
+        level_volume.RenderVolumetricGeometry(renderer)
+    finally:
+        gl_state.vtkglScissor(*box)
+        if not scissor:
+            gl_state.vtkglDisable(GL_SCISSOR_TEST)
+        set_uniforms(level_volume, plan, layer, kept)
+        uniforms.SetUniformf("u_mc_fovSilOn", float(band))
 
 
 def bind_coarse(level_mapper, level_volume, textures) -> None:
