@@ -15,8 +15,15 @@ from typing import Optional, Tuple
 import numpy as np
 
 
+_ENDS: dict = {}
+
+
 def constant_ends(prop, low: float, high: float) -> Tuple[float, float]:
     """The (floor, ceiling) of component 0's transfer functions over [low, high].
+
+    Cached on the property's identity and modification time (which
+    includes its transfer functions') and the range, so render hooks may
+    ask every frame.
 
     Parameters
     ----------
@@ -38,6 +45,15 @@ def constant_ends(prop, low: float, high: float) -> Tuple[float, float]:
     >>> constant_ends(grey_property((100.0, 400.0)), 0.0, 1000.0)
     (100.0, 400.0)
     """
+    key = (prop.GetAddressAsString("vtkObjectBase"), prop.GetMTime(), float(low), float(high))
+    if key not in _ENDS:
+        if len(_ENDS) > 256:
+            _ENDS.clear()
+        _ENDS[key] = _constant_ends(prop, float(low), float(high))
+    return _ENDS[key]
+
+
+def _constant_ends(prop, low: float, high: float) -> Tuple[float, float]:
     stops = sorted({float(low), float(high)} | {x for x in _node_positions(prop) if low < x < high})
     values = np.array([_premultiplied(prop, x) for x in stops])
     same_as_low = np.all(np.abs(values - values[0]) <= 1e-7, axis=1)

@@ -328,7 +328,9 @@ def silhouette(image, volume, camera, viewport, base_isd):
     """The volume box's projected outline for the silhouette band: (edges (6, 3), unit), or None.
 
     ``unit`` is one level-0 ray spacing in viewport heights.  None when a
-    corner lies behind the camera or the outline is degenerate.
+    corner lies behind the camera or the outline is degenerate.  The edges
+    are kept for the last projected corners: a frame whose view stands
+    still (the gaze moving) projects them alone.
     """
     if image is None or image.GetNumberOfPoints() == 0:
         return None
@@ -346,8 +348,18 @@ def silhouette(image, volume, camera, viewport, base_isd):
     if np.any(clip[3] <= 1e-12):
         return None
     points = ((clip[:2] / clip[3]).T + 1.0) / 2.0
-    edges = foveation.silhouette_edges(points, aspect)
+    key = (points.tobytes(), aspect)
+    if _EDGES.get("key") != key:
+        edges = foveation.silhouette_edges(points, aspect)
+        if edges is not None:
+            edges.setflags(write=False)  # shared by the frames that keep it
+        _EDGES.update(key=key, edges=edges)
+    edges = _EDGES["edges"]
     return None if edges is None else (edges, float(base_isd) / viewport[3])
+
+
+#: The last outline :func:`silhouette` found, and the projected corners and aspect it was found for.
+_EDGES: dict = {}
 
 
 def set_silhouette(level_volume, silhouette, level: int) -> bool:
