@@ -12,7 +12,7 @@ from mipcast.app.cli import main
 from mipcast.bench import gpu_report
 
 TOP_KEYS = {"renderer", "software", "quick", "sizes", "notes", "parity", "speed_accuracy", "skipping", "foveation",
-            "foveation_phantoms", "first_frame", "first_frame_goal", "peers", "elapsed_s"}
+            "foveation_phantoms", "frame_overhead", "first_frame", "first_frame_goal", "peers", "elapsed_s"}
 ROW_KEYS = {"scene", "window", "size", "method", "median_ms", "ratio_to_stock", "p99_pct", "max_pct",
             "within_1_grey", "rays", "misses"}
 
@@ -75,6 +75,13 @@ def test_quick_report_writes_three_files_with_the_expected_keys(quick_report):
     assert {(row["scene"], row.get("variant"), row.get("gaze_name")) for row in phantoms} >= {
         (scene, variant, "centre") for scene in expected
         for variant in ("default", "content-adaptive 2 grey", "content-adaptive 8 grey")}
+    # the CPU's share of a foveated frame: still, gaze moving, camera turning, at 32² and the largest size
+    overhead = report["frame_overhead"]
+    assert {(row["size"], row["setting"], row["move"]) for row in overhead} >= {
+        (size, setting, move) for size in (32, max(gpu_report.QUICK.images))
+        for setting in ("acuity only", "content-adaptive 2 grey")
+        for move in ("still", "gaze moving", "camera turning")}
+    assert all(row["wall_ms"] > 0 and row["cpu_ms"] > 0 for row in overhead)
     assert [row["method"] for row in report["first_frame"]] == list(gpu_report.METHODS)
     assert all(row["texture_bytes"]["total"] > 0 for row in report["first_frame"])
     assert {"analytic_over_stock", "goal", "met"} <= set(report["first_frame_goal"])
@@ -86,7 +93,7 @@ def test_quick_report_markdown_starts_with_the_renderer(quick_report):
     text = (out / "gpu-report.md").read_text()
     assert text.splitlines()[2].startswith("OpenGL renderer: **")
     for section in ("## Parity", "## Speed x accuracy", "## Block skipping", "## Foveation (",
-                    "## Foveation on issue 17's scenes",
+                    "## Foveation on issue 17's scenes", "## Frame overhead",
                     "## First frame and memory"):
         assert section in text
 

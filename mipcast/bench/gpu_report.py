@@ -546,6 +546,27 @@ def phantom_foveation_rows(scenes: dict, sizes: Sizes, progress=None) -> list:
     return rows
 
 
+def frame_overhead_rows(sizes: Sizes, progress=None) -> list:
+    """Wall and CPU time of full-quality and foveated frames of the vessel fixture (its issue-17 window), still,
+    gaze moving and camera turning, at 32² (the rays cost next to nothing) and the largest size
+    (:func:`mipcast.bench.frame_overhead.measure_frame_overhead`): on a GPU, how much of a foveated frame is the
+    CPU's work.
+
+    Examples
+    --------
+    >>> rows = frame_overhead_rows(QUICK._replace(images=(32,), phantom_volume=12, frames=1))
+    >>> sorted({row["size"] for row in rows}), sorted({row["move"] for row in rows})
+    ([32], ['camera turning', 'gaze moving', 'still'])
+    """
+    from mipcast.bench.frame_overhead import measure_frame_overhead
+    from mipcast.data_fixtures import make_fixture
+
+    low, high = PHANTOM_WINDOWS["vessels"]
+    image = make_fixture("vessels", size=sizes.phantom_volume)
+    return measure_frame_overhead(image, f"vessels@{low:g},{high:g}", sorted({32, sizes.images[-1]}), (low, high),
+                                  frames=4 * sizes.rounds * sizes.frames, progress=progress)
+
+
 def run_report(out: Path, quick: bool = False, allow_software: bool = False,
                log: Callable[[str], None] = lambda line: None) -> dict:
     """Run the whole suite and write ``gpu-report.json``, ``.md`` and ``.png`` into ``out``.
@@ -608,6 +629,9 @@ def run_report(out: Path, quick: bool = False, allow_software: bool = False,
     log("foveation on issue 17's scenes: the vessel fixture and the windowed head CT, largest size")
     report["foveation_phantoms"] = phantom_foveation_rows(scenes, sizes)
     done("foveation_phantoms")
+    log("frame overhead: wall and CPU time of foveated frames, still, gaze moving, camera turning")
+    report["frame_overhead"] = frame_overhead_rows(sizes, log)
+    done("frame_overhead")
     log("first frame and memory per method")
     report["first_frame"] = [first_frame(scenes["ct"], m, (sizes.images[0],) * 2, settle_s=0.2 if quick else 2.0)
                              for m in METHODS]
@@ -728,6 +752,13 @@ def report_markdown(report: dict) -> str:
                   "", "Issue 17's goal: >= 6x at the centre with content-adaptive density, the default radius, "
                   "no larger mean error outside the fovea than acuity only.", "",
                   foveation_table(report["foveation_phantoms"])]
+    if report.get("frame_overhead"):
+        from mipcast.bench.frame_overhead import overhead_table
+
+        lines += ["", "## Frame overhead (vessel fixture, volume filling the view)", "",
+                  "Wall / CPU ms a frame (medians): still, the gaze moving every frame, the camera turning 0.5 "
+                  "degrees a frame. CPU close to wall: the frame is CPU-bound (on llvmpipe the CPU time counts "
+                  "the rasteriser's threads too).", "", overhead_table(report["frame_overhead"])]
     if report.get("first_frame"):
         goal = report["first_frame_goal"]
         rows = [{**row, "texture_mib": row["texture_bytes"]["total"] / 2 ** 20} for row in report["first_frame"]]
