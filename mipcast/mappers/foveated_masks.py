@@ -29,7 +29,7 @@ from mipcast.core.prepare import prepare_scalars
 from mipcast.core.transfer_bounds import constant_ends
 from mipcast.mappers import refine_pass
 from mipcast.mappers.max_blocks import block_maxima
-from mipcast.mappers.private_draw import copy_drawn, draw_over, kept_texture, texture_target
+from mipcast.mappers.private_draw import copy_drawn, draw_over, kept_texture, scissor_kept, texture_target
 
 
 def gpu_masks_possible(state, renderer) -> bool:
@@ -165,7 +165,9 @@ def read_texels(renderer, viewport, grid) -> np.ndarray:
     """The window's picture (RGB, uint8) at the texel centres of ``grid``, top row first."""
     x0, y0, width, height = viewport
     pixels = vtkUnsignedCharArray()
-    renderer.GetRenderWindow().GetRGBACharPixelData(x0, y0, x0 + width - 1, y0 + height - 1, 0, pixels)
+    window = renderer.GetRenderWindow()
+    with scissor_kept(window):  # the levels drawn after it keep their boxes
+        window.GetRGBACharPixelData(x0, y0, x0 + width - 1, y0 + height - 1, 0, pixels)
     picture = vtk_to_numpy(pixels).reshape(height, width, 4)[::-1, :, :3]
     return content_adaptive.coarse_texels(picture, grid)
 
