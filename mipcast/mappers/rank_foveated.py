@@ -50,6 +50,7 @@ Examples
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 from typing import Callable, Optional, Sequence, Tuple
 
 import numpy as np
@@ -301,266 +302,325 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> Tupl
 
     As :func:`mipcast.mappers.rank_composite.compose` (the same arguments,
     rule ``"foveated"``); ``mapper`` a :class:`~mipcast.mappers.foveated.FoveatedVolumeMapper`.
-    Every rank enters the same reductions whatever happens locally.
+    Every rank enters the same reductions whatever happens locally: a rank
+    that fails notes why (``rank.problem``) and goes on to the end.  The
+    steps: :func:`_plan_locally` (0: progressive refinement's step, agreed),
+    :func:`_agree_head` (1: the frame's shape, range and plan, agreed),
+    :func:`_reduce_coarse_levels` (2: the whole volume's coarse levels),
+    :func:`_read_levels` (3: each level's rays, and the structure bound),
+    :func:`_finish` (the DEMIP levels' second phase, then 4: the blend).
     """
-    from mipcast.mappers import foveated, foveated_levels, foveated_masks, volume_pyramid
-    from mipcast.mappers.brick_rays import box_in_view, placed, whole_geometry
-    from mipcast.mappers.bricks import extract_brick
+    rank = _plan_locally(mapper, volume, renderer, piece, whole_stub, reduce)
+    failure = _agree_head(rank, reduce)
+    if failure is not None:
+        return None, failure
+    _reduce_coarse_levels(rank, reduce)
+    failure = _read_levels(rank, volume, renderer, reduce)
+    if failure is not None:
+        return None, failure
+    return _finish(rank, volume, renderer, reduce)
+
+
+def _plan_locally(mapper, volume, renderer, piece, whole_stub, reduce: Reduce) -> SimpleNamespace:
+    """This rank's frame: its piece's values, the gaze, progressive refinement's step (0: the fewest still
+    frames over the ranks, a change on any rank making it 0), the plan and each layer's sampling."""
+    from mipcast.mappers import foveated, foveated_levels, volume_pyramid
+    from mipcast.mappers.brick_rays import whole_geometry
 
     width, height, x0, y0 = [0], [0], [0], [0]
     renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
     shape = (max(height[0], 1), max(width[0], 1))
-    viewport = (x0[0], y0[0], shape[1], shape[0])
-    problem = None
+    rank = SimpleNamespace(
+        mapper=mapper, piece=piece, whole_stub=whole_stub, shape=shape, viewport=(x0[0], y0[0], shape[1], shape[0]),
+        camera=renderer.GetActiveCamera(), problem=None, plan=None, values0=None, sampling=[], whole_image=None,
+        params=None, low=_HIGH, high=_LOW, missing=False, tolerance=0.0, box=None,
+        state=object_state(mapper) if mapper is not None else {})
     if mapper is not None:
-        object_state(mapper).pop("rank_foveated_bounds", None)
-    usable = (mapper is not None and piece is not None and piece.GetNumberOfPoints() > 0 and whole_stub is not None
-              and piece.GetPointData().GetScalars() is not None)
-    plan, values0, sampling, whole_image, camera, params = None, None, [], None, renderer.GetActiveCamera(), None
-    low, high, missing, step, tolerance, gaze, radius = _HIGH, _LOW, False, None, 0.0, None, None
-    if usable:
+        rank.state.pop("rank_foveated_bounds", None)
+    rank.usable = (mapper is not None and piece is not None and piece.GetNumberOfPoints() > 0
+                   and whole_stub is not None and piece.GetPointData().GetScalars() is not None)
+    step = gaze = radius = None
+    if rank.usable:
         try:
-            problem = refusal(mapper, renderer)
-            params = mapper._parameters()
-            state = object_state(mapper)
+            rank.problem = refusal(mapper, renderer)
+            rank.params = mapper._parameters()
             stamp = (piece.GetAddressAsString("vtkObjectBase"), piece.GetMTime(), mapper.GetComponent())
-            cached = state.get("rank_foveated_piece_values")
+            cached = rank.state.get("rank_foveated_piece_values")
             if cached is None or cached[0] != stamp:  # prepared once per piece, not every frame
                 cached = (stamp, _piece_values(piece, mapper.GetComponent()))
-                state["rank_foveated_piece_values"] = cached
-            values0, low, high, missing = cached[1]
-            whole_image = whole_geometry(whole_stub)
-            box = _WholeBox(volume, whole_image)
-            gaze, radius = foveated._current_gaze(state, renderer, camera, viewport)
-            if params["progressive"]:
-                step = foveated.refine_step(state, params, piece, volume, camera, viewport, gaze,
-                                            foveated.counts_frame(renderer, camera))
+                rank.state["rank_foveated_piece_values"] = cached
+            rank.values0, rank.low, rank.high, rank.missing = cached[1]
+            rank.whole_image = whole_geometry(whole_stub)
+            rank.box = _WholeBox(volume, rank.whole_image)
+            gaze, radius = foveated._current_gaze(rank.state, renderer, rank.camera, rank.viewport)
+            if rank.params["progressive"]:
+                step = foveated.refine_step(rank.state, rank.params, piece, volume, rank.camera, rank.viewport, gaze,
+                                            foveated.counts_frame(renderer, rank.camera))
         except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
-            problem, params = repr(error), None
+            rank.problem, rank.params = repr(error), None
     # 0: progressive refinement's still frames, the same on every rank: the fewest (a change on any rank: 0)
     agreed = float(reduce(np.array([-float(step) if step is not None else _LOW]), "max")[0])
-    if usable and params is not None:
-        try:
-            foveate = params["foveation"]
-            if agreed > 0.5 * _LOW:
-                state["refine_step"] = int(round(-agreed))
-                radius, foveate = foveated.refined_radius(params, viewport, gaze, radius, state["refine_step"])
-            base_isd = float(mapper.GetImageSampleDistance())
-            base_distance = float(mapper.GetSampleDistance())
-            cap = foveated_levels.level_cap(whole_image, box, camera, viewport)
-            plan = foveation.plan_frame(viewport, gaze, radius, params["falloff"], params["number_of_levels"],
-                                        foveate, cap, base_isd)
-            tolerance = float(params["content_tolerance"])
-            if tolerance > 0 and len(plan.layers) > 1:  # content-adaptive: a coarser content level cast everywhere
-                plan = content_adaptive.adaptive_plan(plan, cap)
-            cells = foveated_levels.walks_cells(params["method"])
-            spacings = volume_pyramid.pyramid_voxel_sizes(whole_image, params["number_of_levels"])
-            world_per_pixel = foveated_levels.world_per_pixel(camera, box, viewport)
-            for layer in plan.layers:
-                footprint = world_per_pixel * viewport[3] / max(layer.grid[1], 1)
-                sampling.append(volume_pyramid.level_sampling(layer.level, footprint, base_distance, spacings,
-                                                              cells, params["peripheral_sampling"]))
-        except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
-            problem, plan = repr(error), None
-    # 1: the head: shape, finite range, whole dims, the plan's layers (grid, volume level), a failure flag,
-    # missing values
+    if not rank.usable or rank.params is None:
+        return rank
+    params, viewport = rank.params, rank.viewport
+    try:
+        foveate = params["foveation"]
+        if agreed > 0.5 * _LOW:
+            rank.state["refine_step"] = int(round(-agreed))
+            radius, foveate = foveated.refined_radius(params, viewport, gaze, radius, rank.state["refine_step"])
+        base_isd = float(mapper.GetImageSampleDistance())
+        base_distance = float(mapper.GetSampleDistance())
+        cap = foveated_levels.level_cap(rank.whole_image, rank.box, rank.camera, viewport)
+        plan = foveation.plan_frame(viewport, gaze, radius, params["falloff"], params["number_of_levels"],
+                                    foveate, cap, base_isd)
+        rank.tolerance = float(params["content_tolerance"])
+        if rank.tolerance > 0 and len(plan.layers) > 1:  # content-adaptive: a coarser content level cast everywhere
+            plan = content_adaptive.adaptive_plan(plan, cap)
+        cells = foveated_levels.walks_cells(params["method"])
+        spacings = volume_pyramid.pyramid_voxel_sizes(rank.whole_image, params["number_of_levels"])
+        world_per_pixel = foveated_levels.world_per_pixel(rank.camera, rank.box, viewport)
+        for layer in plan.layers:
+            footprint = world_per_pixel * viewport[3] / max(layer.grid[1], 1)
+            rank.sampling.append(volume_pyramid.level_sampling(layer.level, footprint, base_distance, spacings,
+                                                               cells, params["peripheral_sampling"]))
+        rank.plan = plan
+    except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
+        rank.problem = repr(error)
+    return rank
+
+
+def _agree_head(rank, reduce: Reduce) -> Optional[str]:
+    """1: the head, reduced with MAX: shape, finite range, whole dims, the plan's layers (grid, volume level),
+    a failure flag, missing values, DEMIP, the structure bound's layer.  Sets the agreed figures on ``rank``;
+    returns why the frame cannot be drawn (the same on every rank), or None."""
+    plan, params = rank.plan, rank.params
     head = np.full(8 + 3 + 1 + 3 * _MAX_LEVELS + 3, _LOW)
-    finite = usable and high >= low
-    head[:6] = [shape[0], shape[1], -shape[0], -shape[1], -low if finite else _LOW, high if finite else _LOW]
-    if whole_image is not None:
-        head[6:9] = whole_image.GetDimensions()
+    finite = rank.usable and rank.high >= rank.low
+    head[:6] = [rank.shape[0], rank.shape[1], -rank.shape[0], -rank.shape[1], -rank.low if finite else _LOW,
+                rank.high if finite else _LOW]
+    if rank.whole_image is not None:
+        head[6:9] = rank.whole_image.GetDimensions()
     if plan is not None and len(plan.layers) <= _MAX_LEVELS:
         head[11] = len(plan.layers)
-        for index, (layer, (volume_level, _)) in enumerate(zip(plan.layers, sampling)):
+        for index, (layer, (volume_level, _)) in enumerate(zip(plan.layers, rank.sampling)):
             head[12 + 3 * index: 15 + 3 * index] = (layer.grid[0], layer.grid[1], volume_level)
-    head[9] = 1.0 if problem else 0.0
+    head[9] = 1.0 if rank.problem else 0.0
     head[10] = float(params["number_of_levels"]) if params is not None else _LOW
-    head[-1] = 1.0 if missing else 0.0
+    head[-1] = 1.0 if rank.missing else 0.0
     head[-2] = 1.0 if params is not None and _is_demip(params["method"]) else 0.0
-    if plan is not None and tolerance > 0 and len(plan.layers) > 1:  # the layer the data's structure bound joins
+    if plan is not None and rank.tolerance > 0 and len(plan.layers) > 1:  # the layer the structure bound joins
         source = content_adaptive.structure_source(plan)
         head[-3] = float(source) if source is not None else _LOW
     head = reduce(head, "max")
     if head[0] != -head[2] or head[1] != -head[3]:
-        return None, f"the ranks' viewports differ ({int(head[0])}x{int(head[1])} vs {int(-head[2])}x{int(-head[3])})"
+        return f"the ranks' viewports differ ({int(head[0])}x{int(head[1])} vs {int(-head[2])}x{int(-head[3])})"
     if head[9] > 0.0:
-        return None, problem or "a rank refused or failed to plan the foveated frame"
+        return rank.problem or "a rank refused or failed to plan the foveated frame"
     if head[11] <= 0.5 * _LOW:
-        return None, "no rank has data"
-    low_global, high_global, missing = float(-head[4]), float(head[5]), bool(head[-1] > 0.0)
-    if not high_global >= low_global:
-        return None, "no rank has finite data"
-    if missing and head[-3] > 0.5 * _LOW:  # (every rank returns here: the same head)
-        return None, MISSING_ADAPTIVE
-    whole_dims = tuple(int(v) for v in head[6:9])
-    layers = [tuple(int(v) for v in head[12 + 3 * i: 15 + 3 * i]) for i in range(int(head[11]))]
-    coarse_dims = whole_coarse_dims(whole_dims, int(head[10]))
-    needed = max([v for _, _, v in layers] + [0])
-    # 2: the whole volume's coarse levels, this piece's share reduced with MAX over the ranks
-    coarse_levels = {}
-    if needed > 0:
-        share = []
-        if usable and values0 is not None and problem is None:
-            try:
-                extent = piece.GetExtent()
-                offset = (extent[0] - whole_stub[0][0], extent[2] - whole_stub[0][2], extent[4] - whole_stub[0][4])
-                # a missing voxel loses to every finite one (the fill lies below them all): a coarse point of
-                # missing voxels only stays missing, as the one process's pyramid has it
-                share = partial_pyramid(np.where(np.isnan(values0), _MISSING, values0.astype(np.float64)), offset,
-                                        whole_dims, needed + 1)
-            except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
-                problem, share = repr(error), []
-        buffers = []
+        return "no rank has data"
+    rank.low_global, rank.high_global, rank.missing = float(-head[4]), float(head[5]), bool(head[-1] > 0.0)
+    if not rank.high_global >= rank.low_global:
+        return "no rank has finite data"
+    if rank.missing and head[-3] > 0.5 * _LOW:  # (every rank returns here: the same head)
+        return MISSING_ADAPTIVE
+    rank.whole_dims = tuple(int(v) for v in head[6:9])
+    rank.layers = [tuple(int(v) for v in head[12 + 3 * i: 15 + 3 * i]) for i in range(int(head[11]))]
+    rank.number_of_levels = int(head[10])
+    rank.demip = bool(head[-2] > 0.0)
+    rank.bound_source = int(head[-3]) if head[-3] > 0.5 * _LOW else None
+    return None
+
+
+def _reduce_coarse_levels(rank, reduce: Reduce) -> None:
+    """2: the whole volume's coarse levels the layers read (``rank.coarse_levels``): this piece's share of each
+    (:func:`partial_pyramid`) reduced with MAX over the ranks."""
+    rank.coarse_levels = {}
+    coarse_dims = whole_coarse_dims(rank.whole_dims, rank.number_of_levels)
+    needed = max([v for _, _, v in rank.layers] + [0])
+    if needed <= 0:
+        return
+    share = []
+    if rank.usable and rank.values0 is not None and rank.problem is None:
+        try:
+            extent, whole = rank.piece.GetExtent(), rank.whole_stub[0]
+            offset = (extent[0] - whole[0], extent[2] - whole[2], extent[4] - whole[4])
+            # a missing voxel loses to every finite one (the fill lies below them all): a coarse point of
+            # missing voxels only stays missing, as the one process's pyramid has it
+            share = partial_pyramid(np.where(np.isnan(rank.values0), _MISSING, rank.values0.astype(np.float64)),
+                                    offset, rank.whole_dims, needed + 1)
+        except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
+            rank.problem, share = repr(error), []
+    buffers = []
+    for level in range(1, needed + 1):
+        nx, ny, nz = coarse_dims[level - 1]
+        full = np.full((nz, ny, nx), _LOW)
+        if len(share) >= level:
+            (ox, oy, oz), part = share[level - 1]
+            z, y, x = part.shape
+            full[oz:oz + z, oy:oy + y, ox:ox + x] = np.where(np.isfinite(part), part, _LOW)
+        buffers.append(full.ravel())
+    reduced = reduce(np.concatenate(buffers), "max")
+    if not rank.usable or rank.problem is not None:
+        return
+    try:
+        whole_image = rank.whole_image
+        spacing, dims = list(whole_image.GetSpacing()), list(rank.whole_dims)
+        name = rank.piece.GetPointData().GetScalars().GetName() or "scalars"
+        at = 0
         for level in range(1, needed + 1):
             nx, ny, nz = coarse_dims[level - 1]
-            full = np.full((nz, ny, nx), _LOW)
-            if len(share) >= level:
-                (ox, oy, oz), part = share[level - 1]
-                z, y, x = part.shape
-                full[oz:oz + z, oy:oy + y, ox:ox + x] = np.where(np.isfinite(part), part, _LOW)
-            buffers.append(full.ravel())
-        reduced = reduce(np.concatenate(buffers), "max")
-        if usable and problem is None:
-            try:
-                spacing, dims = list(whole_image.GetSpacing()), list(whole_dims)
-                name = piece.GetPointData().GetScalars().GetName() or "scalars"
-                at = 0
-                for level in range(1, needed + 1):
-                    nx, ny, nz = coarse_dims[level - 1]
-                    values = reduced[at:at + nx * ny * nz].reshape(nz, ny, nx)
-                    # a coarse point no rank covered (pieces that do not cover the whole): the lowest value;
-                    # one of missing voxels only: missing (its level's mapper fills it, as on one process)
-                    values = np.where(values <= 0.5 * _LOW, low_global,
-                                      np.where(values <= 0.5 * _MISSING, np.nan, values))
-                    at += nx * ny * nz
-                    spacing = [s * ((f - 1) / (n - 1) if n > 1 else 1.0)
-                               for s, f, n in zip(spacing, dims, (nx, ny, nz))]
-                    dims = [nx, ny, nz]
-                    coarse_levels[level] = _image_of(values, whole_image.GetPoint(0), spacing,
-                                                     whole_image.GetDirectionMatrix(), values0.dtype, name)
-            except Exception as error:  # noqa: BLE001
-                problem = repr(error)
-    # 3: each level's readout of this rank's share of its rays, reduced with MAX
-    values = {}
-    silhouette = None
-    state = object_state(mapper) if mapper is not None else {}
-    if usable and problem is None:
-        from mipcast.mappers.rank_composite import _clear_depth
+            values = reduced[at:at + nx * ny * nz].reshape(nz, ny, nx)
+            # a coarse point no rank covered (pieces that do not cover the whole): the lowest value;
+            # one of missing voxels only: missing (its level's mapper fills it, as on one process)
+            values = np.where(values <= 0.5 * _LOW, rank.low_global,
+                              np.where(values <= 0.5 * _MISSING, np.nan, values))
+            at += nx * ny * nz
+            spacing = [s * ((f - 1) / (n - 1) if n > 1 else 1.0) for s, f, n in zip(spacing, dims, (nx, ny, nz))]
+            dims = [nx, ny, nz]
+            rank.coarse_levels[level] = _image_of(values, whole_image.GetPoint(0), spacing,
+                                                  whole_image.GetDirectionMatrix(), rank.values0.dtype, name)
+    except Exception as error:  # noqa: BLE001
+        rank.problem = repr(error)
 
+
+def _level_entry(rank, volume, index: int, volume_level: int, kind) -> tuple:
+    """(entry, rays): layer ``index``'s private brick mapper of ``kind`` on this rank's share of its volume (the
+    piece, or the whole coarse level), set up, and the rays' geometry."""
+    from mipcast.mappers import foveated_levels
+    from mipcast.mappers.brick_rays import placed
+    from mipcast.mappers.bricks import extract_brick
+
+    layer, distance, piece, state = rank.plan.layers[index], rank.sampling[index][1], rank.piece, rank.state
+    if volume_level == 0:
+        dims = piece.GetDimensions()
+        stamp = (piece.GetAddressAsString("vtkObjectBase"), piece.GetMTime())
+        cached = state.get("rank_foveated_piece")
+        if cached is None or cached[0] != stamp:
+            cached = (stamp, extract_brick(piece, (0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)))
+            state["rank_foveated_piece"] = cached
+        image, extent, whole, rays = cached[1], tuple(piece.GetExtent()), rank.whole_stub[0], rank.whole_image
+        component = rank.mapper.GetComponent()
+    else:
+        image = rank.coarse_levels[volume_level]
+        extent = whole = tuple(image.GetExtent())
+        rays, component, stamp = image, -1, image.GetAddressAsString("vtkObjectBase")
+    rays = placed(rays, volume.GetMatrix())  # the rays where the volume's matrix puts the level
+    key = ((index, kind), stamp, extent, tuple(whole), kind, volume_level)
+    entry = _source_entry(state, key, kind, image, extent, whole, distance)
+    brick_mapper, brick_volume = entry["mapper"], entry["volume"]
+    if brick_mapper.GetComponent() != component:
+        brick_mapper.SetComponent(component)
+    foveated_levels.copy_settings(rank.mapper, volume, brick_mapper, brick_volume, entry["matrix"], distance,
+                                  layer.image_sample_distance)
+    # this rank's piece fills its missing values as the whole volume (a coarse level is whole)
+    brick_mapper.GetInputPreparer().SetWholeRange((rank.low_global, rank.high_global)
+                                                  if rank.missing and volume_level == 0 else None)
+    foveated_levels.set_uniforms(brick_volume, rank.plan, layer)
+    foveated_levels.set_silhouette(brick_volume, rank.silhouette if len(rank.plan.layers) > 1 else None,
+                                   layer.level)
+    return entry, rays
+
+
+def _read_levels(rank, volume, renderer, reduce: Reduce) -> Optional[str]:
+    """3: each level's readout of this rank's share of its rays and the texels where this rank's piece may put
+    structure above the floor that the coarse rays missed, reduced with MAX (``rank.values``, ``rank.bound``,
+    ``rank.entries``); why the frame cannot be drawn (the same on every rank), or None."""
+    from mipcast.mappers import foveated_levels, foveated_masks
+    from mipcast.mappers.brick_rays import box_in_view
+    from mipcast.mappers.rank_composite import _clear_depth
+
+    rank.silhouette, rank.entries = None, {}
+    if rank.usable and rank.problem is None:
         try:
-            silhouette = foveated_levels.silhouette(whole_image, volume, camera, viewport,
-                                              float(mapper.GetImageSampleDistance()))
+            rank.silhouette = foveated_levels.silhouette(rank.whole_image, volume, rank.camera, rank.viewport,
+                                                         float(rank.mapper.GetImageSampleDistance()))
             _clear_depth(renderer)  # the rays end at the depth they find: the last frame's, before this one
         except Exception as error:  # noqa: BLE001
-            problem = repr(error)
-    demip = bool(head[-2] > 0.0)
-    entries = {}
-
-    def level_entry(index, volume_level, kind):
-        """The level's private brick mapper of ``kind`` on this rank's share of its volume, set up; its rays."""
-        layer = plan.layers[index]
-        distance = sampling[index][1]
-        if volume_level == 0:
-            dims = piece.GetDimensions()
-            stamp = (piece.GetAddressAsString("vtkObjectBase"), piece.GetMTime())
-            cached = state.get("rank_foveated_piece")
-            if cached is None or cached[0] != stamp:
-                cached = (stamp, extract_brick(piece, (0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1)))
-                state["rank_foveated_piece"] = cached
-            image, extent, whole, rays = cached[1], tuple(piece.GetExtent()), whole_stub[0], whole_image
-            component = mapper.GetComponent()
-        else:
-            image = coarse_levels[volume_level]
-            extent = whole = tuple(image.GetExtent())
-            rays, component, stamp = image, -1, image.GetAddressAsString("vtkObjectBase")
-        rays = placed(rays, volume.GetMatrix())  # the rays where the volume's matrix puts the level
-        key = ((index, kind), stamp, extent, tuple(whole), kind, volume_level)
-        entry = _source_entry(state, key, kind, image, extent, whole, distance)
-        brick_mapper, brick_volume = entry["mapper"], entry["volume"]
-        if brick_mapper.GetComponent() != component:
-            brick_mapper.SetComponent(component)
-        foveated_levels.copy_settings(mapper, volume, brick_mapper, brick_volume, entry["matrix"], distance,
-                                layer.image_sample_distance)
-        # this rank's piece fills its missing values as the whole volume (a coarse level is whole)
-        brick_mapper.GetInputPreparer().SetWholeRange((low_global, high_global) if missing and volume_level == 0
-                                                      else None)
-        foveated_levels.set_uniforms(brick_volume, plan, layer)
-        foveated_levels.set_silhouette(brick_volume, silhouette if len(plan.layers) > 1 else None, layer.level)
-        return entry, rays
-
+            rank.problem = repr(error)
+    size = (rank.shape[1], rank.shape[0])
     layer_values = []
-    for index, (columns, rows, volume_level) in enumerate(layers):
+    for index, (columns, rows, volume_level) in enumerate(rank.layers):
         local = np.full((rows, columns), np.nan)
-        if usable and problem is None:
-            try:
-                kind = MIPVolumeMapper if demip else FOVEATION_LAYERS[params["method"]].factory  # DEMIP: phase 1
-                entry, rays = level_entry(index, volume_level, kind)
+        if rank.usable and rank.problem is None:
+            try:  # DEMIP: its phase 1
+                kind = MIPVolumeMapper if rank.demip else FOVEATION_LAYERS[rank.params["method"]].factory
+                entry, rays = _level_entry(rank, volume, index, volume_level, kind)
                 if box_in_view(entry["volume"], renderer, (rows, columns)):
-                    entries[index] = entry
-                    local = _readout(renderer, entry, rays, camera, (rows, columns), (shape[1], shape[0]))
+                    rank.entries[index] = entry
+                    local = _readout(renderer, entry, rays, rank.camera, (rows, columns), size)
             except Exception as error:  # noqa: BLE001
-                problem = repr(error)
+                rank.problem = repr(error)
         layer_values.append(np.where(np.isnan(local), _LOW, local).ravel())
-    # and the texels where this rank's piece may put structure above the floor that the coarse rays missed
-    bound_source = int(head[-3]) if head[-3] > 0.5 * _LOW else None
     bound_part = []
-    if bound_source is not None:
-        columns, rows, _ = layers[bound_source]
+    if rank.bound_source is not None:
+        columns, rows, _ = rank.layers[rank.bound_source]
         local = np.zeros((rows, columns))
-        if usable and problem is None:
+        if rank.usable and rank.problem is None:
             try:
-                above = foveated_masks.above_floor_boxes(state, piece, volume, values0, (low_global, high_global),
-                                                         whole_dims)
-                local = foveated_masks.structure_texels(state, plan, bound_source, piece, volume, camera, viewport,
-                                                        above) * 1.0
+                above = foveated_masks.above_floor_boxes(rank.state, rank.piece, volume, rank.values0,
+                                                         (rank.low_global, rank.high_global), rank.whole_dims)
+                local = foveated_masks.structure_texels(rank.state, rank.plan, rank.bound_source, rank.piece, volume,
+                                                        rank.camera, rank.viewport, above) * 1.0
             except Exception as error:  # noqa: BLE001
-                problem = repr(error)
+                rank.problem = repr(error)
         bound_part = [local.ravel()]
-    flag = np.array([1.0 if problem else 0.0])
-    reduced = reduce(np.concatenate(layer_values + bound_part + [flag]), "max") if layers else flag
+    flag = np.array([1.0 if rank.problem else 0.0])
+    reduced = reduce(np.concatenate(layer_values + bound_part + [flag]), "max") if rank.layers else flag
     if reduced[-1] > 0.0:
-        return None, problem or "a rank failed to render its piece"
-    at = 0
-    for index, (columns, rows, _) in enumerate(layers):
+        return rank.problem or "a rank failed to render its piece"
+    rank.values, at = {}, 0
+    for index, (columns, rows, _) in enumerate(rank.layers):
         level_values = reduced[at:at + rows * columns].reshape(rows, columns)
         at += rows * columns
-        values[index] = np.where(level_values <= 0.5 * _LOW, np.nan, level_values)
-    bound = None
-    if bound_source is not None:
-        columns, rows, _ = layers[bound_source]
-        bound = (bound_source, reduced[at:at + rows * columns].reshape(rows, columns) > 0.5)
+        rank.values[index] = np.where(level_values <= 0.5 * _LOW, np.nan, level_values)
+    rank.bound = None
+    if rank.bound_source is not None:
+        columns, rows, _ = rank.layers[rank.bound_source]
+        rank.bound = (rank.bound_source, reduced[at:at + rows * columns].reshape(rows, columns) > 0.5)
+    return None
+
+
+def _finish(rank, volume, renderer, reduce: Reduce) -> Tuple[Optional[np.ndarray], Optional[str]]:
+    """The DEMIP levels' second phase (every rank enters), then 4: the levels blended after compositing, as
+    the GPU draws them (coarsest first, "over", weights, upscale)."""
     # the level volumes' scalar ranges (VTK's transfer-function textures span them): the whole volume's, the
     # reduced coarse levels' (with missing values: from the fill up, as their mappers prepare them)
-    dtype = values0.dtype if values0 is not None else np.float64
-    whole_range = (missing_fill(low_global, high_global, "below", dtype)[0] if missing else low_global, high_global)
-    ranges = [whole_range] * len(layers)
+    dtype = rank.values0.dtype if rank.values0 is not None else np.float64
+    low_global, high_global = rank.low_global, rank.high_global
+    whole_range = (missing_fill(low_global, high_global, "below", dtype)[0] if rank.missing else low_global,
+                   high_global)
+    ranges = [whole_range] * len(rank.layers)
     try:  # (a failure here must not keep this rank from the DEMIP levels' reduction)
-        ranges = [_texture_range(coarse_levels[v]) if v and usable and problem is None else whole_range
-                  for _, _, v in layers]
+        ranges = [_texture_range(rank.coarse_levels[v]) if v and rank.usable and rank.problem is None
+                  else whole_range for _, _, v in rank.layers]
     except Exception as error:  # noqa: BLE001
-        problem = repr(error)
-    colours = None
-    if demip:  # phase 2 of each DEMIP level, then its colours (as bricked_foveated's DEMIP levels)
-        colours, problem = _demip_levels(renderer, layers, values, entries, level_entry, camera, shape, reduce,
-                                         problem, ranges, coarse_levels, volume, sampling,
-                                         whole_image if usable else None)
+        rank.problem = repr(error)
+    colours, problem = None, rank.problem
+    if rank.demip:  # phase 2 of each DEMIP level, then its colours (as bricked_foveated's DEMIP levels)
+        colours, problem = _demip_levels(
+            renderer, rank.layers, rank.values, rank.entries,
+            lambda index, volume_level, kind: _level_entry(rank, volume, index, volume_level, kind),
+            rank.camera, rank.shape, reduce, problem, ranges, rank.coarse_levels, volume, rank.sampling,
+            rank.whole_image if rank.usable else None)
     if problem is not None:  # (after the last collective: this rank alone draws nothing, and says why)
         return None, problem
-    if not usable:
+    if not rank.usable:
         return None, None  # a rank without data: it took part, it draws nothing
-    values = {layer.level: values[index] for index, layer in enumerate(plan.layers)}
+    plan, layers = rank.plan, rank.layers
+    values = {layer.level: rank.values[index] for index, layer in enumerate(plan.layers)}
     if colours is not None:
         colours = {layer.level: colours[index] for index, layer in enumerate(plan.layers)}
     # 4: blended after compositing, as the GPU draws the levels (coarsest first, "over", weights, upscale)
-    state["rank_foveated_values"] = (plan, values, [volume_level for _, _, volume_level in layers])
+    rank.state["rank_foveated_values"] = (plan, values, [volume_level for _, _, volume_level in layers])
     # the bounds whose projection covers the coarse levels' stretch beyond the outline (spill_bounds):
     # twice the coarsest texel, for the margin
-    state["rank_foveated_bounds"] = spill_bounds(
-        box.GetBounds(), camera, shape[0],
+    rank.state["rank_foveated_bounds"] = spill_bounds(
+        rank.box.GetBounds(), rank.camera, rank.shape[0],
         2.0 * max(layer.image_sample_distance for layer in plan.layers))
-    band = silhouette if len(plan.layers) > 1 else None
+    band = rank.silhouette if len(plan.layers) > 1 else None
     ranges = {layer.level: ranges[index] for index, layer in enumerate(plan.layers)}
-    adaptive = (tolerance, _background(renderer), bound) if tolerance > 0 and len(plan.layers) > 1 else None
+    adaptive = ((rank.tolerance, _background(renderer), rank.bound)
+                if rank.tolerance > 0 and len(plan.layers) > 1 else None)
     return blend_levels(plan, values, volume.GetProperty(), band, ranges, adaptive, colours), None
 
 
