@@ -13,7 +13,7 @@ view (:func:`level_cap`, :func:`world_per_pixel`, :func:`silhouette`).
 from __future__ import annotations
 
 import math
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 import numpy as np
 from vtkmodules.util.misc import calldata_type
@@ -31,6 +31,9 @@ from mipcast.core.parameter_tables import FOVEATION_LAYERS
 from mipcast.mappers import bricked_draw, bricked_foveated, clip_uniforms, float_readout, refine_keep, volume_pyramid
 from mipcast.mappers.private_draw import GL_SCISSOR_BOX, GL_SCISSOR_TEST, follow_volume
 
+if TYPE_CHECKING:
+    from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
+
 #: Stand-in for an unbounded eccentricity in the shader's uniforms.
 FAR = 1.0e30
 
@@ -45,7 +48,7 @@ COARSE_LEVEL_PIECES = ("foveated_band_dec", "foveated_skip_coarse", "foveated_co
                        "foveated_paint_beneath")
 
 
-def capture_depth(state, renderer):
+def capture_depth(state, renderer) -> Optional[vtkTextureObject]:
     """Copy the depth buffer once for all levels; the bound texture they share, or None.
 
     Each VTK volume mapper copies the whole window's depth buffer before it
@@ -111,7 +114,7 @@ def bind_coarse_samplers(level_mapper, event, program) -> None:
 _VALUE_CLASSES: dict = {}
 
 
-def value_class(colours: bool = False):
+def value_class(colours: bool = False) -> type:
     """The mapper class of a level drawn from composited values (``shaders/foveated_brick_hooks.glsl``).
 
     ``colours``: a DEMIP level's, drawing the composited colours too
@@ -133,7 +136,7 @@ def level_bricks(source, limit) -> list:
 
 
 def composite_level(mapper, state, volume, renderer, level, volume_level, level_input, component, distance, plan,
-                     layer, silhouette):
+                     layer, silhouette) -> tuple:
     """A level beyond the texture limit: its rays composited over its bricks, uploaded for its draw.
 
     Returns (the 2 x 2 x 2 box the level draws, the values' texture, a DEMIP
@@ -276,7 +279,7 @@ def bind_mask_sampler(level_mapper, event, program) -> None:
 _LEVEL_CLASSES: dict = {}
 
 
-def level_class(base, kind: Optional[str] = None):
+def level_class(base, kind: Optional[str] = None) -> type:
     """``base`` (a mipcast mapper class) plus the foveation pieces.
 
     ``kind``: None, ``"masked"`` (refinement mask uploaded from the CPU) or
@@ -300,7 +303,7 @@ def level_class(base, kind: Optional[str] = None):
     return cls
 
 
-def copy_settings(mapper, volume, level_mapper, level_volume, matrix, distance, image_distance):
+def copy_settings(mapper, volume, level_mapper, level_volume, matrix, distance, image_distance) -> None:
     level_mapper.SetAutoAdjustSampleDistances(False)
     if level_mapper.GetSampleDistance() != distance:
         level_mapper.SetSampleDistance(distance)
@@ -324,7 +327,7 @@ def set_uniforms(level_volume, plan, layer, kept=None) -> None:
     uniforms.SetUniformf("u_mc_fovLevel", float(layer.level))
 
 
-def silhouette(image, volume, camera, viewport, base_isd):
+def silhouette(image, volume, camera, viewport, base_isd) -> Optional[tuple]:
     """The volume box's projected outline for the silhouette band: (edges (6, 3), unit), or None.
 
     ``unit`` is one level-0 ray spacing in viewport heights.  None when a

@@ -18,7 +18,7 @@ accounting.
 from __future__ import annotations
 
 import math
-from typing import Optional
+from typing import TYPE_CHECKING, Optional, Union
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -30,6 +30,9 @@ from mipcast.core.transfer_bounds import constant_ends
 from mipcast.mappers import refine_pass
 from mipcast.mappers.max_blocks import block_maxima
 from mipcast.mappers.private_draw import copy_drawn, draw_over, kept_texture, scissor_kept, texture_target
+
+if TYPE_CHECKING:
+    from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
 
 
 def gpu_masks_possible(state, renderer) -> bool:
@@ -57,7 +60,7 @@ def coarse_textures(state, renderer, viewport) -> dict:
     return entry
 
 
-def fovea_texture(state, renderer, plan, layer):
+def fovea_texture(state, renderer, plan, layer) -> vtkTextureObject:
     """A level's fovea spans (:func:`mipcast.core.content_adaptive.fovea_spans`) as a float texture, one texel a row.
 
     Made again only when the grid, gaze, aspect or fovea change: it does not depend on the picture.
@@ -139,7 +142,8 @@ def gpu_masks(frame) -> dict:
             for index, layer in enumerate(plan.layers) if index >= 1}
 
 
-def refinement_test(state, renderer, volume, viewport, plan, source, tolerance, values, coarse, before):
+def refinement_test(state, renderer, volume, viewport, plan, source, tolerance, values, coarse,
+                    before) -> Union[tuple, vtkTextureObject]:
     """The refinement test of the picture the layers up to ``source`` left, at that layer's texels.
 
     ``values``: the levels' float readouts and the rays their masks left out
@@ -253,12 +257,12 @@ def above_floor_boxes(state, image, volume, values=None, data_range=None, dims=N
     return found[floor]
 
 
-def bound_texture(state, renderer, grid, bound: Optional[np.ndarray]):
+def bound_texture(state, renderer, grid, bound: Optional[np.ndarray]) -> vtkTextureObject:
     """The structure bound as a 2D texture of ``grid`` (:func:`mask_texture`; zeros for None)."""
     return mask_texture(state, renderer, "bound", np.zeros(tuple(grid)[::-1], bool) if bound is None else bound)
 
 
-def beneath_texture(state, renderer, before: np.ndarray):
+def beneath_texture(state, renderer, before: np.ndarray) -> vtkTextureObject:
     """The viewport's picture before the frame's first level (RGB, top row first) as an RGBA8 texture."""
     height, width = before.shape[:2]
     texture = kept_texture(state, "beneath_texture", renderer.GetRenderWindow())
@@ -268,7 +272,7 @@ def beneath_texture(state, renderer, before: np.ndarray):
     return texture
 
 
-def mask_texture(state, renderer, level, mask):
+def mask_texture(state, renderer, level, mask) -> vtkTextureObject:
     """A bool grid (a level's refinement mask, the structure bound) as a nearest-filtered 2D texture (bottom row
     first), kept per ``level`` key."""
     textures = state.setdefault("mask_textures", {})
