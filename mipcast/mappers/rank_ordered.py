@@ -253,14 +253,49 @@ def _whole_ray_seen(renderer, entries, whole_image, camera, shape, reduce, probl
 
 def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera, shape, reduce, data_range,
              problem, rank, missing=False):
-    from mipcast.core.object_state import object_state
-    from mipcast.mappers import clip_uniforms
+    """An order-dependent projection (LMIP, attenuated MIP, MIDA) over the ranks, as :func:`demip` returns it.
+
+    Every rank enters every reduction: 1. :func:`_turn_order`, who draws
+    which piece, front to back; 2. :func:`_take_turns`, the pieces' scans
+    in that order, the running state summed over the ranks; 3. LMIP's
+    second phase (:func:`_lmip_matches`) or MIDA's missing test
+    (:func:`_whole_ray_seen`); then the picture (:func:`_ordered_picture`).
+    """
+    index, count = (int(v) for v in rank)
+    own, order, order_problem, problem, why = _turn_order(projection, mapper, volume, entries, whole_image, camera,
+                                                          shape, reduce, problem, index, count)
+    if why is not None:
+        return None, why
+    state, problem, why = _take_turns(projection, mapper, volume, renderer, own, whole_image, camera, shape, reduce,
+                                      data_range, problem, index, order, order_problem)
+    if why is not None:
+        return None, why
+    values, found = np.full(shape, np.nan), np.full(shape, np.inf)
+    if projection == "lmip":
+        values, found, why = _lmip_matches(renderer, entries, whole_image, camera, shape, reduce, data_range,
+                                           problem, state)
+        if why is not None:
+            return None, why
+    seen = None
+    if projection == "mida" and missing:
+        seen, why = _whole_ray_seen(renderer, entries, whole_image, camera, shape, reduce, problem)
+        if why is not None:
+            return None, why
+    if mapper is None or whole_image is None:
+        return None, None  # a rank without data: it took part, it draws nothing
+    return _ordered_picture(projection, mapper, volume, whole_image, camera, state, values, found, seen, data_range,
+                            missing), None
+
+
+def _turn_order(projection, mapper, volume, entries, whole_image, camera, shape, reduce, problem, index, count):
+    """1: who draws which piece (a row per rank: its extent), how many ranks counted, anyone failed (one SUM).
+
+    Returns (this rank's ordered entry or None, the ranks in the order the rays cross their pieces, why
+    they could not be ordered or None, this rank's problem, why the frame cannot be drawn or None).
+    """
     from mipcast.mappers.brick_rays import ray_uniforms
     from mipcast.mappers.bricked_demip import follow_demip_brick
-    from mipcast.mappers.demip_composite import demip_composite, demip_premultiplied
-    from mipcast.mappers.demip_ordered_bricks import attenuated_value, local_threshold
 
-    index, count = (int(v) for v in rank)
     own = None
     if not 0 <= index < count and problem is None:
         problem = f"this rank's index {index} is not in [0, {count}): pass rank=(index, count) to compose"
@@ -273,7 +308,6 @@ def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera,
             own["mapper"].GetInputPreparer().SetWholeRange(entries[0]["mapper"].GetInputPreparer().GetWholeRange())
         except Exception as error:  # noqa: BLE001  (reported; the collectives still run)
             problem, own = repr(error), None
-    # 1: who draws which piece (a row per rank), how many ranks counted, anyone failed
     table = np.zeros((count, 7))
     claims = np.zeros(count)
     if 0 <= index < count:
@@ -282,14 +316,16 @@ def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera,
             table[index] = [1.0, *own["extent"]]
     gathered = reduce(np.concatenate([table.ravel(), claims, [1.0, 1.0 if problem else 0.0]]), "sum")
     if int(round(gathered[-2])) != count:
-        return None, (f"the ranks disagree on their number ({int(round(gathered[-2]))} took part, this rank was "
-                      f"told {count}): pass rank=(index, count) to rank_composite.compose")
+        return own, [], None, problem, (
+            f"the ranks disagree on their number ({int(round(gathered[-2]))} took part, this rank was "
+            f"told {count}): pass rank=(index, count) to rank_composite.compose")
     if gathered[-1] > 0.0:
-        return None, problem or "a rank failed to prepare its piece"
+        return own, [], None, problem, problem or "a rank failed to prepare its piece"
     claims = gathered[count * 7:-2]
     if np.any(np.abs(claims - 1.0) > 0.5):
-        return None, (f"the ranks' indices are not 0 .. {count - 1} once each (rank rows {claims.tolist()}): "
-                      "pass rank=(index, count) to rank_composite.compose")
+        return own, [], None, problem, (
+            f"the ranks' indices are not 0 .. {count - 1} once each (rank rows {claims.tolist()}): "
+            "pass rank=(index, count) to rank_composite.compose")
     table = gathered[:count * 7].reshape(count, 7)
     drawn = [r for r in range(count) if table[r, 0] > 0.5]
     order, order_problem = list(drawn), None
@@ -299,7 +335,16 @@ def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera,
             order = [drawn[i] for i in front_to_back([table[r, 1:] for r in drawn], rays)]
         except ValueError as error:
             order_problem = str(error)
-    # 2: the turns, front to back; the same number on every rank
+    return own, order, order_problem, problem, None
+
+
+def _take_turns(projection, mapper, volume, renderer, own, whole_image, camera, shape, reduce, data_range, problem,
+                index, order, order_problem):
+    """2: the turns, front to back, the same number on every rank: the owner of each piece continues the running
+    state (:func:`_draw_turn`), which one SUM hands to every rank.  Returns (state, this rank's problem, why the
+    frame cannot be drawn or None)."""
+    from mipcast.mappers.demip_ordered_bricks import local_threshold
+
     names = STATE[projection]
     state = {name: np.zeros(shape) for name in names}
     if projection in ("lmip", "attenuated"):
@@ -307,7 +352,7 @@ def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera,
     local = (local_threshold(volume.GetProperty(), data_range, mapper.GetLocalThreshold())
              if projection == "lmip" and mapper is not None else None)
     size = shape[0] * shape[1]
-    for turn, owner in enumerate(order):
+    for owner in order:
         contribution = np.zeros(len(names) * size + 1)
         if order_problem is not None:  # every rank that could order sees it: all stop at the first turn
             contribution[-1] = 1.0
@@ -320,47 +365,54 @@ def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera,
                 problem, contribution[-1] = repr(error), 1.0
         reduced = reduce(contribution, "sum")
         if reduced[-1] > 0.0:
-            return None, order_problem or problem or "a rank failed to order or draw the pieces"
+            return state, problem, order_problem or problem or "a rank failed to order or draw the pieces"
         for k, name in enumerate(names):
             state[name] = reduced[k * size:(k + 1) * size].reshape(shape)
-    # 3: LMIP's phase 2 (DEMIP's first same-material sample): MIN over the ranks
-    values = np.full(shape, np.nan)
-    if projection == "lmip":
-        from mipcast.mappers.demip_brick import bind_maximum, match_index
-        from mipcast.mappers.rank_composite import _render
+    return state, problem, None
 
-        values = np.where(state["running"] <= 0.5 * _LOW, np.nan, state["running"])
-        values = values.astype(np.float32).astype(np.float64)
-        found = np.full(shape, np.inf)
-        if entries:
-            try:
-                bind_maximum(renderer.GetRenderWindow(), entries[1]["mapper"], values, data_range)
-                found = match_index(_render(renderer, entries[1], whole_image, camera, shape, raw=True))
-            except Exception as error:  # noqa: BLE001
-                problem = repr(error)
-        reduced = reduce(np.concatenate([np.where(np.isfinite(found), found, _HIGH).ravel(),
-                                         [-1.0 if problem else 0.0]]), "min")
-        if reduced[-1] < 0.0:
-            return None, problem or "a rank failed to render its piece"
-        found = reduced[:-1].reshape(shape)
-        found = np.where(found >= 0.5 * _HIGH, np.inf, found)
-    else:
-        found = np.full(shape, np.inf)
-    seen = None
-    if projection == "mida" and missing:
-        seen, why = _whole_ray_seen(renderer, entries, whole_image, camera, shape, reduce, problem)
-        if why is not None:
-            return None, why
-    if mapper is None or whole_image is None:
-        return None, None  # a rank without data: it took part, it draws nothing
+
+def _lmip_matches(renderer, entries, whole_image, camera, shape, reduce, data_range, problem, state):
+    """3: LMIP's phase 2 (DEMIP's first same-material sample) over the ranks, one MIN: (values, the whole-ray
+    index of each ray's first sample of its value's material (inf: none), why the frame cannot be drawn or
+    None)."""
+    from mipcast.mappers.demip_brick import bind_maximum, match_index
+    from mipcast.mappers.rank_composite import _render
+
+    values = np.where(state["running"] <= 0.5 * _LOW, np.nan, state["running"])
+    values = values.astype(np.float32).astype(np.float64)
+    found = np.full(shape, np.inf)
+    if entries:
+        try:
+            bind_maximum(renderer.GetRenderWindow(), entries[1]["mapper"], values, data_range)
+            found = match_index(_render(renderer, entries[1], whole_image, camera, shape, raw=True))
+        except Exception as error:  # noqa: BLE001
+            problem = repr(error)
+    reduced = reduce(np.concatenate([np.where(np.isfinite(found), found, _HIGH).ravel(),
+                                     [-1.0 if problem else 0.0]]), "min")
+    if reduced[-1] < 0.0:
+        return values, found, problem or "a rank failed to render its piece"
+    found = reduced[:-1].reshape(shape)
+    return values, np.where(found >= 0.5 * _HIGH, np.inf, found), None
+
+
+def _ordered_picture(projection, mapper, volume, whole_image, camera, state, values, found, seen, data_range,
+                     missing) -> np.ndarray:
+    """The premultiplied RGBA of the reduced state: MIDA's colours as they are; LMIP's and attenuated MIP's
+    values through DEMIP's depth, Eq. 1 and colour sphere (:func:`mipcast.mappers.demip_composite.demip_composite`).
+    The frame's floats stay on the mapper's state for :class:`mipcast.distributed.DistributedView`."""
+    from mipcast.core.object_state import object_state
+    from mipcast.mappers import clip_uniforms
+    from mipcast.mappers.demip_composite import demip_composite, demip_premultiplied
+    from mipcast.mappers.demip_ordered_bricks import attenuated_value
+
     if projection == "mida":
         object_state(mapper)["rank_ordered_floats"] = {}
-        rgba = np.zeros(shape + (4,), dtype=np.float32)
+        rgba = np.zeros(values.shape + (4,), dtype=np.float32)
         rgba[..., 0], rgba[..., 1], rgba[..., 2] = (np.clip(state[c], 0.0, 1.0) for c in ("red", "green", "blue"))
         rgba[..., 3] = np.clip(state["opacity"], 0.0, 1.0)
         if seen is not None:  # a ray that saw no finite data draws nothing, as one texture's
             rgba[~seen] = 0.0
-        return rgba, None
+        return rgba
     if projection == "attenuated":
         best = np.where(state["best"] <= 0.5 * _LOW, np.nan, state["best"])
         values = attenuated_value(best, volume.GetProperty(), data_range)
@@ -374,4 +426,4 @@ def _ordered(projection, mapper, volume, renderer, entries, whole_image, camera,
                                  volume.GetProperty(), slab=clip_uniforms.slab_of(mapper, camera))
     # the frame's floats, for callers that offer them (mipcast.distributed.DistributedView)
     object_state(mapper)["rank_ordered_floats"] = {"value": values, "depth": depth}
-    return demip_premultiplied(values, rgb, volume.GetProperty()), None
+    return demip_premultiplied(values, rgb, volume.GetProperty())
