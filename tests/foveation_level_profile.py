@@ -68,6 +68,29 @@ def _medians(views: dict, rounds: int, moves: dict = None) -> dict:
     return {name: round(1000 * statistics.median(values[1:]), 1) for name, values in frames.items()}
 
 
+def _time_level_draws(record) -> None:
+    """Time each level volume's draw alone (the GL work finished before and after, process CPU time, which the
+    other engineers' load disturbs less than wall time): ``record(isd, seconds)``, ``isd`` the level's image
+    sample distance (None: a volume no level owns, the depth copy)."""
+    class TimedVolume(vtkVolume):
+        def RenderVolumetricGeometry(self, renderer):
+            window = renderer.GetRenderWindow()
+            window.WaitForCompletion()
+            start = time.process_time()
+            result = vtkVolume.RenderVolumetricGeometry(self, renderer)
+            window.WaitForCompletion()
+            record(getattr(self, "isd", None), time.process_time() - start)
+            return result
+
+    copy_settings = foveated_levels.copy_settings
+
+    def noting_isd(mapper, volume, level_mapper, level_volume, matrix, distance, isd):
+        level_volume.isd = isd
+        return copy_settings(mapper, volume, level_mapper, level_volume, matrix, distance, isd)
+
+    foveated_levels.vtkVolume, foveated_levels.copy_settings = TimedVolume, noting_isd
+
+
 #: A fragment shader that ends before its ray starts (a replacement at the top of VTK's raycaster main()).
 DISCARD_ALL = ("//VTK::CallWorker::Impl", True, "if (gl_FragCoord.x > -1.0) discard;\n//VTK::CallWorker::Impl", False)
 
@@ -80,25 +103,12 @@ def levels(scene: str, gaze, rounds: int = 4, discard: bool = False) -> dict:
     stretch of a reduced level over the viewport, the refine passes, copies)."""
     draws, current = {}, [None]
 
-    class TimedVolume(vtkVolume):  # the level volumes: their RenderVolumetricGeometry timed alone
-        def RenderVolumetricGeometry(self, renderer):
-            window = renderer.GetRenderWindow()
-            window.WaitForCompletion()
-            start = time.process_time()
-            result = vtkVolume.RenderVolumetricGeometry(self, renderer)
-            window.WaitForCompletion()
-            if current[0] is not None:
-                key = f"isd {getattr(self, 'isd', '?')}"
-                draws.setdefault(current[0], {}).setdefault(key, []).append(time.process_time() - start)
-            return result
+    def record(isd, seconds):
+        if current[0] is not None:
+            key = f"isd {isd if isd is not None else '?'}"
+            draws.setdefault(current[0], {}).setdefault(key, []).append(seconds)
 
-    copy_settings = foveated_levels.copy_settings
-
-    def noting_isd(mapper, volume, level_mapper, level_volume, matrix, distance, isd):
-        level_volume.isd = isd
-        return copy_settings(mapper, volume, level_mapper, level_volume, matrix, distance, isd)
-
-    foveated_levels.vtkVolume, foveated_levels.copy_settings = TimedVolume, noting_isd
+    _time_level_draws(record)
     image, window = _load_scene(scene, 128)
     views = {}
     for name in ("full", "acuity", "content-adaptive"):
@@ -198,23 +208,8 @@ def coherence(scene: str, rounds: int = 4) -> dict:
     import mipcast.core.content_adaptive as content_adaptive
 
     timed, pattern = [], [None]
-
-    class TimedVolume(vtkVolume):
-        def RenderVolumetricGeometry(self, renderer):
-            window = renderer.GetRenderWindow()
-            window.WaitForCompletion()
-            start = time.process_time()
-            result = vtkVolume.RenderVolumetricGeometry(self, renderer)
-            window.WaitForCompletion()
-            if getattr(self, "isd", None) == 1.0:
-                timed.append(time.process_time() - start)
-            return result
-
-    copy_settings, real_mask = foveated_levels.copy_settings, content_adaptive.refinement_mask
-
-    def noting_isd(mapper, volume, level_mapper, level_volume, matrix, distance, isd):
-        level_volume.isd = isd
-        return copy_settings(mapper, volume, level_mapper, level_volume, matrix, distance, isd)
+    _time_level_draws(lambda isd, seconds: timed.append(seconds) if isd == 1.0 else None)
+    real_mask = content_adaptive.refinement_mask
 
     def patterned(edge, structure, plan, layer):
         mask = real_mask(edge, structure, plan, layer)
@@ -226,7 +221,6 @@ def coherence(scene: str, rounds: int = 4) -> dict:
         chosen = rng.random((rows // block + 1, columns // block + 1)) < share
         return np.kron(chosen, np.ones((block, block), bool))[:rows, :columns]
 
-    foveated_levels.vtkVolume, foveated_levels.copy_settings = TimedVolume, noting_isd
     content_adaptive.refinement_mask = patterned
     image, window = _load_scene(scene, 128)
     view = framed_view(image, "foveated", 1024, "fill", window)
