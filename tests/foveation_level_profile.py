@@ -44,15 +44,12 @@ import mipcast.mappers.foveated_levels as foveated_levels
 import mipcast.mappers.foveated_masks as foveated_masks
 from mipcast.app.cli import _load_scene
 from mipcast.bench.foveation_bench import framed_view
+from mipcast.bench.frame_overhead import timed_frame
 
 
 def _timed(view) -> float:
-    window = view.render_window
-    window.WaitForCompletion()
-    start = time.process_time()
-    window.Render()
-    window.WaitForCompletion()
-    return time.process_time() - start
+    """Process CPU seconds of one frame (mipcast.bench.frame_overhead's timing)."""
+    return timed_frame(view)[1]
 
 
 def _medians(views: dict, rounds: int, moves: dict = None) -> dict:

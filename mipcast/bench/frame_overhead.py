@@ -84,7 +84,7 @@ def measure_frame_overhead(image, scene: str, sizes: Sequence[int] = (32, 1024),
         for index in range(warmup + frames):
             for (setting, move), view in views.items():
                 _move(view, move, index)
-                wall, cpu = _timed_frame(view)
+                wall, cpu = timed_frame(view)
                 if index >= warmup:
                     times[setting, move][0].append(wall)
                     times[setting, move][1].append(cpu)
@@ -108,8 +108,18 @@ def _move(view, move: str, index: int) -> None:
         view.renderer.GetActiveCamera().Azimuth(TURN)
 
 
-def _timed_frame(view) -> tuple:
-    """(wall, process CPU) seconds of one frame, the GL work finished before and after."""
+def timed_frame(view) -> tuple:
+    """(wall, process CPU) seconds of one frame of ``view`` (an :class:`~mipcast.offscreen.OffscreenView`),
+    the GL work finished before and after.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> from mipcast.offscreen import OffscreenView
+    >>> wall, cpu = timed_frame(OffscreenView(make_fixture("spheres", size=8), "mip", size=(16, 16)))
+    >>> wall > 0 and cpu > 0
+    True
+    """
     window = view.render_window
     window.WaitForCompletion()
     wall, cpu = time.perf_counter(), time.process_time()

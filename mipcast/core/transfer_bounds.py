@@ -63,15 +63,11 @@ def _constant_ends(prop, low: float, high: float) -> Tuple[float, float]:
     return floor, ceiling
 
 
-_NORMALISED: dict = {}
-
-
 def normalised_ends(prop, scalars) -> Optional[Tuple[float, float]]:
     """:func:`constant_ends` over the scalars' range, as fractions of it; None for a constant range.
 
-    Cached on the property's and the scalars' identity and modification
-    time (a property's MTime includes its transfer functions), so render
-    hooks may ask every frame.
+    The scalars' range is VTK's (kept until they change) and
+    :func:`constant_ends` is cached, so render hooks may ask every frame.
 
     Examples
     --------
@@ -82,15 +78,10 @@ def normalised_ends(prop, scalars) -> Optional[Tuple[float, float]]:
     >>> normalised_ends(grey_property((100.0, 400.0)), scalars)
     (0.1, 0.4)
     """
-    key = (prop.GetAddressAsString("vtkObjectBase"), prop.GetMTime(),
-           scalars.GetAddressAsString("vtkObjectBase"), scalars.GetMTime())
-    if key not in _NORMALISED:
-        if len(_NORMALISED) > 256:
-            _NORMALISED.clear()
-        low, high = scalars.GetRange(0)
-        _NORMALISED[key] = (tuple((v - low) / (high - low) for v in constant_ends(prop, low, high))
-                            if high > low else None)
-    return _NORMALISED[key]
+    low, high = scalars.GetRange(0)
+    if not high > low:
+        return None
+    return tuple((v - low) / (high - low) for v in constant_ends(prop, low, high))
 
 
 def _node_positions(prop):

@@ -538,14 +538,16 @@ def _begin_frame(mapper, state, volume, renderer) -> SimpleNamespace:
     gl_state = renderer.GetRenderWindow().GetState()
     box = [0, 0, 0, 0]  # the render's scissor box (from the window's origin: MIPVolumeMapper's observer)
     gl_state.vtkglGetIntegerv(GL_SCISSOR_BOX, box)
+    cells = foveated_levels.walks_cells(params["method"])
+    spacings = volume_pyramid.pyramid_voxel_sizes(image, params["number_of_levels"])
+    world_per_pixel = foveated_levels.world_per_pixel(whole_camera, volume, whole)
+    base_distance = auto_sample_distance(image, volume) if auto else float(mapper.GetSampleDistance())
+    depth = foveated_levels.capture_depth(state, renderer)  # the depth buffer copied once for all levels
     frame = SimpleNamespace(
         image=image, params=params, viewport=viewport, camera=camera, plan=plan, readout=readout,
         keeping=keeping, scene=scene, kept=kept, eye=eye, tolerance=tolerance, adaptive=adaptive,
-        cells=foveated_levels.walks_cells(params["method"]),
-        spacings=volume_pyramid.pyramid_voxel_sizes(image, params["number_of_levels"]),
-        world_per_pixel=foveated_levels.world_per_pixel(whole_camera, volume, whole), base_isd=base_isd,
-        base_distance=auto_sample_distance(image, volume) if auto else float(mapper.GetSampleDistance()),
-        gl_state=gl_state, box=box, depth=foveated_levels.capture_depth(state, renderer),
+        cells=cells, spacings=spacings, world_per_pixel=world_per_pixel, base_isd=base_isd,
+        base_distance=base_distance, gl_state=gl_state, box=box, depth=depth,
         silhouette=foveated_levels.silhouette(image, volume, camera, viewport, base_isd),
         layers=[], values={}, skipped={},  # a readout: each level's values, and the rays its mask left out
         bricks_drawn=0, bricked_levels={}, masks={},

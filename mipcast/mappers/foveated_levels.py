@@ -29,7 +29,7 @@ from mipcast.core.camera_rays import matrix_array
 from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
 from mipcast.mappers import bricked_draw, bricked_foveated, clip_uniforms, float_readout, refine_keep, volume_pyramid
-from mipcast.mappers.private_draw import GL_SCISSOR_BOX, GL_SCISSOR_TEST, follow_volume
+from mipcast.mappers.private_draw import GL_SCISSOR_BOX, GL_SCISSOR_TEST, follow_volume, scissor_kept
 
 if TYPE_CHECKING:
     from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
@@ -226,18 +226,16 @@ def _probe(level_volume, renderer, plan, layer, kept) -> None:
     band = reference(0.0)
     uniforms.GetUniformf("u_mc_fovSilOn", band)
     uniforms.SetUniformf("u_mc_fovSilOn", 0.0)
-    gl_state = renderer.GetRenderWindow().GetState()
-    scissor = gl_state.GetEnumState(GL_SCISSOR_TEST)
+    window = renderer.GetRenderWindow()
+    gl_state = window.GetState()
     box = [0, 0, 0, 0]
     gl_state.vtkglGetIntegerv(GL_SCISSOR_BOX, box)
-    gl_state.vtkglEnable(GL_SCISSOR_TEST)
-    gl_state.vtkglScissor(box[0], box[1], 1, 1)
     try:
-        level_volume.RenderVolumetricGeometry(renderer)
+        with scissor_kept(window):
+            gl_state.vtkglEnable(GL_SCISSOR_TEST)
+            gl_state.vtkglScissor(box[0], box[1], 1, 1)
+            level_volume.RenderVolumetricGeometry(renderer)
     finally:
-        gl_state.vtkglScissor(*box)
-        if not scissor:
-            gl_state.vtkglDisable(GL_SCISSOR_TEST)
         set_uniforms(level_volume, plan, layer, kept)
         uniforms.SetUniformf("u_mc_fovSilOn", float(band))
 

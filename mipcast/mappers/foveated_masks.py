@@ -21,15 +21,14 @@ import math
 from typing import TYPE_CHECKING, Optional, Union
 
 import numpy as np
-from vtkmodules.util.numpy_support import vtk_to_numpy
-from vtkmodules.vtkCommonCore import VTK_UNSIGNED_CHAR, vtkUnsignedCharArray
+from vtkmodules.vtkCommonCore import VTK_UNSIGNED_CHAR
 
 from mipcast.core import content_adaptive, foveation, structure_bound
 from mipcast.core.prepare import prepare_scalars
 from mipcast.core.transfer_bounds import constant_ends
 from mipcast.mappers import refine_pass
 from mipcast.mappers.max_blocks import block_maxima
-from mipcast.mappers.private_draw import copy_drawn, draw_over, kept_texture, scissor_kept, texture_target
+from mipcast.mappers.private_draw import copy_drawn, draw_over, kept_texture, read_rgba, texture_target
 
 if TYPE_CHECKING:
     from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
@@ -167,12 +166,7 @@ def refinement_test(state, renderer, volume, viewport, plan, source, tolerance, 
 
 def read_texels(renderer, viewport, grid) -> np.ndarray:
     """The window's picture (RGB, uint8) at the texel centres of ``grid``, top row first."""
-    x0, y0, width, height = viewport
-    pixels = vtkUnsignedCharArray()
-    window = renderer.GetRenderWindow()
-    with scissor_kept(window):  # the levels drawn after it keep their boxes
-        window.GetRGBACharPixelData(x0, y0, x0 + width - 1, y0 + height - 1, 0, pixels)
-    picture = vtk_to_numpy(pixels).reshape(height, width, 4)[::-1, :, :3]
+    picture = read_rgba(renderer.GetRenderWindow(), viewport)[::-1, :, :3]  # (the levels after it keep their boxes)
     return content_adaptive.coarse_texels(picture, grid)
 
 

@@ -32,7 +32,7 @@ from vtkmodules.vtkCommonCore import VTK_FLOAT
 from vtkmodules.vtkRenderingCore import vtkCamera
 
 from mipcast.core.object_state import object_state
-from mipcast.mappers.private_draw import GL_SCISSOR_TEST, draw_over, kept_texture, pixel_texture
+from mipcast.mappers.private_draw import GL_SCISSOR_TEST, draw_over, kept_texture, pixel_texture, read_depth, scissor_kept
 
 _FAR = 1.0e30
 _GL_COLOR_BUFFER_BIT, _GL_DEPTH_BUFFER_BIT = 0x4000, 0x0100
@@ -143,42 +143,42 @@ def draw_extended(state: dict, renderer, viewport, margins, level_volume, plan, 
     kx, ky = wide / width, high / height
     centre = saved[0]
     gl = window.GetState()
-    scissor = gl.GetEnumState(GL_SCISSOR_TEST)
-    gl.PushFramebufferBindings()
-    try:
-        # the draw framebuffer only: the level reads the scene depth from the texture given here
-        entry["framebuffer"].Bind(_GL_DRAW_FRAMEBUFFER)
-        entry["framebuffer"].ActivateDrawBuffer(0)
-        gl.vtkglDisable(GL_SCISSOR_TEST)
-        gl.vtkglViewport(0, 0, wide, high)
-        gl.vtkglScissor(0, 0, wide, high)
-        gl.vtkglClearColor(0.0, 0.0, 0.0, 0.0)
-        gl.vtkglClearDepth(1.0)
-        gl.vtkglDepthMask(True)
-        gl.vtkglClear(_GL_COLOR_BUFFER_BIT | _GL_DEPTH_BUFFER_BIT)
-        window.SetTileViewport(ex0 / columns, ey0 / rows, (ex0 + wide) / columns, (ey0 + high) / rows)
-        camera.SetWindowCenter((centre[0] + (right - left) / width) / kx, (centre[1] + (top - bottom) / height) / ky)
-        if camera.GetParallelProjection():
-            camera.SetParallelScale(saved[2] * ky)
-        else:
-            along = kx if camera.GetUseHorizontalViewAngle() else ky
-            half = math.tan(math.radians(saved[1]) / 2.0) * along
-            camera.SetViewAngle(math.degrees(2.0 * math.atan(half)))
-        _rescale_uniforms(level_volume, viewport, margins, plan, layer)
-        level_mapper.SetSharedDepthTexture(depth)
-        depth.Activate()  # a shared texture is bound by its owner while the level draws
-        draw()
-        depth.Deactivate()
-    finally:
-        level_mapper.SetSharedDepthTexture(shared_depth)
-        window.SetTileViewport(*tile)
-        camera.SetWindowCenter(*saved[0])
-        camera.SetViewAngle(saved[1])
-        camera.SetParallelScale(saved[2])
-        gl.PopFramebufferBindings()
-        gl.vtkglViewport(x0, y0, width, height)
-        if scissor:
-            gl.vtkglEnable(GL_SCISSOR_TEST)
+    # the extended box is cleared and drawn with the scissor test off; the test and box come back after
+    with scissor_kept(window):
+        gl.PushFramebufferBindings()
+        try:
+            # the draw framebuffer only: the level reads the scene depth from the texture given here
+            entry["framebuffer"].Bind(_GL_DRAW_FRAMEBUFFER)
+            entry["framebuffer"].ActivateDrawBuffer(0)
+            gl.vtkglDisable(GL_SCISSOR_TEST)
+            gl.vtkglViewport(0, 0, wide, high)
+            gl.vtkglScissor(0, 0, wide, high)
+            gl.vtkglClearColor(0.0, 0.0, 0.0, 0.0)
+            gl.vtkglClearDepth(1.0)
+            gl.vtkglDepthMask(True)
+            gl.vtkglClear(_GL_COLOR_BUFFER_BIT | _GL_DEPTH_BUFFER_BIT)
+            window.SetTileViewport(ex0 / columns, ey0 / rows, (ex0 + wide) / columns, (ey0 + high) / rows)
+            camera.SetWindowCenter((centre[0] + (right - left) / width) / kx,
+                                   (centre[1] + (top - bottom) / height) / ky)
+            if camera.GetParallelProjection():
+                camera.SetParallelScale(saved[2] * ky)
+            else:
+                along = kx if camera.GetUseHorizontalViewAngle() else ky
+                half = math.tan(math.radians(saved[1]) / 2.0) * along
+                camera.SetViewAngle(math.degrees(2.0 * math.atan(half)))
+            _rescale_uniforms(level_volume, viewport, margins, plan, layer)
+            level_mapper.SetSharedDepthTexture(depth)
+            depth.Activate()  # a shared texture is bound by its owner while the level draws
+            draw()
+            depth.Deactivate()
+        finally:
+            level_mapper.SetSharedDepthTexture(shared_depth)
+            window.SetTileViewport(*tile)
+            camera.SetWindowCenter(*saved[0])
+            camera.SetViewAngle(saved[1])
+            camera.SetParallelScale(saved[2])
+            gl.PopFramebufferBindings()
+            gl.vtkglViewport(x0, y0, width, height)
     _draw_part(window, entry["texture"], viewport, margins, (wide, high))
     object_state(level_volume)["tile_margins"] = tuple(margins)
 
@@ -191,10 +191,8 @@ def _extended_depth(state: dict, window, viewport, margins):
     left, bottom, right, top = margins
     x0, y0, width, height = viewport
     wide, high = width + left + right, height + bottom + top
-    tile = np.empty(width * height, dtype=np.float32)
-    window.GetZbufferData(x0, y0, x0 + width - 1, y0 + height - 1, tile)
     depth = np.ones((high, wide), dtype=np.float32)
-    depth[bottom:bottom + height, left:left + width] = tile.reshape(height, width)
+    depth[bottom:bottom + height, left:left + width] = read_depth(window, viewport)
     texture = kept_texture(state, "tile_depth", window)
     texture.CreateDepthFromRaw(wide, high, vtkTextureObject.Float32, VTK_FLOAT, np.ascontiguousarray(depth))
     texture.Deactivate()

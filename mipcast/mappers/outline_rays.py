@@ -35,7 +35,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 
 from mipcast.core.object_state import object_state
 from mipcast.mappers.brick_rays import cap_steps, ray_uniforms, whole_geometry
-from mipcast.mappers.private_draw import scissor_kept
+from mipcast.mappers.private_draw import read_depth
 
 
 def trilinear(volume: np.ndarray, points: np.ndarray) -> np.ndarray:
@@ -280,11 +280,7 @@ def _depth_buffer(renderer) -> np.ndarray:
     width, height, x0, y0 = [0], [0], [0], [0]
     renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
     width, height = max(width[0], 1), max(height[0], 1)
-    depth = np.empty(width * height, dtype=np.float32)
-    window = renderer.GetRenderWindow()
-    with scissor_kept(window):  # the draws after it keep their boxes
-        window.GetZbufferData(x0[0], y0[0], x0[0] + width - 1, y0[0] + height - 1, depth)
-    depth = depth.reshape(height, width)
+    depth = read_depth(renderer.GetRenderWindow(), (x0[0], y0[0], width, height))
     if "held_depth" in state:
         state["held_depth"] = depth
     return depth

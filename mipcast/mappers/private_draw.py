@@ -11,6 +11,7 @@ from __future__ import annotations
 from contextlib import contextmanager
 from typing import Iterator, Optional
 
+import numpy as np
 from vtkmodules.vtkCommonCore import vtkCommand, vtkWeakReference
 from vtkmodules.vtkRenderingCore import vtkRenderer
 
@@ -145,6 +146,49 @@ def scissor_kept(window) -> Iterator[None]:
         gl_state.vtkglScissor(*box)
 
 
+def read_depth(window, viewport) -> np.ndarray:
+    """The window's depth buffer over ``viewport`` (x0, y0, width, height): (height, width) float32, bottom
+    row first; the scissor test and box kept (:func:`scissor_kept`), so the draws after it keep their boxes.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> from mipcast.offscreen import OffscreenView
+    >>> view = OffscreenView(make_fixture("spheres", size=8), "mip", size=(16, 12))
+    >>> view.render_window.Render()
+    >>> read_depth(view.render_window, (0, 0, 16, 12)).shape
+    (12, 16)
+    """
+    x0, y0, width, height = viewport
+    depth = np.empty(width * height, dtype=np.float32)
+    with scissor_kept(window):
+        window.GetZbufferData(x0, y0, x0 + width - 1, y0 + height - 1, depth)
+    return depth.reshape(height, width)
+
+
+def read_rgba(window, viewport) -> np.ndarray:
+    """The window's picture over ``viewport`` (x0, y0, width, height): (height, width, 4) uint8, bottom row
+    first; the scissor test and box kept (:func:`scissor_kept`).
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> from mipcast.offscreen import OffscreenView
+    >>> view = OffscreenView(make_fixture("spheres", size=8), "mip", size=(16, 12))
+    >>> view.render_window.Render()
+    >>> read_rgba(view.render_window, (0, 0, 16, 12)).shape
+    (12, 16, 4)
+    """
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
+
+    x0, y0, width, height = viewport
+    pixels = vtkUnsignedCharArray()
+    with scissor_kept(window):
+        window.GetRGBACharPixelData(x0, y0, x0 + width - 1, y0 + height - 1, 0, pixels)
+    return vtk_to_numpy(pixels).reshape(height, width, 4)
+
+
 def pixel_texture(window):
     """A new 2D ``vtkTextureObject`` on ``window`` read texel for texel: nearest filtering, clamped edges.
 
@@ -212,24 +256,23 @@ def copy_drawn(renderer, viewport, framebuffer) -> None:
     """
     from vtkmodules.vtkCommonCore import reference
 
-    gl_state = renderer.GetRenderWindow().GetState()
+    window = renderer.GetRenderWindow()
+    gl_state = window.GetState()
     binding, buffer = reference(0), reference(0)
     gl_state.GetCurrentDrawFramebufferState(binding, buffer)
-    scissor = gl_state.GetEnumState(GL_SCISSOR_TEST)
-    gl_state.PushFramebufferBindings()
-    try:
-        gl_state.vtkglBindFramebuffer(GL_READ_FRAMEBUFFER, int(binding))
-        gl_state.vtkglReadBuffer(int(buffer))
-        framebuffer.Bind(GL_DRAW_FRAMEBUFFER)
-        framebuffer.ActivateDrawBuffer(0)
-        gl_state.vtkglDisable(GL_SCISSOR_TEST)
-        x0, y0, width, height = viewport
-        gl_state.vtkglBlitFramebuffer(x0, y0, x0 + width, y0 + height, 0, 0, width, height,
-                                      GL_COLOR_BUFFER_BIT, GL_NEAREST)
-    finally:
-        if scissor:
-            gl_state.vtkglEnable(GL_SCISSOR_TEST)
-        gl_state.PopFramebufferBindings()
+    with scissor_kept(window):
+        gl_state.PushFramebufferBindings()
+        try:
+            gl_state.vtkglBindFramebuffer(GL_READ_FRAMEBUFFER, int(binding))
+            gl_state.vtkglReadBuffer(int(buffer))
+            framebuffer.Bind(GL_DRAW_FRAMEBUFFER)
+            framebuffer.ActivateDrawBuffer(0)
+            gl_state.vtkglDisable(GL_SCISSOR_TEST)
+            x0, y0, width, height = viewport
+            gl_state.vtkglBlitFramebuffer(x0, y0, x0 + width, y0 + height, 0, 0, width, height,
+                                          GL_COLOR_BUFFER_BIT, GL_NEAREST)
+        finally:
+            gl_state.PopFramebufferBindings()
 
 
 def draw_over(window, texture, viewport, quads=None, depth: bool = False, depth_test: bool = False) -> None:
