@@ -18,7 +18,8 @@ without the outline cover (process CPU time, alternated).
 ``samples``: the samples each level of one frame takes, in % of full quality's
 (``GetLastFrameCost()["levels"]``; counts, not times), acuity-only and content-adaptive (2 grey).
 
-``coherence``: level 0's draw with its mask replaced by scattered rays or the same share in square blocks.
+``coherence``: level 0's draw with its mask replaced by scattered rays or the same share in square blocks, and
+with the real mask grown to whole blocks.
 
 ``floor``: ``levels`` with every fragment discarded at the shader's start: the frame's and each level's cost
 whatever their rays (on llvmpipe a fragment invocation costs about 80 ns of CPU even when it ends at once).
@@ -197,14 +198,15 @@ def cover(scene: str, gaze=(0.1, 0.1), rounds: int = 7) -> dict:
 
 def coherence(scene: str, rounds: int = 4) -> dict:
     """Level 0's draw (CPU ms) with its refinement mask replaced by patterns of equal share: scattered rays
-    against the same share in square blocks of 4, 8 and 16 pixels (content-adaptive 2 grey, masks made on
-    the CPU, 1024² fill, gaze at the centre).  SIMD lanes (llvmpipe's, a GPU's warps) march blocks of
-    neighbouring rays together: a block with one ray costs about what a full one does."""
+    against the same share in square blocks of 4, 8 and 16 pixels; and the real mask, alone and grown to whole
+    blocks of 4, 8 and 16 pixels where any of its texels asks (its share of level 0's grid beside it; content-adaptive
+    2 grey, masks made on the CPU, 1024² fill, gaze at the centre).  SIMD lanes (llvmpipe's, a GPU's warps) march
+    blocks of neighbouring rays together: a block with one ray costs about what a full one does."""
     import numpy as np
 
     import mipcast.core.content_adaptive as content_adaptive
 
-    timed, pattern = [], [None]
+    timed, pattern, shares = [], [None], []
     _time_level_draws(lambda isd, seconds: timed.append(seconds) if isd == 1.0 else None)
     real_mask = content_adaptive.refinement_mask
 
@@ -213,10 +215,15 @@ def coherence(scene: str, rounds: int = 4) -> dict:
         if layer.level != 0 or pattern[0] is None:
             return mask
         block, share = pattern[0]
-        rng = np.random.default_rng(1)
         rows, columns = mask.shape
-        chosen = rng.random((rows // block + 1, columns // block + 1)) < share
-        return np.kron(chosen, np.ones((block, block), bool))[:rows, :columns]
+        if share is None:  # the real mask, grown to whole blocks
+            padded = np.pad(mask, ((0, -rows % block), (0, -columns % block)))
+            chosen = padded.reshape(padded.shape[0] // block, block, padded.shape[1] // block, block).any(axis=(1, 3))
+        else:
+            chosen = np.random.default_rng(1).random((rows // block + 1, columns // block + 1)) < share
+        grown = np.kron(chosen, np.ones((block, block), bool))[:rows, :columns]
+        shares.append(float(grown.mean()))
+        return grown
 
     content_adaptive.refinement_mask = patterned
     image, window = _load_scene(scene, 128)
@@ -224,12 +231,16 @@ def coherence(scene: str, rounds: int = 4) -> dict:
     view.mapper.SetContentTolerance(2.0)
     object_state(view.mapper)["masks_on_cpu"] = True
     out = {}
-    for block, share in ((1, 0.0), (1, 0.05), (4, 0.05), (8, 0.05), (16, 0.05), (1, 0.2), (8, 0.2), (1, 1.0)):
+    for block, share in ((1, 0.0), (1, 0.05), (4, 0.05), (8, 0.05), (16, 0.05), (1, 0.2), (8, 0.2), (1, 1.0),
+                         (1, None), (4, None), (8, None), (16, None)):
         pattern[0] = (block, share)
         timed.clear()
+        shares.clear()
         for _ in range(rounds):
             view.render_window.Render()
-        out[f"{share:.0%} of the rays, blocks of {block}"] = round(1000 * statistics.median(timed[1:]), 1)
+        name = f"{share:.0%} of the rays, blocks of {block}" if share is not None else (
+            f"the real mask ({statistics.median(shares):.2%} of the grid), blocks of {block}")
+        out[name] = round(1000 * statistics.median(timed[1:]), 1)
     return {"scene": scene, "level_0_ms": out}
 
 
