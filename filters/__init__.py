@@ -22,7 +22,7 @@ from typing import Optional, Sequence, Union
 import numpy as np
 
 from mipcast.io import with_scalars
-from mipcast.mappers.input_preparer import missing_as_background, prepared_image
+from mipcast.mappers.input_preparer import missing_as_background, prepared_image, window_image
 from mipcast.methods import METHODS, attach, create_mapper
 from mipcast.offscreen import OffscreenView, set_view
 from mipcast.core.windowing import resolve_window
@@ -163,7 +163,7 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
     image = with_scalars(image, scalars)
     check_image(image, component)  # raises mipcast.InputError before anything is added
     projection = METHODS[method].projection if method in METHODS else "mip"  # create_mapper names a bad one
-    low, high = resolve_window(prepared_image(image, component), clim, projection)
+    low, high = resolve_window(window_image(image, component), clim, projection)
     if sample_distance is None:
         sample_distance = min(abs(s) for s in image.GetSpacing())
     mapper = create_mapper(method)

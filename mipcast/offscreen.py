@@ -24,7 +24,7 @@ import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL back 
 
 from mipcast import methods
 from mipcast.mappers.float_readout import render_float
-from mipcast.mappers.input_preparer import missing_as_background, prepared_image
+from mipcast.mappers.input_preparer import missing_as_background, prepared_image, window_image
 from mipcast.core.patient_views import PATIENT_VIEWS, set_patient_view
 from mipcast.core.prepare import scalar_image
 from mipcast.core.windowing import resolve_window
@@ -148,7 +148,7 @@ class OffscreenView:
         self.sample_distance = check_positive("sample_distance", sample_distance)
         #: The :class:`mipcast.methods.Method` entry.
         self.method = methods.METHODS[check_choice("method", method, tuple(methods.METHODS))]
-        self.window = resolve_window(prepared_image(image, component), window, self.method.projection)
+        self.window = resolve_window(window_image(image, component), window, self.method.projection)
         self.mapper = self.method.create()
         self.set_input(image, component)
         self.mapper.SetAutoAdjustSampleDistances(False)

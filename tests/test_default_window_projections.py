@@ -83,3 +83,62 @@ def test_the_default_window_shows_the_head_ct(method):
         # MinIP is black under any window; the clinical MinIP is a slab (here 20 mm)
         scene.mapper.SetSlabThickness(20.0)
     _shows_structure(_grey(scene))
+
+
+# ---- missing voxels (NaN) are no part of a default window ------------------------------------------------
+
+def _holed(fixture: str, share: float):
+    """``fixture`` (32³, float32) with the first ``share`` of its x columns NaN (a masked or cut volume)."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    image = make_fixture(fixture, size=32)
+    values = vtk_to_numpy(image.GetPointData().GetScalars()).astype(np.float32).reshape(32, 32, 32)
+    values[:, :, : max(1, int(share * 32))] = np.nan
+    holed = vtkImageData()
+    holed.CopyStructure(image)
+    array = numpy_to_vtk(values.ravel(), deep=True)
+    array.SetName("values")
+    holed.GetPointData().SetScalars(array)
+    return holed, values[np.isfinite(values)]
+
+
+def _finite_only(values: np.ndarray):
+    """An image of just the finite values (one row): the histogram rules see the same values, no NaN at all."""
+    from mipcast.data_fixtures.synthetic import image_from_array
+
+    return image_from_array(np.ascontiguousarray(values, np.float32).reshape(1, 1, -1))
+
+
+# MIP: 60 % missing (the fill below the data used to be most of the histogram: a window from -0.9);
+# MinIP: 3 % missing (its fill lies above the data; the window used to end below every finite value).
+@pytest.mark.parametrize("method, fixture, share", [("mip", "vessels", 0.6), ("minip", "airways", 0.03),
+                                                    ("analytic_minip", "airways", 0.6)])
+def test_missing_voxels_are_no_part_of_the_default_window(method, fixture, share, tmp_path, capsys):
+    import pyvista
+
+    from mipcast.app.cli import main
+    from mipcast.filters import add_volume
+
+    holed, finite = _holed(fixture, share)
+    projection = METHODS[method].projection
+    expected = default_window(_finite_only(finite), projection)
+    assert finite.min() <= expected[0] < expected[1] <= finite.max()
+    scene = OffscreenView(holed, method, size=(64, 64), view="front")
+    assert scene.window == pytest.approx(expected)
+    _shows_structure(_grey(scene))
+    plotter = pyvista.Plotter(off_screen=True, window_size=(64, 64))
+    volume = add_volume(plotter, pyvista.wrap(holed), method)
+    assert volume.GetProperty().GetRGBTransferFunction().GetRange() == pytest.approx(expected)
+    plotter.close()
+    path = tmp_path / "holed.vti"
+    pyvista.wrap(holed).save(path)
+    assert main(["render", str(path), "--method", method, "--size", "32", "32", "--out", str(tmp_path / "o.png")]) == 0
+    assert f"window {expected[0]:.6g} to {expected[1]:.6g}" in capsys.readouterr().out
+
+
+def test_the_average_window_of_a_holed_volume_lies_in_its_finite_values():
+    holed, finite = _holed("vessels", 0.6)
+    low, high = OffscreenView(holed, "average", size=(64, 64), view="front").window
+    assert finite.min() <= low < high <= finite.max()
+    assert resolve_window(holed, "full") == (float(finite.min()), float(finite.max()))

@@ -257,14 +257,14 @@ def _run_render(args) -> int:
     from mipcast.core.parameters import set_parameters
 
     from mipcast.core.validation import check_image
-    from mipcast.mappers.input_preparer import prepared_image
+    from mipcast.mappers.input_preparer import window_image
 
     image = with_scalars(read_volume(args.input, series_uid=args.series), args.scalars)
     if args.slab_sweep is not None and args.turntable is not None:
         raise ValueError("--slab-sweep and --turntable are two animations: give one of them")
     component = getattr(args, "component", None)
     check_image(image, component)  # mipcast.InputError before anything renders
-    window = _window(prepared_image(image, component), args.window, args.method)
+    window = _window(window_image(image, component), args.window, args.method)
     distance = args.sample_distance
     if distance == "auto":
         from mipcast.bench.auto_sampling import choose_samples_per_voxel
@@ -364,11 +364,11 @@ def run_view(args) -> int:
     from mipcast.io import read_volume, with_scalars
 
     from mipcast.core.validation import check_image
-    from mipcast.mappers.input_preparer import prepared_image
+    from mipcast.mappers.input_preparer import window_image
 
     image = with_scalars(read_volume(args.input, series_uid=args.series), args.scalars)
     check_image(image, args.component)  # mipcast.InputError before the window opens
-    run_viewer(image, args.method, clim=_window(prepared_image(image, args.component), args.window, args.method),
+    run_viewer(image, args.method, clim=_window(window_image(image, args.component), args.window, args.method),
                params=args.params, view=args.view, component=args.component,
                stereo=args.stereo)  # checks params before the window
     return 0

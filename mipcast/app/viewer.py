@@ -202,7 +202,7 @@ class _Viewer:
                  off_screen=False, params=None, view=None, component=None, stereo=None) -> None:
         import pyvista
 
-        from mipcast.mappers.input_preparer import prepared_image
+        from mipcast.mappers.input_preparer import window_image
         from mipcast.mappers.stereo import set_stereo
 
         importlib.import_module("mipcast.filters")  # registers plotter.mip
@@ -212,7 +212,7 @@ class _Viewer:
         self.cmap = cmap
         self.component = component  # of multi-component scalars (default: the magnitude)
         projection = METHODS[method].projection if method in METHODS else "mip"  # MinIP/average: their own
-        self.clim = resolve_window(prepared_image(self.grid, component), clim, projection)
+        self.clim = resolve_window(window_image(self.grid, component), clim, projection)
         self.voxel = min(abs(s) for s in self.grid.GetSpacing())
         self.sample_voxels = 1.0
         self.volume = None

@@ -43,6 +43,11 @@ get other windows:
 rule, a preset name (:data:`PRESETS`) its window, and ``(low, high)`` itself,
 whatever the projection.
 
+Missing voxels (NaN, +-Inf) are no part of any window: the rules and
+``"full"`` see the finite values only (callers pass
+:func:`mipcast.mappers.input_preparer.window_image`, which leaves them NaN
+whatever a projection fills them with).
+
 Examples
 --------
 >>> from mipcast.data_fixtures import make_fixture
@@ -82,8 +87,8 @@ WindowSpec = Union[None, str, Sequence[float]]
 
 
 def data_range(image) -> Tuple[float, float]:
-    """(min, max) of the active point scalars."""
-    low, high = image.GetPointData().GetScalars().GetRange(0)
+    """(min, max) of the active point scalars' finite values (NaN and +-Inf are missing data)."""
+    low, high = image.GetPointData().GetScalars().GetFiniteRange(0)
     return float(low), float(high)
 
 
@@ -299,6 +304,8 @@ def _sample(image) -> np.ndarray:
     values = vtk_to_numpy(image.GetPointData().GetScalars())
     if values.ndim > 1:
         values = values[:, 0]
+    if values.dtype.kind == "f":
+        values = values[np.isfinite(values)]  # missing data: no part of any window
     if values.size > SAMPLE_LIMIT:
         values = values[:: -(-values.size // SAMPLE_LIMIT)]
     return values

@@ -211,6 +211,36 @@ def prepared_image(image: vtkImageData, component=None, missing_allowed: bool = 
     return out
 
 
+def window_image(image: vtkImageData, component=None) -> vtkImageData:
+    """The image a default window is chosen from: the values the GPU draws (:func:`prepared_image`), with
+    missing voxels left NaN.
+
+    Whatever a projection fills missing voxels with (below the data for MIP and average, above for MinIP),
+    they are no data: a window chosen with the fill in the histogram would put MinIP's window below every
+    finite value, or, where most voxels are missing, a MIP's there too (:mod:`mipcast.core.windowing`
+    leaves non-finite values out).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mipcast.core.windowing import resolve_window
+    >>> from mipcast.data_fixtures.synthetic import image_from_array
+    >>> values = np.linspace(0.0, 1.0, 64).reshape(4, 4, 4); values[0] = np.nan
+    >>> resolve_window(window_image(image_from_array(values)), "full")
+    (0.25396825396825395, 1.0)
+    """
+    prepared = prepare_scalars(image, component)
+    if not prepared.missing:
+        return prepared_image(image, component)
+    values = prepared.seen(np.asarray(prepared.values, np.float64))
+    out = vtkImageData()
+    out.CopyStructure(scalar_image(image))
+    array = numpy_to_vtk(np.ascontiguousarray(values).ravel(), deep=True)
+    array.SetName(image.GetPointData().GetScalars().GetName() or "scalars")
+    out.GetPointData().SetScalars(array)
+    return out
+
+
 def _warn_constant_average(image: vtkImageData) -> None:
     """Once per volume: VTK's own average draws this constant volume black, and why."""
     scalars = image.GetPointData().GetScalars()
