@@ -80,6 +80,7 @@ from vtkmodules.vtkRenderingCore import vtkVolume
 
 from mipcast import methods
 from mipcast.core.camera_rays import placed
+from mipcast.core.errors import InputError
 from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import DEMIP_SETTINGS
 from mipcast.core.parameters import set_parameters
@@ -246,11 +247,28 @@ def whole_extent(piece, comm) -> Extent:
     return tuple(int(v) for pair in zip(lows, highs) for v in pair)
 
 
-def whole_range(piece, comm) -> Tuple[float, float]:
-    """The scalar range over every rank's brick."""
-    low, high = piece.GetPointData().GetScalars().GetRange(0)
-    return (float(_reduce_inplace(comm, np.array([low]), "min")[0]),
-            float(_reduce_inplace(comm, np.array([high]), "max")[0]))
+def whole_range(piece, comm) -> Tuple[float, float, bool]:
+    """The finite range of the drawn values (several components: their magnitude) over every rank's brick, and
+    whether any brick holds missing (NaN/Inf) values.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from mipcast.data_fixtures.synthetic import image_from_array
+    >>> whole_range(image_from_array(np.array([[[1.0, np.nan], [np.inf, 4.0]]])), OneRank())
+    (1.0, 4.0, True)
+    """
+    scalars = piece.GetPointData().GetScalars()
+    if scalars is None:
+        check_image(piece)  # names what is missing (raises)
+    values = vtk_to_numpy(scalars)
+    if values.ndim > 1:  # drawn as their magnitude (mipcast.core.prepare)
+        values = np.sqrt(np.sum(np.square(values.astype(np.float64)), axis=1))
+    finite = values[np.isfinite(values)] if values.dtype.kind == "f" else values
+    low, high = (float(finite.min()), float(finite.max())) if finite.size else (np.inf, -np.inf)
+    missing = float(finite.size < values.size)
+    ends = _reduce_inplace(comm, np.array([-low, high, missing]), "max")
+    return float(-ends[0]), float(ends[1]), bool(ends[2] > 0.0)
 
 
 def _whole_stub(piece, extent):
@@ -314,7 +332,6 @@ class DistributedView:
     def __init__(self, piece, method: str = "mip", size=(256, 256), view: str = "oblique",
                  sample_distance: Optional[float] = None, window="full", comm=None,
                  max_voxels: Optional[int] = None, time_wait: bool = False, **settings) -> None:
-        check_image(piece)
         entry = methods.METHODS[check_choice("method", method, tuple(methods.METHODS))]
         if entry.distributed not in ROUTES:
             able = [m.name for m in methods.METHODS.values() if m.distributed in ROUTES]
@@ -330,8 +347,16 @@ class DistributedView:
             raise ValueError(f"rank {self.comm.rank}: brick {piece.GetExtent()} has {points} points, over this "
                              f"rank's texture budget of {int(max_voxels)}: run more ranks (mpiexec -n) "
                              "or split the volume finer")
-        #: The whole volume's scalar range (every rank's readouts are normalised with it).
-        self.data_range = whole_range(piece, self.comm)
+        low, high, missing = whole_range(piece, self.comm)
+        if not high >= low:  # every rank alike
+            raise InputError("every brick's values are NaN/Inf (missing): there is nothing to draw; check the data "
+                             "or choose another array")
+        #: The whole volume's finite scalar range (every rank's readouts are normalised with it).
+        self.data_range = (low, high)
+        #: Whether any brick holds missing values: then every brick fills them as the whole volume does (a brick
+        #: may then hold missing values only).
+        self.missing = missing
+        check_image(piece, whole_range=self.data_range if missing else None)
         if isinstance(window, str):
             if window != "full":
                 raise ValueError(f"window must be (low, high) or 'full', got {window!r}")
@@ -345,7 +370,8 @@ class DistributedView:
             sample_distance = min(abs(s) for s in piece.GetSpacing())
         self.sample_distance = float(sample_distance)
         first_method = ROUTES[self.route]["first_pass"] or entry.name
-        self.local = OffscreenView(piece, first_method, size, "front", sample_distance, tuple(window))
+        self.local = OffscreenView(piece, first_method, size, "front", sample_distance, tuple(window),
+                                   whole_range=self.data_range if missing else None)
         set_view(self.local.renderer, self.stub, view)
         self.window = self.local.window
         texture_min, texture_max = global_texture_box(piece.GetExtent(), self.whole_extent)
@@ -369,10 +395,17 @@ class DistributedView:
     def _make_depth_pass(self, piece, settings) -> None:
         """The ``"demip"`` route's phase-2 mapper: DEMIP's settings, this brick, the whole volume's samples."""
         mapper = self.depth_mapper = DEMIPBrickDepthMapper()
+        self._fill_as_whole(mapper)
         volume = self.depth_volume = self._hidden_volume(mapper, piece)
         self.set_parameters(**settings)
         _set_global_box(mapper, volume, self._global_box)
         self._set_static_uniforms(volume)
+
+    def _fill_as_whole(self, mapper) -> None:
+        """Where any brick holds missing values, ``mapper`` fills them as the whole volume does (the same fill and
+        missing threshold on every rank: :func:`mipcast.core.prepare.missing_fill` of the whole finite range)."""
+        if self.missing:
+            mapper.GetInputPreparer().SetWholeRange(self.data_range)
 
     def _set_static_uniforms(self, volume) -> None:
         """The global_phase piece's whole/brick index boxes, spacing, step and the whole range's normalisation."""
@@ -384,8 +417,10 @@ class DistributedView:
         raw_per_data = _RAW_PER_DATA.get(self._scalar_type)
         if high > low and raw_per_data is not None:
             # VTK's normalisation of the raw texel value with the WHOLE range: the same on every rank
-            uniforms.SetUniform3f("u_mc_globalNorm", [1.0, self._texture_scale / (raw_per_data * (high - low)),
-                                                      -low / (high - low)])
+            scale, bias = self._texture_scale / (raw_per_data * (high - low)), -low / (high - low)
+            uniforms.SetUniform3f("u_mc_globalNorm", [1.0, scale, bias])
+            # the missing threshold on the same scale as the samples (MIPVolumeMapper._missing_below)
+            object_state(volume.GetMapper())["global_normalisation"] = (scale * raw_per_data, bias)
         elif high > low and brick_high > brick_low:
             # the brick's normalised scalar -> the WHOLE range's (float32 readouts on one grid)
             uniforms.SetUniform3f("u_mc_globalNorm", [2.0, (brick_high - brick_low) / (high - low),
@@ -444,6 +479,7 @@ class DistributedView:
 
             mapper = self.ordered_mapper = DEMIPVolumeMapper()
             mapper.SetAutoAdjustSampleDistances(False)
+            self._fill_as_whole(mapper)
             self.ordered_volume = self._hidden_volume(mapper, self._piece)
         return self.ordered_mapper
 

@@ -128,6 +128,11 @@ class OffscreenView:
         units, else histogram percentiles); ``"full"`` the data
         range; or a preset name (:data:`mipcast.core.windowing.PRESETS`).
         The chosen (low, high) is ``self.window``.
+    whole_range : (low, high), optional
+        The finite range of the whole volume when ``image`` is a piece of it
+        (a rank's brick, :mod:`mipcast.distributed`; mipcast's methods):
+        missing values are filled as the whole volume's, and the piece may
+        hold missing values only.
 
     Examples
     --------
@@ -138,17 +143,20 @@ class OffscreenView:
     """
 
     def __init__(self, image, method: str = "mip", size=(256, 256), view: str = "oblique",
-                 sample_distance: Optional[float] = None, window=None, component=None) -> None:
-        check_image(image, component)  # raises InputError naming the problem before anything renders
+                 sample_distance: Optional[float] = None, window=None, component=None,
+                 whole_range: Optional[Sequence[float]] = None) -> None:
+        check_image(image, component, whole_range)  # raises InputError naming the problem before anything renders
         self.image = image
         self.component = component
+        #: The whole volume's finite range when ``image`` is a piece of it (None: ``image`` is the whole).
+        self.whole_range = None if whole_range is None else (float(whole_range[0]), float(whole_range[1]))
         self.size = check_size(size)
         if sample_distance is None:
             sample_distance = min(abs(s) for s in image.GetSpacing())
         self.sample_distance = check_positive("sample_distance", sample_distance)
         #: The :class:`mipcast.methods.Method` entry.
         self.method = methods.METHODS[check_choice("method", method, tuple(methods.METHODS))]
-        self.window = resolve_window(window_image(image, component), window, self.method.projection)
+        self.window = resolve_window(window_image(image, component, self.whole_range), window, self.method.projection)
         self.mapper = self.method.create()
         self.set_input(image, component)
         self.mapper.SetAutoAdjustSampleDistances(False)
@@ -176,6 +184,7 @@ class OffscreenView:
         """
         if self.method.float_readout:  # a mipcast mapper (the method table says so)
             self.mapper.SetComponent(component)
+            self.mapper.GetInputPreparer().SetWholeRange(self.whole_range)
             self.mapper.SetInputData(image)
         else:
             self.mapper.SetInputData(prepared_image(image, component, projection=self.method.projection))

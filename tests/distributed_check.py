@@ -378,6 +378,32 @@ def ordered_cases(args, comm, image, window, span, axis, extents, method, view, 
     view.camera.DeepCopy(saved)
 
 
+def with_missing(image, kind="scattered"):
+    """``image`` with missing (NaN) voxels.  ``"scattered"``: a square tube along x (through every brick of an x
+    split), the low-y quarter of the high-x half (rays along x meet finite data in one brick and only missing data
+    in the other) and its high-z quarter of the low-x half; the values in the high-x half raised by half the range,
+    so the bricks' own finite ranges differ.  ``"brick"``: the low-x half and two more columns missing (split
+    along x, the first brick holds missing values only)."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    nx, ny, nz = image.GetDimensions()
+    values = vtk_to_numpy(image.GetPointData().GetScalars()).astype(np.float32).reshape(nz, ny, nx).copy()
+    if kind == "brick":
+        values[:, :, : nx // 2 + 2] = np.nan
+    else:
+        values[:, :, nx // 2:] += 0.5
+        values[nz // 3: nz // 2, ny // 3: ny // 2, :] = np.nan
+        values[:, : ny // 4, nx // 2:] = np.nan
+        values[3 * nz // 4:, :, : nx // 2] = np.nan
+    out = vtkImageData()
+    out.CopyStructure(image)
+    array = numpy_to_vtk(values.ravel(), deep=True)
+    array.SetName("values")
+    out.GetPointData().SetScalars(array)
+    return out
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--out", required=True)
@@ -406,11 +432,14 @@ def main(argv=None):
     parser.add_argument("--die-rank", type=int, default=None)
     parser.add_argument("--raise-rank", type=int, default=None)
     parser.add_argument("--png", default=None, help="folder for rank 0's PNGs (distributed, single)")
+    parser.add_argument("--missing", choices=("scattered", "brick"), default=None,
+                        help="the phantom with missing (NaN) voxels: with_missing")
     args = parser.parse_args(argv)
     comm = world_communicator()
     image = make_fixture("vessels", size=args.size)
-    span = float(np.subtract(*image.GetPointData().GetScalars().GetRange()[::-1]))
-    window = image.GetPointData().GetScalars().GetRange()
+    image = with_missing(image, args.missing) if args.missing else image
+    span = float(np.subtract(*image.GetPointData().GetScalars().GetFiniteRange()[::-1]))
+    window = image.GetPointData().GetScalars().GetFiniteRange()
     results = {"ranks": comm.size, "cases": []}
     keep = []  # every window stays open to the end: closing one X display and opening the next aborts now and then
     with abort_on_error(comm):

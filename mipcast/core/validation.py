@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 from numbers import Real
-from typing import Any
+from typing import Any, Optional, Tuple
 
 import numpy as np
 
@@ -21,7 +21,7 @@ __all__ = ["InputError", "check_image", "check_positive", "check_finite", "check
            "check_unit", "check_choice", "check_size", "SUPPORTED_DTYPES"]
 
 
-def check_image(image: Any, component: Any = None) -> np.ndarray:
+def check_image(image: Any, component: Any = None, whole_range: Optional[Tuple[float, float]] = None) -> np.ndarray:
     """Validate a volume and return the values the GPU draws, read-only, shaped (nz, ny, nx).
 
     The values of :func:`mipcast.core.prepare.prepare_scalars`: the point
@@ -35,6 +35,10 @@ def check_image(image: Any, component: Any = None) -> np.ndarray:
         A volume with point scalars.
     component : int, "magnitude" or None
         Which component of multi-component scalars (default: the magnitude).
+    whole_range : (low, high), optional
+        The finite range of the whole volume ``image`` is a piece of (a
+        rank's brick): its missing values are filled as the whole's, and it
+        may hold missing values only.
 
     Returns
     -------
@@ -58,7 +62,7 @@ def check_image(image: Any, component: Any = None) -> np.ndarray:
     >>> check_image(make_fixture("spheres", size=16)).shape
     (16, 16, 16)
     """
-    return prepare_scalars(image, component).values
+    return prepare_scalars(image, component, whole_range=whole_range).values
 
 
 def check_positive(name: str, value: Any) -> float:

@@ -211,14 +211,14 @@ def prepared_image(image: vtkImageData, component=None, missing_allowed: bool = 
     return out
 
 
-def window_image(image: vtkImageData, component=None) -> vtkImageData:
+def window_image(image: vtkImageData, component=None, whole_range=None) -> vtkImageData:
     """The image a default window is chosen from: the values the GPU draws (:func:`prepared_image`), with
     missing voxels left NaN.
 
     Whatever a projection fills missing voxels with (below the data for MIP and average, above for MinIP),
     they are no data: a window chosen with the fill in the histogram would put MinIP's window below every
     finite value, or, where most voxels are missing, a MIP's there too (:mod:`mipcast.core.windowing`
-    leaves non-finite values out).
+    leaves non-finite values out).  ``whole_range``: as :func:`mipcast.core.validation.check_image`'s.
 
     Examples
     --------
@@ -229,7 +229,7 @@ def window_image(image: vtkImageData, component=None) -> vtkImageData:
     >>> resolve_window(window_image(image_from_array(values)), "full")
     (0.25396825396825395, 1.0)
     """
-    prepared = prepare_scalars(image, component)
+    prepared = prepare_scalars(image, component, whole_range=whole_range)
     if not prepared.missing:
         return prepared_image(image, component)
     values = prepared.seen(np.asarray(prepared.values, np.float64))

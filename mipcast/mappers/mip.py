@@ -232,8 +232,11 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         prepared = preparer.GetPrepared()
         if prepared is None or not prepared.missing:
             return None
-        scalars = preparer.GetOutputDataObject(0).GetPointData().GetScalars()
         threshold = prepared.missing_below if type(self).MISSING_FILL == "below" else prepared.missing_above
+        whole = object_state(self).get("global_normalisation")
+        if whole is not None:  # a brick of mipcast.distributed: samples normalised over the whole range (data units)
+            return float(threshold * whole[0] + whole[1])
+        scalars = preparer.GetOutputDataObject(0).GetPointData().GetScalars()
         return float(from_data_units(threshold, scalars))
 
     def GetDepthImage(self, image) -> None:
