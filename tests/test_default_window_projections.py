@@ -142,3 +142,20 @@ def test_the_average_window_of_a_holed_volume_lies_in_its_finite_values():
     low, high = OffscreenView(holed, "average", size=(64, 64), view="front").window
     assert finite.min() <= low < high <= finite.max()
     assert resolve_window(holed, "full") == (float(finite.min()), float(finite.max()))
+
+
+@pytest.mark.parametrize("method", ["mip", "analytic", "minip", "average", "demip", "stock"])
+@pytest.mark.parametrize("window", [None, "full"])
+def test_a_constant_volume_draws_mid_grey_not_the_background(method, window):
+    """A constant volume (a mask of ones, a flat phantom): its value mid-window, a uniform grey of 127-128 over
+    the volume's footprint, seen against the black background.  Before, the default and ``full`` windows started
+    at the value (the range widened upwards): every method drew the volume black, the background's colour."""
+    from mipcast.data_fixtures.synthetic import image_from_array
+
+    image = image_from_array(np.full((24, 24, 24), 7, np.int16))
+    scene = OffscreenView(image, method, size=(48, 48), view="front", window=window)
+    assert scene.window == (6.5, 7.5)
+    shot = scene.screenshot().astype(int)
+    drawn = shot.max(axis=2) > 0
+    assert 0.2 < drawn.mean() < 0.95  # the box, and background around it
+    assert set(np.unique(shot[drawn][:, 0])) <= {127, 128}, np.unique(shot[drawn][:, 0])

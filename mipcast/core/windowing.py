@@ -92,6 +92,20 @@ def data_range(image) -> Tuple[float, float]:
     return float(low), float(high)
 
 
+def constant_window(value: float) -> Tuple[float, float]:
+    """The window of a constant volume (or ``"full"`` of one): one unit wide, the value in its middle.
+
+    The volume then draws a uniform mid grey, seen against the background; a window starting at the value
+    (the data range widened upwards) drew it black, the background's colour.
+
+    Examples
+    --------
+    >>> constant_window(7.0)
+    (6.5, 7.5)
+    """
+    return (float(value) - 0.5, float(value) + 0.5)
+
+
 def units(image) -> str:
     """The image's units: field data ``"units"`` if present, else ``"HU"`` for scalars named so, else ``""``.
 
@@ -140,8 +154,8 @@ def default_window(image, projection: str = "mip") -> Tuple[float, float]:
     Returns
     -------
     tuple of float
-        (low, high) with high > low in data units; the data range for
-        constant data (no better choice exists).
+        (low, high) with high > low in data units; for constant data
+        :func:`constant_window` (the value mid-window: a uniform mid grey).
     """
     return window_and_reason(image, projection)[0]
 
@@ -180,7 +194,7 @@ def window_and_reason(image, projection: str = "mip") -> Tuple[Tuple[float, floa
                 return (low, high), "histogram percentiles"
     if full[1] > full[0]:
         return full, "data range"
-    return (full[0], full[0] + 1.0), "constant data"
+    return constant_window(full[0]), "constant data"
 
 
 def _other_window(image, values, full, projection: str) -> Tuple[Tuple[float, float], str]:
@@ -210,7 +224,7 @@ def _other_window(image, values, full, projection: str) -> Tuple[Tuple[float, fl
                 return (low, high), "percentiles of the average projections"
     if full[1] > full[0]:
         return full, "data range"
-    return (full[0], full[0] + 1.0), "constant data"
+    return constant_window(full[0]), "constant data"
 
 
 def resolve_window(image, window: WindowSpec = None, projection: str = "mip") -> Tuple[float, float]:
@@ -246,7 +260,8 @@ def resolve_window(image, window: WindowSpec = None, projection: str = "mip") ->
         if name == "auto":
             return default_window(image, projection)
         if name == "full":
-            return data_range(image)
+            low, high = data_range(image)
+            return (low, high) if high > low else constant_window(low)
         if name in PRESETS:
             return PRESETS[name]
         raise ValueError(f"window must be (low, high), 'auto', 'full' or one of {sorted(PRESETS)}; got {window!r}")
