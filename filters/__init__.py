@@ -33,7 +33,8 @@ from mipcast.core.validation import check_image, check_positive
 def render(image, method: str = "mip", *, scalars: Optional[str] = None, size: Sequence[int] = (256, 256),
            view: str = "oblique", sample_distance: Optional[float] = None,
            window: Optional[Sequence[float]] = None, as_float: bool = False,
-           component: Union[int, str, None] = None, **params) -> np.ndarray:
+           component: Union[int, str, None] = None, clim: Optional[Sequence[float]] = None,
+           **params) -> np.ndarray:
     """Render ``image`` offscreen with a mipcast method.
 
     Parameters
@@ -64,6 +65,8 @@ def render(image, method: str = "mip", *, scalars: Optional[str] = None, size: S
     component : int or "magnitude", optional
         Which component of multi-component scalars to draw; default their
         magnitude, as ParaView does (one-component scalars are drawn as they are).
+    clim : sequence of float or str, optional
+        pyvista's name for ``window`` (as in :func:`add_volume`); give one of the two.
     **params
         Method parameters, passed to the mapper's setters (see
         :func:`mipcast.core.parameters.set_parameters`); an unknown name raises ``TypeError``.
@@ -91,8 +94,14 @@ def render(image, method: str = "mip", *, scalars: Optional[str] = None, size: S
     >>> render(grid, "mip", size=(32, 32), as_float=True, image_sample_distance=2.0).dtype
     dtype('float32')
     """
+    if clim is not None and window is not None:
+        raise TypeError("give window or clim (pyvista's name for the same grey window), not both")
+    if "cmap" in params:
+        raise TypeError("render draws the grey picture (and as_float the values); for a colour map use "
+                        "add_volume(plotter, grid, method, cmap=...) or grid.mip.plot(method, cmap=...)")
     scene = OffscreenView(with_scalars(image, scalars), method, size=size, view=view,
-                          sample_distance=sample_distance, window=window, component=component)
+                          sample_distance=sample_distance, window=window if clim is None else clim,
+                          component=component)
     set_parameters(scene.mapper, **params)
     return scene.float_image() if as_float else scene.screenshot()
 

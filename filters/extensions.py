@@ -67,6 +67,7 @@ class MipAccessor:
         window : sequence of float or str, optional
             Grey window (low, high) in data units; default the window a
             viewer would pick (``"auto"``); ``"full"`` the data range.
+            ``clim=`` (pyvista's name, as in ``add_volume``) works too.
         as_float : bool, default: False
             Return each pixel's maximum in data units (float32, NaN where a
             ray misses) instead of the 8-bit RGB picture.

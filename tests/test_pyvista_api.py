@@ -154,3 +154,16 @@ def test_accessor_plot_shows_what_add_volume_shows(grid):
     assert np.array_equal(shown, expected)
     with pytest.raises(TypeError, match="depth_wieght"):
         grid.mip.plot("demip", off_screen=True, window_size=SIZE, depth_wieght=0.5)
+
+
+def test_render_takes_clim_as_pyvista_spells_the_window(grid):
+    """``render(clim=)`` / ``grid.mip.render(clim=)`` is ``window=`` (add_volume's and plot's name for it); both, or a
+    colour map the grey render cannot draw, are refused with the fix."""
+    narrow = render(grid, "mip", size=SIZE, window=(0.5, 0.9))
+    assert np.array_equal(render(grid, "mip", size=SIZE, clim=(0.5, 0.9)), narrow)
+    assert np.array_equal(grid.mip.render("mip", size=SIZE, clim=(0.5, 0.9)), narrow)
+    assert not np.array_equal(render(grid, "mip", size=SIZE), narrow)  # clim is not ignored
+    with pytest.raises(TypeError, match="window or clim"):
+        render(grid, "mip", size=SIZE, window=(0.5, 0.9), clim=(0.5, 0.9))
+    with pytest.raises(TypeError, match="add_volume"):
+        grid.mip.render("mip", size=SIZE, cmap="bone")
