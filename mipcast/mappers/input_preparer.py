@@ -18,6 +18,7 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.core.errors import InputError, InputWarning
 from mipcast.core.prepare import PreparedScalars, check_component, prepare_scalars, scalar_image, shade_range
+from mipcast.core.validation import far_from_origin
 
 
 #: Arrays (address, modification time) already warned about.
@@ -111,6 +112,7 @@ class InputPreparer(VTKPythonAlgorithmBase):
             target.GetPointData().SetScalars(numpy_to_vtk(np.zeros(8, np.float32), deep=True))
             return 1
         self._problem, self._prepared = None, prepared
+        warn_if_far_from_origin(source)
         if prepared.cells:  # drawn on the image of the cell centres (mipcast.core.prepare.cell_centres)
             source = scalar_image(source)
         if not prepared.changed:
@@ -195,6 +197,7 @@ def prepared_image(image: vtkImageData, component=None, missing_allowed: bool = 
     True
     """
     prepared = prepare_scalars(image, component, fill_side(projection))
+    warn_if_far_from_origin(image)
     if prepared.missing and not missing_allowed:
         raise InputError(f"{prepared.missing} NaN/Inf voxels: missing data cannot be drawn here; "
                          "replace them first (e.g. numpy.nan_to_num)")
@@ -239,6 +242,19 @@ def window_image(image: vtkImageData, component=None, whole_range=None) -> vtkIm
     array.SetName(image.GetPointData().GetScalars().GetName() or "scalars")
     out.GetPointData().SetScalars(array)
     return out
+
+
+def warn_if_far_from_origin(image: vtkImageData) -> None:
+    """Once per origin: a :class:`mipcast.InputWarning` where ``image`` lies too far from the origin for the GPU's
+    float32 rays (:func:`mipcast.core.validation.far_from_origin`); not again for the coarser copies a method
+    draws of the same volume (foveation's pyramid), which share its origin."""
+    stamp = (tuple(image.GetOrigin()), "far from the origin")
+    if stamp in _WARNED:
+        return
+    reason = far_from_origin(image)
+    if reason is not None:
+        _WARNED.add(stamp)
+        warnings.warn(reason[0].upper() + reason[1:], InputWarning, stacklevel=3)
 
 
 def _warn_constant_average(image: vtkImageData) -> None:
