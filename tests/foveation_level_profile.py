@@ -21,12 +21,15 @@ without the outline cover (process CPU time, alternated).
 ``coherence``: level 0's draw with its mask replaced by scattered rays or the same share in square blocks, and
 with the real mask grown to whole blocks.
 
+``content``: content-adaptive frames with and without the content level (times and samples per level).
+
 ``floor``: ``levels`` with every fragment discarded at the shader's start: the frame's and each level's cost
 whatever their rays (on llvmpipe a fragment invocation costs about 80 ns of CPU even when it ends at once).
 
 Usage: python tests/foveation_level_profile.py levels [SCENE] [GAZE_X GAZE_Y]
        python tests/foveation_level_profile.py floor [SCENE] [GAZE_X GAZE_Y]
        python tests/foveation_level_profile.py coherence [SCENE]
+       python tests/foveation_level_profile.py content [SCENE] [GAZE_X GAZE_Y]
        python tests/foveation_level_profile.py spacing [SCENE]
        python tests/foveation_level_profile.py samples [SCENE] [GAZE_X GAZE_Y]
        python tests/foveation_level_profile.py overhead [SCENE]
@@ -244,6 +247,45 @@ def coherence(scene: str, rounds: int = 4) -> dict:
     return {"scene": scene, "level_0_ms": out}
 
 
+def content(scene: str, gaze, rounds: int = 5) -> dict:
+    """Content-adaptive frames (2 grey) with and without the content level (acuity's coarsest level then cast over
+    the whole viewport unmasked, as where the level cap forbids a content level), beside full quality and acuity
+    only: ms a frame (process CPU, interleaved medians) and samples per level in % of full quality's."""
+    import mipcast.core.content_adaptive as content_adaptive
+
+    real_plan, without = content_adaptive.adaptive_plan, [False]
+
+    def planned(plan, max_level=99):
+        capped = without[0] and len(plan.layers) >= 2
+        return real_plan(plan, plan.layers[0].level if capped else max_level)
+
+    content_adaptive.adaptive_plan = planned
+    image, window = _load_scene(scene, 128)
+    views = {}
+    for name in ("full", "acuity", "content level", "no content level"):
+        view = framed_view(image, "mip" if name == "full" else "foveated", 1024, "fill", window)
+        if name != "full":
+            view.mapper.SetGazePoint(*gaze)
+        if name.endswith("content level"):
+            view.mapper.SetContentTolerance(2.0)
+        views[name] = view
+    frames = {name: [] for name in views}
+    for _ in range(rounds):
+        for name, view in views.items():
+            without[0] = name == "no content level"
+            frames[name].append(_timed(view))
+    out = {"scene": scene, "gaze": list(gaze),
+           "frame_ms": {name: round(1000 * statistics.median(values[1:]), 1) for name, values in frames.items()}}
+    for name in ("content level", "no content level"):
+        without[0] = name == "no content level"
+        views[name].render_window.Render()
+        cost = views[name].mapper.GetLastFrameCost()
+        out[name] = {"sample_ratio": round(cost["sample_ratio"], 2),
+                     "levels": {row["level"]: round(100.0 * row["samples"] / cost["full_samples"], 2)
+                                for row in cost["levels"]}}
+    return out
+
+
 def samples(scene: str, gaze) -> dict:
     image, window = _load_scene(scene, 128)
     out = {}
@@ -265,6 +307,9 @@ if __name__ == "__main__":
     if mode in ("levels", "floor"):
         point = (float(sys.argv[3]), float(sys.argv[4])) if len(sys.argv) > 4 else (0.5, 0.5)
         print(json.dumps(levels(scene_name, point, discard=mode == "floor"), indent=1))
+    elif mode == "content":
+        point = (float(sys.argv[3]), float(sys.argv[4])) if len(sys.argv) > 4 else (0.5, 0.5)
+        print(json.dumps(content(scene_name, point), indent=1))
     elif mode == "samples":
         point = (float(sys.argv[3]), float(sys.argv[4])) if len(sys.argv) > 4 else (0.5, 0.5)
         print(json.dumps(samples(scene_name, point), indent=1))
