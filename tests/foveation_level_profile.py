@@ -251,15 +251,6 @@ def content(scene: str, gaze, rounds: int = 5) -> dict:
     """Content-adaptive frames (2 grey) with and without the content level (acuity's coarsest level then cast over
     the whole viewport unmasked, as where the level cap forbids a content level), beside full quality and acuity
     only: ms a frame (process CPU, interleaved medians) and samples per level in % of full quality's."""
-    import mipcast.core.content_adaptive as content_adaptive
-
-    real_plan, without = content_adaptive.adaptive_plan, [False]
-
-    def planned(plan, max_level=99):
-        capped = without[0] and len(plan.layers) >= 2
-        return real_plan(plan, plan.layers[0].level if capped else max_level)
-
-    content_adaptive.adaptive_plan = planned
     image, window = _load_scene(scene, 128)
     views = {}
     for name in ("full", "acuity", "content level", "no content level"):
@@ -268,16 +259,15 @@ def content(scene: str, gaze, rounds: int = 5) -> dict:
             view.mapper.SetGazePoint(*gaze)
         if name.endswith("content level"):
             view.mapper.SetContentTolerance(2.0)
+        object_state(view.mapper)["no_content_level"] = name == "no content level"  # the benchmarks' variant
         views[name] = view
     frames = {name: [] for name in views}
     for _ in range(rounds):
         for name, view in views.items():
-            without[0] = name == "no content level"
             frames[name].append(_timed(view))
     out = {"scene": scene, "gaze": list(gaze),
            "frame_ms": {name: round(1000 * statistics.median(values[1:]), 1) for name, values in frames.items()}}
     for name in ("content level", "no content level"):
-        without[0] = name == "no content level"
         views[name].render_window.Render()
         cost = views[name].mapper.GetLastFrameCost()
         out[name] = {"sample_ratio": round(cost["sample_ratio"], 2),

@@ -83,6 +83,29 @@ def test_fovea_stays_full_quality_on_structure_with_fewer_rays(vessels, method):
     assert cost["rays"] - band < 0.92 * (plain_cost["rays"] - band)
 
 
+def test_the_benchmarks_variant_without_the_content_level_keeps_the_fovea(vessels):
+    """``object_state(mapper)["no_content_level"]`` (the benchmarks' "content-adaptive 2 grey, no content level",
+    docs/foveation.md): acuity's coarsest level decides alone, cast over the whole viewport unmasked; the fovea's
+    structure stays within 1 grey of full quality and the periphery no worse than acuity only's."""
+    from mipcast.core.object_state import object_state
+
+    full, fov = _pair(vessels, "mip", GazePoint=(0.5, 0.5), ContentTolerance=2.0)
+    _, acuity = _pair(vessels, "mip", GazePoint=(0.5, 0.5))
+    object_state(fov.mapper)["no_content_level"] = True
+    reference, picture, plain = full.screenshot(), fov.screenshot(), acuity.screenshot()
+    levels = [layer.level for layer in fov.mapper.GetLastPlan().layers]
+    assert levels == [layer.level for layer in acuity.mapper.GetLastPlan().layers]  # no level 3 first
+    assert fov.mapper.GetLastPlan().layers[0].cast_from == -np.inf
+    fovea = eccentricity(SIZE, (0.5, 0.5), 1.0) <= fov.mapper.GetFovealRadius()
+    error = np.abs(reference.astype(int) - picture).max(axis=-1)
+    assert (fovea & (reference.max(axis=-1) > 0)).sum() > 200 and np.all(error[fovea] <= 1)
+    plain_error = np.abs(reference.astype(int) - plain).max(axis=-1)
+    assert error[~fovea].mean() <= plain_error[~fovea].mean() + 0.05
+    object_state(fov.mapper)["no_content_level"] = False
+    fov.screenshot()
+    assert fov.mapper.GetLastPlan().layers[0].level == levels[0] + 1  # the content level again
+
+
 def test_analytic_fovea_is_exact_on_structure_in_the_float_readout(vessels):
     full, fov = _pair(vessels, "analytic", GazePoint=(0.4, 0.55), ContentTolerance=2.0)
     reference, values = full.float_image(), fov.float_image()

@@ -37,6 +37,11 @@ FRAMINGS = {"fill": 2.0, "whole": 1.0}
 #: Variant key (not a mapper setting): build the content-adaptive masks on the CPU
 #: (:func:`mipcast.mappers.foveated` reads the coarse picture back), as before they moved to the GPU.
 MASKS_ON_CPU = "masks on CPU"
+#: A variant's key for content-adaptive frames without the content level (acuity's coarsest level then cast over
+#: the whole viewport unmasked): ``object_state(mapper)["no_content_level"]``, measured, not a setting.
+NO_CONTENT_LEVEL = "no content level"
+#: The variants' keys that are not mapper settings, and the object_state entries they set.
+PRIVATE = {MASKS_ON_CPU: "masks_on_cpu", NO_CONTENT_LEVEL: "no_content_level"}
 #: Gaze points, normalised viewport coordinates.
 GAZES = {"centre": (0.5, 0.5), "corner": (0.1, 0.1)}
 #: Foveated mapper settings compared with full quality ({} = the defaults).
@@ -50,6 +55,8 @@ VARIANTS = {
     "content-adaptive 8 grey": {"ContentTolerance": 8.0},
     # the same masks built on the CPU from the coarse picture read back mid-frame (the path before the GPU masks)
     "content-adaptive 2 grey, CPU mask": {"ContentTolerance": 2.0, MASKS_ON_CPU: True},
+    # acuity's coarsest level decides the finer ones alone: the content level pays on sparse scenes, costs on dense
+    "content-adaptive 2 grey, no content level": {"ContentTolerance": 2.0, NO_CONTENT_LEVEL: True},
 }
 #: A gaze far outside the viewport: every pixel at the coarsest level.  Its
 #: row times the periphery alone, a floor under any gaze's frame time where
@@ -222,9 +229,10 @@ def measure_foveation(image, scene: str, method: str = "mip", sizes: Sequence[in
             for variant, settings in variants.items():
                 for gaze_name, gaze in gazes.items():
                     view = views[f"{variant} | {gaze_name}"] = framed_view(image, "foveated", size, framing, window)
-                    pairs = [(name, value) for name, value in settings.items() if name != MASKS_ON_CPU]
-                    if settings.get(MASKS_ON_CPU):
-                        object_state(view.mapper)["masks_on_cpu"] = True
+                    pairs = [(name, value) for name, value in settings.items() if name not in PRIVATE]
+                    for key, entry in PRIVATE.items():
+                        if settings.get(key):
+                            object_state(view.mapper)[entry] = True
                     apply_settings(view.mapper, (("Method", method), *pairs, ("GazePoint", gaze)))
             floor = views[PERIPHERY_ONLY] = framed_view(image, "foveated", size, framing, window)
             apply_settings(floor.mapper, (("Method", method), ("GazePoint", OFF_SCREEN)))

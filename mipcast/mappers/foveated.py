@@ -534,7 +534,9 @@ def _begin_frame(mapper, state, volume, renderer) -> SimpleNamespace:
     tolerance = 0.0 if still else float(params["content_tolerance"])
     adaptive = tolerance > 0 and len(plan.layers) > 1
     if adaptive:
-        plan = content_adaptive.adaptive_plan(plan, cap)
+        # object_state(mapper)["no_content_level"]: measured against the content level (the benchmarks' variant
+        # "content-adaptive 2 grey, no content level"; docs/foveation.md), not a setting
+        plan = content_adaptive.adaptive_plan(plan, plan.layers[0].level if state.get("no_content_level") else cap)
     gl_state = renderer.GetRenderWindow().GetState()
     box = [0, 0, 0, 0]  # the render's scissor box (from the window's origin: MIPVolumeMapper's observer)
     gl_state.vtkglGetIntegerv(GL_SCISSOR_BOX, box)
