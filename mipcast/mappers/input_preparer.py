@@ -233,11 +233,12 @@ def window_image(image: vtkImageData, component=None, whole_range=None) -> vtkIm
     (0.25396825396825395, 1.0)
     """
     prepared = prepare_scalars(image, component, whole_range=whole_range)
-    if not prepared.missing:
-        return prepared_image(image, component)
-    values = prepared.seen(np.asarray(prepared.values, np.float64))
+    source = scalar_image(image)  # cell scalars: the image of the cell centres
+    if not prepared.changed:
+        return source
+    values = prepared.seen(np.asarray(prepared.values, np.float64)) if prepared.missing else prepared.values
     out = vtkImageData()
-    out.CopyStructure(scalar_image(image))
+    out.CopyStructure(source)
     array = numpy_to_vtk(np.ascontiguousarray(values).ravel(), deep=True)
     array.SetName(image.GetPointData().GetScalars().GetName() or "scalars")
     out.GetPointData().SetScalars(array)
