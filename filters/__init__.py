@@ -21,7 +21,7 @@ from typing import Optional, Sequence, Union
 
 import numpy as np
 
-from mipcast.io import with_scalars
+from mipcast.io import as_image_data, with_scalars
 from mipcast.mappers.input_preparer import missing_as_background, prepared_image, window_image
 from mipcast.methods import METHODS, attach, create_mapper
 from mipcast.offscreen import OffscreenView, set_view
@@ -40,7 +40,9 @@ def render(image, method: str = "mip", *, scalars: Optional[str] = None, size: S
     Parameters
     ----------
     image : pyvista.ImageData
-        Volume with point scalars (several components: see ``component``).
+        Volume with point scalars (several components: see ``component``); a
+        ``RectilinearGrid`` with evenly spaced coordinates is drawn as image data
+        (:func:`mipcast.io.as_image_data`).
     method : str, default: "mip"
         A name from ``mipcast.METHODS``.
     scalars : str, optional
@@ -99,7 +101,7 @@ def render(image, method: str = "mip", *, scalars: Optional[str] = None, size: S
     if "cmap" in params:
         raise TypeError("render draws the grey picture (and as_float the values); for a colour map use "
                         "add_volume(plotter, grid, method, cmap=...) or grid.mip.plot(method, cmap=...)")
-    scene = OffscreenView(with_scalars(image, scalars), method, size=size, view=view,
+    scene = OffscreenView(with_scalars(as_image_data(image), scalars), method, size=size, view=view,
                           sample_distance=sample_distance, window=window if clim is None else clim,
                           component=component)
     set_parameters(scene.mapper, **params)
@@ -118,7 +120,9 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
     plotter : pyvista.Plotter
         Any plotter, including ``Plotter(off_screen=True)``.
     image : pyvista.ImageData
-        Volume with point scalars (several components: see ``component``).
+        Volume with point scalars (several components: see ``component``); a
+        ``RectilinearGrid`` with evenly spaced coordinates is drawn as image data
+        (:func:`mipcast.io.as_image_data`).
     method : str, default: "mip"
         A name from ``mipcast.METHODS``.
     scalars : str, optional
@@ -169,7 +173,7 @@ def add_volume(plotter, image, method: str = "mip", *, scalars: Optional[str] = 
     """
     import pyvista
 
-    image = with_scalars(image, scalars)
+    image = with_scalars(as_image_data(image), scalars)
     check_image(image, component)  # raises mipcast.InputError before anything is added
     projection = METHODS[method].projection if method in METHODS else "mip"  # create_mapper names a bad one
     low, high = resolve_window(window_image(image, component), clim, projection)
@@ -201,7 +205,9 @@ def plot(image, method: str = "mip", *, off_screen: Optional[bool] = None,
     Parameters
     ----------
     image : pyvista.ImageData
-        Volume with point scalars (several components: see ``component``).
+        Volume with point scalars (several components: see ``component``); a
+        ``RectilinearGrid`` with evenly spaced coordinates is drawn as image data
+        (:func:`mipcast.io.as_image_data`).
     method : str, default: "mip"
         A name from ``mipcast.METHODS``.
     off_screen, window_size, screenshot

@@ -4,7 +4,8 @@ Registered with pyvista's extension API (0.48+) when :mod:`mipcast.filters`
 is imported:
 
 - :class:`MipAccessor` via ``pyvista.register_dataset_accessor("mip",
-  pyvista.ImageData)``: ``grid.mip.render(...)``, ``grid.mip.plot(...)``;
+  pyvista.ImageData)`` (and ``RectilinearGrid``, evenly spaced ones drawn as
+  image data): ``grid.mip.render(...)``, ``grid.mip.plot(...)``;
 - :class:`MipPlotterComponent` via ``pyvista.register_plotter_component("mip")``:
   ``plotter.mip.add_volume(...)``; pyvista calls its ``__plotter_close__``
   when the plotter closes, which removes the volumes it added.
@@ -24,6 +25,7 @@ from mipcast.filters import add_volume, plot, render
 from mipcast.methods import detach
 
 
+@pyvista.register_dataset_accessor("mip", pyvista.RectilinearGrid)  # evenly spaced: drawn as image data
 @pyvista.register_dataset_accessor("mip", pyvista.ImageData)
 class MipAccessor:
     """Render an ``ImageData`` with a mipcast method: ``grid.mip.render(...)``.

@@ -180,13 +180,21 @@ def check_geometry(image: vtkImageData) -> None:
         raise InputError(
             f"the volume's spacing {tuple(spacing)} is negative: VTK's ray casters need positive "
             "spacing; use the absolute spacing and flip the axis with the direction matrix "
-            "(image.SetDirectionMatrix) or the origin instead")
+            "(image.SetDirectionMatrix; an odd number of flips then needs mipcast.io.right_handed) "
+            "or the origin instead")
     direction = np.array([[image.GetDirectionMatrix().GetElement(r, c) for c in range(3)] for r in range(3)])
     if not np.all(np.isfinite(direction)) or np.abs(direction.T @ direction - np.eye(3)).max() > 1e-6:
         raise InputError(
             "the volume's direction matrix is not orthonormal (sheared or scaled axes): the GPU "
             "ray caster would draw it distorted; resample it onto an orthonormal grid "
             "(vtkImageReslice) or put the scale into the spacing")
+    if np.linalg.det(direction) < 0:
+        raise InputError(
+            "the volume's direction matrix is a reflection (determinant -1, an odd number of flipped axes): "
+            "VTK's GPU ray caster draws it wrong (its rays enter through the far faces: a nearly blank "
+            "picture); reverse one axis of the data and negate its direction column, which keeps every "
+            "voxel where it is: mipcast.io.right_handed(image) returns that copy (mipcast's pyvista filters "
+            "and file readers do it themselves)")
 
 
 def cell_centres(image: vtkImageData, name: Optional[str] = None) -> vtkImageData:

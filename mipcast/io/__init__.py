@@ -6,6 +6,6 @@ Examples
 >>> ".vti" in SUPPORTED_EXTENSIONS
 True
 """
-from mipcast.io.volumes import SUPPORTED_EXTENSIONS, read_volume, with_scalars
+from mipcast.io.volumes import SUPPORTED_EXTENSIONS, as_image_data, read_volume, right_handed, with_scalars
 
-__all__ = ["SUPPORTED_EXTENSIONS", "read_volume", "with_scalars"]
+__all__ = ["SUPPORTED_EXTENSIONS", "as_image_data", "read_volume", "right_handed", "with_scalars"]

@@ -35,7 +35,7 @@ from typing import Optional, Tuple, Union
 import numpy as np
 from vtkmodules.util.numpy_support import get_vtk_array_type, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkDataArray, vtkLogger, vtkOutputWindow, vtkStringOutputWindow
-from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkCommonDataModel import vtkImageData, vtkRectilinearGrid
 from vtkmodules.vtkIOImage import vtkMetaImageReader, vtkNIFTIImageReader, vtkNrrdReader
 from vtkmodules.vtkIOXML import vtkXMLImageDataReader
 
@@ -147,7 +147,7 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None) -> vtkImage
         raise ValueError(f"series_uid applies to DICOM input only, not to '{path}'")
     image = {"vti": _read_vti, "nrrd": _read_nrrd, "nifti": _read_nifti,
              "meta": _read_meta}[kind](path)
-    image = _right_handed(image)
+    image = right_handed(image)
     check_image(image)
     return image
 
@@ -247,8 +247,29 @@ def _split(columns: np.ndarray) -> Optional[Tuple[np.ndarray, np.ndarray]]:
     return unit, lengths
 
 
-def _right_handed(image: vtkImageData) -> vtkImageData:
-    """Reverse the slices if the direction matrix is left-handed (same geometry)."""
+def right_handed(image: vtkImageData) -> vtkImageData:
+    """``image`` itself, or, if its direction matrix is left-handed (a reflection), the same volume right-handed.
+
+    VTK's GPU ray caster (stock and mipcast's) draws a volume whose direction
+    matrix has determinant -1 wrong: its rays enter through the far faces, a
+    nearly blank picture (mipcast's mappers refuse it). The copy reverses the
+    slice order of every point and cell array and negates the third direction
+    column, moving the origin to the last slice: every voxel keeps its value
+    and its position (arrays that are not numeric are left out). ``image`` is
+    not modified.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    >>> image = vtkImageData()
+    >>> image.SetDimensions(2, 2, 3)
+    >>> image.SetDirectionMatrix(1, 0, 0, 0, 1, 0, 0, 0, -1)
+    >>> _ = image.GetPointData().SetScalars(numpy_to_vtk(np.arange(12.0), deep=True))
+    >>> fixed = right_handed(image)
+    >>> fixed.GetOrigin(), fixed.GetDirectionMatrix().GetElement(2, 2), vtk_to_numpy(fixed.GetPointData().GetScalars())[:4].tolist()
+    ((0.0, 0.0, -2.0), 1.0, [8.0, 9.0, 10.0, 11.0])
+    """
     direction = matrix_array(image.GetDirectionMatrix())
     if np.linalg.det(direction) > 0:
         return image
@@ -257,21 +278,23 @@ def _right_handed(image: vtkImageData) -> vtkImageData:
     origin = np.array(image.GetOrigin()) + direction[:, 2] * spacing[2] * (nz - 1)
     direction[:, 2] *= -1
     flipped = _fresh(image)
-    data = image.GetPointData()
-    for index in range(data.GetNumberOfArrays()):
-        array = data.GetArray(index)
-        if array is None:
-            continue
-        values = vtk_to_numpy(array).reshape(nz, ny, nx, -1)[::-1]
-        copy = vtkDataArray.CreateDataArray(array.GetDataType())
-        copy.SetName(array.GetName())
-        copy.SetNumberOfComponents(array.GetNumberOfComponents())
-        copy.SetNumberOfTuples(array.GetNumberOfTuples())
-        vtk_to_numpy(copy).reshape(values.shape)[...] = values
-        flipped.GetPointData().RemoveArray(array.GetName())
-        flipped.GetPointData().AddArray(copy)
-        if data.GetScalars() is array:
-            flipped.GetPointData().SetActiveScalars(array.GetName())
+    for data, target, slices in ((image.GetPointData(), flipped.GetPointData(), nz),
+                                 (image.GetCellData(), flipped.GetCellData(), max(nz - 1, 1))):
+        target.Initialize()  # numeric arrays only, reversed (a string array per point is not drawn)
+        for index in range(data.GetNumberOfArrays()):
+            array = data.GetArray(index)
+            if array is None:
+                continue
+            values = vtk_to_numpy(array).reshape(slices, -1, array.GetNumberOfComponents())[::-1]
+            copy = vtkDataArray.CreateDataArray(array.GetDataType())
+            copy.SetName(array.GetName())
+            copy.SetNumberOfComponents(array.GetNumberOfComponents())
+            copy.SetNumberOfTuples(array.GetNumberOfTuples())
+            vtk_to_numpy(copy).reshape(values.shape)[...] = values
+            if data.GetScalars() is array:
+                target.SetScalars(copy)
+            else:
+                target.AddArray(copy)
     _set_geometry(flipped, origin, spacing, direction)
     return flipped
 
@@ -388,6 +411,67 @@ def _nrrd_header(path: Path) -> dict:
         key, value = line.split(": ", 1)
         fields[key.strip().lower()] = value.strip()
     return fields
+
+
+#: Relative spread of a rectilinear grid's steps (largest - smallest, over the mean) still read as even.
+EVEN_STEPS = 1e-5
+
+
+def as_image_data(data):
+    """``data`` as image data the ray caster draws right: right-handed, and a rectilinear grid evenly spaced.
+
+    Image data with a left-handed direction matrix becomes its
+    :func:`right_handed` copy.  pyvista's ``RectilinearGrid`` (a netCDF or
+    xarray grid of latitudes, longitudes and levels, a simulation's output)
+    is image data when its steps along each axis are equal (within
+    :data:`EVEN_STEPS`): the copy shares its point and cell arrays; a
+    decreasing axis becomes a flipped direction (an odd number of them a
+    reflection, made right-handed, which copies the arrays).  Uneven steps
+    raise with the fix (resample first); anything else is returned as it is
+    (the checks name what cannot be drawn).  ``data`` is not modified.
+
+    Raises
+    ------
+    TypeError
+        For a rectilinear grid whose steps along an axis differ.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from vtkmodules.util.numpy_support import numpy_to_vtk
+    >>> grid = vtkRectilinearGrid()
+    >>> grid.SetDimensions(3, 2, 2)
+    >>> for axis, values in zip("XYZ", ([0.0, 0.5, 1.0], [4.0, 2.0], [1.0, 3.0])):
+    ...     getattr(grid, f"Set{axis}Coordinates")(numpy_to_vtk(np.array(values), deep=True))
+    >>> image = as_image_data(grid)
+    >>> image.GetOrigin(), image.GetSpacing(), image.GetDirectionMatrix().GetElement(1, 1)
+    ((0.0, 4.0, 3.0), (0.5, 2.0, 2.0), -1.0)
+    """
+    if isinstance(data, vtkImageData):
+        return right_handed(data)
+    if not isinstance(data, vtkRectilinearGrid):
+        return data
+    origin, spacing, signs = [], [], []
+    for axis, coordinates in zip("xyz", (data.GetXCoordinates(), data.GetYCoordinates(), data.GetZCoordinates())):
+        values = vtk_to_numpy(coordinates).astype(np.float64) if coordinates is not None else np.zeros(1)
+        steps = np.diff(values)
+        step = float(steps.mean()) if steps.size else 1.0
+        if steps.size and (step == 0.0 or np.ptp(steps) > EVEN_STEPS * abs(step) or np.any(steps * step <= 0)):
+            raise TypeError(
+                f"the rectilinear grid's {axis} coordinates are not evenly spaced (steps {steps.min():g} to "
+                f"{steps.max():g}); resample it to image data first (pyvista: grid.sample(pyvista.ImageData(...)) "
+                "or vtkResampleToImage)")
+        origin.append(float(values[0]) if values.size else 0.0)
+        spacing.append(abs(step))
+        signs.append(1.0 if step > 0 else -1.0)
+    image = vtkImageData()
+    image.SetDimensions(data.GetDimensions())
+    image.SetOrigin(origin)
+    image.SetSpacing(spacing)
+    image.SetDirectionMatrix(signs[0], 0.0, 0.0, 0.0, signs[1], 0.0, 0.0, 0.0, signs[2])
+    image.GetPointData().ShallowCopy(data.GetPointData())
+    image.GetCellData().ShallowCopy(data.GetCellData())
+    return right_handed(image)  # an odd number of decreasing axes: a reflection, reversed (copies)
 
 
 def with_scalars(image, scalars: Optional[str] = None):
