@@ -262,10 +262,10 @@ def whole_of(image, matrix=None):
     >>> image = vtkImageData()
     >>> image.SetExtent(2, 5, 0, 3, 0, 1)
     >>> whole_of(image, np.diag([2.0, 1.0, 1.0, 1.0])).GetBounds()
-    (0.0, 6.0, 0.0, 3.0, 0.0, 1.0)
+    (4.0, 10.0, 0.0, 3.0, 0.0, 1.0)
     """
-    dims = image.GetDimensions()
-    return whole_geometry(((0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1), image.GetOrigin(), image.GetSpacing(),
+    dims = image.GetDimensions()  # counted from 0: the first point of the extent is the origin
+    return whole_geometry(((0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1), image.GetPoint(0), image.GetSpacing(),
                            image.GetDirectionMatrix()), matrix)
 
 

@@ -127,7 +127,7 @@ def value_box(rendered) -> vtkImageData:
     dims = rendered.GetDimensions()
     box = vtkImageData()
     box.SetDimensions(2, 2, 2)
-    box.SetOrigin(rendered.GetOrigin())
+    box.SetOrigin(rendered.GetPoint(0))  # the first point of the extent (which may not start at 0)
     box.SetSpacing([s * max(d - 1, 1) for s, d in zip(rendered.GetSpacing(), dims)])
     box.SetDirectionMatrix(rendered.GetDirectionMatrix())
     scalars = rendered.GetPointData().GetScalars()

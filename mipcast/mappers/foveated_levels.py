@@ -335,11 +335,11 @@ def silhouette(image, volume, camera, viewport, base_isd) -> Optional[tuple]:
     """
     if image is None or image.GetNumberOfPoints() == 0:
         return None
-    dims = image.GetDimensions()
+    extent = image.GetExtent()  # VTK's structured indices: a piece's extent may start anywhere
     corners = []
-    for i in (0, dims[0] - 1):
-        for j in (0, dims[1] - 1):
-            for k in (0, dims[2] - 1):
+    for i in extent[0:2]:
+        for j in extent[2:4]:
+            for k in extent[4:6]:
                 point = [0.0, 0.0, 0.0]
                 image.TransformIndexToPhysicalPoint(i, j, k, point)
                 corners.append(point + [1.0])

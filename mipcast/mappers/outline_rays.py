@@ -72,8 +72,8 @@ def _pixel_rays(image, camera, shape: Sequence[int], size: Sequence[int], sample
     """
     rows, columns = int(shape[0]), int(shape[1])
     dims = image.GetDimensions()
-    whole = whole_geometry(((0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1), image.GetOrigin(),
-                            image.GetSpacing(), image.GetDirectionMatrix()))
+    whole = whole_geometry(((0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1), image.GetPoint(0),
+                            image.GetSpacing(), image.GetDirectionMatrix()))  # counted from the extent's first point
     rays = {name: np.array(value) for name, value in ray_uniforms(whole, camera, tuple(size)).items()}
     r, c = np.nonzero(pixels)
     x = 2.0 * (c + 0.5) / columns - 1.0
