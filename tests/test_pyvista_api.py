@@ -234,6 +234,11 @@ def test_an_evenly_spaced_rectilinear_grid_is_drawn_as_image_data(grid):
     assert np.allclose(drawn.GetBounds(), image.bounds, atol=1e-9)
     found, exact, hits = _against_reference(south, "analytic", OffscreenView(drawn, "analytic", size=SIZE))
     assert hits.sum() > 200 and np.abs(found[hits] - exact[hits]).max() < 1e-4
+    latitudes = (np.arange(ny) * 0.1 + 60.0).astype(np.float32)  # float32 coordinates: steps spread by rounding
+    stored = pv.RectilinearGrid(x, latitudes, z)
+    stored.point_data["v"] = values
+    spread = np.ptp(np.diff(latitudes.astype(np.float64))) / 0.1
+    assert spread > 1e-5 and stored.mip.render("mip", size=SIZE).max() > 0  # beyond EVEN_STEPS: the rounding allowance
     uneven = pv.RectilinearGrid(x ** 1.5, y, z)
     uneven.point_data["v"] = values
     with pytest.raises(TypeError, match="x coordinates are not evenly spaced.*resample"):

@@ -413,7 +413,9 @@ def _nrrd_header(path: Path) -> dict:
     return fields
 
 
-#: Relative spread of a rectilinear grid's steps (largest - smallest, over the mean) still read as even.
+#: Relative spread of a rectilinear grid's steps (largest - smallest, over the mean) still read as even, beyond
+#: the rounding of float32 coordinates (8 float32 epsilons of the largest coordinate: a 0.1-degree latitude grid
+#: stored as float32 spreads its steps by 8e-5 of a step).
 EVEN_STEPS = 1e-5
 
 
@@ -456,7 +458,9 @@ def as_image_data(data):
         values = vtk_to_numpy(coordinates).astype(np.float64) if coordinates is not None else np.zeros(1)
         steps = np.diff(values)
         step = float(steps.mean()) if steps.size else 1.0
-        if steps.size and (step == 0.0 or np.ptp(steps) > EVEN_STEPS * abs(step) or np.any(steps * step <= 0)):
+        rounding = 8.0 * float(np.finfo(np.float32).eps) * float(np.abs(values).max()) if values.size else 0.0
+        if steps.size and (step == 0.0 or np.ptp(steps) > EVEN_STEPS * abs(step) + rounding
+                           or np.any(steps * step <= 0)):
             raise TypeError(
                 f"the rectilinear grid's {axis} coordinates are not evenly spaced (steps {steps.min():g} to "
                 f"{steps.max():g}); resample it to image data first (pyvista: grid.sample(pyvista.ImageData(...)) "
