@@ -84,7 +84,8 @@ from mipcast.core.errors import InputError
 from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import DEMIP_SETTINGS
 from mipcast.core.parameters import set_parameters
-from mipcast.core.validation import check_choice, check_image
+from mipcast.core.prepare import prepare_scalars
+from mipcast.core.validation import check_choice
 from mipcast.mappers.brick_rays import global_texture_box, ray_uniforms, set_brick_uniforms, set_ray_uniforms  # noqa: F401
 from mipcast.mappers.clip_uniforms import slab_of
 from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, first_match_index
@@ -255,19 +256,16 @@ def whole_range(piece, comm) -> Tuple[float, float, bool]:
     --------
     >>> import numpy as np
     >>> from mipcast.data_fixtures.synthetic import image_from_array
-    >>> whole_range(image_from_array(np.array([[[1.0, np.nan], [np.inf, 4.0]]])), OneRank())
-    (1.0, 4.0, True)
+    >>> values = np.arange(8.0).reshape(2, 2, 2); values[0, 0, 0], values[1, 1, 1] = np.nan, np.inf
+    >>> whole_range(image_from_array(values), OneRank())
+    (1.0, 6.0, True)
     """
-    scalars = piece.GetPointData().GetScalars()
-    if scalars is None:
-        check_image(piece)  # names what is missing (raises)
-    values = vtk_to_numpy(scalars)
-    if values.ndim > 1:  # drawn as their magnitude (mipcast.core.prepare)
-        values = np.sqrt(np.sum(np.square(values.astype(np.float64)), axis=1))
-    finite = values[np.isfinite(values)] if values.dtype.kind == "f" else values
-    low, high = (float(finite.min()), float(finite.max())) if finite.size else (np.inf, -np.inf)
-    missing = float(finite.size < values.size)
-    ends = _reduce_inplace(comm, np.array([-low, high, missing]), "max")
+    # what is drawn (mipcast.core.prepare: a component or the magnitude, int64 as float64), validated; the range
+    # given only lets a brick of missing values alone through
+    prepared = prepare_scalars(piece, whole_range=(0.0, 1.0))
+    seen = prepared.missing < prepared.values.size
+    low, high = (prepared.low, prepared.high) if seen else (np.inf, -np.inf)
+    ends = _reduce_inplace(comm, np.array([-low, high, float(prepared.missing > 0)]), "max")
     return float(-ends[0]), float(ends[1]), bool(ends[2] > 0.0)
 
 
@@ -355,8 +353,7 @@ class DistributedView:
         self.data_range = (low, high)
         #: Whether any brick holds missing values: then every brick fills them as the whole volume does (a brick
         #: may then hold missing values only).
-        self.missing = missing
-        check_image(piece, whole_range=self.data_range if missing else None)
+        self.missing = missing  # (the brick was validated by whole_range)
         if isinstance(window, str):
             if window != "full":
                 raise ValueError(f"window must be (low, high) or 'full', got {window!r}")

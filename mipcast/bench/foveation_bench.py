@@ -366,13 +366,10 @@ def write_ring_chart(rows: Sequence[dict], path) -> None:
 
 def _last_picture(view: OffscreenView) -> np.ndarray:
     """The window's last rendered picture (RGB, top row first) without rendering again."""
-    from vtkmodules.util.numpy_support import vtk_to_numpy
-    from vtkmodules.vtkCommonCore import vtkUnsignedCharArray
+    from mipcast.mappers.private_draw import read_rgba
 
     width, height = view.render_window.GetSize()
-    pixels = vtkUnsignedCharArray()
-    view.render_window.GetRGBACharPixelData(0, 0, width - 1, height - 1, 0, pixels)
-    return vtk_to_numpy(pixels).reshape(height, width, 4)[::-1, :, :3].copy()
+    return read_rgba(view.render_window, (0, 0, width, height))[::-1, :, :3].copy()
 
 
 def measure_progressive(image, scene: str, method: str = "mip", size: int = 1024, framing: str = "fill",

@@ -204,14 +204,7 @@ def prepared_image(image: vtkImageData, component=None, missing_allowed: bool = 
     image = scalar_image(image)  # cell scalars: the image of the cell centres
     if projection == "average" and not prepared.missing and not prepared.high > prepared.low:
         _warn_constant_average(image)
-    if not prepared.changed:
-        return image
-    out = vtkImageData()
-    out.CopyStructure(image)
-    array = numpy_to_vtk(np.ascontiguousarray(prepared.values).ravel(), deep=True)
-    array.SetName(image.GetPointData().GetScalars().GetName() or "scalars")
-    out.GetPointData().SetScalars(array)
-    return out
+    return _with_values(image, prepared.values) if prepared.changed else image
 
 
 def window_image(image: vtkImageData, component=None, whole_range=None) -> vtkImageData:
@@ -236,9 +229,14 @@ def window_image(image: vtkImageData, component=None, whole_range=None) -> vtkIm
     source = scalar_image(image)  # cell scalars: the image of the cell centres
     if not prepared.changed:
         return source
-    values = prepared.seen(np.asarray(prepared.values, np.float64)) if prepared.missing else prepared.values
+    return _with_values(source, prepared.seen(np.asarray(prepared.values, np.float64)) if prepared.missing
+                        else prepared.values)
+
+
+def _with_values(image: vtkImageData, values: np.ndarray) -> vtkImageData:
+    """A new image of ``image``'s structure whose point scalars are ``values`` (named as ``image``'s scalars)."""
     out = vtkImageData()
-    out.CopyStructure(source)
+    out.CopyStructure(image)
     array = numpy_to_vtk(np.ascontiguousarray(values).ravel(), deep=True)
     array.SetName(image.GetPointData().GetScalars().GetName() or "scalars")
     out.GetPointData().SetScalars(array)

@@ -34,7 +34,7 @@ import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 from mipcast.core.object_state import object_state
-from mipcast.mappers.brick_rays import cap_steps, ray_uniforms, whole_geometry
+from mipcast.mappers.brick_rays import cap_steps, ray_uniforms, whole_of
 from mipcast.mappers.private_draw import read_depth
 
 
@@ -71,9 +71,7 @@ def _pixel_rays(image, camera, shape: Sequence[int], size: Sequence[int], sample
     volume, :func:`mipcast.mappers.brick_rays.cap_steps`).
     """
     rows, columns = int(shape[0]), int(shape[1])
-    dims = image.GetDimensions()
-    whole = whole_geometry(((0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1), image.GetPoint(0),
-                            image.GetSpacing(), image.GetDirectionMatrix()))  # counted from the extent's first point
+    whole = whole_of(image)  # counted from the extent's first point
     rays = {name: np.array(value) for name, value in ray_uniforms(whole, camera, tuple(size)).items()}
     r, c = np.nonzero(pixels)
     x = 2.0 * (c + 0.5) / columns - 1.0
