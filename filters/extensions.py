@@ -16,7 +16,7 @@ happens here.
 from __future__ import annotations
 
 import weakref
-from typing import Optional, Sequence, Union
+from typing import Optional, Sequence
 
 import numpy as np
 import pyvista
@@ -48,7 +48,7 @@ class MipAccessor:
     def __init__(self, grid) -> None:
         self._grid = grid
 
-    def render(self, method: str = "mip", *, scalars: Optional[str] = None, size: Sequence[int] = (256, 256),
+    def render(self, method: str = "mip", *, scalars=None, size: Sequence[int] = (256, 256),
                view: str = "oblique", sample_distance: Optional[float] = None,
                window: Optional[Sequence[float]] = None, as_float: bool = False, **params) -> np.ndarray:
         """Render the grid offscreen with ``method``; see :func:`mipcast.filters.render`.
@@ -57,8 +57,9 @@ class MipAccessor:
         ----------
         method : str, default: "mip"
             A name from ``mipcast.METHODS``.
-        scalars : str, optional
-            Name of the point array to project; default the active scalars.
+        scalars : str or array_like, optional
+            Name of the point (or cell) array to project, or its values, as
+            in pyvista's ``add_volume``; default the active scalars.
         size : sequence of int, default: (256, 256)
             Image (width, height) in pixels.
         view : str, default: "oblique"
@@ -160,40 +161,22 @@ class MipPlotterComponent:
                 _remove(volume, renderer)
         self._added = shown
 
-    def add_volume(self, grid, method: str = "mip", *, scalars: Optional[str] = None,
-                   cmap: Union[str, object] = "gray", clim: Optional[Sequence[float]] = None,
-                   opacity: Union[float, str] = 1.0, sample_distance: Optional[float] = None,
-                   name: Optional[str] = None, reset_camera: Optional[bool] = None, render: bool = True,
-                   **params):
+    def add_volume(self, grid, method: str = "mip", **kwargs):
         """Add ``grid`` to the plotter's active renderer; see :func:`mipcast.filters.add_volume`.
 
         Parameters
         ----------
-        grid : pyvista.ImageData
-            Volume with one-component point scalars.
+        grid : pyvista.ImageData or numpy.ndarray
+            Volume with point scalars (or a 3-D array indexed ``[x, y, z]``).
         method : str, default: "mip"
             A name from ``mipcast.METHODS``.
-        scalars : str, optional
-            Name of the point array to project; default the active scalars.
-        cmap : str or matplotlib colormap, default: "gray"
-            Colour map over ``clim``, as in ``Plotter.add_volume``.
-        clim : sequence of float or str, optional
-            Colour limits (low, high); default the window a viewer would
-            pick (``"auto"``); ``"full"`` the data range.
-        opacity : float or str, default: 1.0
-            A constant opacity or one of pyvista's opacity transfer function
-            names, as in ``Plotter.add_volume``.
-        sample_distance : float, optional
-            World units between samples; default one sample per voxel.
-        name : str, optional
-            Actor name, as in pyvista (the same name replaces).
-        reset_camera : bool, optional
-            As in pyvista: by default only if the camera has not been set.
-        render : bool, default: True
-            As in pyvista: render a shown window after adding.
-        **params
-            Method parameters, e.g. ``depth_weight=0.2`` (see
-            :func:`mipcast.filters.set_parameters`).
+        **kwargs
+            The keywords of :func:`mipcast.filters.add_volume`: pyvista's
+            (``scalars``, ``cmap``, ``clim``, ``opacity``, ``n_colors``,
+            ``flip_scalars``, ``log_scale``, ``name``, ``reset_camera``,
+            ``user_matrix``, ``show_scalar_bar``, ...), ``sample_distance``,
+            ``component`` and method parameters, e.g. ``depth_weight=0.2``
+            (see :func:`mipcast.filters.set_parameters`).
 
         Returns
         -------
@@ -215,9 +198,7 @@ class MipPlotterComponent:
         >>> plotter.close()
         """
         renderer = self._plotter.renderer
-        volume = add_volume(self._plotter, grid, method, scalars=scalars, cmap=cmap, clim=clim, opacity=opacity,
-                            sample_distance=sample_distance, name=name, reset_camera=reset_camera, render=render,
-                            **params)
+        volume = add_volume(self._plotter, grid, method, **kwargs)
         self._added.append((volume, renderer))
         self._forget_removed()
         return volume

@@ -243,3 +243,183 @@ def test_an_evenly_spaced_rectilinear_grid_is_drawn_as_image_data(grid):
     uneven.point_data["v"] = values
     with pytest.raises(TypeError, match="x coordinates are not evenly spaced.*resample"):
         uneven.mip.render("mip", size=SIZE)
+
+
+def _transfer_functions(volume, values):
+    """RGB and opacity of ``volume``'s property at ``values``."""
+    prop = volume.GetProperty()
+    colour, opacity = prop.GetRGBTransferFunction(), prop.GetScalarOpacity()
+    return (np.array([colour.GetColor(v) for v in values]), np.array([opacity.GetValue(v) for v in values]))
+
+
+@pytest.mark.parametrize("kwargs", [
+    dict(cmap=["black", "red", "white"], opacity=1.0),
+    dict(cmap="viridis", flip_scalars=True, opacity="sigmoid"),
+    dict(cmap="bone", opacity=[0.0, 0.3, 1.0]),
+    dict(cmap="hot", opacity=np.linspace(1.0, 0.2, 7)),
+    dict(cmap="viridis", n_colors=5, opacity="linear_r"),
+    dict(colormap="plasma", rng=(0.2, 0.7), opacity=0.5),  # pyvista's aliases
+], ids=["colour list", "flipped", "opacity list", "opacity array", "5 colours", "aliases"])
+def test_colour_and_opacity_keywords_map_as_pyvista_maps_them(grid, kwargs):
+    """cmap (a name, a list of colours), opacity (a number, a name, values spread over clim), n_colors, flip_scalars
+    and pyvista's aliases give the transfer functions pyvista's own add_volume builds (its lookup table stores
+    colours and opacities in 8 bits and clips opacity at 0.998); before, lists and arrays raised TypeError."""
+    kwargs = dict(kwargs)
+    clim = kwargs.pop("rng", (0.1, 0.9))
+    aliases = {"colormap": kwargs.pop("colormap")} if "colormap" in kwargs else {}
+    values = np.linspace(clim[0], clim[1], 97)
+    plotter = pv.Plotter(off_screen=True, window_size=SIZE)
+    theirs = plotter.add_volume(grid, clim=clim, blending="maximum", show_scalar_bar=False,
+                                **{**kwargs, "cmap": aliases.get("colormap", kwargs.get("cmap"))})
+    if aliases:
+        ours = plotter.mip.add_volume(grid, "mip", rng=clim, **aliases, **kwargs)
+    else:
+        ours = plotter.mip.add_volume(grid, "mip", clim=clim, **kwargs)
+    (their_rgb, their_alpha), (our_rgb, our_alpha) = (_transfer_functions(v, values) for v in (theirs, ours))
+    assert np.abs(our_rgb - their_rgb).max() <= 1.0 / 255 + 1e-6
+    assert np.abs(our_alpha - their_alpha).max() <= 2.0 / 255 + 1e-6
+    assert np.ptp(our_rgb) > 0.2
+    plotter.close()
+
+
+def test_an_opacity_per_colour_is_used_as_it_is(grid):
+    """opacity= n_colors values in [0, 1] are the opacities (pyvista's documented meaning; pyvista 0.49's own
+    lookup table stores them in 8 bits unscaled, i.e. as 0)."""
+    plotter = pv.Plotter(off_screen=True, window_size=SIZE)
+    alphas = np.linspace(1.0, 0.2, 64)
+    volume = plotter.mip.add_volume(grid, "mip", clim=(0.1, 0.9), opacity=alphas, n_colors=64)
+    _, found = _transfer_functions(volume, np.linspace(0.1, 0.9, 64))
+    assert np.abs(found - alphas).max() < 1e-6
+    plotter.close()
+
+
+def test_log_scale_spreads_the_colour_map_over_the_logarithm(grid):
+    """log_scale=True: the colour at v is the map at (log v - log low) / (log high - log low); clim at or below 0
+    is refused with the fix."""
+    from matplotlib import colormaps
+
+    plotter = pv.Plotter(off_screen=True, window_size=SIZE)
+    volume = plotter.mip.add_volume(grid, "analytic", cmap="viridis", clim=(0.01, 1.0), log_scale=True)
+    values = np.geomspace(0.01, 1.0, 40)
+    rgb, _ = _transfer_functions(volume, values)
+    expected = colormaps["viridis"](np.log(values / 0.01) / np.log(100.0))[:, :3]
+    assert np.abs(rgb - expected).max() < 0.01
+    with pytest.raises(ValueError, match="log_scale needs clim above 0.*positive low"):
+        plotter.mip.add_volume(grid, "mip", clim=(0.0, 1.0), log_scale=True)
+    plotter.close()
+
+
+def test_scalars_given_as_values_draw_as_the_named_array(grid):
+    """scalars= an array (per point in point order, or per cell) as pyvista's add_volume takes it: the same picture
+    as the array added by name, the grid unchanged; a wrong length names the two that fit and the fix."""
+    doubled = 2.0 * np.asarray(grid.active_scalars)
+    named = grid.copy()
+    named.point_data["doubled"] = doubled
+    expected = render(named, "analytic", size=SIZE, scalars="doubled", window=(0.2, 1.8))
+    assert (expected.max(axis=-1) > 40).mean() > 0.1
+    arrays_before = grid.array_names
+    assert np.array_equal(render(grid, "analytic", size=SIZE, scalars=doubled, window=(0.2, 1.8)), expected)
+    assert np.array_equal(grid.mip.render("analytic", size=SIZE, scalars=doubled, window=(0.2, 1.8)), expected)
+    assert grid.array_names == arrays_before
+    per_cell = grid.point_data_to_cell_data()
+    cells = np.asarray(per_cell.active_scalars)
+    by_name = render(per_cell, "mip", size=SIZE, scalars=per_cell.active_scalars_name, window=(0.2, 0.9))
+    assert np.array_equal(render(grid, "mip", size=SIZE, scalars=cells, window=(0.2, 0.9)), by_name)
+    plotter = pv.Plotter(off_screen=True, window_size=SIZE)
+    with pytest.raises(ValueError, match=rf"{grid.n_points}.*{grid.n_cells}.*ravel\(order='F'\)"):
+        plotter.mip.add_volume(grid, scalars=doubled[:-1])
+    with pytest.raises(TypeError, match="numbers"):
+        plotter.mip.add_volume(grid, scalars=np.array(["a"] * grid.n_points))
+    assert plotter.renderer.GetVolumes().GetNumberOfItems() == 0
+    plotter.close()
+
+
+def test_a_numpy_volume_and_one_number_clim_as_in_pyvista(grid):
+    """A 3-D numpy array indexed [x, y, z] is drawn as pyvista.wrap makes it (resolution= its spacing), and
+    clim=c is (-c, c), as pyvista's add_volume takes them."""
+    nx, ny, nz = grid.dimensions
+    array = np.asarray(grid.active_scalars).reshape(nz, ny, nx).transpose(2, 1, 0)  # [x, y, z]
+    spaced = grid.copy()
+    spaced.spacing = (1.0, 2.0, 0.5)
+    expected = render(spaced, "mip", size=SIZE, window=(-0.9, 0.9))
+    assert (expected.max(axis=-1) > 40).mean() > 0.1
+    assert np.array_equal(render(array, "mip", size=SIZE, resolution=(1.0, 2.0, 0.5), clim=0.9), expected)
+    shots = []
+    for volume in (spaced, array):
+        plotter = pv.Plotter(off_screen=True, window_size=SIZE)
+        plotter.mip.add_volume(volume, "analytic", clim=0.9, resolution=None if volume is spaced else (1, 2, 0.5))
+        shots.append(plotter.screenshot())
+        plotter.close()
+    assert np.array_equal(shots[0], shots[1]) and shots[0].std() > 5
+    with pytest.raises(TypeError, match="resolution= is the spacing of a numpy array"):
+        render(grid, resolution=(1, 1, 1))
+    with pytest.raises(TypeError, match="3-D array"):
+        render(np.zeros((4, 4)))
+
+
+def test_user_matrix_places_the_volume_against_the_float64_reference(grid):
+    """user_matrix= (pyvista's placement of the prop): the float readout equals the reference of the volume so placed."""
+    from mipcast import reference
+    from mipcast.mappers.float_readout import render_float
+
+    matrix = np.array([[0.0, -1.0, 0.0, 5.0], [1.0, 0.0, 0.0, -3.0], [0.0, 0.0, 1.5, 2.0], [0.0, 0.0, 0.0, 1.0]])
+    plotter = pv.Plotter(off_screen=True, window_size=SIZE)
+    volume = plotter.mip.add_volume(grid, "analytic", clim=(0.2, 0.9), user_matrix=matrix)
+    plotter.camera_position = "iso"
+    plotter.render()
+    assert np.allclose(volume.user_matrix, matrix)
+    found = render_float(plotter.render_window, volume.GetMapper())
+    exact = reference.render(grid, plotter.renderer.GetActiveCamera(), SIZE, method="analytic",
+                             matrix=volume.GetMatrix())
+    hits = ~np.isnan(found) & ~np.isnan(exact)
+    assert hits.mean() > 0.1 and np.mean(np.isnan(found) == np.isnan(exact)) > 0.99
+    assert np.abs(found[hits] - exact[hits]).max() < 1e-4
+    plotter.close()
+
+
+def test_scalar_bar_and_its_annotations(grid):
+    """show_scalar_bar=True adds a bar of the colour map over clim (title: the array's name; scalar_bar_args and
+    annotations as in pyvista); by default there is none."""
+    plotter = pv.Plotter(off_screen=True, window_size=(128, 128))
+    plotter.mip.add_volume(grid, "mip", cmap="hot", clim=(0.1, 0.9))
+    assert list(plotter.scalar_bars.keys()) == []
+    plotter.mip.add_volume(grid, "mip", cmap="hot", clim=(0.1, 0.9), show_scalar_bar=True, name="barred",
+                           annotations={0.5: "half"})
+    name = grid.active_scalars_name
+    assert list(plotter.scalar_bars.keys()) == [name]
+    bar = plotter.scalar_bars[name]
+    assert bar.GetLookupTable().GetRange() == (0.1, 0.9) and bar.GetLookupTable().GetAnnotation(0) == "half"
+    plotter.mip.add_volume(grid, "mip", show_scalar_bar=True, scalar_bar_args={"title": "HU"}, name="titled")
+    assert "HU" in plotter.scalar_bars.keys()
+    plotter.close()
+
+
+@pytest.mark.parametrize("keyword, value, words", [
+    ("mapper", "gpu", "the method is the mapper"),  # before: "got multiple values for argument 'mapper'"
+    ("shade", True, "not shaded"),
+    ("specular", 0.5, "not shaded"),
+    ("opacity_unit_distance", 2.0, "does not accumulate opacity"),
+    ("categories", True, "not categories"),
+    ("blending", "composite", "projects by 'maximum'.*'composite' and 'additive' are not projections"),
+    ("blending", "minimum", "'minimum': method .*'minip'"),
+    ("cmap", pv.LookupTable(), "LookupTable is not taken"),
+    ("n_colors", 1, "n_colors"),
+    ("opacity", [0.0, 1.5], r"opacity must be within \[0, 1\]"),
+])
+def test_pyvista_keywords_without_a_meaning_here_say_why(grid, keyword, value, words):
+    plotter = pv.Plotter(off_screen=True, window_size=SIZE)
+    with pytest.raises((TypeError, ValueError), match=words):
+        plotter.mip.add_volume(grid, "mip", **{keyword: value})
+    assert plotter.renderer.GetVolumes().GetNumberOfItems() == 0
+    if keyword == "mapper":
+        with pytest.raises(TypeError, match="the method is the mapper"):
+            render(grid, "mip", size=SIZE, mapper="gpu")
+    plotter.close()
+
+
+def test_the_method_s_own_blending_is_accepted(grid):
+    plotter = pv.Plotter(off_screen=True, window_size=SIZE)
+    for method, blending in (("analytic", "maximum"), ("analytic_minip", "minimum"), ("average", "average")):
+        volume = plotter.mip.add_volume(grid, method, blending=blending)
+        assert type(volume.GetMapper()) is type(create_mapper(method))
+    plotter.close()

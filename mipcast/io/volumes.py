@@ -33,7 +33,7 @@ from pathlib import Path
 from typing import Optional, Tuple, Union
 
 import numpy as np
-from vtkmodules.util.numpy_support import get_vtk_array_type, vtk_to_numpy
+from vtkmodules.util.numpy_support import get_vtk_array_type, numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkDataArray, vtkLogger, vtkOutputWindow, vtkStringOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkImageData, vtkRectilinearGrid
 from vtkmodules.vtkIOImage import vtkMetaImageReader, vtkNIFTIImageReader, vtkNrrdReader
@@ -478,12 +478,15 @@ def as_image_data(data):
     return right_handed(image)  # an odd number of decreasing axes: a reflection, reversed (copies)
 
 
-def with_scalars(image, scalars: Optional[str] = None):
+def with_scalars(image, scalars=None, preference: str = "point"):
     """``image``, or a shallow copy of it whose active point scalars are ``scalars``.
 
     A cell array (and no point array) of that name: the image of the cell
     centres carrying it (:func:`mipcast.core.prepare.cell_centres`), which is
-    how a cell array is drawn.
+    how a cell array is drawn.  ``scalars`` may also be the values
+    themselves, as pyvista's ``add_volume`` takes them: an array of one value
+    (or one row of components) per point, in point order (x fastest), or per
+    cell; it becomes the copy's array ``"Data"`` (pyvista's name).
 
     The copy shares the arrays; the image given is not modified.  It is a
     snapshot of the image's array *list*: values changed in place show, but
@@ -493,14 +496,22 @@ def with_scalars(image, scalars: Optional[str] = None):
     ----------
     image : vtkImageData
         The volume (a pyvista.ImageData is one).
-    scalars : str, optional
-        Name of a point (or cell) array of ``image``; ``None`` returns ``image`` itself.
+    scalars : str or array_like, optional
+        Name of a point (or cell) array of ``image``, or the values, shape
+        ``(n,)`` or ``(n, components)`` with ``n`` the number of points or
+        of cells; ``None`` returns ``image`` itself.
+    preference : {"point", "cell"}, default: "point"
+        Which array a name means when ``image`` has a point array and a cell
+        array of that name (pyvista's ``preference``).
 
     Raises
     ------
     ValueError
         If ``image`` has no numeric point or cell array of that name (the
-        message lists the point arrays).
+        message lists the point arrays), or the values' shape fits neither
+        the points nor the cells.
+    TypeError
+        If the values are not numbers.
 
     Examples
     --------
@@ -515,11 +526,17 @@ def with_scalars(image, scalars: Optional[str] = None):
     0
     >>> with_scalars(image, "b").GetPointData().GetScalars().GetName(), image.GetPointData().GetScalars().GetName()
     ('b', 'a')
+    >>> with_scalars(image, np.arange(64.0)).GetPointData().GetScalars().GetName()
+    'Data'
     """
     if scalars is None:
         return image
+    if preference not in ("point", "cell"):
+        raise ValueError(f"preference must be 'point' or 'cell', got {preference!r}")
+    if not isinstance(scalars, str):
+        return _with_values(image, scalars)
     points, cells = image.GetPointData(), image.GetCellData()
-    if points.GetArray(scalars) is None and cells.GetArray(scalars) is not None:
+    if cells.GetArray(scalars) is not None and (points.GetArray(scalars) is None or preference == "cell"):
         return cell_centres(image, scalars)
     if points.GetArray(scalars) is None:
         names = [points.GetArrayName(i) for i in range(points.GetNumberOfArrays()) if points.GetArray(i)]
@@ -532,3 +549,27 @@ def with_scalars(image, scalars: Optional[str] = None):
     copy.ShallowCopy(image)
     copy.GetPointData().SetActiveScalars(scalars)
     return copy
+
+
+def _with_values(image, values):
+    """A shallow copy of ``image`` carrying ``values`` (one per point or per cell) as its active scalars "Data"."""
+    values = np.asarray(values)
+    if values.dtype.kind not in "iufb":
+        raise TypeError(f"scalars given as values must be numbers, got an array of dtype {values.dtype}")
+    points, cells = image.GetNumberOfPoints(), image.GetNumberOfCells()
+    if values.ndim not in (1, 2) or values.shape[0] not in (points, cells):
+        raise ValueError(
+            f"scalars given as values must have shape (n,) or (n, components) with n the number of points "
+            f"({points}) or cells ({cells}) of the image, got shape {values.shape}; for an array indexed "
+            "[x, y, z] pass values.ravel(order='F') (point order: x fastest)")
+    array = numpy_to_vtk(np.ascontiguousarray(values if values.dtype.kind != "b" else values.astype(np.uint8)),
+                         deep=True)
+    array.SetName("Data")
+    copy = image.NewInstance()
+    copy.ShallowCopy(image)
+    if values.shape[0] == points:
+        copy.GetPointData().AddArray(array)
+        copy.GetPointData().SetActiveScalars("Data")
+        return copy
+    copy.GetCellData().AddArray(array)
+    return cell_centres(copy, "Data")
