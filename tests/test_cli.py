@@ -90,6 +90,30 @@ def test_render_with_auto_sampling_reports_and_uses_its_choice(tmp_path, capsys)
         main(["render", str(source), "--sample-distance", "-1", "--out", str(tmp_path / "x.png")])
 
 
+def test_render_a_volume_of_a_4d_nifti(tmp_path, capsys):
+    """--volume K draws volume K of a 4D NIfTI: the picture of that volume saved alone; past the end: exit 2 and
+    the count."""
+    import nibabel
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    image = make_fixture("vessels", size=24)
+    values = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(24, 24, 24).transpose(2, 1, 0)  # [x, y, z]
+    series = np.stack([values, np.roll(values, 6, axis=0), values[::-1]], axis=-1).astype(np.float32)
+    nibabel.save(nibabel.Nifti1Image(series, np.eye(4)), tmp_path / "series.nii.gz")
+    nibabel.save(nibabel.Nifti1Image(series[..., 1], np.eye(4)), tmp_path / "second.nii.gz")
+    shots = {}
+    for name, extra in (("picked", ["--volume", "1"]), ("alone", []), ("first", ["--volume", "0"])):
+        source = tmp_path / ("second.nii.gz" if name == "alone" else "series.nii.gz")
+        out = tmp_path / f"{name}.png"
+        assert main(["render", str(source), "--out", str(out), "--size", "48", "40", "--window", "0.2", "0.9"]
+                    + extra) == 0
+        shots[name] = pyplot.imread(out)
+    assert np.array_equal(shots["picked"], shots["alone"]) and shots["picked"][..., :3].max() > 0.5
+    assert not np.array_equal(shots["picked"], shots["first"])
+    assert main(["render", str(tmp_path / "series.nii.gz"), "--volume", "3", "--out", str(tmp_path / "x.png")]) == 2
+    assert "holds 3 volumes (volume 0 to 2); there is no volume 3" in capsys.readouterr().err
+
+
 def test_render_errors_are_clear(tmp_path, capsys):
     assert main(["render", str(tmp_path / "missing.vti"), "--out", str(tmp_path / "x.png")]) == 2
     assert "missing.vti" in capsys.readouterr().err

@@ -232,6 +232,48 @@ def test_nifti_scaling(tmp_path):
     np.testing.assert_allclose(values, file_values() * 0.5 + 0.25)
 
 
+def test_a_4d_nifti_reads_the_volume_asked_for(tmp_path):
+    """A 4D NIfTI (fMRI, perfusion, DCE, 4D CT): volume=K reads volume K (scaled, placed as volume 0); without it
+    the first, with a warning naming the count and the option; before 2026-12-04 only the first could be read.
+    A 5D file (vectors per time point) keeps volume K's components; a volume past the end is refused."""
+    import nibabel
+
+    rng = np.random.default_rng(3)
+    series = rng.integers(-200, 800, size=(9, 8, 7, 5)).astype(np.int16)  # [x, y, z, t]
+    affine = np.array([[0.0, -2.0, 0.0, 30.0], [2.5, 0.0, 0.0, -10.0], [0.0, 0.0, 3.0, 5.0], [0, 0, 0, 1]])
+    image = nibabel.Nifti1Image(series, affine)
+    image.header.set_slope_inter(2.0, -5.0)
+    nibabel.save(image, tmp_path / "series.nii.gz")
+    with pytest.warns(UserWarning, match=r"holds 5 volumes.*volume=K \(mipcast render/view --volume K\).*0 to 4"):
+        first = read_volume(tmp_path / "series.nii.gz")
+    for k in (0, 3, 4):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            picked = read_volume(tmp_path / "series.nii.gz", volume=k)
+        values = check_image(picked).reshape(series.shape[2::-1])  # (z, y, x)
+        np.testing.assert_array_equal(values, series[..., k].transpose(2, 1, 0).astype(np.int32) * 2 - 5)
+        assert picked.GetBounds() == first.GetBounds()
+        assert picked.GetDirectionMatrix().GetElement(0, 1) == first.GetDirectionMatrix().GetElement(0, 1)
+    np.testing.assert_array_equal(check_image(first), check_image(read_volume(tmp_path / "series.nii.gz", volume=0)))
+    with pytest.raises(ValueError, match="holds 5 volumes \\(volume 0 to 4\\); there is no volume 5"):
+        read_volume(tmp_path / "series.nii.gz", volume=5)
+    with pytest.raises(ValueError, match="integer >= 0"):
+        read_volume(tmp_path / "series.nii.gz", volume=-1)
+    vectors = rng.random((9, 8, 7, 4, 3)).astype(np.float32)  # 3 components per time point
+    nibabel.save(nibabel.Nifti1Image(vectors, np.eye(4)), tmp_path / "vectors.nii")
+    picked = read_volume(tmp_path / "vectors.nii", volume=2)
+    array = picked.GetPointData().GetScalars()
+    assert array.GetNumberOfComponents() == 3
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    np.testing.assert_array_equal(vtk_to_numpy(array).reshape(7, 8, 9, 3), vectors[..., 2, :].transpose(2, 1, 0, 3))
+    writer = vtkXMLImageDataWriter()
+    writer.SetFileName(str(tmp_path / "a.vti"))
+    writer.SetInputData(make_image(file_values()))
+    assert writer.Write() == 1
+    with pytest.raises(ValueError, match="4D NIfTI.*series_uid"):
+        read_volume(tmp_path / "a.vti", volume=1)
+
+
 # ---------------------------------------------------------------------------
 # NRRD (VTK has no NRRD writer: the files are written by hand)
 # ---------------------------------------------------------------------------

@@ -89,6 +89,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="write N frames of the slab (--slab MM) moving through the volume, front to back "
                              "(--out sweep.gif or .mp4)")
     render.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
+    render.add_argument("--volume", type=_volume, default=None, metavar="K",
+                    help="which volume of a 4D NIfTI file (a time series), from 0 (default: the first)")
     render.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
     render.add_argument("--component", type=_component, default=None, metavar="K|magnitude",
                         help="component of a multi-component array to draw (default: the magnitude)")
@@ -108,6 +110,8 @@ def _parser() -> argparse.ArgumentParser:
                       help=_WINDOW_HELP)
     view.add_argument("--view", default=None, choices=VIEW_NAMES, help="first camera (default: pyvista's)")
     view.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
+    view.add_argument("--volume", type=_volume, default=None, metavar="K",
+                  help="which volume of a 4D NIfTI file (a time series), from 0 (default: the first)")
     view.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
     view.add_argument("--component", type=_component, default=None, metavar="K|magnitude",
                       help="component of a multi-component array to draw (default: the magnitude)")
@@ -259,7 +263,7 @@ def _run_render(args) -> int:
     from mipcast.core.validation import check_image
     from mipcast.mappers.input_preparer import window_image
 
-    image = with_scalars(read_volume(args.input, series_uid=args.series), args.scalars)
+    image = with_scalars(read_volume(args.input, series_uid=args.series, volume=args.volume), args.scalars)
     if args.slab_sweep is not None and args.turntable is not None:
         raise ValueError("--slab-sweep and --turntable are two animations: give one of them")
     component = getattr(args, "component", None)
@@ -330,6 +334,17 @@ def _component(text: str):
     return value
 
 
+def _volume(text: str) -> int:
+    """``--volume``: an integer >= 0."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer >= 0 (the first volume is 0), got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0 (the first volume is 0), got {text!r}")
+    return value
+
+
 def _distance(text: str):
     """``--sample-distance``: a positive number or ``auto``."""
     if text == "auto":
@@ -366,7 +381,7 @@ def run_view(args) -> int:
     from mipcast.core.validation import check_image
     from mipcast.mappers.input_preparer import window_image
 
-    image = with_scalars(read_volume(args.input, series_uid=args.series), args.scalars)
+    image = with_scalars(read_volume(args.input, series_uid=args.series, volume=args.volume), args.scalars)
     check_image(image, args.component)  # mipcast.InputError before the window opens
     run_viewer(image, args.method, clim=_window(window_image(image, args.component), args.window, args.method),
                params=args.params, view=args.view, component=args.component,

@@ -58,7 +58,7 @@ _NRRD_SPACES = {  # NRRD 'space' -> matrix taking its coordinates to LPS
 }
 
 
-def read_volume(path: PathLike, *, series_uid: Optional[str] = None) -> vtkImageData:
+def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Optional[int] = None) -> vtkImageData:
     """Read a volume file or a DICOM folder as a validated ``vtkImageData``.
 
     Parameters
@@ -71,6 +71,10 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None) -> vtkImage
     series_uid : str, optional
         For a DICOM folder holding several series: which one to read (see
         :func:`mipcast.io.dicom.list_series`).
+    volume : int, optional
+        For a 4D NIfTI file (a time series: fMRI, perfusion, DCE, 4D CT): which
+        volume to read, from 0; default the first, with a warning that names
+        how many there are.
 
     Returns
     -------
@@ -86,8 +90,8 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None) -> vtkImage
           with a warning.  The result is converted from RAS to LPS.
           ``scl_slope``/``scl_inter`` are applied when set (slope not 0 and
           not 1 or intercept not 0): float32, or int16/int32 for integer
-          factors.  Only the first volume of a 4D file is read (a warning says
-          so).
+          factors.  Of a 4D file one volume is read: ``volume`` (a warning
+          says how many there are when it is not given).
         - DICOM: see :func:`mipcast.io.dicom.read_dicom` (scalars ``"values"``
           in the modality's units, e.g. HU for CT, a ``"units"`` field array).
 
@@ -145,8 +149,13 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None) -> vtkImage
         return image
     if series_uid is not None:
         raise ValueError(f"series_uid applies to DICOM input only, not to '{path}'")
-    image = {"vti": _read_vti, "nrrd": _read_nrrd, "nifti": _read_nifti,
-             "meta": _read_meta}[kind](path)
+    if kind == "nifti":
+        image = _read_nifti(path, volume)
+    elif volume is not None:
+        raise ValueError(f"volume picks a volume of a 4D NIfTI file, not of '{path}' (a DICOM folder's "
+                         "volumes are picked with series_uid, see mipcast.io.dicom.list_series)")
+    else:
+        image = {"vti": _read_vti, "nrrd": _read_nrrd, "meta": _read_meta}[kind](path)
     image = right_handed(image)
     check_image(image)
     return image
@@ -311,13 +320,23 @@ def _read_meta(path: Path) -> vtkImageData:
     return _run(vtkMetaImageReader(), path, "MetaImage (.mha/.mhd)")
 
 
-def _read_nifti(path: Path) -> vtkImageData:
+def _read_nifti(path: Path, volume: Optional[int] = None) -> vtkImageData:
     reader = vtkNIFTIImageReader()
+    if volume is not None:
+        if isinstance(volume, bool) or not isinstance(volume, (int, np.integer)) or volume < 0:
+            raise ValueError(f"volume must be an integer >= 0 (the first volume is 0), got {volume!r}")
+        reader.TimeAsVectorOn()  # every volume, as blocks of components: volume k's are k*C .. k*C + C - 1
     image = _run(reader, path, "NIfTI (.nii/.nii.gz)")
     header = reader.GetNIFTIHeader()
-    if reader.GetTimeDimension() > 1:
-        warnings.warn(f"'{path}' holds {reader.GetTimeDimension()} volumes (4D NIfTI); only the "
-                      "first is read", stacklevel=3)
+    count = reader.GetTimeDimension()
+    if volume is None and count > 1:
+        warnings.warn(f"'{path}' holds {count} volumes (4D NIfTI); the first is read: pass volume=K "
+                      f"(mipcast render/view --volume K), K from 0 to {count - 1}, for another", stacklevel=3)
+    elif volume is not None:
+        if volume >= count:
+            raise ValueError(f"'{path}' holds {count} volume{'s' if count > 1 else ''} (volume 0"
+                             f"{f' to {count - 1}' if count > 1 else ''}); there is no volume {volume}")
+        _keep_volume(image, int(volume), count)
     spacing = np.array(image.GetSpacing())
     geometry = None
     sform, qform = reader.GetSFormMatrix(), reader.GetQFormMatrix()
@@ -342,6 +361,19 @@ def _read_nifti(path: Path) -> vtkImageData:
     if np.isfinite(slope) and slope != 0 and (slope != 1 or intercept != 0):
         _rescale(image, slope, intercept)
     return image
+
+
+def _keep_volume(image: vtkImageData, volume: int, count: int) -> None:
+    """Replace the scalars that hold ``count`` volumes as blocks of components by volume ``volume``'s (a new array)."""
+    scalars = image.GetPointData().GetScalars()
+    components = scalars.GetNumberOfComponents() // count
+    values = vtk_to_numpy(scalars).reshape(scalars.GetNumberOfTuples(), count * components)
+    array = vtkDataArray.CreateDataArray(scalars.GetDataType())
+    array.SetName(scalars.GetName() or "scalars")
+    array.SetNumberOfComponents(components)
+    array.SetNumberOfTuples(scalars.GetNumberOfTuples())
+    vtk_to_numpy(array).reshape(-1, components)[...] = values[:, volume * components:(volume + 1) * components]
+    image.GetPointData().SetScalars(array)
 
 
 def _rescale(image: vtkImageData, slope: float, intercept: float) -> None:
