@@ -297,6 +297,53 @@ def write_nrrd(path, data, space, directions, origin, encoding="raw", detached=F
         Path(path).write_bytes(("\n".join(lines) + "\n\n").encode() + payload)
 
 
+def _nrrd_4d(path, lines, data):
+    header = ["NRRD0004", "type: short", "endian: little", "encoding: raw"] + lines
+    Path(path).write_bytes(("\n".join(header) + "\n\n").encode() + data.astype("<i2").tobytes())
+
+
+def test_nrrd_of_four_axes_as_teem_and_3d_slicer_write_them(tmp_path):
+    """teem (3D Slicer) writes 'space' before 'sizes', and VTK 9.7's reader then takes only 3 sizes: a time series
+    (4th axis 'list'/'time') gives its first volume (now with a warning naming the count; before, silently); a
+    vector volume (first axis 'vector') was refused as 'dimensions (12, 10, 1) ... pad the volume', now with the
+    cause and the fix; with 'sizes' first VTK reads its components right."""
+    nx, ny, nz, count = 12, 10, 8, 3
+    series = np.arange(nx * ny * nz * count, dtype=np.int16)
+    space = ["dimension: 4", "space: left-posterior-superior"]
+    _nrrd_4d(tmp_path / "series.nrrd", space + [f"sizes: {nx} {ny} {nz} {count}", "kinds: domain domain domain list",
+                                                 "space directions: (1,0,0) (0,1,0) (0,0,1) none",
+                                                 "space origin: (0,0,0)"], series)
+    with pytest.warns(UserWarning, match=r"holds 3 volumes along its 4th axis \(list\); the first is read.*unu slice"):
+        first = read_volume(tmp_path / "series.nrrd")
+    np.testing.assert_array_equal(check_image(first).ravel(), series[:nx * ny * nz])
+    vectors = space + [f"sizes: 3 {nx} {ny} {nz}", "kinds: vector domain domain domain",
+                       "space directions: none (1,0,0) (0,1,0) (0,0,1)", "space origin: (0,0,0)"]
+    _nrrd_4d(tmp_path / "slicer.nrrd", vectors, series)
+    with pytest.raises(ValueError, match=r"misreads its 4 axes \(sizes 3 12 10 8.*move the 'sizes:' line above"):
+        read_volume(tmp_path / "slicer.nrrd")
+    _nrrd_4d(tmp_path / "sizes_first.nrrd", ["dimension: 4", f"sizes: 3 {nx} {ny} {nz}",
+                                             "kinds: vector domain domain domain"], series)
+    image = read_volume(tmp_path / "sizes_first.nrrd")
+    assert image.GetDimensions() == (nx, ny, nz) and image.GetPointData().GetScalars().GetNumberOfComponents() == 3
+    with pytest.raises(ValueError, match="4D NIfTI"):
+        read_volume(tmp_path / "series.nrrd", volume=1)
+
+
+@pytest.mark.parametrize("name", ["series.mha", "series.mhd"])
+def test_a_4d_metaimage_is_refused_before_vtk_reads_it(tmp_path, name):
+    """VTK's MetaImage reader logs an error on NDims = 4 and corrupts the heap (the process aborted later with
+    'malloc(): unaligned tcache chunk detected'); mipcast refuses from the header, naming the fix."""
+    raw = np.arange(6 * 5 * 4 * 2, dtype=np.int16).tobytes()
+    header = "ObjectType = Image\nNDims = 4\nDimSize = 6 5 4 2\nElementSpacing = 1 1 1 1\nElementType = MET_SHORT\n"
+    if name.endswith(".mha"):
+        (tmp_path / name).write_bytes((header + "ElementDataFile = LOCAL\n").encode() + raw)
+    else:
+        (tmp_path / "series.raw").write_bytes(raw)
+        (tmp_path / name).write_text(header + "ElementDataFile = series.raw\n")
+    with pytest.raises(ValueError, match=r"4-dimensional MetaImage \(NDims = 4\).*2D and 3D.*volume=K"):
+        read_volume(tmp_path / name)
+
+
 @pytest.mark.parametrize("space, to_lps, name, encoding", [
     ("right-anterior-superior", RAS_TO_LPS, "a.nrrd", "raw"),
     ("left-posterior-superior", np.eye(3), "b.nrrd", "gzip"),

@@ -92,6 +92,13 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Opt
           not 1 or intercept not 0): float32, or int16/int32 for integer
           factors.  Of a 4D file one volume is read: ``volume`` (a warning
           says how many there are when it is not given).
+        - NRRD of four axes: components along the first axis are read as
+          such; of a 4th axis of volumes (a time series) the first is read,
+          with a warning (VTK's reader reads no other).  VTK 9.7 reads only
+          3 sizes when the header's ``space`` line precedes ``sizes`` (as
+          teem and 3D Slicer write them): such a vector volume is refused
+          with that fix.  A MetaImage of more than 3 dimensions is refused
+          from its header (VTK's reader corrupts memory on it).
         - DICOM: see :func:`mipcast.io.dicom.read_dicom` (scalars ``"values"``
           in the modality's units, e.g. HU for CT, a ``"units"`` field array).
 
@@ -317,7 +324,28 @@ def _read_vti(path: Path) -> vtkImageData:
 
 
 def _read_meta(path: Path) -> vtkImageData:
+    dimensions = _meta_header(path).get("ndims", "3")
+    if dimensions.strip() not in ("2", "3"):  # VTK's reader logs an error and corrupts the heap (a crash later)
+        raise ValueError(
+            f"cannot read '{path}': it is a {dimensions}-dimensional MetaImage (NDims = {dimensions}) and VTK's "
+            "MetaImage reader reads 2D and 3D images only; save each volume as its own file (SimpleITK: "
+            "sitk.WriteImage(image[:, :, :, k], 'volume_k.mha')) or the series as .nii.gz and pass volume=K")
     return _run(vtkMetaImageReader(), path, "MetaImage (.mha/.mhd)")
+
+
+def _meta_header(path: Path) -> dict:
+    """The ``Key = Value`` lines of a MetaImage header up to ``ElementDataFile``, keys lower-cased."""
+    with open(path, "rb") as handle:
+        text = handle.read(1 << 16).decode("latin-1")
+    fields = {}
+    for line in text.splitlines():
+        key, equals, value = line.partition("=")
+        if not equals:
+            break
+        fields[key.strip().lower()] = value.strip()
+        if key.strip().lower() == "elementdatafile":
+            break
+    return fields
 
 
 def _read_nifti(path: Path, volume: Optional[int] = None) -> vtkImageData:
@@ -406,6 +434,11 @@ def _read_nrrd(path: Path) -> vtkImageData:
             f"cannot read '{path}': its first axis has only {sizes[0]} samples, and VTK's NRRD "
             "reader takes a fastest axis of 9 samples or fewer as vector components; "
             "reorder the axes (e.g. with `unu permute`) or save the volume as .nii.gz/.mha")
+    if len(sizes) > 3:
+        keys = list(header)
+        space_first = any(k in keys and keys.index(k) < keys.index("sizes") for k in ("space", "space dimension"))
+        _check_nrrd_axes(path, [int(v) for v in sizes], header.get("kinds", ""), image.GetDimensions(), components,
+                         space_first)
     directions = [None if d == "none" else d
                   for d in re.findall(r"\([^)]*\)|none", header.get("space directions", ""))]
     spatial = [d for d in directions if d is not None]
@@ -428,6 +461,28 @@ def _read_nrrd(path: Path) -> vtkImageData:
     to_lps = _NRRD_SPACES.get(header.get("space", "").strip().lower(), np.eye(3))
     _set_geometry(image, to_lps @ origin, spacing, to_lps @ direction)
     return image
+
+
+def _check_nrrd_axes(path: Path, sizes: list, kinds: str, dimensions: tuple, components: int,
+                     space_first: bool) -> None:
+    """A NRRD of more than 3 axes as VTK's reader took it: the first volume of a 4th axis (a warning), per-voxel
+    components along the first axis, or else misread (refused; VTK 9.7 reads 3 sizes only when the header's
+    ``space`` line comes before ``sizes``, as 3D Slicer writes vector volumes)."""
+    if len(sizes) == 4 and tuple(dimensions) == tuple(sizes[:3]) and components == 1:
+        kind = kinds.split()[3] if len(kinds.split()) == 4 else "unknown kind"
+        warnings.warn(f"'{path}' holds {sizes[3]} volumes along its 4th axis ({kind}); the first is read (VTK's "
+                      "NRRD reader reads no other): to draw volume K, slice it out (`unu slice -a 3 -p K`) or save "
+                      "the series as .nii.gz and pass volume=K", stacklevel=4)
+        return
+    if tuple(dimensions) == tuple(sizes[1:]) and components == sizes[0]:
+        return  # components first, three spatial axes
+    raise ValueError(
+        f"cannot read '{path}': VTK's NRRD reader misreads its {len(sizes)} axes (sizes {' '.join(map(str, sizes))}"
+        f"{f', kinds {kinds}' if kinds else ''}): it gives {tuple(dimensions)} points of {components} "
+        "component(s); "
+        + ("it takes only 3 sizes when the header's 'space' line comes before 'sizes' (as 3D Slicer writes "
+           "vector volumes): move the 'sizes:' line above 'space:', or " if space_first else "")
+        + "save it as .nii.gz or .mha with its components as channels")
 
 
 def _nrrd_header(path: Path) -> dict:
