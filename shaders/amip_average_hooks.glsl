@@ -6,13 +6,10 @@
 // cubic d0 + d1 s + d2 s^2 + d3 s^3 over s in [0, 1] times its segment
 // length; the mean is the sum over the ray's length. Every cell counts: no
 // skipping, no early end. A ray of zero length (grazing an edge) takes the
-// value at its entry. For average_color: mc_rayShade is the normalised mean
-// (stock VTK's AVERAGE_INTENSITY grey), mc_rayWeight 1 (a ray that hits
-// always has a mean). With u_mc_shadeRemap (input with missing values or a
-// constant volume) the grey is the normalised mean remapped as
-// (s - u_mc_shadeLow) * u_mc_shadeScale: the normalisation over the finite
-// data range (a constant's range widened by 1 each way); the ray's value
-// (mc_rayMax, the float readout) stays the normalised mean.
+// value at its entry. The ray's value (mc_rayMax, coloured by average_color,
+// and the float readout) is the normalised mean, clamped to the counted
+// cells' corners (rounding kept inside what the interpolant can take);
+// mc_rayWeight 1 (a ray that hits always has a mean).
 // Missing data (u_mc_missingBelow above -1e30, normalised; missing voxels
 // are filled below it, mipcast.core.prepare): the mean over the part of the
 // ray where the (filled) interpolant is at or above it, the limit of the
@@ -22,11 +19,10 @@
 // piece's crossing of the threshold found by 24 bisections (float32's
 // resolution of [0, 1]), and the covered parts add their integral and length.
 // A ray with no covered part has weight 0 (background).
-float mc_rayShade;
 float mc_rayWeight;
 float mc_cellsLength;
 float mc_cellsEntry;
-vec2 mc_cellsBounds;  // smallest and largest corner of the counted cells (u_mc_shadeRemap only)
+vec2 mc_cellsBounds;  // smallest and largest corner of the counted cells
 float mc_cellsMissing;
 
 // The cubic's mean over [a, b] (no cancellation for short pieces).
@@ -136,14 +132,13 @@ void mcCell(vec4 lo, vec4 hi, vec3 u0, vec3 du, float span, inout float value)
 float mcCellsEnd(float value)
 {
   float raw = mc_cellsLength > 0.0 ? value / mc_cellsLength : mc_cellsEntry;
-  if (u_mc_shadeRemap > 0.5 && mc_cellsBounds.x <= mc_cellsBounds.y)
+  if (mc_cellsBounds.x <= mc_cellsBounds.y)
   {
     // the mean lies between the counted cells' corners: clamping removes the rounding that VTK's
     // normalisation of a constant volume (zero range) would amplify
     raw = clamp(raw, mc_cellsBounds.x, mc_cellsBounds.y);
   }
   float mean = mcNormalised(raw);
-  mc_rayShade = u_mc_shadeRemap > 0.5 ? (mean - u_mc_shadeLow) * u_mc_shadeScale : mean;
   mc_rayWeight = mc_cellsLength <= 0.0 && mc_cellsEntry == 1.0e30 && mc_cellsMissing > -1.0e30 ? 0.0 : 1.0;
   return mean;
 }

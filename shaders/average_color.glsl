@@ -1,12 +1,18 @@
 // mipcast piece: average_color
 // fills: Shading::Exit
 // mode: replace
-// Colour the ray's average as VTK's AVERAGE_INTENSITY blend does: an opaque
-// grey of the (opacity-weighted, for the sampled average) mean normalised
-// scalar, clamped to [0, 1]; the colour transfer function is not used. A ray
-// with no sample in the average's scalar range draws nothing, as in stock.
+// Colour the ray's average as MIP colours its maximum (mip_color): the
+// volume property's colour and scalar-opacity transfer functions at the
+// mean (mc_rayMax, the normalised value the float readout reports),
+// premultiplied alpha; so the window, colour maps and log scales apply
+// (VTK's own AVERAGE_INTENSITY blend ignores them and draws a grey of the
+// opacity-weighted mean normalised over the data range). A ray with no
+// sample in the average's scalar range (or no finite data) draws nothing,
+// as in stock.
   if (mc_rayWeight <= 0.0)
   {
     discard;
   }
-  g_fragColor = vec4(vec3(clamp(mc_rayShade, 0.0, 1.0)), 1.0);
+  g_srcColor = computeColor(vec4(mc_rayMax), computeOpacity(vec4(mc_rayMax)));
+  g_fragColor.rgb = g_srcColor.rgb * g_srcColor.a;
+  g_fragColor.a = g_srcColor.a;

@@ -1,17 +1,14 @@
 // mipcast piece: average_hooks
 // fills: Picking::Dec
 // mode: augment
-// Sampled average's hooks for sampled_loop, as VTK's AVERAGE_INTENSITY blend:
-// only samples whose value lies in the mapper's AverageIPScalarRange count
-// (u_mc_averageLow / u_mc_averageHigh, normalised); the picture is the mean
-// of opacity(s) * s over them (s the normalised scalar, mc_rayShade, for
-// average_color), the float readout the plain mean of their values
-// (mc_rayMax). mc_rayWeight is their number (0: stock draws nothing). The
-// grey is s itself (stock's), or with u_mc_shadeRemap (input with missing
-// values or a constant volume: mipcast.mappers.projections) s remapped as
-// (s - u_mc_shadeLow) * u_mc_shadeScale: the normalisation over the finite
-// data range (a constant's range widened by 1 each way).
-float mc_rayShade;
+// Sampled average's hooks for sampled_loop: only samples whose value lies in
+// the mapper's AverageIPScalarRange count (u_mc_averageLow /
+// u_mc_averageHigh, normalised), as in VTK's AVERAGE_INTENSITY blend; the
+// ray's value (mc_rayMax, coloured by average_color, and the float readout)
+// is the plain mean of their values. mc_rayWeight is their number (0: nothing
+// is drawn). mc_rayOpacity and mc_rayOpShade sum the counted samples' opacity
+// and opacity * s (s the normalised scalar): stock's grey, which
+// average_brick_readout writes for VTK's own average drawn over MPI ranks.
 float mc_rayWeight;
 float mc_raySum;
 float mc_rayOpacity;  // sum of the counted samples' opacity (average_brick_readout)
@@ -19,7 +16,6 @@ float mc_rayOpShade;  // sum of their opacity * s (average_brick_readout)
 
 void mcBeginRay(inout int first, inout int count)
 {
-  mc_rayShade = 0.0;
   mc_rayWeight = 0.0;
   mc_raySum = 0.0;
   mc_rayOpacity = 0.0;
@@ -32,7 +28,6 @@ bool mcSample(float value, int i)
   if (u_mc_averageLow <= s && s <= u_mc_averageHigh)
   {
     float mc_opacity = computeOpacity(vec4(s));
-    mc_rayShade += mc_opacity * (u_mc_shadeRemap > 0.5 ? (s - u_mc_shadeLow) * u_mc_shadeScale : s);
     mc_rayOpacity += mc_opacity;
     mc_rayOpShade += mc_opacity * s;
     mc_raySum += value;
@@ -43,6 +38,5 @@ bool mcSample(float value, int i)
 
 void mcEndRay(int count)
 {
-  mc_rayShade /= max(mc_rayWeight, 1.0);
   mc_rayMax = mcNormalised(mc_raySum / max(mc_rayWeight, 1.0));
 }

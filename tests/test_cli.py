@@ -114,6 +114,27 @@ def test_render_a_volume_of_a_4d_nifti(tmp_path, capsys):
     assert "holds 3 volumes (volume 0 to 2); there is no volume 3" in capsys.readouterr().err
 
 
+def test_render_average_applies_the_window(tmp_path, capsys):
+    """--method average/analytic_average with two windows: two pictures (before 2026-12-04 the window was printed
+    and ignored: the same picture whatever the window); stock_average (VTK's own grey) says it ignores it."""
+    source = tmp_path / "vessels.vti"
+    writer = vtkXMLImageDataWriter()
+    writer.SetFileName(str(source))
+    writer.SetInputData(make_fixture("vessels", size=32))
+    writer.Write()
+    for method in ("average", "analytic_average"):
+        shots = []
+        for window in (["0", "1"], ["0", "0.25"]):
+            out = tmp_path / f"{method}_{window[1]}.png"
+            assert main(["render", str(source), "--method", method, "--out", str(out), "--size", "48", "40",
+                         "--window"] + window) == 0
+            shots.append(pyplot.imread(out)[..., :3])
+        assert shots[1].mean() > 2.0 * shots[0].mean() > 0.0, method
+    assert main(["render", str(source), "--method", "stock_average", "--out", str(tmp_path / "s.png"),
+                 "--size", "48", "40"]) == 0
+    assert "ignores the window" in capsys.readouterr().out
+
+
 def test_render_errors_are_clear(tmp_path, capsys):
     assert main(["render", str(tmp_path / "missing.vti"), "--out", str(tmp_path / "x.png")]) == 2
     assert "missing.vti" in capsys.readouterr().err

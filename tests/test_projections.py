@@ -1,7 +1,8 @@
 """MinIP and average projections, sampled and exact (docs/methods.md, sections MinIP and Average).
 
-Parity of the sampled ones with stock VTK's MINIMUM_INTENSITY and
-AVERAGE_INTENSITY blends at the same sample distance; the exact ones against
+Parity of the sampled MinIP with stock VTK's MINIMUM_INTENSITY blend at the
+same sample distance; the averages' readouts against their float64
+references and their pictures against the readout coloured on the CPU; the exact ones against
 their float64 references; known answers: an airway phantom (the exact MinIP
 sees tube minima between samples) and a linear ramp (the exact mean along a
 ray is the value at its midpoint).
@@ -31,24 +32,74 @@ def airways48():
     return make_fixture("airways", size=48)
 
 
-@pytest.mark.parametrize("stock, ours", [("stock_minip", "minip"), ("stock_average", "average")])
 @pytest.mark.parametrize("view, sample_distance, configure", [
     ("oblique", None, None),
     ("perspective", 0.5, None),
     ("oblique", 0.7, _hot_opacity),
-    ("oblique", None, lambda v: v.mapper.SetAverageIPScalarRange(0.12, 0.6)),
 ])
-def test_sampled_projections_equal_stock_vtk(vessels48, airways48, stock, ours, view, sample_distance, configure):
-    image, window = (airways48, (0.0, 0.9)) if ours == "minip" else (vessels48, (0.05, 0.6))
+def test_sampled_minip_equals_stock_vtk(airways48, view, sample_distance, configure):
     shots = []
-    for method in (stock, ours):
-        scene = OffscreenView(image, method, size=SIZE, view=view, sample_distance=sample_distance,
-                              window=window)
+    for method in ("stock_minip", "minip"):
+        scene = OffscreenView(airways48, method, size=SIZE, view=view, sample_distance=sample_distance,
+                              window=(0.0, 0.9))
         if configure is not None:
             configure(scene)
         shots.append(scene.screenshot())
     assert shots[1].max() > 60 and (shots[1].max(axis=-1) > 0).mean() > 0.3, "the picture is (nearly) black"
     assert grey_diff(*shots)["within_1"] >= 0.999, grey_diff(*shots)
+
+
+def _counted_range(view):
+    view.mapper.SetAverageIPScalarRange(0.12, 0.6)
+
+
+@pytest.mark.parametrize("method", ["average", "analytic_average"])
+@pytest.mark.parametrize("view, sample_distance, configure", [
+    ("oblique", None, None),
+    ("perspective", 0.5, None),
+    ("oblique", 0.7, _hot_opacity),
+    ("oblique", None, _counted_range),
+])
+def test_averages_colour_their_mean_through_the_transfer_functions(vessels48, method, view, sample_distance,
+                                                                    configure):
+    """The average's picture is its mean (the float readout, against the float64 reference) coloured through the
+    volume property, as MIP colours its maximum: every pixel within 1 grey of the readout coloured on the CPU.
+    Before 2026-12-04 it was VTK's AVERAGE_INTENSITY grey of the data-range-normalised mean: the window, the
+    colour map and the opacity's colour did nothing (a head CT's average drew a near-black picture whatever
+    the window)."""
+    from mipcast.mappers.bricked_draw import colour
+
+    if method == "analytic_average" and configure is _counted_range:
+        pytest.skip("the exact average has no counted range (docs/methods.md)")
+    scene = OffscreenView(vessels48, method, size=SIZE, view=view, sample_distance=sample_distance,
+                          window=(0.05, 0.3))
+    if configure is not None:
+        configure(scene)
+    picture = scene.screenshot().astype(float)
+    found = scene.float_image()
+    hits = np.isfinite(found)
+    assert hits.mean() > 0.3
+    if configure is _counted_range:  # the mean of the counted samples lies in the counted range
+        assert 0.12 - 1e-6 <= np.nanmin(found) and np.nanmax(found) <= 0.6 + 1e-6
+    else:
+        extra = {"sample_distance": scene.sample_distance} if method == "average" else {}
+        expected = METHODS[method].reference(vessels48, scene.camera, scene.size, **extra)
+        assert np.array_equal(hits, np.isfinite(expected))
+        assert np.abs(found[hits] - expected[hits]).max() < 1e-4
+    coloured = 255.0 * colour(found, scene.volume.GetProperty())[..., :3]  # premultiplied, over black
+    difference = np.abs(picture - coloured).max(axis=-1)
+    assert np.mean(difference <= 1.0) >= 0.999, (np.mean(difference <= 1.0), difference.max())
+    assert picture.max() > 150 and picture[hits].std() > 10, "the window shows structure"
+
+
+def test_the_window_changes_the_average_but_not_vtks_own(vessels48):
+    """A narrower window brightens mipcast's averages; VTK's own average (stock_average) ignores it."""
+    for method, changes in (("average", True), ("analytic_average", True), ("stock_average", False)):
+        wide, narrow = (OffscreenView(vessels48, method, size=SIZE, window=w).screenshot().astype(float)
+                        for w in ((0.0, 1.0), (0.0, 0.25)))
+        assert (np.abs(wide - narrow).max() > 40) == changes, method
+        if changes:
+            assert narrow.mean() > 2.0 * wide.mean()
 
 
 @pytest.mark.parametrize("view", ["oblique", "perspective"])

@@ -423,3 +423,14 @@ def test_the_method_s_own_blending_is_accepted(grid):
         volume = plotter.mip.add_volume(grid, method, blending=blending)
         assert type(volume.GetMapper()) is type(create_mapper(method))
     plotter.close()
+
+
+@pytest.mark.parametrize("method", ["average", "analytic_average", "minip", "mip"])
+def test_every_projection_draws_its_colour_map(grid, method):
+    """cmap="hot" colours every mipcast projection (the averages drew VTK's grey before 2026-12-04)."""
+    plotter = pv.Plotter(off_screen=True, window_size=SIZE)
+    plotter.background_color = "black"
+    plotter.mip.add_volume(grid, method, cmap="hot", clim=(0.0, 0.5) if method != "minip" else (0.0, 0.2))
+    shot = plotter.screenshot().astype(int)
+    plotter.close()
+    assert (shot.max(axis=-1) - shot.min(axis=-1)).max() > 100, "no colour: the colour map was not applied"

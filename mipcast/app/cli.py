@@ -313,6 +313,9 @@ def _window(image, tokens, method: str = "mip"):
     from mipcast.core.windowing import parse_window, resolve_window, window_and_reason
 
     projection = METHODS[method].projection if method in METHODS else "mip"
+    if method == "stock_average":  # VTK's AVERAGE_INTENSITY blend draws a grey of the data-range-normalised mean
+        print("stock_average draws VTK's own grey, which ignores the window and colours: --method average "
+              "or analytic_average draws the mean through them")
     spec = parse_window(tokens)
     if spec is None or spec == "auto":
         window, reason = window_and_reason(image, projection)

@@ -34,10 +34,12 @@ get other windows:
   0.5th percentile of the voxels below ``high`` (the darkest structures,
   air, at the bottom).
 - **Average** (``"average"``) keeps the mean, which lies in a much
-  narrower range than the voxels: CT the ``"ct-soft"`` preset (soft tissue,
-  -160 to 240 HU); anything else the 1st to 99th percentiles of the
+  narrower range than the voxels: the 1st to 99th percentiles of the
   volume's average projections along its three index axes (what an
-  average projection shows, for any view, approximately).
+  average projection shows, for any view, approximately), CT included: a
+  whole-volume average mixes the air around the body into every ray, so a
+  soft-tissue window (``"ct-soft"``, -160 to 240 HU, the right one for a
+  thin slab inside the body) would draw it nearly black.
 
 ``"full"`` is the data range (the default before this rule), ``"auto"`` the
 rule, a preset name (:data:`PRESETS`) its window, and ``(low, high)`` itself,
@@ -199,11 +201,10 @@ def window_and_reason(image, projection: str = "mip") -> Tuple[Tuple[float, floa
 
 def _other_window(image, values, full, projection: str) -> Tuple[Tuple[float, float], str]:
     """The MinIP and average rules of the module docstring."""
-    if looks_like_ct(image, values):
-        name = "ct-minip" if projection == "minip" else "ct-soft"
-        low, high = PRESETS[name]
+    if projection == "minip" and looks_like_ct(image, values):
+        low, high = PRESETS["ct-minip"]
         if full[0] < high and full[1] > low:
-            return (max(low, full[0]), min(high, full[1])), f"CT preset {name} (HU)"
+            return (max(low, full[0]), min(high, full[1])), "CT preset ct-minip (HU)"
     if values.size:
         values = values.astype(np.float64, copy=False)
         if projection == "minip":

@@ -33,8 +33,7 @@ what each brick counted: the number of the whole ray's samples (sampled
 average) or the length of the ray (analytic average), written by a further
 pass of the brick (its class's ``BRICK_READOUT`` piece, channel
 ``u_mc_brickChannel``), so clipping, cropping and missing values are the
-GPU's; the sampled average's grey (mean of opacity x s) from two more
-channels.  DEMIP (``BRICKS = "demip"``) is drawn in two phases by
+GPU's; the combined mean is coloured as the maxima are.  DEMIP (``BRICKS = "demip"``) is drawn in two phases by
 :mod:`mipcast.mappers.bricked_demip`; foveated (``BRICKS = "foveated"``) composites
 each level too large for one texture over its bricks before blending it
 (:mod:`mipcast.mappers.bricked_foveated`, :func:`compose` on the level's ray
@@ -59,7 +58,7 @@ from typing import Optional
 
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonCore import VTK_FLOAT, reference
+from vtkmodules.vtkCommonCore import VTK_FLOAT
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.core.object_state import object_state
@@ -218,8 +217,7 @@ def draw_bricks(mapper, event) -> None:
                             values = float_readout.to_data_units(depth, mapper.GetRenderedInput().GetPointData()
                                                                  .GetScalars())
                     else:
-                        values, rgba = compose(mapper, volume, renderer, limit,
-                                               readout=bool(state.get("exact_readout"))), None
+                        values, rgba = compose(mapper, volume, renderer, limit), None
                 finally:
                     gl.Pop()
                 if state.get("exact_readout"):
@@ -307,8 +305,7 @@ def follow_brick(mapper, volume, entry, image_sample_distance: float = 1.0) -> N
     clip_uniforms.copy_clipping(mapper, brick_mapper)
 
 
-def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sample_distance: float = 1.0,
-            grid=None) -> np.ndarray:
+def compose(mapper, volume, renderer, limit: int, image_sample_distance: float = 1.0, grid=None) -> np.ndarray:
     """Render every brick's float readout with ``renderer``'s camera and combine them.
 
     ``image_sample_distance`` and ``grid`` (columns, rows): rays on a coarser
@@ -316,23 +313,17 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
     sample distance; a foveated level, :mod:`mipcast.mappers.bricked_foveated`);
     the result then has ``grid``'s shape.
 
-    Bricks combined by their mean (``BRICKS`` "mean") render more passes,
-    one per channel of their ``BRICK_READOUT`` piece: for the readout the mean
-    and its weight; for the picture (``readout`` False) the grey the whole
-    volume's draw writes (:func:`_mean_grey`).
+    Bricks combined by their mean (``BRICKS`` "mean") render two passes,
+    channels of their ``BRICK_READOUT`` piece: the mean and its weight.
 
     Returns
     -------
     numpy.ndarray, shape (height, width) of the renderer's viewport, float64
-        Data units (the picture of a mean: its grey in [0, 1]), NaN where no
-        brick's ray had a value.  Top row first.
+        Data units, NaN where no brick's ray had a value.  Top row first.
     """
     rule = type(mapper).BRICKS
     combine = COMPOSITES[rule]
-    channels = (0,)
-    if rule == "mean":
-        sampled = type(mapper).BRICK_READOUT == "average_brick_readout"
-        channels = (0, 1) if readout or not sampled else (1, 2, 3)
+    channels = (0, 1) if rule == "mean" else (0,)
     passes = []
     width, height, x0, y0 = [0], [0], [0], [0]
     renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
@@ -400,22 +391,16 @@ def compose(mapper, volume, renderer, limit: int, readout: bool = True, image_sa
         return seen(mapper, result)  # the CPU's rays that saw no finite data: background, as the bricks' own
     if not passes:
         return result
-    counts = [read[channels.index(1)] for read, _ in passes]  # -n: the samples (ray length) each counted
-    if channels == (1, 2, 3):
-        mean = _mean_grey(mapper, volume, passes)
-    else:
-        mean = combine([read[0] for read, _ in passes], [np.nan_to_num(-n) for n in counts])
+    counts = [read[1] for read, _ in passes]  # -n: the samples (ray length) each counted
+    mean = combine([read[0] for read, _ in passes], [np.nan_to_num(-n) for n in counts])
     if sampled:  # a grazing ray whose one sample no brick drawing it holds: on the CPU, clipped as the loop clips
         none = np.sum([np.nan_to_num(-n) for n in counts], axis=0) == 0.0  # (a brick's ray without one: discarded)
         none &= outline_rays.unhidden(renderer, image, shape, aspect_size, step, none)  # not behind opaque geometry
         sample = outline_rays.single_samples(image, camera, shape, aspect_size, step, none,
                                              outline_rays.cut_by(mapper, camera, image))
-        found = sample if readout else _sample_grey(mapper, volume, sample[..., None])
         low, high = _counted_range(mapper)
-        mean = np.where(np.isfinite(found) & (sample >= low) & (sample <= high), found, mean)
-    if readout or channels == (1, 2, 3):
-        return mean
-    return _grey_of(mapper, volume, mean)
+        mean = np.where(np.isfinite(sample) & (sample >= low) & (sample <= high), sample, mean)
+    return mean
 
 
 def _prepared(mapper):
@@ -439,61 +424,15 @@ def _counted_range(mapper) -> tuple:
     return (low if prepared is None else max(low, prepared.missing_below)), high
 
 
-def _shade_map(mapper, volume) -> tuple:
-    """(g0, g1): the whole volume's grey of data value v is g0 + g1 v (VTK's normalisation, and the
-    remap of ``u_mc_shadeRemap`` when the mapper pushed one: missing values, a constant volume)."""
-    image = mapper.GetRenderedInput() or mapper.GetInput()
-    scalars = image.GetPointData().GetScalars()
-    g0 = float(float_readout.from_data_units(np.array([0.0]), scalars)[0])
-    g1 = float(float_readout.from_data_units(np.array([1.0]), scalars)[0]) - g0
-    uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
-    remap, low, scale = reference(0.0), reference(0.0), reference(1.0)
-    if uniforms.GetUniformf("u_mc_shadeRemap", remap) and float(remap) > 0.5:
-        uniforms.GetUniformf("u_mc_shadeLow", low)
-        uniforms.GetUniformf("u_mc_shadeScale", scale)
-        g0, g1 = (g0 - float(low)) * float(scale), g1 * float(scale)
-    return g0, g1
-
-
-def _sample_grey(mapper, volume, samples: np.ndarray) -> np.ndarray:
-    """The sampled average's grey of a ray's samples (..., k) (NaN: none): the mean of opacity x grey over
-    those in ``AverageIPScalarRange`` (from the finite floor up: :func:`_counted_range`;
-    ``shaders/average_hooks.glsl``); NaN where none counts."""
+def _sample_mean(mapper, samples: np.ndarray) -> np.ndarray:
+    """The sampled average of a ray's samples (..., k) (NaN: none) in data units: the plain mean of those in
+    ``AverageIPScalarRange`` (from the finite floor up: :func:`_counted_range`; ``shaders/average_hooks.glsl``);
+    NaN where none counts."""
     low, high = _counted_range(mapper)
     counted = (samples >= low) & (samples <= high)
-    g0, g1 = _shade_map(mapper, volume)
-    opacity = colour(np.where(counted, samples, np.nan), volume.GetProperty())[..., 3]
-    total = np.sum(np.where(counted, opacity * (g0 + g1 * np.nan_to_num(samples)), 0.0), axis=-1)
+    total = np.sum(np.where(counted, samples, 0.0), axis=-1)
     n = counted.sum(axis=-1)
     return np.where(n > 0, total / np.maximum(n, 1), np.nan)
-
-
-def _grey_of(mapper, volume, mean: np.ndarray) -> np.ndarray:
-    """The analytic average's grey of its mean (data units): the whole volume's normalised mean."""
-    g0, g1 = _shade_map(mapper, volume)
-    return g0 + g1 * mean
-
-
-def _mean_grey(mapper, volume, passes) -> np.ndarray:
-    """The sampled average's grey: the mean over all counted samples of opacity(v) * grey(v).
-
-    Each brick gave its count n, the mean opacity and the mean of opacity * s
-    (s its own normalised scalar); with v = (low + s (high - low)) / k and
-    grey(v) = g0 + g1 v the sums over disjoint sample sets add up exactly.
-    """
-    g0, g1 = _shade_map(mapper, volume)
-    count, opacity, weighted = 0.0, 0.0, 0.0
-    for (n, mean_opacity, mean_shade), scalars in passes:
-        n = np.nan_to_num(-n)
-        low, high = scalars.GetRange(0)
-        scale = float_readout.texture_scale(scalars)
-        o = n * np.nan_to_num(mean_opacity)
-        q = n * np.nan_to_num(mean_shade)
-        count = count + n
-        opacity = opacity + o
-        weighted = weighted + (low * o + (high - low) * q) / scale
-    grey = (g0 * opacity + g1 * weighted) / np.where(count > 0.0, count, 1.0)
-    return np.where(count > 0.0, grey, np.nan)
 
 
 def brick_texels(brick_mapper, shape) -> np.ndarray:
@@ -566,7 +505,6 @@ def colour(values: np.ndarray, volume_property) -> np.ndarray:
 def _draw_picture(mapper, renderer, volume, values, rgba=None) -> None:
     """Draw the coloured values (or the premultiplied ``rgba``) over the renderer's viewport, blended.
 
-    An average's values are its grey, drawn opaque (``shaders/average_color.glsl``).
     With multisampling the picture is drawn face by face through the whole
     box's front faces (:func:`mipcast.mappers.box_outline.front_faces`), so
     the silhouette's pixels are blended by the box's coverage as the single
@@ -598,10 +536,7 @@ def _draw_picture(mapper, renderer, volume, values, rgba=None) -> None:
             pictures = [_face_values(mapper, volume, renderer, values, face, _next_to(quad, values.shape))
                         for face, quad in faces]
             outlines = [[quad] for _, quad in faces]
-        if type(mapper).BRICKS == "mean":
-            colours = [_grey_rgba(picture) for picture in pictures]
-        else:  # one colour table for all of them
-            colours = list(colour(np.stack(pictures), volume.GetProperty()))
+        colours = list(colour(np.stack(pictures), volume.GetProperty()))  # one colour table for all of them
     for index, (rgba, outline) in enumerate(zip(colours, outlines)):
         texture = kept_texture(state, ("brick_texture", index), window)
         data = np.ascontiguousarray(rgba[::-1], dtype=np.float32)  # bottom row first
@@ -611,15 +546,6 @@ def _draw_picture(mapper, renderer, volume, values, rgba=None) -> None:
             for quad in outline]
         # the faces at their own depth: opaque geometry in front hides their samples, as the single texture's
         draw_over(window, texture, (x0[0], y0[0], width[0], height[0]), quads, depth_test=outline is not None)
-
-
-def _grey_rgba(grey: np.ndarray) -> np.ndarray:
-    """An average's grey as opaque RGBA (NaN: transparent)."""
-    hit = np.isfinite(grey)
-    rgba = np.zeros(grey.shape + (4,), dtype=np.float32)
-    rgba[hit, :3] = np.clip(grey[hit], 0.0, 1.0)[:, None]
-    rgba[hit, 3] = 1.0
-    return rgba
 
 
 def _next_to(quad, shape) -> np.ndarray:
@@ -648,9 +574,8 @@ def _face_values(mapper, volume, renderer, values, face, pixels) -> np.ndarray:
     opaque geometry and clipped as the loops clip
     (:func:`mipcast.mappers.outline_rays.face_samples`,
     :func:`~mipcast.mappers.outline_rays.face_walks`), combined as the method
-    combines its samples (sampled: the maximum, the minimum, the average's
-    grey, opacity x grey over the samples in ``AverageIPScalarRange`` as
-    ``shaders/average_hooks.glsl``) or cells (the float64 reference's exact
+    combines its samples (sampled: the maximum, the minimum, the mean of the
+    samples in ``AverageIPScalarRange`` as ``shaders/average_hooks.glsl``) or cells (the float64 reference's exact
     kernels, extrapolating off the box).
     """
     from mipcast import reference
@@ -667,9 +592,7 @@ def _face_values(mapper, volume, renderer, values, face, pixels) -> np.ndarray:
         floor = {"floor": prepared.missing_below, "bounded": True} if rule == "mean" and prepared.missing else {}
         rows, columns, found = outline_rays.face_walks(mapper, renderer, image, values.shape, step, face, pixels,
                                                        getattr(reference.mip, _WALKS[rule]), **floor)
-        if rule == "mean":
-            found = _grey_of(mapper, volume, found)
-        else:
+        if rule != "mean":  # the mean's walk is bounded at the finite floor already
             found = prepared.seen(found)
     else:
         rows, columns, _, _, samples = outline_rays.face_samples(mapper, renderer, image, values.shape, step, face,
@@ -679,6 +602,6 @@ def _face_values(mapper, volume, renderer, values, face, pixels) -> np.ndarray:
         elif rule == "min":
             found = prepared.seen(np.fmin.reduce(samples, axis=1))
         else:
-            found = _sample_grey(mapper, volume, samples)
+            found = _sample_mean(mapper, samples)
     out[rows, columns] = found
     return out

@@ -190,7 +190,7 @@ def composite(source: dict, volume, renderer, limit: int, image_sample_distance:
     gl = renderer.GetRenderWindow().GetState()
     gl.Push()  # the bricks' render-to-image passes set their own viewport and framebuffer
     try:
-        return bricked_draw.compose(source["mapper"], volume, renderer, limit, readout=True,
+        return bricked_draw.compose(source["mapper"], volume, renderer, limit,
                                     image_sample_distance=image_sample_distance, grid=grid)
     finally:
         gl.Pop()

@@ -6,11 +6,13 @@ The sampled ones are one hook piece each for the one sampled loop
 the cells as analytic MIP does, with other cell hooks
 (``shaders/amip_min_hooks.glsl``: the exact minimum of each cell's cubic;
 ``shaders/amip_average_hooks.glsl``: the integral of each cubic over its
-segment).  Colour and opacity are used as VTK's MINIMUM_INTENSITY and
-AVERAGE_INTENSITY blend modes use them: MinIP colours its minimum through
-both transfer functions (as MIP does), the average draws an opaque grey of
-its mean normalised scalar (the sampled one weighting each sample by its
-opacity and counting only samples in ``AverageIPScalarRange``, as stock does).
+segment).  Each colours its value through the volume property's colour and
+opacity transfer functions, as MIP colours its maximum, so the window and the
+colour map apply: MinIP its minimum (as VTK's MINIMUM_INTENSITY blend), the
+average its mean (the sampled one over the samples in
+``AverageIPScalarRange``, as VTK's AVERAGE_INTENSITY blend counts them; VTK's
+own average draws instead a grey of the opacity-weighted mean normalised over
+the data range, ignoring the window and colours).
 
 See docs/methods.md, sections MinIP and Average.
 
@@ -23,12 +25,10 @@ True
 """
 from __future__ import annotations
 
-import numpy as np
 from vtkmodules.vtkCommonCore import vtkFloatArray
 
 from mipcast.core import parameter_tables
 from mipcast.core.parameters import parameter_accessors
-from mipcast.core.prepare import shade_range
 from mipcast.mappers.analytic import AnalyticMIPVolumeMapper
 from mipcast.mappers.float_readout import from_data_units
 from mipcast.mappers.mip import sampled_projection_mapper
@@ -68,13 +68,15 @@ class MinIPVolumeMapper(sampled_projection_mapper("minip_hooks")):
 
 
 class AverageVolumeMapper(sampled_projection_mapper("average_hooks", color="average_color")):
-    """Sampled average intensity projection, as stock VTK's AVERAGE_INTENSITY blend.
+    """Sampled average intensity projection: the mean of stock VTK's samples, coloured like MIP.
 
     Samples at stock's positions whose value lies in the mapper's
-    ``AverageIPScalarRange`` (VTK's setting, default every value) count; the
-    picture is an opaque grey of the mean of ``opacity(s) * s`` (``s`` the
-    normalised scalar), as in stock; the float readout is the plain mean of
-    the counted values in data units.
+    ``AverageIPScalarRange`` (VTK's setting, default every value) count, as
+    in stock's AVERAGE_INTENSITY blend; the ray's value is their plain mean
+    (the float readout, in data units), coloured through the volume
+    property's colour and opacity transfer functions as MIP colours its
+    maximum, so the window and colour map apply (stock draws a grey of the
+    opacity-weighted mean normalised over the data range instead).
 
     Examples
     --------
@@ -107,27 +109,6 @@ class AverageVolumeMapper(sampled_projection_mapper("average_hooks", color="aver
             bottom = max(bottom, missing)
         uniforms.SetUniformf("u_mc_averageLow", bottom)
         uniforms.SetUniformf("u_mc_averageHigh", _FAR if high >= 3.0e38 else ends[1])
-        _push_shade(self, uniforms)
-
-
-def _push_shade(mapper, uniforms) -> None:
-    """The average's grey: stock's normalised scalar, or (missing values, a constant volume) the
-    normalisation over :func:`~mipcast.core.prepare.shade_range` (a constant's over the colour
-    transfer function's range, as MIP draws it; shaders/average_hooks.glsl, amip_average_hooks.glsl)."""
-    prepared = mapper.GetInputPreparer().GetPrepared()
-    image = mapper.GetRenderedInput()
-    if prepared is None or image is None or not (prepared.missing or not prepared.high > prepared.low):
-        uniforms.SetUniformf("u_mc_shadeRemap", 0.0)
-        uniforms.SetUniformf("u_mc_shadeLow", 0.0)
-        uniforms.SetUniformf("u_mc_shadeScale", 1.0)
-        return
-    volume = mapper.GetAttachedVolume()
-    window = volume.GetProperty().GetRGBTransferFunction(0).GetRange() if volume is not None else None
-    low, high = (float(v) for v in from_data_units(np.array(shade_range(prepared, window)),
-                                                    image.GetPointData().GetScalars()))
-    uniforms.SetUniformf("u_mc_shadeRemap", 1.0)
-    uniforms.SetUniformf("u_mc_shadeLow", low)
-    uniforms.SetUniformf("u_mc_shadeScale", 1.0 / (high - low))
 
 
 def _exact_pieces(hooks: str, color=None) -> tuple:
@@ -178,10 +159,11 @@ class AnalyticAverageVolumeMapper(_ExactProjection):
     """Exact average: the mean of the trilinear interpolant along the ray inside the volume.
 
     Per crossed cell the integral of its cubic times the segment length,
-    summed and divided by the ray's length; drawn as stock's average draws an
-    opaque volume (a grey of the normalised mean).  Every cell counts, so
-    ``SetSkipping`` changes nothing; ``AverageIPScalarRange`` and per-sample
-    opacity weighting (stock's) have no exact counterpart and are not applied.
+    summed and divided by the ray's length; coloured through the volume
+    property's transfer functions as MIP colours its maximum.  Every cell
+    counts, so ``SetSkipping`` changes nothing; ``AverageIPScalarRange`` has
+    no exact counterpart (it would need the roots of ``f(s) = bound``) and is
+    not applied.
 
     Examples
     --------
@@ -201,7 +183,6 @@ class AnalyticAverageVolumeMapper(_ExactProjection):
     def _push_derived_uniforms(self, uniforms, settings) -> None:
         super()._push_derived_uniforms(uniforms, settings)
         uniforms.SetUniformf("u_mc_missingBelow", -_FAR)  # replaced by the threshold when data is missing
-        _push_shade(self, uniforms)
 
     PIECES = _exact_pieces("amip_average_hooks", color="average_color")
-    PACKED = {"amip_corners": "amip_corners_packed"}  # the average's colour needs no component index
+    PACKED = {"amip_corners": "amip_corners_packed", "average_color": "average_color_packed"}

@@ -23,8 +23,9 @@ final picture:
 - rule ``"mean"`` (``average``, ``analytic_average``, and VTK's own
   ``stock_average``, its pieces read out by ``average``'s mapper: VTK's
   samples and weights): SUM over ranks of the pieces' counted samples / ray
-  length and of their weighted means (the sampled average: of opacity and
-  opacity x value), divided by the total.
+  length and of their weighted means, divided by the total, coloured through
+  the volume property as the single volume colours its mean; for VTK's own
+  average the sums of opacity and opacity x value, its grey.
 
 Every rank enters every reduction of its rule, also a rank whose piece is
 out of view, empty or failed to render (it contributes nothing: -inf, +inf
@@ -249,7 +250,7 @@ def compose(mapper, volume, renderer, piece, whole_stub, reduce: Reduce,
                                            (low, high), local_problem, rank, missing)
     else:
         rgba, problem = _mean(mapper, volume, renderer, entries, whole_image, camera, shape, reduce, whole_scalars,
-                              (low, high), local_problem, getattr(kind, "BRICK_READOUT", None) == "average_brick_readout")
+                              (low, high), local_problem, stock=brick is not None)
     return rgba, problem
 
 
@@ -319,14 +320,17 @@ def _demip(mapper, volume, renderer, entries, whole_image, camera, shape, reduce
 
 
 def _mean(mapper, volume, renderer, entries, whole_image, camera, shape, reduce, whole_scalars, data_range,
-          problem, sampled):
+          problem, stock):
+    """The average over the ranks: ``stock`` (VTK's own, read out by ``average``'s pieces) its grey of the
+    opacity-weighted mean normalised over the whole range; mipcast's averages their mean coloured through the
+    volume property (``shaders/average_color.glsl``)."""
     size = shape[0] * shape[1]
     local = np.zeros((4, size))
     if entries:
         entry = entries[0]
         try:
             piece_scalars = entry["mapper"].GetRenderedInput().GetPointData().GetScalars()
-            if sampled:  # count n, mean opacity, mean opacity x s (s: this piece's normalised scalar)
+            if stock:  # count n, mean opacity, mean opacity x s (s: this piece's normalised scalar)
                 n, mean_opacity, mean_shade = (_render(renderer, entry, whole_image, camera, shape, channel=c,
                                                        raw=True) for c in (1, 2, 3))
                 n = np.nan_to_num(-n)
@@ -337,7 +341,7 @@ def _mean(mapper, volume, renderer, entries, whole_image, camera, shape, reduce,
                 local[0] = n.ravel()
                 local[1] = o.ravel()
                 local[2] = ((plow * o + (phigh - plow) * q) / scale).ravel()  # sum of opacity x value
-            else:  # the mean (data units) and the ray length it counted
+            else:  # the mean (data units) and the samples / ray length it counted
                 mean = _render(renderer, entry, whole_image, camera, shape, channel=0)
                 weight = np.nan_to_num(-_render(renderer, entry, whole_image, camera, shape, channel=1, raw=True))
                 hit = np.isfinite(mean)
@@ -355,12 +359,11 @@ def _mean(mapper, volume, renderer, entries, whole_image, camera, shape, reduce,
     if mapper is None:
         return None, None  # a rank without data: it took part, it draws nothing
     total = reduced[:-1].reshape(4, shape[0], shape[1])
+    if not stock:
+        return bricked_draw.colour(combine_mean(total[0], total[1], total[2], total[3]), volume.GetProperty()), None
     g0, g1 = _shade_map(whole_scalars, volume, data_range)
-    if sampled:
-        count, opacity, weighted = total[0], total[1], total[2]
-        grey = np.where(count > 0.0, (g0 * opacity + g1 * weighted) / np.where(count > 0.0, count, 1.0), np.nan)
-    else:
-        grey = g0 + g1 * combine_mean(total[0], total[1], total[2], total[3])
+    count, opacity, weighted = total[0], total[1], total[2]
+    grey = np.where(count > 0.0, (g0 * opacity + g1 * weighted) / np.where(count > 0.0, count, 1.0), np.nan)
     hit = np.isfinite(grey)
     rgba = np.zeros(shape + (4,), dtype=np.float32)
     rgba[hit, :3] = np.clip(grey[hit], 0.0, 1.0)[:, None]
