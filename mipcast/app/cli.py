@@ -324,28 +324,27 @@ def _window(image, tokens, method: str = "mip"):
     return resolve_window(image, spec, projection)
 
 
-def _component(text: str):
-    """``--component``: an integer >= 0 or ``magnitude``."""
-    if text.lower() == "magnitude":
-        return None
+def _index(text: str, expected: str) -> int:
+    """An integer >= 0 from the command line, or the ``argparse`` error naming ``expected``."""
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 0 or 'magnitude', got {text!r}") from None
+        raise argparse.ArgumentTypeError(f"expected {expected}, got {text!r}") from None
     if value < 0:
         raise argparse.ArgumentTypeError(f"must be >= 0, got {text!r}")
     return value
 
 
+def _component(text: str):
+    """``--component``: an integer >= 0 or ``magnitude``."""
+    if text.lower() == "magnitude":
+        return None
+    return _index(text, "an integer >= 0 or 'magnitude'")
+
+
 def _volume(text: str) -> int:
     """``--volume``: an integer >= 0."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer >= 0 (the first volume is 0), got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be >= 0 (the first volume is 0), got {text!r}")
-    return value
+    return _index(text, "an integer >= 0 (the first volume is 0)")
 
 
 def _distance(text: str):
