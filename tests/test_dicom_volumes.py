@@ -167,3 +167,28 @@ def test_enhanced_multiframe_time_points_split_by_temporal_position_index(tmp_pa
     image = read_dicom(path, series_uid=f"{stack.uid}#TemporalPositionIndex=2")
     assert image.GetDimensions() == (5, 4, 3)
     np.testing.assert_allclose(image.GetOrigin(), stack.ipp(0), atol=1e-4)
+
+
+def test_a_localizer_stored_in_the_series_is_left_out_with_a_warning(tmp_path):
+    """A scout (ImageType ...\\LOCALIZER, another orientation and size) in the series of the volume: the volume is
+    read and the warning names the file (before 2026-12-04: refused, "different sizes ... keep only the slices of one
+    stack"); list_series counts the slices without it."""
+    from mipcast.io.dicom import DicomSeriesWarning
+
+    series = Series()
+    folder = series.write(tmp_path / "ct")
+    scout = Series(rot=rotation(0.0, 90.0), rows=7, cols=5)  # coronal, 7 rows: not a slice of the stack
+    scout.uid = series.uid
+    scout.write(tmp_path / "scout", ks=[0], shuffle=False)
+    ds = pydicom.dcmread(str(next((tmp_path / "scout").iterdir())))
+    ds.ImageType = ["ORIGINAL", "PRIMARY", "LOCALIZER"]
+    save(ds, folder / "SCOUT")
+    with pytest.warns(UserWarning, match=r"skipped 1 localizer image\(s\) \(ImageType LOCALIZER\): SCOUT") as caught:
+        image = read_dicom(folder)
+    assert any(issubclass(w.category, DicomSeriesWarning) for w in caught)
+    assert image.GetDimensions() == (5, 4, 6)
+    values = check_image(image)
+    for k in range(6):
+        np.testing.assert_array_equal(values[k], series.pixels(k) - 1024)
+    (entry,) = list_series(folder)
+    assert entry["n_slices"] == 6

@@ -81,6 +81,10 @@ class DicomGeometryWarning(UserWarning):
     """Slice positions off a regular grid within the tolerance (issued once per volume)."""
 
 
+class DicomSeriesWarning(UserWarning):
+    """Images of the series left out of the volume (localizers stored in the series), named in the message."""
+
+
 # Suggested `pip install` per transfer syntax whose decoder can be missing.
 _DECODER_PACKAGES = {
     "1.2.840.10008.1.2.4.50": "pylibjpeg pylibjpeg-libjpeg",   # JPEG baseline (Pillow works too)
@@ -142,6 +146,9 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
           through the slice positions; when a slice sits more than 0.1 % of
           the step off it (positions rounded in the headers), one
           :class:`DicomGeometryWarning` names the largest misplacement.
+        - localizer (scout) images that a scanner stored in the series of
+          the volume (ImageType LOCALIZER) are left out, with one
+          :class:`DicomSeriesWarning` naming their files;
         - Siemens MOSAIC files are unpacked into their slices; enhanced
           multi-frame files use their shared and per-frame functional
           groups (position, orientation, pixel spacing, rescale).
@@ -247,7 +254,7 @@ def _read(path: Path, series_uid: Optional[str], pydicom) -> vtkImageData:
     frames = []
     for file, ds in chosen:
         frames.extend(_frames_of(file, ds))
-    volumes = _split(frames)
+    volumes = _split(_without_localizers(frames, f"series {uid} in '{path}'"))
     if volume not in volumes:
         if volume or len(volumes) > 1:
             ids = ", ".join(repr(f"{uid}#{key}") for key in volumes if key)
@@ -474,7 +481,7 @@ def _volume_entries(datasets) -> List[Dict[str, Any]]:
         files = [(file, ds) for file, ds in datasets
                  if _series_uid(ds) == entry["uid"] and _has_pixels(ds)]
         try:
-            frames = [frame for file, ds in files for frame in _frames_of(file, ds)]
+            frames = _without_localizers([frame for file, ds in files for frame in _frames_of(file, ds)])
             volumes = _split(frames) if frames else {"": []}
         except DicomError:  # not a stack of slices (e.g. secondary captures): one entry
             volumes = {"": None}
@@ -618,6 +625,23 @@ def _split(frames: List[_Frame]) -> Dict[str, List[_Frame]]:
             continue
         return {f"{key}={value}": groups[value] for value in sorted(groups, key=_natural)}
     return {"": frames}
+
+
+def _without_localizers(frames: List[_Frame], where: Optional[str] = None) -> List[_Frame]:
+    """``frames`` less the localizer (scout) images some scanners store in the series of the volume
+    (ImageType LOCALIZER); with ``where``, a warning names them.  A series of localizers only, or
+    with fewer than two other images, is returned as it is."""
+    def localizer(frame):
+        return "LOCALIZER" in frame.labels.get("ImageType", "").upper().split("\\")
+
+    kept = [frame for frame in frames if not localizer(frame)]
+    if len(kept) == len(frames) or len(kept) < 2:
+        return frames
+    if where is not None:
+        names = sorted({frame.file.name for frame in frames if localizer(frame)})
+        warnings.warn(f"{where}: skipped {len(frames) - len(kept)} localizer image(s) (ImageType LOCALIZER): "
+                      f"{', '.join(names[:5])}{' ...' if len(names) > 5 else ''}", DicomSeriesWarning, stacklevel=4)
+    return kept
 
 
 def _natural(value: str):
