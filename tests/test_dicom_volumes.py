@@ -4,6 +4,8 @@ They are listed by list_series with an ``id`` to pass as ``series_uid``;
 read_dicom without one refuses, naming the ids.  Expected values and
 positions come from how the files were written.
 """
+import shutil
+
 import numpy as np
 import pytest
 
@@ -188,6 +190,23 @@ def test_a_localizer_stored_in_the_series_is_left_out_with_a_warning(tmp_path):
     assert any(issubclass(w.category, DicomSeriesWarning) for w in caught)
     assert image.GetDimensions() == (5, 4, 6)
     values = check_image(image)
+    for k in range(6):
+        np.testing.assert_array_equal(values[k], series.pixels(k) - 1024)
+    (entry,) = list_series(folder)
+    assert entry["n_slices"] == 6
+
+
+def test_copies_of_one_image_are_read_once_with_a_warning(tmp_path):
+    """Files of one SOPInstanceUID (a folder copied or exported twice: "IM0003" and "IM0003 (1)") are one image:
+    read once, the copies named in a warning (before 2026-12-04: refused as duplicate slice positions)."""
+    series = Series()
+    folder = series.write(tmp_path / "ct")
+    for name in sorted(p.name for p in folder.iterdir())[:2]:
+        shutil.copy(folder / name, folder / f"{name} (1)")
+    with pytest.warns(UserWarning, match=r"skipped 2 copies of an image already read.*IM\d+ \(1\) \(= IM\d+\)"):
+        image = read_dicom(folder)
+    values = check_image(image)
+    assert image.GetDimensions() == (5, 4, 6)
     for k in range(6):
         np.testing.assert_array_equal(values[k], series.pixels(k) - 1024)
     (entry,) = list_series(folder)

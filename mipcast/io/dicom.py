@@ -82,7 +82,8 @@ class DicomGeometryWarning(UserWarning):
 
 
 class DicomSeriesWarning(UserWarning):
-    """Images of the series left out of the volume (localizers stored in the series), named in the message."""
+    """Images of the series left out of the volume (localizers stored in the series, copies of one image),
+    named in the message."""
 
 
 # Suggested `pip install` per transfer syntax whose decoder can be missing.
@@ -147,8 +148,9 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
           the step off it (positions rounded in the headers), one
           :class:`DicomGeometryWarning` names the largest misplacement.
         - localizer (scout) images that a scanner stored in the series of
-          the volume (ImageType LOCALIZER) are left out, with one
-          :class:`DicomSeriesWarning` naming their files;
+          the volume (ImageType LOCALIZER), and copies of an image (files of
+          one SOPInstanceUID: a folder copied or exported twice), are left
+          out, with a :class:`DicomSeriesWarning` naming the files;
         - Siemens MOSAIC files are unpacked into their slices; enhanced
           multi-frame files use their shared and per-frame functional
           groups (position, orientation, pixel spacing, rescale).
@@ -250,7 +252,7 @@ def _read(path: Path, series_uid: Optional[str], pydicom) -> vtkImageData:
         raise DicomError(
             f"no image series with SeriesInstanceUID {uid!r} in '{path}'; "
             f"the image series there are:\n{_listing(images)}")
-    chosen = series[uid]
+    chosen = _unique_instances(series[uid], f"series {uid} in '{path}'")
     frames = []
     for file, ds in chosen:
         frames.extend(_frames_of(file, ds))
@@ -478,8 +480,8 @@ def _volume_entries(datasets) -> List[Dict[str, Any]]:
     entries = []
     for entry in _summaries(datasets):
         entry["id"], entry["volume"] = entry["uid"], ""
-        files = [(file, ds) for file, ds in datasets
-                 if _series_uid(ds) == entry["uid"] and _has_pixels(ds)]
+        files = _unique_instances([(file, ds) for file, ds in datasets
+                                   if _series_uid(ds) == entry["uid"] and _has_pixels(ds)])
         try:
             frames = _without_localizers([frame for file, ds in files for frame in _frames_of(file, ds)])
             volumes = _split(frames) if frames else {"": []}
@@ -625,6 +627,26 @@ def _split(frames: List[_Frame]) -> Dict[str, List[_Frame]]:
             continue
         return {f"{key}={value}": groups[value] for value in sorted(groups, key=_natural)}
     return {"": frames}
+
+
+def _unique_instances(files: list, where: Optional[str] = None) -> list:
+    """``files`` ((path, dataset) pairs) with one file per SOPInstanceUID: copies of one image (a folder
+    exported or copied twice) are one image; with ``where``, a warning names the copies left out."""
+    seen: Dict[str, Path] = {}
+    kept, copies = [], []
+    for file, ds in sorted(files, key=lambda pair: (len(pair[0].name), str(pair[0]))):  # "IM1" before "IM1 (1)"
+        uid = str(ds.get("SOPInstanceUID", "") or "")
+        if uid in seen:
+            copies.append(f"{file.name} (= {seen[uid].name})")
+            continue
+        if uid:
+            seen[uid] = file
+        kept.append((file, ds))
+    if copies and where is not None:
+        warnings.warn(f"{where}: skipped {len(copies)} {'copy' if len(copies) == 1 else 'copies'} of an image "
+                      f"already read (the same SOPInstanceUID): {', '.join(copies[:5])}"
+                      f"{' ...' if len(copies) > 5 else ''}", DicomSeriesWarning, stacklevel=4)
+    return kept
 
 
 def _without_localizers(frames: List[_Frame], where: Optional[str] = None) -> List[_Frame]:
