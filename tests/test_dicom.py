@@ -19,7 +19,7 @@ from pydicom.uid import ExplicitVRLittleEndian, JPEG2000, generate_uid  # noqa: 
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
 
-from mipcast.io.dicom import list_series, read_dicom  # noqa: E402
+from mipcast.io.dicom import DicomGeometryWarning, list_series, read_dicom  # noqa: E402
 from mipcast.io import read_volume  # noqa: E402
 from mipcast.core.validation import check_image  # noqa: E402
 
@@ -273,11 +273,41 @@ def test_rescale_type_follows_slope(tmp_path):
     assert check_image(image).dtype == np.int32  # 100 * 534 + 1000 > 32767
 
 
-def test_gantry_tilt_is_refused(tmp_path):
-    series = Series(rot=rotation(0))
-    tilt = np.tan(np.radians(15))
+def tilted_values(series, tilt, steps_per_pixel):
+    """What the untilted grid holds: slice k sampled k x step x tilt / row spacing rows back (NaN: off the slice)."""
+    expected = np.full((len(series.positions), series.rows, series.cols), np.nan)
+    r, c = np.mgrid[0:series.rows, 0:series.cols]
+    for k in range(len(series.positions)):
+        source = r - k * steps_per_pixel
+        inside = (source >= -1e-9) & (source <= series.rows - 1 + 1e-9)
+        expected[k][inside] = (100 * k + 10 * source + c - 1024)[inside]  # pixels() is linear: exact
+    return expected
+
+
+@pytest.mark.parametrize("degrees", [15.0, -7.5])
+def test_gantry_tilt_is_corrected(tmp_path, degrees):
+    """A tilted CT (slice origins drifting along the column direction): each slice is shifted onto an untilted grid
+    (linear between pixels, NaN where no slice pixel lies), with a warning naming the angle; every value lands
+    where the files put it.  Before 2026-12-04 tilted series were refused."""
+    series = Series(rot=rotation(20), n=6, rows=12, cols=5, step=1.25)
+    tilt = np.tan(np.radians(degrees))
     folder = series.write(tmp_path / "s", drift=lambda k: series.positions[k] * tilt * series.col)
-    with pytest.raises(ValueError, match=r"gantry tilt of about 15\.0"):
+    with pytest.warns(DicomGeometryWarning, match=rf"gantry tilt of about {abs(degrees):.2f} deg.*missing \(NaN\)"):
+        image = read_dicom(folder)
+    values = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(6, 12, 5)  # as read: NaN kept
+    assert values.dtype == np.float32 and image.GetDimensions() == (5, 12, 6)
+    np.testing.assert_allclose(image.GetOrigin(), series.ipp(0), atol=1e-4)  # the first slice's corner
+    np.testing.assert_allclose(image.GetSpacing(), (0.9, 0.7, 1.25), atol=1e-6)
+    expected = tilted_values(series, tilt, 1.25 * tilt / series.pixel_spacing[0])
+    assert np.array_equal(np.isnan(values), np.isnan(expected)) and np.isnan(values).any()
+    np.testing.assert_allclose(values[~np.isnan(values)], expected[~np.isnan(expected)], atol=1e-3)
+
+
+def test_a_drift_beyond_any_gantry_tilt_is_refused(tmp_path):
+    series = Series(rot=rotation(0))
+    steep = np.tan(np.radians(40))
+    folder = series.write(tmp_path / "s", drift=lambda k: series.positions[k] * steep * series.col)
+    with pytest.raises(ValueError, match=r"40\.0 deg, more than a gantry tilts.*keep the slices of one stack"):
         read_dicom(folder)
 
 

@@ -35,7 +35,7 @@ from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence, Union
 
 import numpy as np
-from vtkmodules.util.numpy_support import get_vtk_array_type, vtk_to_numpy
+from vtkmodules.util.numpy_support import get_vtk_array_type, numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkDataArray, vtkStringArray
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
@@ -56,6 +56,7 @@ WARN_TOL = 1e-3             # warn (once per volume) beyond 0.1 % of the step
 DUPLICATE_FACTOR = 0.1      # a step < 0.1 x the median step is a duplicate position
 GAP_FACTOR = 1.5            # a step > 1.5 x the median step is a missing slice
 TILT_TOL_PIXELS = 0.1       # systematic lateral drift of slice origins, in pixels
+MAX_TILT_DEG = 30.0         # a steady drift up to this angle is gantry tilt, corrected (CT gantries tilt to 30)
 LATERAL_TOL_PIXELS = 0.5    # scatter of slice origins sideways to the normal, in pixels
 #: Largest decoded volume in bytes (4 GiB); a header asking for more is refused
 #: before anything is allocated.
@@ -147,6 +148,11 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
           through the slice positions; when a slice sits more than 0.1 % of
           the step off it (positions rounded in the headers), one
           :class:`DicomGeometryWarning` names the largest misplacement.
+        - gantry tilt (the slice origins drifting steadily sideways, up to
+          30 deg): each slice is shifted onto an untilted grid (linear
+          between pixels; float32; the points no slice covers are NaN,
+          missing data), with one :class:`DicomGeometryWarning` giving the
+          angle;
         - localizer (scout) images that a scanner stored in the series of
           the volume (ImageType LOCALIZER), and copies of an image (files of
           one SOPInstanceUID: a folder copied or exported twice), are left
@@ -171,8 +177,9 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
         > 1.5 x the median step); two slices at the same position; a slice
         more than 0.2 x the step off the least-squares grid (stacks with
         different spacing mixed); slices with different orientations, sizes
-        or pixel spacings; gantry tilt (slice origins drifting sideways to
-        the normal) or origins scattered sideways by more than half a pixel;
+        or pixel spacings; a sideways drift of the slice origins steeper
+        than a gantry tilts (30 deg) or origins scattered sideways by more
+        than half a pixel;
         colour images; images without ImagePositionPatient/
         ImageOrientationPatient; a mosaic without its image count;
         compressed pixel data without an installed decoder (the message
@@ -1060,10 +1067,16 @@ def _assemble(frames: List[_Frame], files, pydicom) -> vtkImageData:
         step = step or 1.0  # one slice: the step has no effect on any point
         origin = positions[0]
     else:
-        step, origin = _check_steps(frames, positions, along, normal, pixel)
+        step, origin, tilt = _check_steps(frames, positions, along, normal, pixel)
 
     ds0 = headers[first.file]
     values = _stack(frames, headers, rows, cols)
+    if len(frames) > 1 and tilt is not None:
+        # slice k lies k x step x tilt sideways of the grid: sample it where the grid's points are
+        per_slice = step * np.array([float(tilt @ row) / float(first.pixel_spacing[1]),
+                                     float(tilt @ col) / float(first.pixel_spacing[0])])
+        per_slice[np.abs(per_slice) * (len(frames) - 1) < TILT_TOL_PIXELS] = 0.0  # the headers' rounding
+        values = _untilted(values, rows, cols, per_slice)
     image = vtkImageData()
     image.SetDimensions(cols, rows, len(frames))
     # PixelSpacing = (between rows, between columns) = (along j, along i)
@@ -1080,16 +1093,19 @@ def _assemble(frames: List[_Frame], files, pydicom) -> vtkImageData:
 
 
 def _check_steps(frames, positions, along, normal, pixel):
-    """Fit a regular grid to the slice positions; return (step, origin).
+    """Fit a regular grid to the slice positions; return (step, origin, tilt).
 
-    Duplicates, gaps, gantry tilt, scattered origins and slices more than
+    Duplicates, gaps, scattered origins and slices more than
     ``POSITION_TOL`` x step off the least-squares grid are refused, naming
     the slices.  Within the tolerance, the least-squares step and origin are
     used and one :class:`DicomGeometryWarning` gives the largest misplacement.
+    ``tilt``: None, or the gantry tilt's sideways drift of the slices per mm
+    along the normal (a vector perpendicular to it), for :func:`_untilted`;
+    the origin is then the first grid slice's corner.
     """
     steps = np.diff(along)
     _refuse_duplicates(frames, along, steps)
-    lateral, scatter = _check_lateral(frames, positions, along, normal, pixel)
+    lateral, scatter, tilt = _check_lateral(frames, positions, along, normal, pixel)
     _refuse_gaps(frames, along, steps)
     n = len(along)
     k = np.arange(n, dtype=float)
@@ -1116,8 +1132,10 @@ def _check_steps(frames, positions, along, normal, pixel):
             f"step {step:.6g} mm; the largest misplacement is {misplacement[worst]:.3g} mm "
             f"({100 * misplacement[worst] / step:.2g} % of the step) at {frames[worst].name}",
             DicomGeometryWarning, stacklevel=5)  # the caller of read_dicom
-    origin = positions[0] + (intercept - along[0]) * normal + lateral.mean(axis=0)
-    return step, origin
+    depth = intercept - along[0]  # the grid's first slice along the normal, from the first frame
+    if tilt is None:
+        return step, positions[0] + depth * normal + lateral.mean(axis=0), None
+    return step, positions[0] + depth * normal + lateral[0] + depth * tilt, tilt
 
 
 def _refuse_duplicates(frames, along, steps) -> None:
@@ -1149,7 +1167,12 @@ def _refuse_gaps(frames, along, steps) -> None:
 
 
 def _check_lateral(frames, positions, along, normal, pixel):
-    """Refuse tilt and scattered origins; return (lateral offsets, their scatter)."""
+    """Find gantry tilt, refuse scattered origins; return (lateral offsets, their scatter, tilt).
+
+    A steady sideways drift of the slice origins (up to :data:`MAX_TILT_DEG`) is gantry tilt: ``tilt``
+    is the drift per mm along the normal, the offsets are those of the fitted line (its first point)
+    and the scatter is about the line.  Otherwise ``tilt`` is None and the scatter is about the mean.
+    """
     offsets = positions - positions[0]
     lateral = offsets - np.outer(offsets @ normal, normal)
     depth = along - along[0]
@@ -1158,16 +1181,24 @@ def _check_lateral(frames, positions, along, normal, pixel):
     fitted = base + np.outer(depth, slope)
     noise = float(np.linalg.norm(lateral - fitted, axis=1).max())
     drift = float(np.linalg.norm(slope) * depth[-1])
+    angle = math.degrees(math.atan(float(np.linalg.norm(slope))))
+    tilt = None
     if drift > max(TILT_TOL_PIXELS * pixel + 3 * noise, 1e-3):
-        angle = math.degrees(math.atan(float(np.linalg.norm(slope))))
-        raise DicomError(
-            f"the slice origins drift sideways to the slice normal by {drift:.3f} mm from "
-            f"{frames[0].name} to {frames[-1].name} (gantry tilt of about {angle:.2f} deg, or "
-            "slices of several stacks): stacking them on a regular grid would shear the "
-            "anatomy. mipcast refuses tilted series; resample onto an untilted grid first "
-            "(e.g. 3D Slicer's 'Gantry tilt correction', dcm2niix, or SimpleITK's "
-            "ResampleImageFilter)")
-    scatter = np.linalg.norm(lateral - lateral.mean(axis=0), axis=1)
+        if angle > MAX_TILT_DEG:
+            raise DicomError(
+                f"the slice origins drift sideways to the slice normal by {drift:.3f} mm from "
+                f"{frames[0].name} to {frames[-1].name} ({angle:.1f} deg, more than a gantry tilts, "
+                f"{MAX_TILT_DEG:g} deg): the folder mixes stacks; keep the slices of one stack")
+        tilt = slope
+        warnings.warn(
+            f"gantry tilt of about {angle:.2f} deg (the slice origins drift {drift:.3f} mm sideways from "
+            f"{frames[0].name} to {frames[-1].name}): the slices are shifted onto an untilted grid by up to "
+            f"{drift / pixel:.3g} pixels (linear interpolation along the shift); the voxels no slice covers "
+            "are missing (NaN)", DicomGeometryWarning, stacklevel=6)  # the caller of read_dicom
+        lateral = fitted  # the grid follows the line; what is off it is scatter
+        scatter = np.linalg.norm(offsets - np.outer(offsets @ normal, normal) - fitted, axis=1)
+    else:
+        scatter = np.linalg.norm(lateral - lateral.mean(axis=0), axis=1)
     worst = int(np.argmax(scatter))
     if scatter[worst] > LATERAL_TOL_PIXELS * pixel:
         raise DicomError(
@@ -1175,7 +1206,37 @@ def _check_lateral(frames, positions, along, normal, pixel):
             f"is {scatter[worst]:.3g} mm off the others (limit {LATERAL_TOL_PIXELS:g} pixel = "
             f"{LATERAL_TOL_PIXELS * pixel:.3g} mm); the folder mixes stacks: keep the slices "
             "of one stack")
-    return lateral, scatter
+    return lateral, scatter, tilt
+
+
+def _untilted(values: vtkDataArray, rows: int, cols: int, per_slice: np.ndarray) -> vtkDataArray:
+    """The stacked slices (nz, rows, cols) with slice k sampled ``k x per_slice`` pixels (columns, rows) back:
+    a new float32 array, linear between pixels, NaN where slice k has no pixel."""
+    stacked = vtk_to_numpy(values).reshape(-1, rows, cols).astype(np.float64)
+    out = np.empty(stacked.shape, dtype=np.float32)
+    for k, plane in enumerate(stacked):
+        plane = _shifted(plane, k * per_slice[1], axis=0)  # along the rows (the column direction)
+        out[k] = _shifted(plane, k * per_slice[0], axis=1)
+    return numpy_to_vtk(out.ravel(), deep=True)
+
+
+def _shifted(plane: np.ndarray, shift: float, axis: int) -> np.ndarray:
+    """``plane`` sampled at index - ``shift`` along ``axis``: linear, NaN beyond its first and last pixel."""
+    if abs(shift) < 1e-9:
+        return plane
+    n = plane.shape[axis]
+    where = np.arange(n) - shift
+    inside = np.clip(where, 0.0, n - 1.0)
+    low = np.minimum(np.floor(inside).astype(int), max(n - 2, 0))
+    high = np.minimum(low + 1, n - 1)
+    weight = inside - low
+    a, b = np.take(plane, low, axis=axis), np.take(plane, high, axis=axis)
+    shape = [1, 1]
+    shape[axis] = n
+    weight = weight.reshape(shape)
+    result = a * (1.0 - weight) + b * weight
+    outside = ((where < -1e-3) | (where > n - 1 + 1e-3)).reshape(shape)
+    return np.where(outside, np.nan, result)
 
 
 def _stack(frames: List[_Frame], headers, rows: int, cols: int) -> vtkDataArray:
