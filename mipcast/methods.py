@@ -236,6 +236,9 @@ exact_average_reference = projection_reference("analytic_average")
 #: Projection -> its exact float64 reference (the benchmark's errors are against these).
 EXACT_REFERENCES = {"mip": exact_mip_reference, "minip": exact_minip_reference,
                     "average": exact_average_reference}
+#: Projection -> its sampled float64 reference (the benchmark asks it which rays saw no finite sample).
+SAMPLED_REFERENCES = {"mip": sampled_mip_reference, "minip": sampled_minip_reference,
+                      "average": sampled_average_reference}
 
 
 def demip_reference(image, camera, size, *, sample_distance: float, window, clip_planes=None,

@@ -165,6 +165,26 @@ def test_bench_writes_tables(tmp_path):
     assert rows["demip two passes"]["p99_pct"] == pytest.approx(rows["demip"]["p99_pct"])  # same pictures
 
 
+def test_bench_runs_on_a_volume_with_missing_values_and_counts_the_rays_that_saw_none(tmp_path):
+    from mipcast.data_fixtures import image_from_array
+
+    n = 24
+    values = np.asarray(make_fixture("vessels", size=n).GetPointData().GetScalars()).reshape(n, n, n)
+    holed = values.astype(np.float32)
+    holed.ravel()[::7] = np.nan
+    writer = vtkXMLImageDataWriter()
+    writer.SetFileName(str(tmp_path / "holed.vti"))
+    writer.SetInputData(image_from_array(holed, "values"))
+    writer.Write()
+    # (the sampled rays that met only missing samples were "GPU missed hit pixels" and ended the bench)
+    assert main(["bench", "--scenes", str(tmp_path / "holed.vti"), "--size", "48", "--views", "oblique",
+                 "--rounds", "1", "--out", str(tmp_path / "out")]) == 0
+    rows = {row["setting"]: row for row in json.loads((tmp_path / "out" / "bench.json").read_text())}
+    assert rows["mip 1x"].get("missing_data_misses", 0) > 0
+    assert "missing_data_misses" not in rows["analytic"] and rows["analytic"]["within_1_grey"] >= 0.999
+    assert "missing_data_misses" in (tmp_path / "out" / "bench.md").read_text()
+
+
 def test_bench_foveation_writes_table_chart_and_ring_errors(tmp_path, capsys):
     assert main(["bench", "--foveation", "--scenes", "vessels", "--volume-size", "32", "--size", "96",
                  "--rounds", "1", "--out", str(tmp_path)]) == 0

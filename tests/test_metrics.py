@@ -34,6 +34,20 @@ def test_error_map_gpu_miss_raises_with_count():
         error_map(rendered, reference)
 
 
+def test_misses_the_renderings_rule_allows_are_counted_not_raised():
+    reference = np.zeros((5, 5))
+    rendered = np.zeros((5, 5))
+    rendered[2, 2] = rendered[2, 3] = NAN
+    may_miss = np.zeros((5, 5), dtype=bool)
+    may_miss[2, 2] = True
+    with pytest.raises(ValueError, match=r"missed 1 hit pixels.*\(2, 3\)"):
+        error_map(rendered, reference, may_miss=may_miss)
+    may_miss[2, 3] = True
+    assert np.isnan(error_map(rendered, reference, may_miss=may_miss)).sum() == 2
+    stats = summary(rendered, reference, 1.0, may_miss=may_miss)
+    assert stats["missing_data_misses"] == 2 and stats["silhouette_misses"] == 0 and stats["hit_pixels"] == 23
+
+
 def test_summary_known_answer():
     reference = np.array([[10.0, 100.0], [200.0, 250.0], [NAN, NAN]])
     rendered = np.array([[10.0, 101.0], [202.5, 250.0], [5.0, NAN]])

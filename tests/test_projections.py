@@ -190,6 +190,24 @@ def test_exact_average_of_a_linear_ramp_is_its_midpoint_value():
     assert np.nanmax(np.abs(reference - expected)) <= 1e-9 * (high - low)
 
 
+def test_bench_errors_on_missing_values_count_the_sampled_rays_that_saw_none():
+    """A sampled ray whose samples all fall on missing voxels draws nothing where the exact
+    interpolant has a finite part: counted (the sampled reference misses it too), not an error;
+    the exact methods must not miss at all."""
+    n = 24
+    values = np.asarray(make_fixture("vessels", size=n).GetPointData().GetScalars()).reshape(n, n, n)
+    holed = values.astype(np.float32)
+    holed.ravel()[::7] = np.nan
+    image = image_from_array(holed, "values")
+    labels = ("stock 1x", "mip 1x", "minip 1x", "average 1x", "analytic", "analytic minip", "analytic average")
+    settings = [s for s in default_settings() if s.label in labels]
+    errors = errors_of_settings(image, settings, size=(64, 64))
+    counted = {label: errors[label]["missing_data_misses"] for label in labels}
+    assert counted["mip 1x"] > 10 and counted["stock 1x"] == counted["mip 1x"], counted
+    assert counted["analytic"] == counted["analytic minip"] == counted["analytic average"] == 0, counted
+    assert all(errors[label]["within_1_grey"] >= 0.999 for label in labels if label.startswith("analytic"))
+
+
 def test_bench_rows_compare_each_projection_with_its_exact_reference():
     labels = ("analytic", "analytic minip", "analytic average", "minip 1x", "average 1x", "average 8x")
     settings = [s for s in default_settings() if s.label in labels]

@@ -421,6 +421,8 @@ def _run_bench(args) -> int:
     columns = ["scene", "view", "size", "setting", "projection", "median_ms", "ratio_to_stock",
                "ratio_to_stock_blend", "p99_pct", "fg_p99_pct", "max_pct", "within_1_grey", "frames",
                "texel_fetches", "skipped_cells", "ray_ratio", "sample_ratio"]
+    if any("missing_data_misses" in r for r in rows):
+        columns.insert(columns.index("frames"), "missing_data_misses")
     (args.out / "bench.json").write_text(strict_json(rows, indent=2))
     (args.out / "bench.md").write_text(markdown_table(rows, columns) + "\n")
     write_chart(rows, args.out / "bench.png")

@@ -36,7 +36,8 @@ def silhouette(reference: np.ndarray) -> np.ndarray:
     return near_miss & ~np.isnan(reference)
 
 
-def error_map(rendered: np.ndarray, reference: np.ndarray, allow_silhouette: bool = False) -> np.ndarray:
+def error_map(rendered: np.ndarray, reference: np.ndarray, allow_silhouette: bool = False,
+              may_miss: Optional[np.ndarray] = None) -> np.ndarray:
     """Absolute error per pixel, in data units.
 
     Pixels the reference misses (NaN) are NaN in the result whatever was
@@ -44,7 +45,9 @@ def error_map(rendered: np.ndarray, reference: np.ndarray, allow_silhouette: boo
     hits but the rendering does not is an error of the renderer, not a large
     number, so it raises instead of being averaged away; with
     ``allow_silhouette`` such pixels on the :func:`silhouette` are NaN in the
-    result instead (rasterisation there is a matter of rounding).
+    result instead (rasterisation there is a matter of rounding), and so are
+    misses inside ``may_miss`` (e.g. rays whose samples all fell on missing
+    data where the exact interpolant has a finite part).
 
     Parameters
     ----------
@@ -52,6 +55,10 @@ def error_map(rendered: np.ndarray, reference: np.ndarray, allow_silhouette: boo
         The image under test, data units, NaN for a miss.
     reference : numpy.ndarray, shape (M, N)
         The reference image, data units, NaN for a miss.
+    allow_silhouette : bool
+        Misses on the reference's :func:`silhouette` are NaN, not an error.
+    may_miss : numpy.ndarray of bool, shape (M, N), optional
+        Pixels where a miss is the rendering's rule, not an error.
 
     Returns
     -------
@@ -81,6 +88,8 @@ def error_map(rendered: np.ndarray, reference: np.ndarray, allow_silhouette: boo
     missed = np.isnan(rendered) & ~np.isnan(reference)
     if allow_silhouette:
         missed &= ~silhouette(reference)
+    if may_miss is not None:
+        missed &= ~np.asarray(may_miss, dtype=bool)
     if missed.any():
         first = tuple(int(v) for v in np.argwhere(missed)[0])
         raise ValueError(f"the GPU missed {int(missed.sum())} hit pixels (first at "
@@ -90,7 +99,7 @@ def error_map(rendered: np.ndarray, reference: np.ndarray, allow_silhouette: boo
 
 def summary(rendered: np.ndarray, reference: np.ndarray, data_range: float,
             window: Optional[Tuple[float, float]] = None,
-            foreground: Optional[np.ndarray] = None) -> dict:
+            foreground: Optional[np.ndarray] = None, may_miss: Optional[np.ndarray] = None) -> dict:
     """Error statistics of a rendering against a reference.
 
     Only pixels both the reference and the rendering hit count; rendered
@@ -113,6 +122,9 @@ def summary(rendered: np.ndarray, reference: np.ndarray, data_range: float,
         Pixels of interest, default: ``reference > low + 0.25 * (high - low)``
         where ``(low, high)`` is ``window``, or else the minimum and maximum
         of the hit reference values.
+    may_miss : numpy.ndarray of bool, shape (M, N), optional
+        As :func:`error_map`: misses there (off the silhouette) are counted in
+        ``missing_data_misses`` instead of raising.
 
     Returns
     -------
@@ -120,8 +132,8 @@ def summary(rendered: np.ndarray, reference: np.ndarray, data_range: float,
         ``mean``, ``p99``, ``max`` (error in data units), ``mean_pct``,
         ``p99_pct``, ``max_pct`` (in % of ``data_range``), ``over_1_grey``
         (share of hit pixels whose error exceeds one grey level),
-        ``within_1_grey`` (1 - that), ``hit_pixels`` and ``grey_level``;
-        then the same figures over the foreground hits, prefixed ``fg_``
+        ``within_1_grey`` (1 - that), ``hit_pixels``, ``grey_level``,
+        ``silhouette_misses`` and ``missing_data_misses``; then the same figures over the foreground hits, prefixed ``fg_``
         (all NaN, and ``fg_hit_pixels`` 0, if there are none).
 
     Raises
@@ -140,11 +152,13 @@ def summary(rendered: np.ndarray, reference: np.ndarray, data_range: float,
     >>> stats["fg_hit_pixels"], stats["fg_max"]
     (2, 0.5)
     """
-    errors = error_map(rendered, reference, allow_silhouette=True)
+    errors = error_map(rendered, reference, allow_silhouette=True, may_miss=may_miss)
     reference = np.asarray(reference, dtype=np.float64)
     data_range = check_positive("data_range", data_range)
     hit = ~np.isnan(reference)
-    silhouette_misses = int(np.count_nonzero(hit & np.isnan(errors)))
+    unhit = hit & np.isnan(errors)
+    data_misses = 0 if may_miss is None else int(np.count_nonzero(unhit & may_miss & ~silhouette(reference)))
+    silhouette_misses = int(np.count_nonzero(unhit)) - data_misses
     if window is None:
         grey = data_range / 255.0
         low, high = ((reference[hit].min(), reference[hit].max()) if hit.any()
@@ -161,7 +175,7 @@ def summary(rendered: np.ndarray, reference: np.ndarray, data_range: float,
     if foreground.shape != reference.shape:
         raise ValueError(f"foreground has shape {foreground.shape} but reference has "
                          f"shape {reference.shape}")
-    result = {"grey_level": grey, "silhouette_misses": silhouette_misses}
+    result = {"grey_level": grey, "silhouette_misses": silhouette_misses, "missing_data_misses": data_misses}
     hit &= ~np.isnan(errors)
     for prefix, mask in (("", hit), ("fg_", hit & foreground)):
         values = errors[mask]
