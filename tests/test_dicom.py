@@ -19,7 +19,7 @@ from pydicom.uid import ExplicitVRLittleEndian, JPEG2000, generate_uid  # noqa: 
 from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkImageData  # noqa: E402
 
-from mipcast.io.dicom import DicomGeometryWarning, list_series, read_dicom  # noqa: E402
+from mipcast.io.dicom import DicomGeometryWarning, DicomPaddingWarning, list_series, read_dicom  # noqa: E402
 from mipcast.io import read_volume  # noqa: E402
 from mipcast.core.validation import check_image  # noqa: E402
 
@@ -303,6 +303,59 @@ def test_gantry_tilt_is_corrected(tmp_path, degrees):
     np.testing.assert_allclose(values[~np.isnan(values)], expected[~np.isnan(expected)], atol=1e-3)
 
 
+def padded_series(folder, limit=None, lossy=None):
+    """A CT series whose corner pixels hold PixelPaddingValue -2000 (as GE writes them), every slice."""
+    series = Series(rot=rotation(0), n=5, rows=8, cols=9)
+    series.write(folder)
+    corner = np.zeros((8, 9), dtype=bool)
+    corner[:2, :2] = corner[-2:, -3:] = True
+    for file in sorted(folder.iterdir()):
+        ds = pydicom.dcmread(file)
+        pixels = ds.pixel_array.copy()
+        pixels[corner] = -2000
+        if limit is not None:
+            pixels[-1, -1] = limit  # the other end of the range
+            ds.add_new(0x00280121, "SS", limit)  # PixelPaddingRangeLimit (signed pixels)
+        ds.add_new(0x00280120, "SS", -2000)  # PixelPaddingValue
+        if lossy is not None:
+            ds.LossyImageCompression = lossy
+        ds.PixelData = pixels.astype("<i2").tobytes()
+        save(ds, file)
+    return series, corner
+
+
+def test_padding_pixels_are_read_as_missing_data(tmp_path):
+    """Corners outside a CT's field of view, written as PixelPaddingValue, are missing data (NaN) that no
+    projection or window counts; before 2026-12-04 they were -3024 HU values pulling averages down."""
+    series, corner = padded_series(tmp_path / "s")
+    with pytest.warns(DicomPaddingWarning, match=r"50 of 360 pixels \(13\.9 %\) hold the PixelPaddingValue -2000"):
+        image = read_dicom(tmp_path / "s")
+    values = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(5, 8, 9)
+    assert values.dtype == np.float32
+    assert np.array_equal(np.isnan(values), np.broadcast_to(corner, values.shape))
+    expected = np.stack([series.pixels(k) - 1024 for k in range(5)]).astype(np.float32)
+    np.testing.assert_array_equal(values[:, ~corner], expected[:, ~corner])
+    kept = read_volume(tmp_path / "s", padding="keep")  # as stored: -2000 - 1024
+    kept_values = vtk_to_numpy(kept.GetPointData().GetScalars()).reshape(5, 8, 9)
+    assert kept_values.dtype == np.int16 and (kept_values[:, corner] == -3024).all()
+    with pytest.raises(ValueError, match="padding must be one of"):
+        read_dicom(tmp_path / "s", padding="nan")
+
+
+def test_padding_range_limit_and_lossy_compression(tmp_path):
+    _, corner = padded_series(tmp_path / "range", limit=-1990)
+    with pytest.warns(DicomPaddingWarning, match=r"PixelPaddingValue -2000\.\.-1990"):
+        image = read_dicom(tmp_path / "range")
+    values = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(5, 8, 9)
+    corner[-1, -1] = True
+    assert np.array_equal(np.isnan(values), np.broadcast_to(corner, values.shape))
+    # lossy compression moved the padded pixels off the value: kept, with the reason
+    padded_series(tmp_path / "lossy", lossy="01")
+    with pytest.warns(DicomPaddingWarning, match="lossy compressed.*kept as values"):
+        image = read_dicom(tmp_path / "lossy")
+    assert not np.isnan(vtk_to_numpy(image.GetPointData().GetScalars())).any()
+
+
 def test_a_drift_beyond_any_gantry_tilt_is_refused(tmp_path):
     series = Series(rot=rotation(0))
     steep = np.tan(np.radians(40))
@@ -447,3 +500,33 @@ def test_enhanced_multiframe_uses_functional_groups(tmp_path):
     assert values.dtype == np.float32
     for k in range(6):
         np.testing.assert_allclose(values[k], series.pixels(k) * 0.5 - 1000)
+
+
+def test_cli_reads_padding_as_missing_or_keeps_it(tmp_path):
+    """`mipcast render --method average` of a padded CT seen from the side: the padded corners count in
+    the average only with --padding keep (they pull the mean down)."""
+    import warnings
+
+    from vtkmodules.vtkIOImage import vtkPNGReader
+
+    from mipcast.app.cli import main
+
+    padded_series(tmp_path / "s")
+    greys = {}
+    for padding in ("missing", "keep"):
+        out = tmp_path / f"{padding}.png"
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            assert main(["render", str(tmp_path / "s"), "--method", "average", "--view", "side",
+                         "--window", "-1100", "-500", "--padding", padding, "--out", str(out),
+                         "--size", "96", "80"]) == 0
+        assert any(w.category is DicomPaddingWarning for w in caught) == (padding == "missing")
+        reader = vtkPNGReader()
+        reader.SetFileName(str(out))
+        reader.Update()
+        picture = vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars())
+        red = picture[:, 0]  # (the background is black in red)
+        lit = red > 0
+        greys[padding] = (int(lit.sum()), float(red[lit].mean()))
+    # kept, the -3024 HU corners drag the rows through them below the window (black): 921 of 1600 lit
+    assert greys["keep"][0] < 0.7 * greys["missing"][0] and greys["missing"][1] > 100, greys

@@ -19,7 +19,7 @@ from pydicom.sequence import Sequence  # noqa: E402
 from pydicom.uid import JPEGBaseline8Bit, JPEGLSLossless  # noqa: E402
 from test_dicom import CT_IMAGE, base_dataset, save  # noqa: E402
 
-from mipcast.io.dicom import DicomError, read_dicom  # noqa: E402
+from mipcast.io.dicom import DicomError, DicomPaddingWarning, read_dicom  # noqa: E402
 from mipcast.core.validation import check_image  # noqa: E402
 
 
@@ -88,12 +88,28 @@ def syntax_of(path):
 def test_lossless_single_frames_equal_their_uncompressed_twin(name, twin):
     path = pydicom_file(name)
     assert syntax_of(path).is_compressed and not syntax_of(pydicom_file(twin)).is_compressed
-    image = read_dicom(path)
+    image = read_dicom(path, padding="keep")
     ds = pydicom.dcmread(pydicom_file(twin))
     assert image.GetDimensions() == (ds.Columns, ds.Rows, 1)
     assert image.GetSpacing()[:2] == pytest.approx((float(ds.PixelSpacing[1]), float(ds.PixelSpacing[0])))
     assert image.GetOrigin() == pytest.approx([float(v) for v in ds.ImagePositionPatient])
     np.testing.assert_allclose(_values(image), rescaled(twin), rtol=1e-6)  # float32 if rescaled
+
+
+def test_a_real_ct_s_padding_outside_its_field_of_view_is_missing_data():
+    """GE's CT (693_UNCR and its lossless JPEG 2000 twin): 21 % of the pixels, the corners outside the
+    scanned circle, hold PixelPaddingValue -2000; they read as NaN, everything else as the twin's HU.
+    The lossy twin (693_J2KI) holds the value in 494 scattered pixels only: kept, with the reason."""
+    ds = pydicom.dcmread(pydicom_file("693_UNCR.dcm"))
+    padded = ds.pixel_array == -2000
+    assert 0.2 < padded.mean() < 0.25 and padded[0, 0] and not padded[256, 256]
+    for name in ("693_UNCR.dcm", "693_J2KR.dcm"):
+        with pytest.warns(DicomPaddingWarning, match=r"55772 of 262144 pixels \(21\.3 %\)"):
+            values = _values(read_dicom(pydicom_file(name)))[0]
+        assert np.array_equal(np.isnan(values), padded)
+        np.testing.assert_array_equal(values[~padded], rescaled("693_UNCR.dcm")[0][~padded])
+    with pytest.warns(DicomPaddingWarning, match=r"lossy compressed.*494 of 262144"):
+        assert not np.isnan(_values(read_dicom(pydicom_file("693_J2KI.dcm")))).any()
 
 
 def _values(image):

@@ -91,6 +91,9 @@ def _parser() -> argparse.ArgumentParser:
     render.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
     render.add_argument("--volume", type=_volume, default=None, metavar="K",
                     help="which volume of a 4D NIfTI file (a time series), from 0 (default: the first)")
+    render.add_argument("--padding", default="missing", choices=["missing", "keep"],
+                        help="DICOM pixels holding the PixelPaddingValue (outside a CT's field of view): "
+                             "missing data (default) or kept as values")
     render.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
     render.add_argument("--component", type=_component, default=None, metavar="K|magnitude",
                         help="component of a multi-component array to draw (default: the magnitude)")
@@ -112,6 +115,9 @@ def _parser() -> argparse.ArgumentParser:
     view.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
     view.add_argument("--volume", type=_volume, default=None, metavar="K",
                   help="which volume of a 4D NIfTI file (a time series), from 0 (default: the first)")
+    view.add_argument("--padding", default="missing", choices=["missing", "keep"],
+                      help="DICOM pixels holding the PixelPaddingValue (outside a CT's field of view): "
+                           "missing data (default) or kept as values")
     view.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
     view.add_argument("--component", type=_component, default=None, metavar="K|magnitude",
                       help="component of a multi-component array to draw (default: the magnitude)")
@@ -263,7 +269,8 @@ def _run_render(args) -> int:
     from mipcast.core.validation import check_image
     from mipcast.mappers.input_preparer import window_image
 
-    image = with_scalars(read_volume(args.input, series_uid=args.series, volume=args.volume), args.scalars)
+    image = with_scalars(read_volume(args.input, series_uid=args.series, volume=args.volume, padding=args.padding),
+                         args.scalars)
     if args.slab_sweep is not None and args.turntable is not None:
         raise ValueError("--slab-sweep and --turntable are two animations: give one of them")
     component = getattr(args, "component", None)
@@ -383,7 +390,8 @@ def run_view(args) -> int:
     from mipcast.core.validation import check_image
     from mipcast.mappers.input_preparer import window_image
 
-    image = with_scalars(read_volume(args.input, series_uid=args.series, volume=args.volume), args.scalars)
+    image = with_scalars(read_volume(args.input, series_uid=args.series, volume=args.volume, padding=args.padding),
+                         args.scalars)
     check_image(image, args.component)  # mipcast.InputError before the window opens
     run_viewer(image, args.method, clim=_window(window_image(image, args.component), args.window, args.method),
                params=args.params, view=args.view, component=args.component,

@@ -32,7 +32,7 @@ import math
 import os
 import warnings
 from pathlib import Path
-from typing import Any, Dict, List, Optional, Sequence, Union
+from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 from vtkmodules.util.numpy_support import get_vtk_array_type, numpy_to_vtk, vtk_to_numpy
@@ -87,6 +87,18 @@ class DicomSeriesWarning(UserWarning):
     named in the message."""
 
 
+class DicomPaddingWarning(UserWarning):
+    """Pixels of the series that hold its PixelPaddingValue (outside the scanned field): read as missing
+    data, or kept as values where lossy compression moved them off the padding value (issued once per volume)."""
+
+
+#: Transfer syntaxes that are (or may be) lossy, where a LossyImageCompression tag does not say.
+LOSSY_SYNTAXES = {"1.2.840.10008.1.2.4.50", "1.2.840.10008.1.2.4.51", "1.2.840.10008.1.2.4.81",
+                  "1.2.840.10008.1.2.4.91", "1.2.840.10008.1.2.4.203"}
+#: What :func:`read_dicom` does with pixels that hold the PixelPaddingValue.
+PADDING_CHOICES = ("missing", "keep")
+
+
 # Suggested `pip install` per transfer syntax whose decoder can be missing.
 _DECODER_PACKAGES = {
     "1.2.840.10008.1.2.4.50": "pylibjpeg pylibjpeg-libjpeg",   # JPEG baseline (Pillow works too)
@@ -109,7 +121,7 @@ _ANY_DECODER = "pylibjpeg pylibjpeg-libjpeg pylibjpeg-openjpeg pylibjpeg-rle"
 # public API
 # ---------------------------------------------------------------------------
 
-def read_dicom(path: PathLike, series_uid: Optional[str] = None):
+def read_dicom(path: PathLike, series_uid: Optional[str] = None, padding: str = "missing"):
     """Read one DICOM series as a volume with its patient-space geometry.
 
     Parameters
@@ -125,6 +137,18 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
         series, or the ``"id"`` that :func:`list_series` gives a volume of
         a series that holds several (echoes, time points, acquisitions,
         stacks), e.g. ``"1.2.3.4#EchoNumbers=2"``.
+    padding : {"missing", "keep"}
+        What to do with the pixels that hold the series' PixelPaddingValue
+        (from it up to PixelPaddingRangeLimit when given; stored values,
+        before rescaling): the corners outside a CT's circular field of
+        view, written as e.g. -2000 (-3024 HU).  ``"missing"`` (default)
+        reads them as NaN, missing data that no projection, average or
+        default window counts (the values become float32), with a
+        :class:`DicomPaddingWarning` giving how many; ``"keep"`` keeps them
+        as values, as most readers do.  Lossy compressed pixel data
+        (LossyImageCompression "01", or a lossy transfer syntax without
+        that tag) no longer holds the padding value exactly where it was
+        written; it is kept, with a warning, whatever ``padding`` says.
 
     Returns
     -------
@@ -134,7 +158,7 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
         - point scalars ``"values"``: the stored values after
           RescaleSlope/RescaleIntercept (for RT Dose: DoseGridScaling).
           float32 if any slope or intercept is not an integer (or the stored
-          values are floats), else the first of int16/int32 that holds the
+          values are floats, or padding is read as missing: NaN), else the first of int16/int32 that holds the
           range (uint32/float64 beyond that);
         - field data ``"units"``: one string -- ``"HU"`` for CT (or the
           RescaleType if it names something else), ``"Gy"`` or
@@ -223,10 +247,12 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
     >>> read_dicom(get_testdata_file("MR_small_jpeg_ls_lossless.dcm")).dimensions
     (64, 64, 1)
     """
+    if padding not in PADDING_CHOICES:
+        raise ValueError(f"padding must be one of {PADDING_CHOICES}, got {padding!r}")
     pydicom = _import_pydicom()
     path = Path(path)
     with _damaged_as_dicom_error(path):
-        image = _read(path, series_uid, pydicom)
+        image = _read(path, series_uid, pydicom, padding)
     try:
         import pyvista
     except ImportError:  # e.g. ParaView's Python: plain VTK is enough
@@ -234,7 +260,7 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None):
     return pyvista.wrap(image)
 
 
-def _read(path: Path, series_uid: Optional[str], pydicom) -> vtkImageData:
+def _read(path: Path, series_uid: Optional[str], pydicom, padding: str = "missing") -> vtkImageData:
     datasets = _scan(path, pydicom)
     images = [(file, ds) for file, ds in datasets if _has_pixels(ds)]
     if not images:
@@ -276,7 +302,7 @@ def _read(path: Path, series_uid: Optional[str], pydicom) -> vtkImageData:
         volume = ""
     frames = volumes[volume]
     chosen = [(file, ds) for file, ds in chosen if any(f.file == file for f in frames)]
-    return _assemble(frames, chosen, pydicom)
+    return _assemble(frames, chosen, pydicom, padding)
 
 
 def list_series(path: PathLike) -> List[Dict[str, Any]]:
@@ -1014,7 +1040,7 @@ def _pixels(file: Path, ds) -> np.ndarray:
 # stacking
 # ---------------------------------------------------------------------------
 
-def _assemble(frames: List[_Frame], files, pydicom) -> vtkImageData:
+def _assemble(frames: List[_Frame], files, pydicom, padding: str = "missing") -> vtkImageData:
     """Check the geometry of ``frames``, sort them along the normal, stack them."""
     first = frames[0]
     headers = {file: ds for file, ds in files}
@@ -1070,7 +1096,7 @@ def _assemble(frames: List[_Frame], files, pydicom) -> vtkImageData:
         step, origin, tilt = _check_steps(frames, positions, along, normal, pixel)
 
     ds0 = headers[first.file]
-    values = _stack(frames, headers, rows, cols)
+    values = _stack(frames, headers, rows, cols, padding)
     if len(frames) > 1 and tilt is not None:
         # slice k lies k x step x tilt sideways of the grid: sample it where the grid's points are
         per_slice = step * np.array([float(tilt @ row) / float(first.pixel_spacing[1]),
@@ -1239,8 +1265,9 @@ def _shifted(plane: np.ndarray, shift: float, axis: int) -> np.ndarray:
     return np.where(outside, np.nan, result)
 
 
-def _stack(frames: List[_Frame], headers, rows: int, cols: int) -> vtkDataArray:
-    """Decode, rescale and stack the frames into a new VTK array (nz, ny, nx)."""
+def _stack(frames: List[_Frame], headers, rows: int, cols: int, padding: str = "missing") -> vtkDataArray:
+    """Decode, rescale and stack the frames into a new VTK array (nz, ny, nx); padded pixels NaN
+    (:func:`_padded`)."""
     decoded: Dict[Path, np.ndarray] = {}
     raw = []
     for frame in frames:
@@ -1249,8 +1276,11 @@ def _stack(frames: List[_Frame], headers, rows: int, cols: int) -> vtkDataArray:
         raw.append(frame.pixels(decoded[frame.file]))
     slopes = np.array([f.slope for f in frames])
     intercepts = np.array([f.intercept for f in frames])
+    padded = _padded(frames, headers, raw, padding)
     integral = (all(a.dtype.kind in "iub" for a in raw)
                 and all(float(v).is_integer() for v in np.concatenate([slopes, intercepts])))
+    if padded is not None:
+        integral = False  # NaN needs floats
     if integral:
         lows, highs = [], []
         for array, slope, intercept in zip(raw, slopes, intercepts):
@@ -1271,7 +1301,63 @@ def _stack(frames: List[_Frame], headers, rows: int, cols: int) -> vtkDataArray:
             out[k] = pixels.astype(np.int64) * int(slope) + int(intercept)
         else:
             out[k] = pixels.astype(np.float64) * slope + intercept
+        if padded is not None:
+            out[k][padded[k]] = np.nan
     return array
+
+
+def _padding_range(ds) -> Optional[Tuple[float, float]]:
+    """(lowest, highest) stored value that is padding (PixelPaddingValue up to PixelPaddingRangeLimit), or None."""
+    try:
+        value = ds.get("PixelPaddingValue", None)
+        if value is None or value == "":
+            return None
+        limit = ds.get("PixelPaddingRangeLimit", None)
+        ends = [float(value), float(value if limit in (None, "") else limit)]
+    except (TypeError, ValueError):  # an unreadable tag: nothing is padding
+        return None
+    return min(ends), max(ends)
+
+
+def _lossy(ds) -> bool:
+    flag = str(ds.get("LossyImageCompression", "") or "").strip()
+    if flag:
+        return flag == "01"
+    meta = getattr(ds, "file_meta", None)
+    return str(getattr(meta, "TransferSyntaxUID", "") or "") in LOSSY_SYNTAXES
+
+
+def _padded(frames: List[_Frame], headers, raw, padding: str) -> Optional[List[np.ndarray]]:
+    """Per frame, the pixels holding the padding value (stored values), or None when none are read as missing.
+
+    One :class:`DicomPaddingWarning` says how many were read as missing, or why they were kept
+    (lossy compression).
+    """
+    ranges = [_padding_range(headers[f.file]) for f in frames]
+    if padding == "keep" or all(r is None for r in ranges):
+        return None
+    masks = [np.zeros(a.shape, dtype=bool) if r is None else (a >= r[0]) & (a <= r[1])
+             for a, r in zip(raw, ranges)]
+    count = sum(int(m.sum()) for m in masks)
+    if count == 0:
+        return None
+    value = next(r for r in ranges if r is not None)
+    shown = f"{value[0]:g}" if value[0] == value[1] else f"{value[0]:g}..{value[1]:g}"
+    total = sum(m.size for m in masks)
+    if any(_lossy(headers[f.file]) for f in frames):
+        warnings.warn(
+            f"the series is lossy compressed: its PixelPaddingValue {shown} (stored) no longer marks the "
+            f"pixels outside the scanned field exactly ({count} of {total} pixels hold it, their neighbours "
+            "were moved off it), so the padding is kept as values; a window above it hides it",
+            DicomPaddingWarning, stacklevel=6)  # the caller of read_dicom
+        return None
+    warnings.warn(
+        f"{count} of {total} pixels ({100.0 * count / total:.1f} %) hold the PixelPaddingValue {shown} "
+        "(stored; pixels outside the scanned field): read as missing data (NaN, float32) so that no "
+        "projection, average or default window counts them; read_dicom(..., padding='keep'), "
+        "read_volume(..., padding='keep') or `mipcast render/view --padding keep` keeps them as values",
+        DicomPaddingWarning, stacklevel=6)  # the caller of read_dicom
+    return masks
 
 
 def integer_dtype(low: float, high: float) -> np.dtype:

@@ -58,7 +58,8 @@ _NRRD_SPACES = {  # NRRD 'space' -> matrix taking its coordinates to LPS
 }
 
 
-def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Optional[int] = None) -> vtkImageData:
+def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Optional[int] = None,
+                padding: str = "missing") -> vtkImageData:
     """Read a volume file or a DICOM folder as a validated ``vtkImageData``.
 
     Parameters
@@ -75,6 +76,10 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Opt
         For a 4D NIfTI file (a time series: fMRI, perfusion, DCE, 4D CT): which
         volume to read, from 0; default the first, with a warning that names
         how many there are.
+    padding : {"missing", "keep"}
+        For DICOM: the pixels holding the series' PixelPaddingValue (outside
+        a CT's field of view) are read as missing data (NaN), or kept as
+        values (see :func:`mipcast.io.dicom.read_dicom`).
 
     Returns
     -------
@@ -144,7 +149,7 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Opt
     if kind == "dicom":
         from mipcast.io.dicom import read_dicom
 
-        image = _fresh(read_dicom(path, series_uid=series_uid))
+        image = _fresh(read_dicom(path, series_uid=series_uid, padding=padding))
         try:
             check_image(image)
         except ValueError as error:
