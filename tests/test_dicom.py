@@ -364,10 +364,38 @@ def test_a_drift_beyond_any_gantry_tilt_is_refused(tmp_path):
         read_dicom(folder)
 
 
-def test_missing_slice_is_refused(tmp_path):
-    folder = Series().write(tmp_path / "s", ks=[0, 1, 2, 4, 5])
-    with pytest.raises(ValueError, match=r"missing slice.*about 1 missing"):
-        read_dicom(folder)
+@pytest.mark.parametrize("ks", [[0, 1, 2, 4, 5], [0, 1, 2, 5], [0, 2, 3, 5]])
+def test_missing_slices_are_missing_data(tmp_path, ks):
+    """A series with slices missing (a step of m usual steps): the grid keeps their places as missing
+    data (NaN), drawn as background, with a warning naming the gaps; every slice lands where its file
+    puts it.  Before 2026-12-04 such a series was refused."""
+    series = Series()
+    folder = series.write(tmp_path / "s", ks=ks)
+    missing = sorted(set(range(6)) - set(ks))
+    with pytest.warns(DicomGeometryWarning, match=rf"{len(missing)} missing slice\(s\).*missing data \(NaN"):
+        image = read_dicom(folder)
+    assert image.GetDimensions() == (5, 4, 6)
+    np.testing.assert_allclose(image.GetOrigin(), series.ipp(0), atol=1e-4)
+    np.testing.assert_allclose(image.GetSpacing(), (0.9, 0.7, 1.25), atol=1e-6)
+    values = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(6, 4, 5)
+    assert values.dtype == np.float32
+    for k in range(6):
+        if k in missing:
+            assert np.isnan(values[k]).all()
+        else:
+            np.testing.assert_array_equal(values[k], series.pixels(k) - 1024)
+    read_volume(folder)  # renderable: check_image accepts it
+
+
+def test_gaps_that_are_no_whole_number_of_steps_or_most_of_the_series_are_refused(tmp_path):
+    series = Series()
+    shifted = series.write(tmp_path / "uneven", ks=[0, 1, 2, 4, 5],
+                           drift=lambda k: -0.4 * 1.25 * series.normal if k >= 4 else 0 * series.normal)
+    with pytest.raises(ValueError, match=r"missing slice.*1\.6 steps\), no whole number of steps"):
+        read_dicom(shifted)
+    sparse = Series(n=12).write(tmp_path / "sparse", ks=[0, 1, 2, 11])
+    with pytest.raises(ValueError, match=r"8 missing, more than the 4 present.*copy the whole series"):
+        read_dicom(sparse)
 
 
 def test_duplicate_position_is_refused(tmp_path):

@@ -177,6 +177,9 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None, padding: str = 
           between pixels; float32; the points no slice covers are NaN,
           missing data), with one :class:`DicomGeometryWarning` giving the
           angle;
+        - missing slices (a step of m usual steps, m a whole number): their
+          places hold missing data (NaN; float32), with one
+          :class:`DicomGeometryWarning` naming the gaps;
         - localizer (scout) images that a scanner stored in the series of
           the volume (ImageType LOCALIZER), and copies of an image (files of
           one SOPInstanceUID: a folder copied or exported twice), are left
@@ -197,8 +200,9 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None, padding: str = 
         (a ValueError) with what is wrong and how to fix it: no DICOM files;
         no images among them (only non-image objects such as RT structure
         sets); several image series, or several volumes in one series, and
-        no ``series_uid``; an unknown ``series_uid``; missing slices (a step
-        > 1.5 x the median step); two slices at the same position; a slice
+        no ``series_uid``; an unknown ``series_uid``; a gap between slices
+        that is no whole number of steps, or more missing slices than
+        present ones; two slices at the same position; a slice
         more than 0.2 x the step off the least-squares grid (stacks with
         different spacing mixed); slices with different orientations, sizes
         or pixel spacings; a sideways drift of the slice origins steeper
@@ -1092,19 +1096,21 @@ def _assemble(frames: List[_Frame], files, pydicom, padding: str = "missing") ->
                 break
         step = step or 1.0  # one slice: the step has no effect on any point
         origin = positions[0]
+        index = None
     else:
-        step, origin, tilt = _check_steps(frames, positions, along, normal, pixel)
+        step, origin, tilt, index = _check_steps(frames, positions, along, normal, pixel)
 
     ds0 = headers[first.file]
-    values = _stack(frames, headers, rows, cols, padding)
+    values = _stack(frames, headers, rows, cols, padding, index)
+    depth = values.GetNumberOfTuples() // (rows * cols)  # grid slices, missing ones included
     if len(frames) > 1 and tilt is not None:
         # slice k lies k x step x tilt sideways of the grid: sample it where the grid's points are
         per_slice = step * np.array([float(tilt @ row) / float(first.pixel_spacing[1]),
                                      float(tilt @ col) / float(first.pixel_spacing[0])])
-        per_slice[np.abs(per_slice) * (len(frames) - 1) < TILT_TOL_PIXELS] = 0.0  # the headers' rounding
+        per_slice[np.abs(per_slice) * (depth - 1) < TILT_TOL_PIXELS] = 0.0  # the headers' rounding
         values = _untilted(values, rows, cols, per_slice)
     image = vtkImageData()
-    image.SetDimensions(cols, rows, len(frames))
+    image.SetDimensions(cols, rows, depth)
     # PixelSpacing = (between rows, between columns) = (along j, along i)
     image.SetSpacing(float(first.pixel_spacing[1]), float(first.pixel_spacing[0]), step)
     image.SetOrigin(*(float(v) for v in origin))
@@ -1119,23 +1125,24 @@ def _assemble(frames: List[_Frame], files, pydicom, padding: str = "missing") ->
 
 
 def _check_steps(frames, positions, along, normal, pixel):
-    """Fit a regular grid to the slice positions; return (step, origin, tilt).
+    """Fit a regular grid to the slice positions; return (step, origin, tilt, index).
 
-    Duplicates, gaps, scattered origins and slices more than
-    ``POSITION_TOL`` x step off the least-squares grid are refused, naming
-    the slices.  Within the tolerance, the least-squares step and origin are
-    used and one :class:`DicomGeometryWarning` gives the largest misplacement.
-    ``tilt``: None, or the gantry tilt's sideways drift of the slices per mm
-    along the normal (a vector perpendicular to it), for :func:`_untilted`;
-    the origin is then the first grid slice's corner.
+    Duplicates, scattered origins, gaps that are no whole number of steps
+    and slices more than ``POSITION_TOL`` x step off the least-squares grid
+    are refused, naming the slices.  Within the tolerance, the least-squares
+    step and origin are used and one :class:`DicomGeometryWarning` gives the
+    largest misplacement.  ``tilt``: None, or the gantry tilt's sideways
+    drift of the slices per mm along the normal (a vector perpendicular to
+    it), for :func:`_untilted`; the origin is then the first grid slice's
+    corner.  ``index``: each slice's place on the grid (:func:`_grid_index`;
+    missing slices leave places empty).
     """
     steps = np.diff(along)
     _refuse_duplicates(frames, along, steps)
     lateral, scatter, tilt = _check_lateral(frames, positions, along, normal, pixel)
-    _refuse_gaps(frames, along, steps)
-    n = len(along)
-    k = np.arange(n, dtype=float)
-    step = float((along[-1] - along[0]) / (n - 1))
+    index = _grid_index(frames, along, steps)
+    k = index.astype(float)
+    step = float((along[-1] - along[0]) / index[-1])
     intercept = float(along[0])
     if np.abs(along - (intercept + step * k)).max() > 1e-6 * step:  # not exactly even
         step, intercept = (float(v) for v in np.polyfit(k, along, 1))
@@ -1160,8 +1167,8 @@ def _check_steps(frames, positions, along, normal, pixel):
             DicomGeometryWarning, stacklevel=5)  # the caller of read_dicom
     depth = intercept - along[0]  # the grid's first slice along the normal, from the first frame
     if tilt is None:
-        return step, positions[0] + depth * normal + lateral.mean(axis=0), None
-    return step, positions[0] + depth * normal + lateral[0] + depth * tilt, tilt
+        return step, positions[0] + depth * normal + lateral.mean(axis=0), None, index
+    return step, positions[0] + depth * normal + lateral[0] + depth * tilt, tilt, index
 
 
 def _refuse_duplicates(frames, along, steps) -> None:
@@ -1178,18 +1185,39 @@ def _refuse_duplicates(frames, along, steps) -> None:
             "one image per position (e.g. one acquisition/echo per folder)")
 
 
-def _refuse_gaps(frames, along, steps) -> None:
-    median = float(np.median(steps))
+def _grid_index(frames, along, steps) -> np.ndarray:
+    """Each slice's place on the regular grid: 0, 1, 2, ... with the places of missing slices left out.
+
+    A step of m times the usual one (m a whole number >= 2, within ``POSITION_TOL``) is m - 1 missing
+    slices: their places hold missing data (NaN), with one :class:`DicomGeometryWarning` naming the
+    gaps.  A gap that is no whole number of steps (stacks of different spacing), or more missing
+    slices than present ones, is refused.
+    """
+    # the usual step: the median of the steps near the smallest (gaps may be most of the steps)
+    median = float(np.median(steps[steps <= GAP_FACTOR * steps.min()]))
+    multiples = steps / median
     gaps = np.flatnonzero(steps > GAP_FACTOR * median)
-    if gaps.size:
-        where = "; ".join(
-            f"between {frames[g].name} ({along[g]:.3f} mm) and {frames[g + 1].name} "
-            f"({along[g + 1]:.3f} mm): about {max(1, round(steps[g] / median) - 1)} missing"
-            for g in gaps[:3])
+    if not gaps.size:
+        return np.arange(len(along))
+    whole = np.rint(multiples)
+    counts = (whole[gaps] - 1).astype(int)
+    where = "; ".join(
+        f"between {frames[g].name} ({along[g]:.3f} mm) and {frames[g + 1].name} ({along[g + 1]:.3f} mm): "
+        f"{multiples[g]:.3g} steps" for g in gaps[:3]) + ("; ..." if gaps.size > 3 else "")
+    uneven = np.abs(multiples[gaps] - whole[gaps]) > POSITION_TOL
+    if uneven.any() or counts.sum() > len(along):
+        reason = ("no whole number of steps: the folder mixes stacks with different spacing"
+                  if uneven.any() else f"{counts.sum()} missing, more than the {len(along)} present")
         raise DicomError(
-            f"missing slice(s): {gaps.size} gap(s) larger than {GAP_FACTOR} x the usual step "
-            f"of {median:.4g} mm ({where}{'; ...' if gaps.size > 3 else ''}); copy the whole "
-            "series into the folder (or remove the stray slices)")
+            f"missing slice(s): {gaps.size} gap(s) larger than {GAP_FACTOR} x the usual step of "
+            f"{median:.4g} mm ({where}), {reason}; copy the whole series into the folder (or keep the "
+            "slices of one stack)")
+    warnings.warn(
+        f"{counts.sum()} missing slice(s) in {gaps.size} gap(s) of the usual step of {median:.4g} mm "
+        f"({where}): their places hold missing data (NaN; the volume becomes float32), drawn as "
+        "background; copy the whole series into the folder to fill them",
+        DicomGeometryWarning, stacklevel=6)  # the caller of read_dicom
+    return np.concatenate([[0], np.cumsum(np.where(steps > GAP_FACTOR * median, whole, 1.0))]).astype(int)
 
 
 def _check_lateral(frames, positions, along, normal, pixel):
@@ -1265,9 +1293,10 @@ def _shifted(plane: np.ndarray, shift: float, axis: int) -> np.ndarray:
     return np.where(outside, np.nan, result)
 
 
-def _stack(frames: List[_Frame], headers, rows: int, cols: int, padding: str = "missing") -> vtkDataArray:
+def _stack(frames: List[_Frame], headers, rows: int, cols: int, padding: str = "missing",
+           index: Optional[np.ndarray] = None) -> vtkDataArray:
     """Decode, rescale and stack the frames into a new VTK array (nz, ny, nx); padded pixels NaN
-    (:func:`_padded`)."""
+    (:func:`_padded`); frame k at grid slice ``index[k]`` (default k), the slices no frame fills NaN."""
     decoded: Dict[Path, np.ndarray] = {}
     raw = []
     for frame in frames:
@@ -1279,7 +1308,9 @@ def _stack(frames: List[_Frame], headers, rows: int, cols: int, padding: str = "
     padded = _padded(frames, headers, raw, padding)
     integral = (all(a.dtype.kind in "iub" for a in raw)
                 and all(float(v).is_integer() for v in np.concatenate([slopes, intercepts])))
-    if padded is not None:
+    slots = np.arange(len(frames)) if index is None else np.asarray(index)
+    depth = int(slots[-1]) + 1
+    if padded is not None or depth > len(frames):
         integral = False  # NaN needs floats
     if integral:
         lows, highs = [], []
@@ -1292,17 +1323,19 @@ def _stack(frames: List[_Frame], headers, rows: int, cols: int, padding: str = "
         dtype = np.dtype(np.float32)
     array = vtkDataArray.CreateDataArray(get_vtk_array_type(dtype))
     array.SetNumberOfComponents(1)
-    array.SetNumberOfTuples(len(frames) * rows * cols)
-    out = vtk_to_numpy(array).reshape(len(frames), rows, cols)
-    for k, (pixels, slope, intercept) in enumerate(zip(raw, slopes, intercepts)):
+    array.SetNumberOfTuples(depth * rows * cols)
+    out = vtk_to_numpy(array).reshape(depth, rows, cols)
+    if depth > len(frames):
+        out[:] = np.nan  # missing slices
+    for k, (slot, pixels, slope, intercept) in enumerate(zip(slots, raw, slopes, intercepts)):
         if slope == 1 and intercept == 0:
-            out[k] = pixels
+            out[slot] = pixels
         elif integral and dtype.kind in "iu":
-            out[k] = pixels.astype(np.int64) * int(slope) + int(intercept)
+            out[slot] = pixels.astype(np.int64) * int(slope) + int(intercept)
         else:
-            out[k] = pixels.astype(np.float64) * slope + intercept
+            out[slot] = pixels.astype(np.float64) * slope + intercept
         if padded is not None:
-            out[k][padded[k]] = np.nan
+            out[slot][padded[k]] = np.nan
     return array
 
 
