@@ -37,6 +37,9 @@ setup(
         "pylibjpeg-rle>=2.0",
         # Siemens CSA headers and mosaic geometry (nibabel.nicom)
         "nibabel>=5.0",
+        # NRRD: every encoding, detached headers, axes of any kind (VTK's reader misreads 3D Slicer's vector
+        # volumes, takes a short first axis as components, and reads only the first of a time series)
+        "pynrrd>=1.0",
         "matplotlib>=3.6",
         "tqdm>=4.60",
     ],

@@ -14,6 +14,7 @@ from test_dicom import Series, direction, physical, rotation  # noqa: E402
 
 from mipcast.io.dicom import DicomError, DicomGeometryWarning, read_dicom  # noqa: E402
 from mipcast.core.validation import check_image  # noqa: E402
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
 
 class RoundedSeries(Series):
@@ -79,10 +80,13 @@ def test_exact_positions_give_no_warning(tmp_path):
     assert image.GetSpacing()[2] == pytest.approx(1.25, abs=1e-4)
 
 
-def test_gap_in_a_rounded_series_is_refused_naming_the_slices(tmp_path):
+def test_gap_in_a_rounded_series_is_missing_data_naming_the_slices(tmp_path):
     series = RoundedSeries(rot=rotation(25, 17), n=10, step=7.0, pixel_spacing=(0.6, 0.6))
-    with pytest.raises(DicomError, match=r"missing slice.*between IM\d+ .* and IM\d+ .*about 2 missing"):
-        read_dicom(series.write(tmp_path / "s", ks=[0, 1, 2, 3, 6, 7, 8, 9]))
+    with pytest.warns(DicomGeometryWarning, match=r"2 missing slice\(s\).*between IM\d+ .* and IM\d+ .*3 steps"):
+        image = read_dicom(series.write(tmp_path / "s", ks=[0, 1, 2, 3, 6, 7, 8, 9]))
+    values = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(10, series.rows, series.cols)
+    assert image.GetSpacing()[2] == pytest.approx(7.0, abs=0.01)
+    assert [bool(np.isnan(plane).all()) for plane in values] == [k in (4, 5) for k in range(10)]
 
 
 def test_duplicate_in_a_rounded_series_is_refused(tmp_path):

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkCommonMath import vtkMatrix4x4
 from vtkmodules.vtkIOImage import vtkMetaImageWriter, vtkNIFTIImageWriter
@@ -303,30 +303,44 @@ def _nrrd_4d(path, lines, data):
 
 
 def test_nrrd_of_four_axes_as_teem_and_3d_slicer_write_them(tmp_path):
-    """teem (3D Slicer) writes 'space' before 'sizes', and VTK 9.7's reader then takes only 3 sizes: a time series
-    (4th axis 'list'/'time') gives its first volume (now with a warning naming the count; before, silently); a
-    vector volume (first axis 'vector') was refused as 'dimensions (12, 10, 1) ... pad the volume', now with the
-    cause and the fix; with 'sizes' first VTK reads its components right."""
+    """teem (3D Slicer) writes 'space' before 'sizes'; VTK 9.7's reader then took only 3 sizes: a time series gave
+    its first volume only, a vector volume was refused.  pynrrd reads every axis: volume K of a time series or of a
+    DWI's gradient list (volume=K; the first, with a warning naming the count, by default), and a vector volume's
+    components, whatever the order of the header's lines."""
     nx, ny, nz, count = 12, 10, 8, 3
     series = np.arange(nx * ny * nz * count, dtype=np.int16)
     space = ["dimension: 4", "space: left-posterior-superior"]
     _nrrd_4d(tmp_path / "series.nrrd", space + [f"sizes: {nx} {ny} {nz} {count}", "kinds: domain domain domain list",
                                                  "space directions: (1,0,0) (0,1,0) (0,0,1) none",
                                                  "space origin: (0,0,0)"], series)
-    with pytest.warns(UserWarning, match=r"holds 3 volumes along its 4th axis \(list\); the first is read.*unu slice"):
+    with pytest.warns(UserWarning, match=r"holds 3 volumes along its axis 3 \(list\); the first is read.*volume=K"):
         first = read_volume(tmp_path / "series.nrrd")
     np.testing.assert_array_equal(check_image(first).ravel(), series[:nx * ny * nz])
-    vectors = space + [f"sizes: 3 {nx} {ny} {nz}", "kinds: vector domain domain domain",
-                       "space directions: none (1,0,0) (0,1,0) (0,0,1)", "space origin: (0,0,0)"]
-    _nrrd_4d(tmp_path / "slicer.nrrd", vectors, series)
-    with pytest.raises(ValueError, match=r"misreads its 4 axes \(sizes 3 12 10 8.*move the 'sizes:' line above"):
-        read_volume(tmp_path / "slicer.nrrd")
-    _nrrd_4d(tmp_path / "sizes_first.nrrd", ["dimension: 4", f"sizes: 3 {nx} {ny} {nz}",
-                                             "kinds: vector domain domain domain"], series)
-    image = read_volume(tmp_path / "sizes_first.nrrd")
-    assert image.GetDimensions() == (nx, ny, nz) and image.GetPointData().GetScalars().GetNumberOfComponents() == 3
-    with pytest.raises(ValueError, match="4D NIfTI"):
-        read_volume(tmp_path / "series.nrrd", volume=1)
+    third = read_volume(tmp_path / "series.nrrd", volume=2)
+    np.testing.assert_array_equal(check_image(third).ravel(), series[2 * nx * ny * nz:])
+    with pytest.raises(ValueError, match=r"holds 3 volumes along its axis 3 \(list; volume 0 to 2\); there is no volume 3"):
+        read_volume(tmp_path / "series.nrrd", volume=3)
+    # a DWI as 3D Slicer writes it: the gradients' list first
+    _nrrd_4d(tmp_path / "dwi.nrrd", space + [f"sizes: {count} {nx} {ny} {nz}", "kinds: list domain domain domain",
+                                              "space directions: none (1,0,0) (0,1,0) (0,0,1)"], series)
+    gradient = read_volume(tmp_path / "dwi.nrrd", volume=1)
+    np.testing.assert_array_equal(check_image(gradient).ravel(), series[1::count])
+    for name, lines in (("slicer.nrrd", space + [f"sizes: 3 {nx} {ny} {nz}", "kinds: vector domain domain domain",
+                                                 "space directions: none (1,0,0) (0,1,0) (0,0,1)",
+                                                 "space origin: (0,0,0)"]),
+                        ("sizes_first.nrrd", ["dimension: 4", f"sizes: 3 {nx} {ny} {nz}",
+                                              "kinds: vector domain domain domain"])):
+        _nrrd_4d(tmp_path / name, lines, series)
+        image = read_volume(tmp_path / name)
+        vectors = vtk_to_numpy(image.GetPointData().GetScalars())
+        assert image.GetDimensions() == (nx, ny, nz) and vectors.shape == (nx * ny * nz, 3), name
+        np.testing.assert_array_equal(vectors, series.reshape(-1, 3))
+        with pytest.raises(ValueError, match="holds one volume of 3 components"):
+            read_volume(tmp_path / name, volume=1)
+    _nrrd_4d(tmp_path / "five.nrrd", ["dimension: 5", f"sizes: {nx} {ny} {nz} {count} 1",
+                                      "kinds: domain domain domain list list"], series)
+    with pytest.raises(ValueError, match=r"5 axes.*3 of them spatial.*at most one of components or volumes"):
+        read_volume(tmp_path / "five.nrrd")
 
 
 @pytest.mark.parametrize("name", ["series.mha", "series.mhd"])
@@ -364,10 +378,14 @@ def test_nrrd_space_directions(tmp_path, space, to_lps, name, encoding):
     assert_positions(image, world)
 
 
-def test_nrrd_short_first_axis_is_explained(tmp_path):
-    write_nrrd(tmp_path / "a.nrrd", np.zeros((5, 6, 4), np.int16), "RAS", np.eye(3), [0, 0, 0])
-    with pytest.raises(ValueError, match="9 samples or fewer as vector components"):
-        read_volume(tmp_path / "a.nrrd")
+def test_nrrd_with_a_short_first_axis_is_a_volume(tmp_path):
+    """VTK's reader took a fastest axis of 9 samples or fewer as vector components (mipcast refused the file);
+    pynrrd reads the three spatial axes as written."""
+    data = np.arange(5 * 6 * 4, dtype=np.int16).reshape(5, 6, 4)  # (nz, ny, nx): 4 samples along x
+    write_nrrd(tmp_path / "a.nrrd", data, "RAS", np.eye(3), [0, 0, 0])
+    image = read_volume(tmp_path / "a.nrrd")
+    assert image.GetDimensions() == (4, 6, 5)
+    np.testing.assert_array_equal(check_image(image), data)
 
 
 def test_truncated_nrrd_is_an_error(tmp_path):

@@ -13,9 +13,9 @@ read from DICOM, NIfTI, NRRD or MetaImage lands at the same place:
 - NIfTI: the header maps voxels to RAS; the chosen qform/sform is turned
   into origin + spacing + direction and then converted to LPS (x and y
   negated), as ITK and SimpleITK do.
-- NRRD: ``space directions``/``space origin`` are applied (VTK's reader uses
-  only their lengths), converted to LPS from the ``space`` named in the
-  header (RAS, LAS or LPS; ``scanner-xyz`` and ``3D-*`` spaces are kept).
+- NRRD (pynrrd): ``space directions``/``space origin`` are applied,
+  converted to LPS from the ``space`` named in the header (RAS, LAS or LPS;
+  ``scanner-xyz`` and ``3D-*`` spaces are kept).
 - MetaImage: ``Offset``/``TransformMatrix`` as read by VTK (ITK writes LPS).
 - VTK XML (.vti): origin, spacing and direction as stored.
 
@@ -29,6 +29,7 @@ import contextlib
 import os
 import re
 import warnings
+import zlib
 from pathlib import Path
 from typing import Optional, Tuple, Union
 
@@ -36,7 +37,7 @@ import numpy as np
 from vtkmodules.util.numpy_support import get_vtk_array_type, numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkDataArray, vtkLogger, vtkOutputWindow, vtkStringOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkImageData, vtkRectilinearGrid
-from vtkmodules.vtkIOImage import vtkMetaImageReader, vtkNIFTIImageReader, vtkNrrdReader
+from vtkmodules.vtkIOImage import vtkMetaImageReader, vtkNIFTIImageReader
 from vtkmodules.vtkIOXML import vtkXMLImageDataReader
 
 from mipcast.core.camera_rays import matrix_array
@@ -73,9 +74,9 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Opt
         For a DICOM folder holding several series: which one to read (see
         :func:`mipcast.io.dicom.list_series`).
     volume : int, optional
-        For a 4D NIfTI file (a time series: fMRI, perfusion, DCE, 4D CT): which
-        volume to read, from 0; default the first, with a warning that names
-        how many there are.
+        For a 4D NIfTI or NRRD file (a time series: fMRI, perfusion, DCE, 4D
+        CT; a DWI's gradients): which volume to read, from 0; default the
+        first, with a warning that names how many there are.
     padding : {"missing", "keep"}
         For DICOM: the pixels holding the series' PixelPaddingValue (outside
         a CT's field of view) are read as missing data (NaN), or kept as
@@ -97,12 +98,12 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Opt
           not 1 or intercept not 0): float32, or int16/int32 for integer
           factors.  Of a 4D file one volume is read: ``volume`` (a warning
           says how many there are when it is not given).
-        - NRRD of four axes: components along the first axis are read as
-          such; of a 4th axis of volumes (a time series) the first is read,
-          with a warning (VTK's reader reads no other).  VTK 9.7 reads only
-          3 sizes when the header's ``space`` line precedes ``sizes`` (as
-          teem and 3D Slicer write them): such a vector volume is refused
-          with that fix.  A MetaImage of more than 3 dimensions is refused
+        - NRRD (read by pynrrd, scalars ``"values"``): three spatial axes
+          plus at most one more, whose samples are components (a vector,
+          colour or tensor kind, or no kind on the first axis) or volumes
+          (``list``, ``time``: a time series, a DWI's gradients), of which
+          ``volume`` is read (a warning says how many there are when it is
+          not given).  A MetaImage of more than 3 dimensions is refused
           from its header (VTK's reader corrupts memory on it).
         - DICOM: see :func:`mipcast.io.dicom.read_dicom` (scalars ``"values"``
           in the modality's units, e.g. HU for CT, a ``"units"`` field array).
@@ -163,11 +164,13 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Opt
         raise ValueError(f"series_uid applies to DICOM input only, not to '{path}'")
     if kind == "nifti":
         image = _read_nifti(path, volume)
+    elif kind == "nrrd":
+        image = _read_nrrd(path, volume)
     elif volume is not None:
-        raise ValueError(f"volume picks a volume of a 4D NIfTI file, not of '{path}' (a DICOM folder's "
+        raise ValueError(f"volume picks a volume of a 4D NIfTI or NRRD file, not of '{path}' (a DICOM folder's "
                          "volumes are picked with series_uid, see mipcast.io.dicom.list_series)")
     else:
-        image = {"vti": _read_vti, "nrrd": _read_nrrd, "meta": _read_meta}[kind](path)
+        image = {"vti": _read_vti, "meta": _read_meta}[kind](path)
     image = right_handed(image)
     check_image(image)
     return image
@@ -428,81 +431,111 @@ def _rescale(image: vtkImageData, slope: float, intercept: float) -> None:
     image.GetPointData().SetScalars(array)
 
 
-def _read_nrrd(path: Path) -> vtkImageData:
-    reader = vtkNrrdReader()
-    image = _run(reader, path, "NRRD (.nrrd/.nhdr)")
-    header = _nrrd_header(path)
-    components = image.GetPointData().GetScalars().GetNumberOfComponents()
-    sizes = header.get("sizes", "").split()
-    if components > 1 and len(sizes) == 3:
+#: NRRD axis kinds whose samples are a voxel's components (drawn as their magnitude, or one with component=K).
+NRRD_COMPONENT_KINDS = frozenset(
+    "vector covariant-vector normal 2-vector 3-vector 4-vector 3-gradient 3-normal complex quaternion "
+    "rgb-color hsv-color xyz-color rgba-color 3-color 4-color 2d-symmetric-matrix 2d-masked-symmetric-matrix "
+    "2d-matrix 2d-masked-matrix 3d-symmetric-matrix 3d-masked-symmetric-matrix 3d-matrix 3d-masked-matrix "
+    "point".split())
+
+
+def _read_nrrd(path: Path, volume: Optional[int] = None) -> vtkImageData:
+    """A NRRD file (any encoding, attached or detached data) read by pynrrd, the reference reader.
+
+    Three spatial axes (those with ``space directions``, else of kind
+    ``domain``/``space``, else the first three) plus at most one more: its
+    samples are components when its kind is a vector, colour, tensor ...
+    kind (:data:`NRRD_COMPONENT_KINDS`, or no kind on the first axis), else
+    volumes (``list``, ``time``, a DWI's gradients), of which ``volume``
+    is read (default the first, with a warning naming how many).
+    """
+    import nrrd
+
+    try:
+        data, header = nrrd.read(str(path))
+    except (nrrd.NRRDError, ValueError, EOFError, OSError, zlib.error) as error:
+        raise ValueError(f"cannot read '{path}' as NRRD (.nrrd/.nhdr): the file is damaged or incomplete "
+                         f"({error})") from error
+    sizes = list(data.shape)
+    kinds = [str(k).lower() for k in header.get("kinds", [])]
+    spatial = _nrrd_spatial_axes(header, kinds, len(sizes))
+    others = [axis for axis in range(len(sizes)) if axis not in spatial]
+    described = "sizes " + " ".join(map(str, sizes)) + (", kinds " + " ".join(kinds) if kinds else "")
+    if len(spatial) != 3 or len(others) > 1:
         raise ValueError(
-            f"cannot read '{path}': its first axis has only {sizes[0]} samples, and VTK's NRRD "
-            "reader takes a fastest axis of 9 samples or fewer as vector components; "
-            "reorder the axes (e.g. with `unu permute`) or save the volume as .nii.gz/.mha")
-    if len(sizes) > 3:
-        keys = list(header)
-        space_first = any(k in keys and keys.index(k) < keys.index("sizes") for k in ("space", "space dimension"))
-        _check_nrrd_axes(path, [int(v) for v in sizes], header.get("kinds", ""), image.GetDimensions(), components,
-                         space_first)
-    directions = [None if d == "none" else d
-                  for d in re.findall(r"\([^)]*\)|none", header.get("space directions", ""))]
-    spatial = [d for d in directions if d is not None]
-    if len(spatial) != 3:
-        return image  # no orientation recorded: keep the reader's spacing and origin
-    columns = np.array([[float(v) for v in d.strip("()").split(",")] for d in spatial]).T
-    split = _split(columns)
-    if split is None:
-        warnings.warn(f"'{path}': the space directions are not perpendicular; the orientation "
-                      "is ignored", stacklevel=3)
-        return image
-    direction, spacing = split
-    origin = np.zeros(3)
-    if "space origin" in header:
-        origin = np.array([float(v) for v in header["space origin"].strip("() ").split(",")])
-    if not reader.GetFileLowerLeft():  # VTK flipped the rows (LAS / 3D-left-handed spaces)
-        ny = image.GetDimensions()[1]
-        origin = origin + columns[:, 1] * (ny - 1)
-        direction[:, 1] *= -1
-    to_lps = _NRRD_SPACES.get(header.get("space", "").strip().lower(), np.eye(3))
-    _set_geometry(image, to_lps @ origin, spacing, to_lps @ direction)
+            f"cannot read '{path}': {len(sizes)} axes ({described}), {len(spatial)} of them spatial; mipcast "
+            "reads three spatial axes plus at most one of components or volumes: slice it (`unu slice`) first")
+    values = np.moveaxis(data, spatial, [0, 1, 2])  # (x, y, z[, other])
+    if others:
+        kind = kinds[others[0]] if kinds else ("vector" if others[0] == 0 else "list")
+        if kind in NRRD_COMPONENT_KINDS:
+            if volume is not None and volume != 0:
+                raise ValueError(f"'{path}' holds one volume of {sizes[others[0]]} components ({kind}); there is no "
+                                 f"volume {volume} (pass component=K to draw one component)")
+        else:
+            values = _nrrd_volume(path, values, sizes[others[0]], kind, others[0], volume)
+    elif volume is not None and volume != 0:
+        raise ValueError(f"'{path}' holds 1 volume (volume 0); there is no volume {volume}")
+    image = vtkImageData()
+    image.SetDimensions(*values.shape[:3])
+    native = values.dtype.newbyteorder("=")
+    points = np.ascontiguousarray(values.transpose((2, 1, 0) + tuple(range(3, values.ndim))), dtype=native)
+    array = numpy_to_vtk(points.reshape(-1, *values.shape[3:]) if values.ndim > 3 else points.ravel(), deep=True)
+    array.SetName("values")
+    image.GetPointData().SetScalars(array)
+    _nrrd_geometry(path, image, header, spatial)
     return image
 
 
-def _check_nrrd_axes(path: Path, sizes: list, kinds: str, dimensions: tuple, components: int,
-                     space_first: bool) -> None:
-    """A NRRD of more than 3 axes as VTK's reader took it: the first volume of a 4th axis (a warning), per-voxel
-    components along the first axis, or else misread (refused; VTK 9.7 reads 3 sizes only when the header's
-    ``space`` line comes before ``sizes``, as 3D Slicer writes vector volumes)."""
-    if len(sizes) == 4 and tuple(dimensions) == tuple(sizes[:3]) and components == 1:
-        kind = kinds.split()[3] if len(kinds.split()) == 4 else "unknown kind"
-        warnings.warn(f"'{path}' holds {sizes[3]} volumes along its 4th axis ({kind}); the first is read (VTK's "
-                      "NRRD reader reads no other): to draw volume K, slice it out (`unu slice -a 3 -p K`) or save "
-                      "the series as .nii.gz and pass volume=K", stacklevel=4)
+def _nrrd_spatial_axes(header: dict, kinds: list, ndim: int) -> list:
+    directions = header.get("space directions")
+    if directions is not None:
+        rows = [np.asarray(d, dtype=float) if d is not None else None for d in directions]
+        return [axis for axis, d in enumerate(rows) if d is not None and np.all(np.isfinite(d))]
+    if kinds:
+        return [axis for axis, kind in enumerate(kinds) if kind in ("domain", "space")]
+    return list(range(min(ndim, 3)))
+
+
+def _nrrd_volume(path: Path, values: np.ndarray, count: int, kind: str, axis: int,
+                 volume: Optional[int]) -> np.ndarray:
+    """Volume ``volume`` (default 0, with a warning when there are several) of the last axis of ``values``."""
+    if volume is None:
+        if count > 1:
+            warnings.warn(f"'{path}' holds {count} volumes along its axis {axis} ({kind}); the first is read: pass "
+                          f"volume=K (mipcast render/view --volume K), K from 0 to {count - 1}, for another",
+                          stacklevel=4)
+        volume = 0
+    if isinstance(volume, bool) or not isinstance(volume, (int, np.integer)) or volume < 0:
+        raise ValueError(f"volume must be an integer >= 0 (the first volume is 0), got {volume!r}")
+    if volume >= count:
+        raise ValueError(f"'{path}' holds {count} volume{'s' if count > 1 else ''} along its axis {axis} ({kind}; "
+                         f"volume 0{f' to {count - 1}' if count > 1 else ''}); there is no volume {volume}")
+    return values[..., int(volume)]
+
+
+def _nrrd_geometry(path: Path, image: vtkImageData, header: dict, spatial: list) -> None:
+    """Origin, spacing and direction from ``space directions``/``space origin`` (in LPS), else ``spacings``."""
+    to_lps = _NRRD_SPACES.get(str(header.get("space", "")).strip().lower(), np.eye(3))
+    origin = header.get("space origin")
+    origin = np.zeros(3) if origin is None or len(origin) != 3 else np.asarray(origin, dtype=float)
+    directions = header.get("space directions")
+    if directions is not None and all(len(directions[axis]) == 3 for axis in spatial):
+        columns = np.array([np.asarray(directions[axis], dtype=float) for axis in spatial]).T
+        split = _split(columns)
+        if split is not None:
+            direction, spacing = split
+            _set_geometry(image, to_lps @ origin, spacing, to_lps @ direction)
+            return
+        warnings.warn(f"'{path}': the space directions are not perpendicular; the orientation "
+                      "is ignored (their lengths are the spacing)", stacklevel=4)
+        _set_geometry(image, to_lps @ origin, np.linalg.norm(columns, axis=0), np.eye(3))
         return
-    if tuple(dimensions) == tuple(sizes[1:]) and components == sizes[0]:
-        return  # components first, three spatial axes
-    raise ValueError(
-        f"cannot read '{path}': VTK's NRRD reader misreads its {len(sizes)} axes (sizes {' '.join(map(str, sizes))}"
-        f"{f', kinds {kinds}' if kinds else ''}): it gives {tuple(dimensions)} points of {components} "
-        "component(s); "
-        + ("it takes only 3 sizes when the header's 'space' line comes before 'sizes' (as 3D Slicer writes "
-           "vector volumes): move the 'sizes:' line above 'space:', or " if space_first else "")
-        + "save it as .nii.gz or .mha with its components as channels")
-
-
-def _nrrd_header(path: Path) -> dict:
-    """The ``field: value`` lines of a NRRD header, keys lower-cased."""
-    with open(path, "rb") as handle:
-        text = handle.read(1 << 20).decode("latin-1")
-    fields = {}
-    for line in text.splitlines()[1:]:
-        if not line.strip():
-            break
-        if line.startswith("#") or ": " not in line:
-            continue
-        key, value = line.split(": ", 1)
-        fields[key.strip().lower()] = value.strip()
-    return fields
+    spacings = header.get("spacings")
+    spacing = [1.0, 1.0, 1.0]
+    if spacings is not None:
+        spacing = [float(spacings[a]) if np.isfinite(spacings[a]) and spacings[a] > 0 else 1.0 for a in spatial]
+    _set_geometry(image, to_lps @ origin, spacing, np.eye(3))
 
 
 #: Relative spread of a rectilinear grid's steps (largest - smallest, over the mean) still read as even, beyond
