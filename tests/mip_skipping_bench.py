@@ -6,6 +6,7 @@ filling the view, oblique), and whether the two mipcast pictures are identical, 
 how many pixels differ and by how many grey levels at most).
 
 Usage: python tests/mip_skipping_bench.py [SCENE ...] [--size N ...] [--method mip|minip|analytic_minip|demip] [--slab MM]
+       [--volume-size N]
 (default: vessels@0.25,1 head@100,1500 at 512 and 1024, MIP; MinIP: e.g. head@-1000,-400, airways;
 prints JSON; figures in docs/methods.md, Skipping).
 """
@@ -26,8 +27,9 @@ METHODS = {"mip": ("stock", "mip_hooks_blocks"), "minip": ("stock_minip", "minip
            "analytic_minip": ("stock_minip", "amip_loop_blocks"), "demip": ("stock", "demip_hooks_blocks")}
 
 
-def measure(scene: str, size: int, rounds: int = 7, method: str = "mip", slab: float = 0.0) -> dict:
-    image, window = _load_scene(scene, 128)
+def measure(scene: str, size: int, rounds: int = 7, method: str = "mip", slab: float = 0.0,
+            volume_size: int = 128) -> dict:
+    image, window = _load_scene(scene, volume_size)
     stock, piece = METHODS[method]
     views = {}
     for name in ("stock", "skipping", "no skipping"):
@@ -81,8 +83,9 @@ def main() -> None:
     parser.add_argument("--size", nargs="+", type=int, default=[512, 1024])
     parser.add_argument("--method", choices=sorted(METHODS), default="mip")
     parser.add_argument("--slab", type=float, default=0.0, help="slab thickness (world units) through the centre")
+    parser.add_argument("--volume-size", type=int, default=128, help="edge of synthetic fixtures")
     args = parser.parse_args()
-    print(json.dumps([measure(scene, size, method=args.method, slab=args.slab)
+    print(json.dumps([measure(scene, size, method=args.method, slab=args.slab, volume_size=args.volume_size)
                       for scene in args.scenes for size in args.size], indent=1))
 
 
