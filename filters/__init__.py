@@ -18,6 +18,7 @@ setters: ``depth_weight=0.2`` calls ``mapper.SetDepthWeight(0.2)`` (see
 from __future__ import annotations
 
 import numbers
+import warnings
 from typing import Optional, Sequence, Union
 
 import numpy as np
@@ -26,6 +27,7 @@ from mipcast.io import as_image_data, with_scalars
 from mipcast.mappers.input_preparer import missing_as_background, prepared_image, window_image
 from mipcast.methods import METHODS, attach, create_mapper
 from mipcast.offscreen import OffscreenView, set_view
+from mipcast.core.errors import InputWarning
 from mipcast.core.windowing import resolve_window
 from mipcast.core.parameters import method_parameters, set_parameters
 from mipcast.core.validation import check_image, check_positive
@@ -110,6 +112,7 @@ def render(image, method: str = "mip", *, scalars=None, size: Sequence[int] = (2
         raise TypeError("render draws the grey picture (and as_float the values); for a colour map use "
                         "add_volume(plotter, grid, method, cmap=...) or grid.mip.plot(method, cmap=...)")
     refuse_unused(params)
+    warn_stock_grey(method, window=window, clim=clim)
     scene = OffscreenView(volume_image(image, scalars, resolution, preference), method, size=size, view=view,
                           sample_distance=sample_distance, window=window if clim is None else pyvista_clim(clim),
                           component=component)
@@ -225,6 +228,7 @@ def add_volume(plotter, image, method: str = "mip", *, scalars=None,
 
     clim, cmap = params.pop("rng", clim), params.pop("colormap", cmap)  # pyvista's aliases
     refuse_unused(params)
+    warn_stock_grey(method, clim=clim, cmap=cmap)
     image = volume_image(image, scalars, resolution, preference)
     check_image(image, component)  # raises mipcast.InputError before anything is added
     projection = METHODS[method].projection if method in METHODS else "mip"  # create_mapper names a bad one
@@ -338,6 +342,29 @@ def refuse_unused(params: dict) -> None:
         if key in PYVISTA_UNUSED:
             raise TypeError(f"{key}= is a keyword of pyvista's add_volume that mipcast does not take: "
                             f"{PYVISTA_UNUSED[key]}")
+
+
+def warn_stock_grey(method: str, **given) -> None:
+    """Warn that ``stock_average`` ignores the window and colour map among ``given`` (those not None).
+
+    VTK's AVERAGE_INTENSITY blend draws a grey of the opacity-weighted mean
+    normalised over the data range, whatever the window or colours; the
+    caller is told so, and which methods draw the mean through them.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as caught:
+    ...     warnings.simplefilter("always")
+    ...     warn_stock_grey("stock_average", clim=(0, 1), cmap=None)
+    >>> str(caught[0].message).split(":")[0]
+    "stock_average draws VTK's own grey of the data range and ignores clim"
+    """
+    named = [name for name, value in given.items() if value is not None]
+    if method == "stock_average" and named:
+        warnings.warn(f"stock_average draws VTK's own grey of the data range and ignores {' and '.join(named)}: "
+                      "method='average' (or 'analytic_average', exact) draws the mean through the window and "
+                      "colour map", InputWarning, stacklevel=3)
 
 
 def check_blending(blending: Optional[str], method: str, projection: str) -> None:

@@ -434,3 +434,23 @@ def test_every_projection_draws_its_colour_map(grid, method):
     shot = plotter.screenshot().astype(int)
     plotter.close()
     assert (shot.max(axis=-1) - shot.min(axis=-1)).max() > 100, "no colour: the colour map was not applied"
+
+
+def test_stock_average_says_it_ignores_the_window_and_colour_map(grid):
+    """VTK's AVERAGE_INTENSITY blend draws its own grey whatever window or colours it is given: the pyvista
+    filters say so (as the CLI does), and the averages that honour them do not warn."""
+    import warnings
+
+    with pytest.warns(mipcast.InputWarning, match="stock_average draws VTK's own grey.*ignores window.*'average'"):
+        windowed = render(grid, "stock_average", size=(32, 32), window=(0.3, 0.6))
+    assert np.array_equal(windowed, render(grid, "stock_average", size=(32, 32)))  # the window changed nothing
+    plotter = pv.Plotter(off_screen=True, window_size=(32, 32))
+    with pytest.warns(mipcast.InputWarning, match="ignores clim and cmap"):
+        add_volume(plotter, grid, "stock_average", clim=(0.2, 0.8), cmap="viridis")
+    plotter.close()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", mipcast.InputWarning)
+        render(grid, "average", size=(32, 32), window=(0.3, 0.6))
+        plotter = pv.Plotter(off_screen=True, window_size=(32, 32))
+        add_volume(plotter, grid, "analytic_average", clim=(0.2, 0.8), cmap="viridis")
+        plotter.close()
