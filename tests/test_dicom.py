@@ -387,12 +387,16 @@ def test_missing_slices_are_missing_data(tmp_path, ks):
     read_volume(folder)  # renderable: check_image accepts it
 
 
-def test_gaps_that_are_no_whole_number_of_steps_or_most_of_the_series_are_refused(tmp_path):
+def test_gaps_of_no_whole_number_of_steps_coarser_zones_or_most_of_the_series_are_refused(tmp_path):
     series = Series()
     shifted = series.write(tmp_path / "uneven", ks=[0, 1, 2, 4, 5],
                            drift=lambda k: -0.4 * 1.25 * series.normal if k >= 4 else 0 * series.normal)
     with pytest.raises(ValueError, match=r"missing slice.*1\.6 steps\), no whole number of steps"):
         read_dicom(shifted)
+    zones = Series(n=7)
+    zones.positions = np.array([0.0, 1.25, 2.5, 3.75, 6.25, 8.75, 11.25])  # coarser slices from the 4th on
+    with pytest.raises(ValueError, match=r"spacing changes along the series.*steps are 2\.5, 2\.5 .* 1\.25 mm"):
+        read_dicom(zones.write(tmp_path / "zones"))
     sparse = Series(n=12).write(tmp_path / "sparse", ks=[0, 1, 2, 11])
     with pytest.raises(ValueError, match=r"8 missing, more than the 4 present.*copy the whole series"):
         read_dicom(sparse)

@@ -1190,8 +1190,8 @@ def _grid_index(frames, along, steps) -> np.ndarray:
 
     A step of m times the usual one (m a whole number >= 2, within ``POSITION_TOL``) is m - 1 missing
     slices: their places hold missing data (NaN), with one :class:`DicomGeometryWarning` naming the
-    gaps.  A gap that is no whole number of steps (stacks of different spacing), or more missing
-    slices than present ones, is refused.
+    gaps.  A gap that is no whole number of steps (stacks of different spacing), two large steps in
+    a row (a zone of coarser slices), or more missing slices than present ones, is refused.
     """
     # the usual step: the median of the steps near the smallest (gaps may be most of the steps)
     median = float(np.median(steps[steps <= GAP_FACTOR * steps.min()]))
@@ -1205,6 +1205,13 @@ def _grid_index(frames, along, steps) -> np.ndarray:
         f"between {frames[g].name} ({along[g]:.3f} mm) and {frames[g + 1].name} ({along[g + 1]:.3f} mm): "
         f"{multiples[g]:.3g} steps" for g in gaps[:3]) + ("; ..." if gaps.size > 3 else "")
     uneven = np.abs(multiples[gaps] - whole[gaps]) > POSITION_TOL
+    if (np.diff(gaps) == 1).any():  # large steps in a row: a zone of coarser slices, not lost ones
+        first = int(gaps[np.flatnonzero(np.diff(gaps) == 1)[0]])
+        raise DicomError(
+            f"the slice spacing changes along the series: from {frames[first].name} ({along[first]:.3f} mm) the "
+            f"steps are {steps[first]:.4g}, {steps[first + 1]:.4g} ... mm against {median:.4g} mm before (a zone "
+            "reconstructed with coarser slices, not missing ones); read the zones as separate series, or resample "
+            "the series to one step first")
     if uneven.any() or counts.sum() > len(along):
         reason = ("no whole number of steps: the folder mixes stacks with different spacing"
                   if uneven.any() else f"{counts.sum()} missing, more than the {len(along)} present")
