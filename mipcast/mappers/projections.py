@@ -6,7 +6,7 @@ The sampled ones are one hook piece each for the one sampled loop
 the cells as analytic MIP does, with other cell hooks
 (``shaders/amip_min_hooks.glsl``: the exact minimum of each cell's cubic;
 ``shaders/amip_average_hooks.glsl``: the integral of each cubic over its
-segment; ``amip_average_missing_hooks`` with missing values).  Each colours its value through the volume property's colour and
+segment; with missing values, over the part where it is finite).  Each colours its value through the volume property's colour and
 opacity transfer functions, as MIP colours its maximum, so the window and the
 colour map apply: MinIP its minimum (as VTK's MINIMUM_INTENSITY blend), the
 average its mean (the sampled one over the samples in
@@ -172,11 +172,10 @@ class AnalyticAverageVolumeMapper(_ExactProjection):
     """
 
     #: Missing voxels: filled below the data; only the part of the ray where
-    #: the interpolant is at or above the finite minimum counts
-    #: (:data:`MISSING_HOOKS` in place of the plain hooks, u_mc_missingBelow);
-    #: a ray with none draws nothing.
-    MISSING_PIECE = None
-    MISSING_HOOKS = "amip_average_missing_hooks"
+    #: the interpolant is at or above the finite minimum counts (amip_average_hooks'
+    #: covered-part search, turned on by this piece only while the input holds
+    #: missing values; u_mc_missingBelow); a ray with none draws nothing.
+    MISSING_PIECE = "amip_average_missing"
     #: Over bricks: the bricks' means weighted by the length of the ray each counted
     #: (:mod:`mipcast.mappers.bricked_draw`).
     BRICKS = "mean"
@@ -188,12 +187,3 @@ class AnalyticAverageVolumeMapper(_ExactProjection):
 
     PIECES = _exact_pieces("amip_average_hooks", color="average_color")
     PACKED = {"amip_corners": "amip_corners_packed", "average_color": "average_color_packed"}
-
-    def GetShaderPieces(self) -> tuple:
-        """The exact projection's pieces, with :data:`MISSING_HOOKS` for the cell hooks while the
-        input holds missing values (their covered-part search stays out of the usual shader: on
-        llvmpipe its mere presence made the average 5x slower)."""
-        names = super().GetShaderPieces()
-        if self._missing_below() is None:
-            return names
-        return tuple(self.MISSING_HOOKS if n == "amip_average_hooks" else n for n in names)

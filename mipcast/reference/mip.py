@@ -196,7 +196,7 @@ def exact_mean(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
     :func:`_covered_part`), the limit of :func:`sampled_mean`'s rule; NaN for
     a ray with no such part.  ``extrapolate``: see :func:`_cell_cubics`.  ``bounded``: the mean clamped
     into the smallest and largest corner of the counted cells (a cell with a missing corner: from ``floor``
-    up), as the GPU clamps it with missing values (``shaders/amip_average_missing_hooks.glsl``): a no-op inside the
+    up), as the GPU clamps it with missing values (``shaders/amip_average_hooks.glsl``, MC_AVERAGE_MISSING): a no-op inside the
     box, where the mean lies there; off the box (``extrapolate``) the extrapolated cubic may leave it.
     """
     a, b, c, d, span, starts, visible, lowest, highest = _cell_cubics(values, entry, direction, length, crop,
@@ -227,7 +227,7 @@ def exact_mean(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
 def _covered_part(a, b, c, d, floor: float, halvings: int = 40) -> tuple:
     """Integral and length over s in [0, 1] of the part where ``((a s + b) s + c) s + d >= floor``.
 
-    As the GPU does it (shaders/amip_average_missing_hooks.glsl): the cubic split at
+    As the GPU does it (shaders/amip_average_hooks.glsl, MC_AVERAGE_MISSING): the cubic split at
     its derivative's roots (the same cancellation-free formula, clamped into
     [0, 1]) into monotone pieces; a piece crossing ``floor`` is cut at the
     crossing, found by bisection.
