@@ -24,6 +24,7 @@ from typing import Optional, Sequence, Union
 import numpy as np
 
 from mipcast.io import as_image_data, with_scalars
+from mipcast.io.volumes import vtk_float
 from mipcast.mappers.input_preparer import missing_as_background, prepared_image, window_image
 from mipcast.methods import METHODS, attach, create_mapper
 from mipcast.offscreen import OffscreenView, set_view
@@ -399,7 +400,7 @@ def volume_image(image, scalars=None, resolution: Optional[Sequence[float]] = No
 
         if image.ndim != 3:
             raise TypeError(f"a numpy volume must be a 3-D array indexed [x, y, z], got shape {image.shape}")
-        image = pyvista.wrap(image)
+        image = pyvista.wrap(vtk_float(image))
         image.spacing = check_resolution(resolution)
     elif resolution is not None:
         raise TypeError("resolution= is the spacing of a numpy array volume; image data has its own spacing: "

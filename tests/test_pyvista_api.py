@@ -454,3 +454,17 @@ def test_stock_average_says_it_ignores_the_window_and_colour_map(grid):
         plotter = pv.Plotter(off_screen=True, window_size=(32, 32))
         add_volume(plotter, grid, "analytic_average", clim=(0.2, 0.8), cmap="viridis")
         plotter.close()
+
+
+def test_half_precision_and_long_double_arrays_are_drawn_as_their_float_values(grid):
+    """VTK has no float16 nor long double: a numpy volume or scalars= values of either were a TypeError from
+    VTK's numpy bridge ("Could not find a suitable VTK type for float16"); they are drawn as float32/float64."""
+    values = np.asarray(grid.point_data.active_scalars).reshape(grid.dimensions, order="F")
+    expected = render(values.astype(np.float32), size=(32, 32))
+    assert expected.max() > 100
+    assert np.array_equal(render(values.astype(np.float16).astype(np.float32), size=(32, 32)),
+                          render(values.astype(np.float16), size=(32, 32)))
+    assert np.array_equal(render(values.astype(np.longdouble), size=(32, 32)), render(values, size=(32, 32)))
+    flat = values.ravel(order="F").astype(np.float16)
+    assert np.array_equal(render(grid, scalars=flat, size=(32, 32)),
+                          render(grid, scalars=flat.astype(np.float32), size=(32, 32)))

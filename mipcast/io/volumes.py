@@ -676,9 +676,24 @@ def with_scalars(image, scalars=None, preference: str = "point"):
     return copy
 
 
+def vtk_float(values: np.ndarray) -> np.ndarray:
+    """``values``, with float16 made float32 and long double float64 (VTK has neither); others unchanged.
+
+    Examples
+    --------
+    >>> vtk_float(np.zeros(3, np.float16)).dtype.name, vtk_float(np.zeros(3, np.int16)).dtype.name
+    ('float32', 'int16')
+    """
+    if values.dtype.kind == "f" and values.dtype.itemsize == 2:
+        return values.astype(np.float32)
+    if values.dtype.kind == "f" and values.dtype.itemsize > 8:
+        return values.astype(np.float64)
+    return values
+
+
 def _with_values(image, values):
     """A shallow copy of ``image`` carrying ``values`` (one per point or per cell) as its active scalars "Data"."""
-    values = np.asarray(values)
+    values = vtk_float(np.asarray(values))
     if values.dtype.kind not in "iufb":
         raise TypeError(f"scalars given as values must be numbers, got an array of dtype {values.dtype}")
     points, cells = image.GetNumberOfPoints(), image.GetNumberOfCells()
