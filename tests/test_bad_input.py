@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkCommand
-from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkCommonDataModel import vtkDataSetAttributes, vtkImageData
 
 import mipcast
 from mipcast.core.prepare import prepare_scalars
@@ -105,6 +105,21 @@ def cell_scalars(cells=(N, N, N)):
     return image
 
 
+def hidden(values, cells=False):
+    """``values`` with every 7th point (cell) and a half-slab blanked in VTK's ghost array (HIDDENPOINT /
+    HIDDENCELL, as vtkImageData.BlankPoint/BlankCell and simulations' blanking write them)."""
+    image = cell_scalars() if cells else image_of(values)
+    count = image.GetNumberOfCells() if cells else image.GetNumberOfPoints()
+    bit = vtkDataSetAttributes.HIDDENCELL if cells else vtkDataSetAttributes.HIDDENPOINT
+    flags = np.zeros(count, np.uint8)
+    flags[::7] = bit
+    flags[: count // 3] = bit
+    ghosts = numpy_to_vtk(flags, deep=True)
+    ghosts.SetName(vtkDataSetAttributes.GhostArrayName())
+    (image.GetCellData() if cells else image.GetPointData()).AddArray(ghosts)
+    return image
+
+
 I32, U32 = np.iinfo(np.int32), np.iinfo(np.uint32)
 #: name -> (make image, component, expected: "picture" or words of the error)
 CASES = {
@@ -120,6 +135,8 @@ CASES = {
     "nan_constant": (lambda: image_of(holes(np.full((N, N, N), 3.0, np.float32))), None, "picture"),
     "all_nan": (lambda: image_of(np.full((6, 6, 6), np.nan, np.float32)), None, ["NaN", "nothing to draw"]),
     "all_inf": (lambda: image_of(np.full((6, 6, 6), -np.inf)), None, ["NaN/Inf", "nothing to draw"]),
+    "hidden_points_int16": (lambda: hidden(scaled(np.int16, -1000, 3000)), None, "picture"),
+    "hidden_cells": (lambda: hidden(None, cells=True), None, "picture"),
     # -- scalar types
     "int8": (lambda: image_of(scaled(np.int8, -100, 120)), None, "picture"),
     "uint8": (lambda: image_of(scaled(np.uint8, 3, 250)), None, "picture"),
@@ -413,6 +430,27 @@ def test_a_whole_nan_column_is_background_in_every_method():
         assert background[solid].mean() < 0.01, f"{method}: {background[solid].mean():.2f} of the finite rays"
 
 
+@pytest.mark.parametrize("cells", [False, True])
+def test_hidden_points_and_cells_are_drawn_as_missing_data_in_every_method(cells):
+    """Points (cells) VTK's ghost array marks hidden are missing data, drawn exactly as NaN there is; before
+    2026-12-04 mipcast drew their values, and VTK's own mappers, given mipcast's copy with the ghost array,
+    hid them their own way (56 % of stock's pixels off the NaN picture)."""
+    image = hidden(scaled(np.float32, 0.0, 1.0), cells=cells)
+    data = image.GetCellData() if cells else image.GetPointData()
+    values = vtk_to_numpy(data.GetScalars()).copy()
+    values[vtk_to_numpy(data.GetArray("vtkGhostType")) > 0] = np.nan
+    twin = vtkImageData()
+    twin.CopyStructure(image)
+    (twin.GetCellData() if cells else twin.GetPointData()).SetScalars(numpy_to_vtk(values, deep=True))
+    assert np.isnan(values).mean() > 0.3
+    window = (0.0, 1.0)
+    for method in mipcast.METHODS:
+        shots = [OffscreenView(data_set, method, size=SIZE, view="oblique", window=window).screenshot()
+                 for data_set in (image, twin)]
+        assert shots[1].max() > 60, method
+        assert np.abs(shots[0].astype(int) - shots[1]).max() <= 1, method
+
+
 def _refused_in_a_pipeline(view, make, component, word):
     """VTK's own mappers: refused before (prepared copy); mipcast's: a VTK error event, the reason, nothing drawn."""
     if not view.method.float_readout:
@@ -440,7 +478,7 @@ def test_a_volume_far_from_the_origin_warns_once_with_the_fix(method):
     InputWarning per origin naming the fix; none at 1e4 spacings (within float32 rounding of the reference)."""
     import warnings
 
-    from vtkmodules.vtkCommonDataModel import vtkImageData
+    from vtkmodules.vtkCommonDataModel import vtkDataSetAttributes, vtkImageData
 
     from mipcast.data_fixtures import make_fixture
 

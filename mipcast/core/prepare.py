@@ -16,6 +16,11 @@ the float64 references, so both compare like with like:
   saw no finite data: background, NaN in the float readout.  A finite
   maximum is therefore never a missing voxel, and a sample or cell touching
   a missing voxel is pulled down towards ``fill`` (never up).
+* **hidden points and cells**: the points (cells) VTK's ghost array
+  (``vtkGhostType``) marks HIDDENPOINT (HIDDENCELL), as blanking in a
+  simulation's output or ``vtkImageData.BlankPoint`` writes them, are
+  missing too (:func:`hidden_points`); the copies drawn carry no ghost
+  array (VTK's ray caster would hide them its own way).
 * **cell data**: an image with cell scalars and no point scalars is drawn
   as the image of its cell centres (:func:`cell_centres`): the cell values
   are point values there, interpolated between the centres as VTK's GPU
@@ -34,7 +39,7 @@ Examples
 >>> import numpy as np
 >>> from vtkmodules.util.numpy_support import numpy_to_vtk
 >>> from vtkmodules.vtkCommonCore import VTK_BIT
->>> from vtkmodules.vtkCommonDataModel import vtkImageData
+>>> from vtkmodules.vtkCommonDataModel import vtkDataSetAttributes, vtkImageData
 >>> image = vtkImageData()
 >>> image.SetDimensions(2, 2, 2)
 >>> _ = image.GetPointData().SetScalars(numpy_to_vtk(np.array([0, 1, 2, 3, 4, 5, 6, np.nan]), deep=True))
@@ -48,9 +53,9 @@ from dataclasses import dataclass
 from typing import Any, Optional, Tuple
 
 import numpy as np
-from vtkmodules.util.numpy_support import vtk_to_numpy
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import VTK_BIT
-from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkCommonDataModel import vtkDataSetAttributes, vtkImageData
 
 from mipcast.core.errors import InputError
 
@@ -249,10 +254,40 @@ def cell_centres(image: vtkImageData, name: Optional[str] = None) -> vtkImageDat
     out.SetOrigin(*(np.array(image.GetOrigin()) + direction @ (0.5 * spacing)))
     points = out.GetPointData()
     points.ShallowCopy(cells)
+    ghosts = cells.GetArray(vtkDataSetAttributes.GhostArrayName())
+    if ghosts is not None:  # cell ghost bits -> the centres' point ghost bits
+        flags = vtk_to_numpy(ghosts).astype(np.int64)
+        translated = np.where(flags & vtkDataSetAttributes.HIDDENCELL, vtkDataSetAttributes.HIDDENPOINT, 0) | \
+            np.where(flags & vtkDataSetAttributes.DUPLICATECELL, vtkDataSetAttributes.DUPLICATEPOINT, 0)
+        points.RemoveArray(vtkDataSetAttributes.GhostArrayName())
+        point_ghosts = numpy_to_vtk(translated.astype(np.uint8), deep=True)
+        point_ghosts.SetName(vtkDataSetAttributes.GhostArrayName())
+        points.AddArray(point_ghosts)
     address = array.GetAddressAsString("vtkObjectBase")  # by object: the array may have no name
     points.SetActiveAttribute(next(i for i in range(points.GetNumberOfArrays()) if points.GetAbstractArray(i)
                                    .GetAddressAsString("vtkObjectBase") == address), points.SCALARS)
     return out
+
+
+def hidden_points(image: vtkImageData) -> Optional[np.ndarray]:
+    """Which points are hidden (the HIDDENPOINT bit of the image's point ghost array), or None when none is.
+
+    The image of cell centres (:func:`cell_centres`) carries its cells' HIDDENCELL bits as HIDDENPOINT.
+
+    Examples
+    --------
+    >>> image = vtkImageData()
+    >>> image.SetDimensions(2, 2, 2)
+    >>> image.AllocateScalars(10, 1)  # float
+    >>> image.BlankPoint(3)
+    >>> np.flatnonzero(hidden_points(image)).tolist()
+    [3]
+    """
+    ghosts = image.GetPointData().GetArray(vtkDataSetAttributes.GhostArrayName())
+    if ghosts is None:
+        return None
+    hidden = (vtk_to_numpy(ghosts).astype(np.int64) & vtkDataSetAttributes.HIDDENPOINT) != 0
+    return hidden if hidden.any() else None
 
 
 def scalar_image(image: Any) -> Any:
@@ -348,6 +383,7 @@ def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str =
         raise InputError("the volume is empty (0 points); load or generate data first")
     drawn = scalar_image(image)
     cells, image = drawn is not image, drawn
+    hidden = hidden_points(image)
     dims = image.GetDimensions()
     if min(dims) < 2:
         raise InputError(
@@ -388,6 +424,11 @@ def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str =
         values, what, changed = np.ascontiguousarray(raw[:, chosen]), f"component {chosen}", True
     if values.dtype.type in CONVERTED_DTYPES:
         values, changed = values.astype(np.float64), True
+    if hidden is not None:
+        exact = values.dtype.kind == "f" or values.dtype.itemsize <= 2  # float32 holds 8/16-bit integers
+        values = np.where(hidden, np.nan, values.astype(values.dtype if values.dtype.kind == "f" else
+                                                        (np.float32 if exact else np.float64)))
+        changed = True
     missing = infinite = 0
     fill, missing_below, missing_above = float("nan"), float("-inf"), float("inf")
     if values.dtype.kind == "f":
@@ -397,7 +438,7 @@ def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str =
             infinite = int(np.count_nonzero(np.isinf(values)))
             if missing == values.size and whole_range is None:
                 raise InputError(
-                    f"all {missing} values of '{array.GetName()}' are NaN/Inf (missing): there is "
+                    f"all {missing} values of '{array.GetName()}' are NaN/Inf or hidden (missing): there is "
                     "nothing to draw; check the data or choose another array")
             wlow, whigh = (float(v) for v in whole_range) if whole_range is not None else (
                 float(values[finite].min()), float(values[finite].max()))

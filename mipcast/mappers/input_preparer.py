@@ -14,7 +14,7 @@ from typing import Optional
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
-from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkCommonDataModel import vtkDataSetAttributes, vtkImageData
 
 from mipcast.core.errors import InputError, InputWarning
 from mipcast.core.prepare import PreparedScalars, check_component, prepare_scalars, scalar_image, shade_range
@@ -129,6 +129,7 @@ class InputPreparer(VTKPythonAlgorithmBase):
         array = numpy_to_vtk(np.ascontiguousarray(prepared.values).ravel(), deep=True)
         array.SetName(source.GetPointData().GetScalars().GetName() or "scalars")
         target.CopyStructure(source)
+        target.GetPointData().RemoveArray(vtkDataSetAttributes.GhostArrayName())  # hidden points: filled above
         target.GetPointData().SetScalars(array)
         return 1
 
@@ -237,6 +238,7 @@ def _with_values(image: vtkImageData, values: np.ndarray) -> vtkImageData:
     """A new image of ``image``'s structure whose point scalars are ``values`` (named as ``image``'s scalars)."""
     out = vtkImageData()
     out.CopyStructure(image)
+    out.GetPointData().RemoveArray(vtkDataSetAttributes.GhostArrayName())  # hidden points: missing in ``values``
     array = numpy_to_vtk(np.ascontiguousarray(values).ravel(), deep=True)
     array.SetName(image.GetPointData().GetScalars().GetName() or "scalars")
     out.GetPointData().SetScalars(array)
