@@ -562,3 +562,16 @@ def test_cli_reads_padding_as_missing_or_keeps_it(tmp_path):
         greys[padding] = (int(lit.sum()), float(red[lit].mean()))
     # kept, the -3024 HU corners drag the rows through them below the window (black): 921 of 1600 lit
     assert greys["keep"][0] < 0.7 * greys["missing"][0] and greys["missing"][1] > 100, greys
+
+
+def test_a_ct_with_missing_data_keeps_its_units_and_the_ct_window(tmp_path):
+    """A CT read with missing data (a lost slice, padding, gantry tilt) is drawn from a copy with the missing
+    voxels filled; the copy kept no field data, so the "HU" units were lost and the default window fell back
+    from the CT preset to histogram percentiles."""
+    from mipcast.core.windowing import window_and_reason
+    from mipcast.mappers.input_preparer import window_image
+
+    folder = Series(intercept=0).write(tmp_path / "s", ks=[0, 1, 2, 4, 5])
+    with pytest.warns(DicomGeometryWarning):
+        image = read_volume(folder)
+    assert window_and_reason(window_image(image))[1] == "CT preset ct-mip (HU)"

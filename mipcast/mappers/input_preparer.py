@@ -235,9 +235,11 @@ def window_image(image: vtkImageData, component=None, whole_range=None) -> vtkIm
 
 
 def _with_values(image: vtkImageData, values: np.ndarray) -> vtkImageData:
-    """A new image of ``image``'s structure whose point scalars are ``values`` (named as ``image``'s scalars)."""
+    """A new image of ``image``'s structure whose point scalars are ``values`` (named as ``image``'s scalars),
+    with its field data (a DICOM volume's ``"units"``: the default window's CT rule reads it)."""
     out = vtkImageData()
     out.CopyStructure(image)
+    out.GetFieldData().ShallowCopy(image.GetFieldData())
     out.GetPointData().RemoveArray(vtkDataSetAttributes.GhostArrayName())  # hidden points: missing in ``values``
     array = numpy_to_vtk(np.ascontiguousarray(values).ravel(), deep=True)
     array.SetName(image.GetPointData().GetScalars().GetName() or "scalars")
