@@ -387,16 +387,16 @@ def test_missing_slices_are_missing_data(tmp_path, ks):
     read_volume(folder)  # renderable: check_image accepts it
 
 
-def test_gaps_of_no_whole_number_of_steps_coarser_zones_or_most_of_the_series_are_refused(tmp_path):
+def test_gaps_of_no_whole_number_of_steps_mixed_spacings_or_most_of_the_series_are_refused(tmp_path):
     series = Series()
     shifted = series.write(tmp_path / "uneven", ks=[0, 1, 2, 4, 5],
                            drift=lambda k: -0.4 * 1.25 * series.normal if k >= 4 else 0 * series.normal)
     with pytest.raises(ValueError, match=r"missing slice.*1\.6 steps\), no whole number of steps"):
         read_dicom(shifted)
-    zones = Series(n=7)
-    zones.positions = np.array([0.0, 1.25, 2.5, 3.75, 6.25, 8.75, 11.25])  # coarser slices from the 4th on
-    with pytest.raises(ValueError, match=r"spacing changes along the series.*steps are 2\.5, 2\.5 .* 1\.25 mm"):
-        read_dicom(zones.write(tmp_path / "zones"))
+    mixed = Series(n=7)
+    mixed.positions = np.array([0.0, 1.25, 2.5, 5.0, 8.75, 10.0, 11.25])  # large steps in a row, no zone
+    with pytest.raises(ValueError, match=r"spacing changes irregularly.*keep the slices of one stack"):
+        read_dicom(mixed.write(tmp_path / "mixed"))
     sparse = Series(n=12).write(tmp_path / "sparse", ks=[0, 1, 2, 11])
     with pytest.raises(ValueError, match=r"8 missing, more than the 4 present.*copy the whole series"):
         read_dicom(sparse)
@@ -411,14 +411,18 @@ def test_duplicate_position_is_refused(tmp_path):
         read_dicom(folder)
 
 
-def test_mixed_step_stacks_are_refused(tmp_path):
+def test_two_spacings_one_after_the_other_are_resampled(tmp_path):
     # Was test_non_uniform_spacing_is_refused with positions 0, 1, 2, 3.1, 4.1, 5.1, which
     # is now accepted with a warning (misplacement 3.6 % of the step; see
-    # test_dicom_geometry.py).  Two stacks with steps 1.0 and 1.4 are still refused.
+    # test_dicom_geometry.py).  Steps 1.0 then 1.4 were refused as mixed stacks until 2026-12-04;
+    # they are zones of one series, resampled onto 10 steps of 0.96 mm (the ends kept on the grid).
     series = Series()
     series.positions = np.array([0.0, 1.0, 2.0, 3.0, 4.0, 5.4, 6.8, 8.2, 9.6])
-    with pytest.raises(ValueError, match=r"not evenly spaced: IM\d+ lies .* off the best regular grid"):
-        read_dicom(series.write(tmp_path / "s"))
+    with pytest.warns(DicomGeometryWarning, match=r"4 steps of 1 mm, then 4 steps of 1\.4 mm.*0\.96 mm \(11 slices"):
+        image = read_dicom(series.write(tmp_path / "s"))
+    assert image.GetDimensions()[2] == 11 and image.GetSpacing()[2] == pytest.approx(0.96)
+    values = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(11, 4, 5)
+    np.testing.assert_allclose(values[[0, -1]], np.stack([series.pixels(0), series.pixels(8)]) - 1024, atol=1e-3)
 
 
 def test_small_rounding_of_positions_is_accepted(tmp_path):
@@ -575,3 +579,33 @@ def test_a_ct_with_missing_data_keeps_its_units_and_the_ct_window(tmp_path):
     with pytest.warns(DicomGeometryWarning):
         image = read_volume(folder)
     assert window_and_reason(window_image(image))[1] == "CT preset ct-mip (HU)"
+
+
+@pytest.mark.parametrize("tilt_degrees", [0.0, 12.0])
+def test_a_series_whose_spacing_changes_in_zones_is_resampled_onto_the_finest_step(tmp_path, tilt_degrees):
+    """Three slices 1.25 mm apart, then three 2.5 mm apart (a zone reconstructed coarser): resampled linearly
+    along the normal onto a 1.25 mm grid, with a warning naming the zones; every file's slice lands where the
+    file puts it, and between the coarse slices the values are the linear blend.  Before 2026-12-04 refused
+    (a missing-slice gap rule would have filled every other place with missing data)."""
+    series = Series(rot=rotation(20), n=7, rows=12, cols=5)
+    series.positions = np.array([0.0, 1.25, 2.5, 3.75, 6.25, 8.75, 11.25])
+    tilt = np.tan(np.radians(tilt_degrees))
+    folder = series.write(tmp_path / "s", drift=lambda k: series.positions[k] * tilt * series.col)
+    with pytest.warns(DicomGeometryWarning, match=r"spacing changes along the series \(3 steps of 1\.25 mm, then "
+                                                  r"3 steps of 2\.5 mm.*regular grid of 1\.25 mm \(10 slices"):
+        image = read_dicom(folder)
+    assert image.GetDimensions() == (5, 12, 10)
+    np.testing.assert_allclose(image.GetSpacing(), (0.9, 0.7, 1.25), atol=1e-6)
+    np.testing.assert_allclose(image.GetOrigin(), series.ipp(0), atol=1e-4)
+    values = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(10, 12, 5)
+    slice_at = np.interp(1.25 * np.arange(10), series.positions, np.arange(7))  # fractional file slice
+    r, c = np.mgrid[0:12, 0:5]
+    if tilt_degrees == 0.0:
+        expected = 100 * slice_at[:, None, None] + 10 * r + c - 1024
+        np.testing.assert_allclose(values, expected, atol=1e-3)
+    else:  # untilted first: each row shifted by its slice's drift (linear in the rows), NaN where none lies
+        shift = 1.25 * np.arange(10) * tilt / series.pixel_spacing[0]
+        expected = 100 * slice_at[:, None, None] + 10 * (r[None] - shift[:, None, None]) + c - 1024
+        inside = (r[None] - shift[:, None, None] >= -1e-3)
+        assert np.isnan(values[~inside]).all() and not np.isnan(values[inside]).any()
+        np.testing.assert_allclose(values[inside], expected[inside], atol=1e-3)

@@ -180,6 +180,10 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None, padding: str = 
         - missing slices (a step of m usual steps, m a whole number): their
           places hold missing data (NaN; float32), with one
           :class:`DicomGeometryWarning` naming the gaps;
+        - a spacing that changes in zones (e.g. 1.25 mm, then 2.5 mm):
+          resampled linearly along the normal onto a regular grid from the
+          first to the last slice, no coarser than the finest zone (float32),
+          with one :class:`DicomGeometryWarning` naming the zones;
         - localizer (scout) images that a scanner stored in the series of
           the volume (ImageType LOCALIZER), and copies of an image (files of
           one SOPInstanceUID: a folder copied or exported twice), are left
@@ -201,8 +205,9 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None, padding: str = 
         no images among them (only non-image objects such as RT structure
         sets); several image series, or several volumes in one series, and
         no ``series_uid``; an unknown ``series_uid``; a gap between slices
-        that is no whole number of steps, or more missing slices than
-        present ones; two slices at the same position; a slice
+        that is no whole number of steps, large steps in a row that form no
+        zones, or more missing slices than present ones; two slices at the
+        same position; a slice
         more than 0.2 x the step off the least-squares grid (stacks with
         different spacing mixed); slices with different orientations, sizes
         or pixel spacings; a sideways drift of the slice origins steeper
@@ -1096,19 +1101,22 @@ def _assemble(frames: List[_Frame], files, pydicom, padding: str = "missing") ->
                 break
         step = step or 1.0  # one slice: the step has no effect on any point
         origin = positions[0]
-        index = None
+        index = depths = None
     else:
-        step, origin, tilt, index = _check_steps(frames, positions, along, normal, pixel)
+        step, origin, tilt, index, depths = _check_steps(frames, positions, along, normal, pixel)
 
     ds0 = headers[first.file]
     values = _stack(frames, headers, rows, cols, padding, index)
-    depth = values.GetNumberOfTuples() // (rows * cols)  # grid slices, missing ones included
     if len(frames) > 1 and tilt is not None:
         # slice k lies k x step x tilt sideways of the grid: sample it where the grid's points are
         per_slice = step * np.array([float(tilt @ row) / float(first.pixel_spacing[1]),
                                      float(tilt @ col) / float(first.pixel_spacing[0])])
-        per_slice[np.abs(per_slice) * (depth - 1) < TILT_TOL_PIXELS] = 0.0  # the headers' rounding
-        values = _untilted(values, rows, cols, per_slice)
+        reach = depths[-1] if depths is not None else values.GetNumberOfTuples() // (rows * cols) - 1
+        per_slice[np.abs(per_slice) * reach < TILT_TOL_PIXELS] = 0.0  # the headers' rounding
+        values = _untilted(values, rows, cols, per_slice, depths)
+    if depths is not None:
+        values = _resampled(values, rows, cols, depths)
+    depth = values.GetNumberOfTuples() // (rows * cols)  # grid slices, missing ones included
     image = vtkImageData()
     image.SetDimensions(cols, rows, depth)
     # PixelSpacing = (between rows, between columns) = (along j, along i)
@@ -1125,7 +1133,7 @@ def _assemble(frames: List[_Frame], files, pydicom, padding: str = "missing") ->
 
 
 def _check_steps(frames, positions, along, normal, pixel):
-    """Fit a regular grid to the slice positions; return (step, origin, tilt, index).
+    """Fit a regular grid to the slice positions; return (step, origin, tilt, index, depths).
 
     Duplicates, scattered origins, gaps that are no whole number of steps
     and slices more than ``POSITION_TOL`` x step off the least-squares grid
@@ -1135,11 +1143,26 @@ def _check_steps(frames, positions, along, normal, pixel):
     drift of the slices per mm along the normal (a vector perpendicular to
     it), for :func:`_untilted`; the origin is then the first grid slice's
     corner.  ``index``: each slice's place on the grid (:func:`_grid_index`;
-    missing slices leave places empty).
+    missing slices leave places empty).  ``depths``: None, or, for a series
+    whose spacing changes in zones (:func:`_zones`), each slice's distance
+    from the first in grid steps (the finest zone's step), to resample it
+    (:func:`_resampled`; ``index`` is then None).
     """
     steps = np.diff(along)
     _refuse_duplicates(frames, along, steps)
     lateral, scatter, tilt = _check_lateral(frames, positions, along, normal, pixel)
+    zones = _zones(steps)
+    if zones is not None:
+        finest = min(float(np.median(steps[a:b])) for a, b in zones)
+        described = ", then ".join(f"{b - a} steps of {float(np.median(steps[a:b])):.4g} mm" for a, b in zones)
+        count = int(np.ceil((along[-1] - along[0]) / finest - 1e-6)) + 1  # the ends on the grid, no step coarser
+        step = float(along[-1] - along[0]) / (count - 1)
+        warnings.warn(
+            f"the slice spacing changes along the series ({described}, from {frames[0].name}): resampled "
+            f"linearly along the slice normal onto a regular grid of {step:.4g} mm ({count} slices; float32), "
+            "so values between the coarser slices are interpolated", DicomGeometryWarning, stacklevel=5)
+        origin = positions[0] + (lateral[0] if tilt is not None else lateral.mean(axis=0))
+        return step, origin, tilt, None, (along - along[0]) / step
     index = _grid_index(frames, along, steps)
     k = index.astype(float)
     step = float((along[-1] - along[0]) / index[-1])
@@ -1167,8 +1190,25 @@ def _check_steps(frames, positions, along, normal, pixel):
             DicomGeometryWarning, stacklevel=5)  # the caller of read_dicom
     depth = intercept - along[0]  # the grid's first slice along the normal, from the first frame
     if tilt is None:
-        return step, positions[0] + depth * normal + lateral.mean(axis=0), None, index
-    return step, positions[0] + depth * normal + lateral[0] + depth * tilt, tilt, index
+        return step, positions[0] + depth * normal + lateral.mean(axis=0), None, index, None
+    return step, positions[0] + depth * normal + lateral[0] + depth * tilt, tilt, index, None
+
+
+def _zones(steps: np.ndarray) -> Optional[List[Tuple[int, int]]]:
+    """The runs ``(first, end)`` of near-equal steps (within ``POSITION_TOL`` of the run's median) when the
+    spacing changes in zones: two runs or more, each of two steps or more; else None (one spacing, with
+    perhaps single gaps: :func:`_grid_index`)."""
+    runs = [[0, 1]]
+    for i in range(1, len(steps)):
+        start = runs[-1][0]
+        usual = float(np.median(steps[start:i]))
+        if abs(steps[i] - usual) <= POSITION_TOL * usual:
+            runs[-1][1] = i + 1
+        else:
+            runs.append([i, i + 1])
+    if len(runs) < 2 or any(end - start < 2 for start, end in runs):
+        return None
+    return [(start, end) for start, end in runs]
 
 
 def _refuse_duplicates(frames, along, steps) -> None:
@@ -1205,13 +1245,12 @@ def _grid_index(frames, along, steps) -> np.ndarray:
         f"between {frames[g].name} ({along[g]:.3f} mm) and {frames[g + 1].name} ({along[g + 1]:.3f} mm): "
         f"{multiples[g]:.3g} steps" for g in gaps[:3]) + ("; ..." if gaps.size > 3 else "")
     uneven = np.abs(multiples[gaps] - whole[gaps]) > POSITION_TOL
-    if (np.diff(gaps) == 1).any():  # large steps in a row: a zone of coarser slices, not lost ones
+    if (np.diff(gaps) == 1).any():  # large steps in a row, but no clean zones (_zones): spacings mixed
         first = int(gaps[np.flatnonzero(np.diff(gaps) == 1)[0]])
         raise DicomError(
-            f"the slice spacing changes along the series: from {frames[first].name} ({along[first]:.3f} mm) the "
-            f"steps are {steps[first]:.4g}, {steps[first + 1]:.4g} ... mm against {median:.4g} mm before (a zone "
-            "reconstructed with coarser slices, not missing ones); read the zones as separate series, or resample "
-            "the series to one step first")
+            f"the slice spacing changes irregularly along the series: from {frames[first].name} "
+            f"({along[first]:.3f} mm) the steps are {steps[first]:.4g}, {steps[first + 1]:.4g} ... mm against "
+            f"{median:.4g} mm elsewhere, in no zones of one spacing each; keep the slices of one stack")
     if uneven.any() or counts.sum() > len(along):
         reason = ("no whole number of steps: the folder mixes stacks with different spacing"
                   if uneven.any() else f"{counts.sum()} missing, more than the {len(along)} present")
@@ -1270,14 +1309,30 @@ def _check_lateral(frames, positions, along, normal, pixel):
     return lateral, scatter, tilt
 
 
-def _untilted(values: vtkDataArray, rows: int, cols: int, per_slice: np.ndarray) -> vtkDataArray:
-    """The stacked slices (nz, rows, cols) with slice k sampled ``k x per_slice`` pixels (columns, rows) back:
-    a new float32 array, linear between pixels, NaN where slice k has no pixel."""
+def _untilted(values: vtkDataArray, rows: int, cols: int, per_slice: np.ndarray,
+              depths: Optional[np.ndarray] = None) -> vtkDataArray:
+    """The stacked slices (nz, rows, cols) with slice k sampled ``depths[k] x per_slice`` pixels (columns, rows)
+    back (``depths`` default k): a new float32 array, linear between pixels, NaN where slice k has no pixel."""
     stacked = vtk_to_numpy(values).reshape(-1, rows, cols).astype(np.float64)
     out = np.empty(stacked.shape, dtype=np.float32)
     for k, plane in enumerate(stacked):
-        plane = _shifted(plane, k * per_slice[1], axis=0)  # along the rows (the column direction)
-        out[k] = _shifted(plane, k * per_slice[0], axis=1)
+        depth = k if depths is None else float(depths[k])
+        plane = _shifted(plane, depth * per_slice[1], axis=0)  # along the rows (the column direction)
+        out[k] = _shifted(plane, depth * per_slice[0], axis=1)
+    return numpy_to_vtk(out.ravel(), deep=True)
+
+
+def _resampled(values: vtkDataArray, rows: int, cols: int, depths: np.ndarray) -> vtkDataArray:
+    """The stacked slices, slice k at ``depths[k]`` grid steps from the first (the last at a whole number),
+    resampled at whole steps 0, 1, ...: linear between the two nearest slices (a new float32 array)."""
+    stacked = vtk_to_numpy(values).reshape(-1, rows, cols)
+    grid = np.arange(int(np.floor(depths[-1] + 1e-6)) + 1, dtype=float)
+    lower = np.clip(np.searchsorted(depths, grid, side="right") - 1, 0, len(depths) - 2)
+    weight = np.clip((grid - depths[lower]) / (depths[lower + 1] - depths[lower]), 0.0, 1.0)
+    out = np.empty((len(grid), rows, cols), dtype=np.float32)
+    for k, (i, w) in enumerate(zip(lower, weight)):
+        a = stacked[i].astype(np.float64)
+        out[k] = a if w <= 1e-9 else (stacked[i + 1] if w >= 1 - 1e-9 else a * (1.0 - w) + stacked[i + 1] * w)
     return numpy_to_vtk(out.ravel(), deep=True)
 
 
