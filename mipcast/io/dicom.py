@@ -30,6 +30,7 @@ from __future__ import annotations
 import contextlib
 import math
 import os
+import sys
 import warnings
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
@@ -63,6 +64,24 @@ LATERAL_TOL_PIXELS = 0.5    # scatter of slice origins sideways to the normal, i
 MAX_BYTES = 4 * 2 ** 30
 #: Largest ratio of decoded to stored bytes accepted for compressed pixel data.
 MAX_COMPRESSION = 1000
+
+
+def caller_level() -> int:
+    """The ``stacklevel`` that points a warning at the first caller outside ``mipcast.io`` (the caller of
+    ``read_dicom`` or ``read_volume``), for the function that calls ``warnings.warn``.
+
+    Examples
+    --------
+    >>> caller_level() >= 1
+    True
+    """
+    frame, level = sys._getframe(1), 1
+    while frame is not None and os.path.dirname(os.path.abspath(frame.f_code.co_filename)) == _HERE:
+        frame, level = frame.f_back, level + 1
+    return level
+
+
+_HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 class DicomError(InputError):
@@ -687,7 +706,7 @@ def _unique_instances(files: list, where: Optional[str] = None) -> list:
     if copies and where is not None:
         warnings.warn(f"{where}: skipped {len(copies)} {'copy' if len(copies) == 1 else 'copies'} of an image "
                       f"already read (the same SOPInstanceUID): {', '.join(copies[:5])}"
-                      f"{' ...' if len(copies) > 5 else ''}", DicomSeriesWarning, stacklevel=4)
+                      f"{' ...' if len(copies) > 5 else ''}", DicomSeriesWarning, stacklevel=caller_level())
     return kept
 
 
@@ -704,7 +723,8 @@ def _without_localizers(frames: List[_Frame], where: Optional[str] = None) -> Li
     if where is not None:
         names = sorted({frame.file.name for frame in frames if localizer(frame)})
         warnings.warn(f"{where}: skipped {len(frames) - len(kept)} localizer image(s) (ImageType LOCALIZER): "
-                      f"{', '.join(names[:5])}{' ...' if len(names) > 5 else ''}", DicomSeriesWarning, stacklevel=4)
+                      f"{', '.join(names[:5])}{' ...' if len(names) > 5 else ''}", DicomSeriesWarning,
+                      stacklevel=caller_level())
     return kept
 
 
@@ -1160,7 +1180,7 @@ def _check_steps(frames, positions, along, normal, pixel):
         warnings.warn(
             f"the slice spacing changes along the series ({described}, from {frames[0].name}): resampled "
             f"linearly along the slice normal onto a regular grid of {step:.4g} mm ({count} slices; float32), "
-            "so values between the coarser slices are interpolated", DicomGeometryWarning, stacklevel=5)
+            "so values between the coarser slices are interpolated", DicomGeometryWarning, stacklevel=caller_level())
         origin = positions[0] + (lateral[0] if tilt is not None else lateral.mean(axis=0))
         return step, origin, tilt, None, (along - along[0]) / step
     index = _grid_index(frames, along, steps)
@@ -1187,7 +1207,7 @@ def _check_steps(frames, positions, along, normal, pixel):
             f"{steps.max():.4g} mm, rounded positions in the headers?): using the least-squares "
             f"step {step:.6g} mm; the largest misplacement is {misplacement[worst]:.3g} mm "
             f"({100 * misplacement[worst] / step:.2g} % of the step) at {frames[worst].name}",
-            DicomGeometryWarning, stacklevel=5)  # the caller of read_dicom
+            DicomGeometryWarning, stacklevel=caller_level())
     depth = intercept - along[0]  # the grid's first slice along the normal, from the first frame
     if tilt is None:
         return step, positions[0] + depth * normal + lateral.mean(axis=0), None, index, None
@@ -1262,7 +1282,7 @@ def _grid_index(frames, along, steps) -> np.ndarray:
         f"{counts.sum()} missing slice(s) in {gaps.size} gap(s) of the usual step of {median:.4g} mm "
         f"({where}): their places hold missing data (NaN; the volume becomes float32), drawn as "
         "background; copy the whole series into the folder to fill them",
-        DicomGeometryWarning, stacklevel=6)  # the caller of read_dicom
+        DicomGeometryWarning, stacklevel=caller_level())
     return np.concatenate([[0], np.cumsum(np.where(steps > GAP_FACTOR * median, whole, 1.0))]).astype(int)
 
 
@@ -1294,7 +1314,7 @@ def _check_lateral(frames, positions, along, normal, pixel):
             f"gantry tilt of about {angle:.2f} deg (the slice origins drift {drift:.3f} mm sideways from "
             f"{frames[0].name} to {frames[-1].name}): the slices are shifted onto an untilted grid by up to "
             f"{drift / pixel:.3g} pixels (linear interpolation along the shift); the voxels no slice covers "
-            "are missing (NaN)", DicomGeometryWarning, stacklevel=6)  # the caller of read_dicom
+            "are missing (NaN)", DicomGeometryWarning, stacklevel=caller_level())
         lateral = fitted  # the grid follows the line; what is off it is scatter
         scatter = np.linalg.norm(offsets - np.outer(offsets @ normal, normal) - fitted, axis=1)
     else:
@@ -1444,14 +1464,14 @@ def _padded(frames: List[_Frame], headers, raw, padding: str) -> Optional[List[n
             f"the series is lossy compressed: its PixelPaddingValue {shown} (stored) no longer marks the "
             f"pixels outside the scanned field exactly ({count} of {total} pixels hold it, their neighbours "
             "were moved off it), so the padding is kept as values; a window above it hides it",
-            DicomPaddingWarning, stacklevel=6)  # the caller of read_dicom
+            DicomPaddingWarning, stacklevel=caller_level())
         return None
     warnings.warn(
         f"{count} of {total} pixels ({100.0 * count / total:.1f} %) hold the PixelPaddingValue {shown} "
         "(stored; pixels outside the scanned field): read as missing data (NaN, float32) so that no "
         "projection, average or default window counts them; read_dicom(..., padding='keep'), "
         "read_volume(..., padding='keep') or `mipcast render/view --padding keep` keeps them as values",
-        DicomPaddingWarning, stacklevel=6)  # the caller of read_dicom
+        DicomPaddingWarning, stacklevel=caller_level())
     return masks
 
 

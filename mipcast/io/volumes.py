@@ -42,7 +42,7 @@ from vtkmodules.vtkIOXML import vtkXMLImageDataReader
 
 from mipcast.core.camera_rays import matrix_array
 from mipcast.core.prepare import cell_centres
-from mipcast.io.dicom import integer_dtype
+from mipcast.io.dicom import caller_level, integer_dtype
 from mipcast.core.validation import check_image
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -367,7 +367,8 @@ def _read_nifti(path: Path, volume: Optional[int] = None) -> vtkImageData:
     count = reader.GetTimeDimension()
     if volume is None and count > 1:
         warnings.warn(f"'{path}' holds {count} volumes (4D NIfTI); the first is read: pass volume=K "
-                      f"(mipcast render/view --volume K), K from 0 to {count - 1}, for another", stacklevel=3)
+                      f"(mipcast render/view --volume K), K from 0 to {count - 1}, for another",
+                      stacklevel=caller_level())
     elif volume is not None:
         if volume >= count:
             raise ValueError(f"'{path}' holds {count} volume{'s' if count > 1 else ''} (volume 0"
@@ -389,7 +390,7 @@ def _read_nifti(path: Path, volume: Optional[int] = None) -> vtkImageData:
     if geometry is None and header.GetSFormCode() > 0:
         warnings.warn(f"'{path}': the sform is sheared (not a rotation and scale) and there is "
                       "no qform; the orientation is ignored (origin 0, axes along x, y, z)",
-                      stacklevel=3)
+                      stacklevel=caller_level())
     if geometry is not None:
         origin, spacing, direction = geometry
         _set_geometry(image, _RAS_TO_LPS @ origin, spacing, _RAS_TO_LPS @ direction)
@@ -504,7 +505,7 @@ def _nrrd_volume(path: Path, values: np.ndarray, count: int, kind: str, axis: in
         if count > 1:
             warnings.warn(f"'{path}' holds {count} volumes along its axis {axis} ({kind}); the first is read: pass "
                           f"volume=K (mipcast render/view --volume K), K from 0 to {count - 1}, for another",
-                          stacklevel=4)
+                          stacklevel=caller_level())
         volume = 0
     if isinstance(volume, bool) or not isinstance(volume, (int, np.integer)) or volume < 0:
         raise ValueError(f"volume must be an integer >= 0 (the first volume is 0), got {volume!r}")
@@ -528,7 +529,7 @@ def _nrrd_geometry(path: Path, image: vtkImageData, header: dict, spatial: list)
             _set_geometry(image, to_lps @ origin, spacing, to_lps @ direction)
             return
         warnings.warn(f"'{path}': the space directions are not perpendicular; the orientation "
-                      "is ignored (their lengths are the spacing)", stacklevel=4)
+                      "is ignored (their lengths are the spacing)", stacklevel=caller_level())
         _set_geometry(image, to_lps @ origin, np.linalg.norm(columns, axis=0), np.eye(3))
         return
     spacings = header.get("spacings")
