@@ -451,6 +451,37 @@ def test_hidden_points_and_cells_are_drawn_as_missing_data_in_every_method(cells
         assert np.abs(shots[0].astype(int) - shots[1]).max() <= 1, method
 
 
+def test_resample_to_image_draws_the_mesh_not_its_bounding_box():
+    """ParaView's "Resample To Image" (vtkResampleToImage) of an unstructured mesh marks the points outside
+    the mesh HIDDENPOINT (value 0 there): the projections draw the mesh, and its average is not pulled
+    towards 0 by the box around it (before 2026-12-04 the box was drawn: every ray through it hit)."""
+    from vtkmodules.vtkFiltersCore import vtkDelaunay3D, vtkElevationFilter, vtkResampleToImage
+    from vtkmodules.vtkFiltersSources import vtkSphereSource
+
+    sphere = vtkSphereSource()
+    sphere.SetThetaResolution(24)
+    sphere.SetPhiResolution(24)
+    elevation = vtkElevationFilter()
+    elevation.SetInputConnection(sphere.GetOutputPort())
+    mesh = vtkDelaunay3D()
+    mesh.SetInputConnection(elevation.GetOutputPort())
+    resample = vtkResampleToImage()
+    resample.SetInputConnection(mesh.GetOutputPort())
+    resample.SetSamplingDimensions(24, 24, 24)
+    resample.Update()
+    image = resample.GetOutput()
+    image.GetPointData().SetActiveScalars("Elevation")
+    assert prepare_scalars(image).missing > 0.4 * image.GetNumberOfPoints()  # the box's corners, hidden
+    for method in ("analytic", "analytic_average"):
+        view = OffscreenView(image, method, size=(64, 64), view="front", window="full")
+        found = view.float_image()
+        disc = ~np.isnan(found)
+        assert 0.15 < disc.mean() < 0.35, (method, disc.mean())  # the sphere's disc, not the box's square
+        exact = _reference(view, image, None)
+        assert np.array_equal(disc, ~np.isnan(exact)), method
+        assert np.nanmax(np.abs(found - exact)) <= 1e-3, method
+
+
 def _refused_in_a_pipeline(view, make, component, word):
     """VTK's own mappers: refused before (prepared copy); mipcast's: a VTK error event, the reason, nothing drawn."""
     if not view.method.float_readout:
