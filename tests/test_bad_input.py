@@ -451,11 +451,13 @@ def test_hidden_points_and_cells_are_drawn_as_missing_data_in_every_method(cells
         assert np.abs(shots[0].astype(int) - shots[1]).max() <= 1, method
 
 
-def test_resample_to_image_draws_the_mesh_not_its_bounding_box():
+@pytest.mark.parametrize("resampler", ["vtkResampleToImage", "vtkProbeFilter"])
+def test_resample_to_image_draws_the_mesh_not_its_bounding_box(resampler):
     """ParaView's "Resample To Image" (vtkResampleToImage) of an unstructured mesh marks the points outside
-    the mesh HIDDENPOINT (value 0 there): the projections draw the mesh, and its average is not pulled
-    towards 0 by the box around it (before 2026-12-04 the box was drawn: every ray through it hit)."""
-    from vtkmodules.vtkFiltersCore import vtkDelaunay3D, vtkElevationFilter, vtkResampleToImage
+    the mesh HIDDENPOINT, vtkProbeFilter 0 in vtkValidPointMask (value 0 there): the projections draw the
+    mesh, and its average is not pulled towards 0 by the box around it (before 2026-12-04 the box was drawn:
+    every ray through it hit)."""
+    from vtkmodules.vtkFiltersCore import vtkDelaunay3D, vtkElevationFilter, vtkProbeFilter, vtkResampleToImage
     from vtkmodules.vtkFiltersSources import vtkSphereSource
 
     sphere = vtkSphereSource()
@@ -465,9 +467,18 @@ def test_resample_to_image_draws_the_mesh_not_its_bounding_box():
     elevation.SetInputConnection(sphere.GetOutputPort())
     mesh = vtkDelaunay3D()
     mesh.SetInputConnection(elevation.GetOutputPort())
-    resample = vtkResampleToImage()
-    resample.SetInputConnection(mesh.GetOutputPort())
-    resample.SetSamplingDimensions(24, 24, 24)
+    if resampler == "vtkResampleToImage":
+        resample = vtkResampleToImage()
+        resample.SetInputConnection(mesh.GetOutputPort())
+        resample.SetSamplingDimensions(24, 24, 24)
+    else:
+        grid = vtkImageData()
+        grid.SetDimensions(24, 24, 24)
+        grid.SetOrigin(-0.5, -0.5, -0.5)
+        grid.SetSpacing(1.0 / 23, 1.0 / 23, 1.0 / 23)
+        resample = vtkProbeFilter()
+        resample.SetInputData(grid)
+        resample.SetSourceConnection(mesh.GetOutputPort())
     resample.Update()
     image = resample.GetOutput()
     image.GetPointData().SetActiveScalars("Elevation")

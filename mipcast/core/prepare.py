@@ -18,8 +18,9 @@ the float64 references, so both compare like with like:
   a missing voxel is pulled down towards ``fill`` (never up).
 * **hidden points and cells**: the points (cells) VTK's ghost array
   (``vtkGhostType``) marks HIDDENPOINT (HIDDENCELL), as blanking in a
-  simulation's output or ``vtkImageData.BlankPoint`` writes them, are
-  missing too (:func:`hidden_points`); the copies drawn carry no ghost
+  simulation's output or ``vtkImageData.BlankPoint`` writes them, and the
+  points vtkProbeFilter's ``vtkValidPointMask`` marks 0, are missing too
+  (:func:`hidden_points`); the copies drawn carry no ghost
   array (VTK's ray caster would hide them its own way).
 * **cell data**: an image with cell scalars and no point scalars is drawn
   as the image of its cell centres (:func:`cell_centres`): the cell values
@@ -269,8 +270,14 @@ def cell_centres(image: vtkImageData, name: Optional[str] = None) -> vtkImageDat
     return out
 
 
+#: The point array vtkProbeFilter (and ParaView's Resample With Dataset) writes: 0 where no source cell held
+#: the point.
+VALID_POINT_MASK = "vtkValidPointMask"
+
+
 def hidden_points(image: vtkImageData) -> Optional[np.ndarray]:
-    """Which points are hidden (the HIDDENPOINT bit of the image's point ghost array), or None when none is.
+    """Which points hold no data, or None when none does: the HIDDENPOINT bit of the image's point ghost
+    array, or 0 in its :data:`VALID_POINT_MASK` array.
 
     The image of cell centres (:func:`cell_centres`) carries its cells' HIDDENCELL bits as HIDDENPOINT.
 
@@ -283,10 +290,13 @@ def hidden_points(image: vtkImageData) -> Optional[np.ndarray]:
     >>> np.flatnonzero(hidden_points(image)).tolist()
     [3]
     """
+    hidden = np.zeros(image.GetNumberOfPoints(), dtype=bool)
     ghosts = image.GetPointData().GetArray(vtkDataSetAttributes.GhostArrayName())
-    if ghosts is None:
-        return None
-    hidden = (vtk_to_numpy(ghosts).astype(np.int64) & vtkDataSetAttributes.HIDDENPOINT) != 0
+    if ghosts is not None:
+        hidden |= (vtk_to_numpy(ghosts).astype(np.int64) & vtkDataSetAttributes.HIDDENPOINT) != 0
+    valid = image.GetPointData().GetArray(VALID_POINT_MASK)
+    if valid is not None and valid.GetNumberOfComponents() == 1:
+        hidden |= vtk_to_numpy(valid) == 0
     return hidden if hidden.any() else None
 
 
