@@ -520,7 +520,7 @@ def test_a_volume_far_from_the_origin_warns_once_with_the_fix(method):
     InputWarning per origin naming the fix; none at 1e4 spacings (within float32 rounding of the reference)."""
     import warnings
 
-    from vtkmodules.vtkCommonDataModel import vtkDataSetAttributes, vtkImageData
+    from vtkmodules.vtkCommonDataModel import vtkImageData
 
     from mipcast.data_fixtures import make_fixture
 
