@@ -59,16 +59,12 @@ void mcCoveredPiece(vec4 d, float s0, float s1, float level, inout vec2 covered)
   float e = s1;
   if (below0 != below1)
   {
-    // 24 halvings, written out (a hook piece has no loop of its own)
+    // 24 halvings (float32's resolution of [0, 1]); a loop, which llvmpipe skips where no lane needs it
     vec2 b = vec2(s0, s1);
-    b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b);
-    b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b);
-    b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b);
-    b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b);
-    b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b);
-    b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b);
-    b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b);
-    b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b); b = mcHalve(d, level, below0, b);
+    for (int k = 0; k < 24; ++k)
+    {
+      b = mcHalve(d, level, below0, b);
+    }
     float r = 0.5 * (b.x + b.y);
     a = below0 ? r : s0;
     e = below0 ? s1 : r;
