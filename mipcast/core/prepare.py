@@ -290,14 +290,15 @@ def hidden_points(image: vtkImageData) -> Optional[np.ndarray]:
     >>> np.flatnonzero(hidden_points(image)).tolist()
     [3]
     """
-    hidden = np.zeros(image.GetNumberOfPoints(), dtype=bool)
-    ghosts = image.GetPointData().GetArray(vtkDataSetAttributes.GhostArrayName())
+    data = image.GetPointData()
+    ghosts, valid = data.GetArray(vtkDataSetAttributes.GhostArrayName()), data.GetArray(VALID_POINT_MASK)
+    hidden = None  # (neither array: nothing allocated, as for most volumes)
     if ghosts is not None:
-        hidden |= (vtk_to_numpy(ghosts).astype(np.int64) & vtkDataSetAttributes.HIDDENPOINT) != 0
-    valid = image.GetPointData().GetArray(VALID_POINT_MASK)
+        hidden = (vtk_to_numpy(ghosts).astype(np.int64) & vtkDataSetAttributes.HIDDENPOINT) != 0
     if valid is not None and valid.GetNumberOfComponents() == 1:
-        hidden |= vtk_to_numpy(valid) == 0
-    return hidden if hidden.any() else None
+        invalid = vtk_to_numpy(valid) == 0
+        hidden = invalid if hidden is None else hidden | invalid
+    return hidden if hidden is not None and hidden.any() else None
 
 
 def scalar_image(image: Any) -> Any:
@@ -435,10 +436,9 @@ def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str =
     if values.dtype.type in CONVERTED_DTYPES:
         values, changed = values.astype(np.float64), True
     if hidden is not None:
-        exact = values.dtype.kind == "f" or values.dtype.itemsize <= 2  # float32 holds 8/16-bit integers
-        values = np.where(hidden, np.nan, values.astype(values.dtype if values.dtype.kind == "f" else
-                                                        (np.float32 if exact else np.float64)))
-        changed = True
+        if values.dtype.kind != "f":  # float32 holds 8/16-bit integers exactly
+            values = values.astype(np.float32 if values.dtype.itemsize <= 2 else np.float64)
+        values, changed = np.where(hidden, values.dtype.type(np.nan), values), True
     missing = infinite = 0
     fill, missing_below, missing_above = float("nan"), float("-inf"), float("inf")
     if values.dtype.kind == "f":

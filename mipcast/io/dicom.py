@@ -1351,8 +1351,12 @@ def _resampled(values: vtkDataArray, rows: int, cols: int, depths: np.ndarray) -
     weight = np.clip((grid - depths[lower]) / (depths[lower + 1] - depths[lower]), 0.0, 1.0)
     out = np.empty((len(grid), rows, cols), dtype=np.float32)
     for k, (i, w) in enumerate(zip(lower, weight)):
-        a = stacked[i].astype(np.float64)
-        out[k] = a if w <= 1e-9 else (stacked[i + 1] if w >= 1 - 1e-9 else a * (1.0 - w) + stacked[i + 1] * w)
+        if w <= 1e-9:
+            out[k] = stacked[i]
+        elif w >= 1.0 - 1e-9:
+            out[k] = stacked[i + 1]
+        else:
+            out[k] = stacked[i] * (1.0 - w) + stacked[i + 1] * w
     return numpy_to_vtk(out.ravel(), deep=True)
 
 

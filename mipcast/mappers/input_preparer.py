@@ -128,8 +128,7 @@ class InputPreparer(VTKPythonAlgorithmBase):
                 "(e.g. numpy.nan_to_num)", InputWarning, stacklevel=2)
         array = numpy_to_vtk(np.ascontiguousarray(prepared.values).ravel(), deep=True)
         array.SetName(source.GetPointData().GetScalars().GetName() or "scalars")
-        target.CopyStructure(source)
-        target.GetPointData().RemoveArray(vtkDataSetAttributes.GhostArrayName())  # hidden points: filled above
+        _copy_structure(target, source)
         target.GetPointData().SetScalars(array)
         return 1
 
@@ -234,13 +233,19 @@ def window_image(image: vtkImageData, component=None, whole_range=None) -> vtkIm
                         else prepared.values)
 
 
+def _copy_structure(target: vtkImageData, source: vtkImageData) -> None:
+    """``source``'s structure on ``target``, without its ghost array: the hidden points are missing data in
+    the prepared values (:func:`mipcast.core.prepare.hidden_points`); VTK's ray caster would hide them its way."""
+    target.CopyStructure(source)
+    target.GetPointData().RemoveArray(vtkDataSetAttributes.GhostArrayName())
+
+
 def _with_values(image: vtkImageData, values: np.ndarray) -> vtkImageData:
     """A new image of ``image``'s structure whose point scalars are ``values`` (named as ``image``'s scalars),
     with its field data (a DICOM volume's ``"units"``: the default window's CT rule reads it)."""
     out = vtkImageData()
-    out.CopyStructure(image)
+    _copy_structure(out, image)
     out.GetFieldData().ShallowCopy(image.GetFieldData())
-    out.GetPointData().RemoveArray(vtkDataSetAttributes.GhostArrayName())  # hidden points: missing in ``values``
     array = numpy_to_vtk(np.ascontiguousarray(values).ravel(), deep=True)
     array.SetName(image.GetPointData().GetScalars().GetName() or "scalars")
     out.GetPointData().SetScalars(array)
