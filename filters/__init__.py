@@ -24,7 +24,7 @@ from typing import Optional, Sequence, Union
 import numpy as np
 
 from mipcast.io import as_image_data, with_scalars
-from mipcast.io.volumes import vtk_float
+from mipcast.io.volumes import vtk_values
 from mipcast.mappers.input_preparer import missing_as_background, prepared_image, window_image
 from mipcast.methods import METHODS, attach, create_mapper
 from mipcast.offscreen import OffscreenView, set_view
@@ -47,13 +47,15 @@ def render(image, method: str = "mip", *, scalars=None, size: Sequence[int] = (2
         Volume with point scalars (several components: see ``component``); a
         ``RectilinearGrid`` with evenly spaced coordinates is drawn as image data
         (:func:`mipcast.io.as_image_data`); a 3-D array indexed ``[x, y, z]`` as
-        ``pyvista.wrap`` makes it image data (spacing ``resolution``).
+        ``pyvista.wrap`` makes it image data (spacing ``resolution``); a
+        numpy masked array's masked entries are missing data (as NaN).
     method : str, default: "mip"
         A name from ``mipcast.METHODS``.
     scalars : str or array_like, optional
         Name of the point (or cell) array to project, or the values (one per
         point in point order, or per cell), as in pyvista's ``add_volume``;
-        default the active scalars.  The image itself is not modified.
+        default the active scalars; masked entries of a numpy masked array
+        are missing data.  The image itself is not modified.
     size : sequence of int, default: (256, 256)
         Image (width, height) in pixels.
     view : str, default: "oblique"
@@ -145,7 +147,8 @@ def add_volume(plotter, image, method: str = "mip", *, scalars=None,
         Volume with point scalars (several components: see ``component``); a
         ``RectilinearGrid`` with evenly spaced coordinates is drawn as image data
         (:func:`mipcast.io.as_image_data`); a 3-D array indexed ``[x, y, z]`` as
-        ``pyvista.wrap`` makes it image data (spacing ``resolution``).
+        ``pyvista.wrap`` makes it image data (spacing ``resolution``); a
+        numpy masked array's masked entries are missing data (as NaN).
     method : str, default: "mip"
         A name from ``mipcast.METHODS``.
     scalars : str or array_like, optional
@@ -400,7 +403,7 @@ def volume_image(image, scalars=None, resolution: Optional[Sequence[float]] = No
 
         if image.ndim != 3:
             raise TypeError(f"a numpy volume must be a 3-D array indexed [x, y, z], got shape {image.shape}")
-        image = pyvista.wrap(vtk_float(image))
+        image = pyvista.wrap(vtk_values(image))
         image.spacing = check_resolution(resolution)
     elif resolution is not None:
         raise TypeError("resolution= is the spacing of a numpy array volume; image data has its own spacing: "

@@ -468,3 +468,30 @@ def test_half_precision_and_long_double_arrays_are_drawn_as_their_float_values(g
     flat = values.ravel(order="F").astype(np.float16)
     assert np.array_equal(render(grid, scalars=flat, size=(32, 32)),
                           render(grid, scalars=flat.astype(np.float32), size=(32, 32)))
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.int16, np.float64])
+def test_masked_array_entries_are_missing_data_not_the_fill_value(grid, dtype):
+    """netCDF4 (and readers built on it) return numpy masked arrays where a variable has a fill value; np.asarray
+    drops the mask, so the fill value (9.97e36, or -32768 for int16) was drawn as data and took the whole window.
+    Masked entries are missing data now: the picture and the float readout are the NaN twin's; nothing the user
+    gave is modified."""
+    values = (np.asarray(grid.point_data.active_scalars).reshape(grid.dimensions, order="F") * 1000).astype(dtype)
+    mask = np.zeros(values.shape, bool)
+    mask[:, :, :10] = True
+    fill = np.float32(9.96921e36) if np.dtype(dtype).kind == "f" else np.iinfo(dtype).min
+    masked = np.ma.masked_array(np.where(mask, fill, values).astype(dtype), mask=mask)
+    before = masked.data.copy()
+    twin = np.where(mask, np.nan, values).astype(np.float64 if dtype == np.float64 else np.float32)
+    for method in ("mip", "analytic", "average"):
+        expected = render(twin, method, size=(32, 32), as_float=True)
+        assert np.nanmax(expected) < 1001
+        got = render(masked, method, size=(32, 32), as_float=True)
+        assert np.allclose(got, expected, rtol=1e-6, equal_nan=True), method
+        assert np.array_equal(render(masked, method, size=(32, 32)), render(twin, method, size=(32, 32)))
+    flat = masked.ravel(order="F")
+    assert np.array_equal(render(grid, "mip", scalars=flat, size=(32, 32)),
+                          render(twin, "mip", size=(32, 32)))
+    assert np.array_equal(masked.data, before) and masked.mask.sum() == mask.sum()
+    unmasked = np.ma.masked_array(values, mask=False)  # a mask with nothing masked: the values as they are
+    assert np.array_equal(render(unmasked, size=(32, 32)), render(values, size=(32, 32)))

@@ -678,14 +678,36 @@ def with_scalars(image, scalars=None, preference: str = "point"):
     return copy
 
 
-def vtk_float(values: np.ndarray) -> np.ndarray:
-    """``values``, with float16 made float32 and long double float64 (VTK has neither); others unchanged.
+def vtk_values(values) -> np.ndarray:
+    """``values`` as VTK can hold them: masked entries NaN, float16 as float32, long double as float64.
+
+    A numpy masked array (netCDF4 and h5py-based readers return one where a
+    variable has a fill value: land in an ocean model, no-data cells) would
+    lose its mask in ``np.asarray`` and draw the fill value; its masked
+    entries become missing data instead (NaN, in a float32 copy for 8/16-bit
+    integers and float16/32, float64 otherwise; the caller's array is not
+    modified).  Other arrays are returned unchanged but for the two float
+    types VTK does not have.
 
     Examples
     --------
-    >>> vtk_float(np.zeros(3, np.float16)).dtype.name, vtk_float(np.zeros(3, np.int16)).dtype.name
+    >>> vtk_values(np.zeros(3, np.float16)).dtype.name, vtk_values(np.zeros(3, np.int16)).dtype.name
     ('float32', 'int16')
+    >>> vtk_values(np.ma.masked_array([1, 2, 3], mask=[0, 1, 0], dtype=np.int16))
+    array([ 1., nan,  3.], dtype=float32)
     """
+    if isinstance(values, np.ma.MaskedArray):
+        mask = np.ma.getmaskarray(values)
+        values = np.asarray(values.data)
+        if mask.any():
+            if values.dtype.kind not in "iufb":
+                raise TypeError(f"values must be numbers, got a masked array of dtype {values.dtype}")
+            small = values.dtype.kind in "iub" and values.dtype.itemsize <= 2 or values.dtype.kind == "f" \
+                and values.dtype.itemsize <= 4
+            values = values.astype(np.float32 if small else np.float64)
+            values[mask] = np.nan
+            return values
+    values = np.asarray(values)
     if values.dtype.kind == "f" and values.dtype.itemsize == 2:
         return values.astype(np.float32)
     if values.dtype.kind == "f" and values.dtype.itemsize > 8:
@@ -695,7 +717,7 @@ def vtk_float(values: np.ndarray) -> np.ndarray:
 
 def _with_values(image, values):
     """A shallow copy of ``image`` carrying ``values`` (one per point or per cell) as its active scalars "Data"."""
-    values = vtk_float(np.asarray(values))
+    values = vtk_values(values)
     if values.dtype.kind not in "iufb":
         raise TypeError(f"scalars given as values must be numbers, got an array of dtype {values.dtype}")
     points, cells = image.GetNumberOfPoints(), image.GetNumberOfCells()
