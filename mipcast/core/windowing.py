@@ -18,7 +18,9 @@ also stated in docs/usage.md ("The default window"):
 - **Anything else**: percentiles of the histogram.  ``low`` = median + 3
   robust standard deviations (1.4826 x the median absolute deviation), the
   brightest the background noise reaches in a projection, but at most the
-  99.5th percentile (so at least 0.5 % of the voxels are above it); ``high``
+  99.5th percentile of the voxels and of the trilinear interpolant at the
+  cell centres (so at least 0.5 % of the voxels, and of what rays between
+  them meet, are above it: white noise averages out between voxels); ``high``
   = the 99.5th percentile of the voxels above ``low`` (a few of the
   brightest voxels saturate).  Where that gives no range, the data range.
 
@@ -30,7 +32,8 @@ get other windows:
   the ``"ct-minip"`` preset, -1000 to -400 HU (air and airways dark, lung
   parenchyma grey, soft tissue white).  Anything else: ``high`` = median -
   3 robust standard deviations, the darkest the bright surround (tissue)
-  reaches in a projection, but at least the 0.5th percentile; ``low`` = the
+  reaches in a projection, but at least the 0.5th percentile (of the voxels
+  and of the interpolant at the cell centres); ``low`` = the
   0.5th percentile of the voxels below ``high`` (the darkest structures,
   air, at the bottom).
 - **Average** (``"average"``) keeps the mean, which lies in a much
@@ -186,7 +189,7 @@ def window_and_reason(image, projection: str = "mip") -> Tuple[Tuple[float, floa
         values = values.astype(np.float64, copy=False)
         median = float(np.median(values))
         spread = 1.4826 * float(np.median(np.abs(values - median)))
-        low = min(median + 3.0 * spread, float(np.percentile(values, 99.5)))
+        low = float(np.nanmin([median + 3.0 * spread, np.percentile(values, 99.5), _cell_percentile(image, 99.5)]))
         above = values[values > low]
         if above.size:
             high = float(np.percentile(above, 99.5))
@@ -210,7 +213,7 @@ def _other_window(image, values, full, projection: str) -> Tuple[Tuple[float, fl
         if projection == "minip":
             median = float(np.median(values))
             spread = 1.4826 * float(np.median(np.abs(values - median)))
-            high = max(median - 3.0 * spread, float(np.percentile(values, 0.5)))
+            high = float(np.nanmax([median - 3.0 * spread, np.percentile(values, 0.5), _cell_percentile(image, 0.5)]))
             below = values[values < high]
             if below.size:
                 low = float(np.percentile(below, 0.5))
@@ -293,6 +296,29 @@ def parse_window(tokens: Optional[Sequence[str]]) -> WindowSpec:
             pass
     raise ValueError(f"--window takes LOW HIGH, 'auto', 'full' or one of {', '.join(sorted(PRESETS))}; "
                      f"got {' '.join(tokens)!r}")
+
+
+def _cell_percentile(image, q: float) -> float:
+    """The ``q``-th percentile of the trilinear interpolant at the cell centres (the mean of each cell's 8
+    corners; cells with a missing corner left out; every k-th cell along each axis: at most about
+    :data:`SAMPLE_LIMIT`); NaN where there is no such cell (a single slice, every cell missing a corner).
+
+    Rays see the interpolant, not the voxels: between the voxels of white noise it averages out, so a floor at a
+    voxel percentile can lie above everything a ray meets (``np.random.rand`` drew black).
+    """
+    values = vtk_to_numpy(image.GetPointData().GetScalars())
+    if values.ndim > 1:
+        values = values[:, 0]
+    nx, ny, nz = image.GetDimensions()
+    volume = values.reshape(nz, ny, nx)
+    stride = max(1, int(np.ceil((volume.size / SAMPLE_LIMIT) ** (1.0 / 3.0))))
+    shape = tuple(len(range(0, n - 1, stride)) for n in volume.shape)
+    total = np.zeros(shape)
+    for corner in np.ndindex(2, 2, 2):
+        total += volume[tuple(slice(c, c + stride * n, stride) for c, n in zip(corner, shape))]
+    total = total.ravel() / 8.0
+    total = total[np.isfinite(total)]
+    return float(np.percentile(total, q)) if total.size else float("nan")
 
 
 def _axis_averages(image) -> np.ndarray:
