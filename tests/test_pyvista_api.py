@@ -495,3 +495,20 @@ def test_masked_array_entries_are_missing_data_not_the_fill_value(grid, dtype):
     assert np.array_equal(masked.data, before) and masked.mask.sum() == mask.sum()
     unmasked = np.ma.masked_array(values, mask=False)  # a mask with nothing masked: the values as they are
     assert np.array_equal(render(unmasked, size=(32, 32)), render(values, size=(32, 32)))
+
+
+def test_big_endian_arrays_are_drawn_and_left_as_they_were(grid):
+    """astropy reads FITS cubes (radio astronomy's peak-intensity maps are MIPs) as big-endian arrays.
+    pyvista.wrap byte-swaps such an array in place: mipcast's render handed it the user's array, which then
+    held garbage (3.4e38 when used again). Now a native copy is drawn and the user's array stays as it was."""
+    values = np.asarray(grid.point_data.active_scalars).reshape(grid.dimensions, order="F")
+    expected = render(values.astype(np.float32), size=(32, 32))
+    assert expected.max() > 100
+    for dtype in (">f4", ">i2", ">f8"):
+        native = (values * 1000).astype(dtype[1:] if dtype[1] == "f" else np.int16)
+        swapped = native.astype(dtype)
+        before = swapped.tobytes()
+        assert np.array_equal(render(swapped, size=(32, 32)), render(native, size=(32, 32))), dtype
+        assert np.array_equal(render(grid, scalars=swapped.ravel(order="F"), size=(32, 32)),
+                              render(grid, scalars=native.ravel(order="F"), size=(32, 32))), dtype
+        assert swapped.tobytes() == before and swapped.dtype == np.dtype(dtype), dtype

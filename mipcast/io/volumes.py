@@ -679,15 +679,19 @@ def with_scalars(image, scalars=None, preference: str = "point"):
 
 
 def vtk_values(values) -> np.ndarray:
-    """``values`` as VTK can hold them: masked entries NaN, float16 as float32, long double as float64.
+    """``values`` as VTK can hold them: masked entries NaN, float16 as float32, long double as float64, in the
+    machine's byte order.
 
     A numpy masked array (netCDF4 and h5py-based readers return one where a
     variable has a fill value: land in an ocean model, no-data cells) would
     lose its mask in ``np.asarray`` and draw the fill value; its masked
     entries become missing data instead (NaN, in a float32 copy for 8/16-bit
     integers and float16/32, float64 otherwise; the caller's array is not
-    modified).  Other arrays are returned unchanged but for the two float
-    types VTK does not have.
+    modified).  Big-endian arrays (FITS files through astropy, some raw
+    scanner dumps) are copied in the machine's byte order: ``pyvista.wrap``
+    byte-swaps them in place, which corrupted the caller's array.  Other
+    arrays are returned unchanged but for the two float types VTK does not
+    have.
 
     Examples
     --------
@@ -695,6 +699,8 @@ def vtk_values(values) -> np.ndarray:
     ('float32', 'int16')
     >>> vtk_values(np.ma.masked_array([1, 2, 3], mask=[0, 1, 0], dtype=np.int16))
     array([ 1., nan,  3.], dtype=float32)
+    >>> vtk_values(np.arange(3, dtype=">i4")).dtype.isnative
+    True
     """
     if isinstance(values, np.ma.MaskedArray):
         mask = np.ma.getmaskarray(values)
@@ -708,6 +714,8 @@ def vtk_values(values) -> np.ndarray:
             values[mask] = np.nan
             return values
     values = np.asarray(values)
+    if not values.dtype.isnative:
+        values = values.astype(values.dtype.newbyteorder("="))
     if values.dtype.kind == "f" and values.dtype.itemsize == 2:
         return values.astype(np.float32)
     if values.dtype.kind == "f" and values.dtype.itemsize > 8:
