@@ -47,8 +47,10 @@ def render(image, method: str = "mip", *, scalars=None, size: Sequence[int] = (2
         Volume with point scalars (several components: see ``component``); a
         ``RectilinearGrid`` with evenly spaced coordinates is drawn as image data
         (:func:`mipcast.io.as_image_data`); a 3-D array indexed ``[x, y, z]`` as
-        ``pyvista.wrap`` makes it image data (spacing ``resolution``); a
-        numpy masked array's masked entries are missing data (as NaN).
+        ``pyvista.wrap`` makes it image data (spacing ``resolution``), a 4-D
+        one ``[x, y, z, component]`` likewise with components, complex values
+        as (real, imaginary) components; a numpy masked array's masked
+        entries are missing data (as NaN).
     method : str, default: "mip"
         A name from ``mipcast.METHODS``.
     scalars : str or array_like, optional
@@ -147,8 +149,10 @@ def add_volume(plotter, image, method: str = "mip", *, scalars=None,
         Volume with point scalars (several components: see ``component``); a
         ``RectilinearGrid`` with evenly spaced coordinates is drawn as image data
         (:func:`mipcast.io.as_image_data`); a 3-D array indexed ``[x, y, z]`` as
-        ``pyvista.wrap`` makes it image data (spacing ``resolution``); a
-        numpy masked array's masked entries are missing data (as NaN).
+        ``pyvista.wrap`` makes it image data (spacing ``resolution``), a 4-D
+        one ``[x, y, z, component]`` likewise with components, complex values
+        as (real, imaginary) components; a numpy masked array's masked
+        entries are missing data (as NaN).
     method : str, default: "mip"
         A name from ``mipcast.METHODS``.
     scalars : str or array_like, optional
@@ -399,16 +403,30 @@ def volume_image(image, scalars=None, resolution: Optional[Sequence[float]] = No
     (1.0, 2.0, 3.0)
     """
     if isinstance(image, np.ndarray):
-        import pyvista
-
-        if image.ndim != 3:
-            raise TypeError(f"a numpy volume must be a 3-D array indexed [x, y, z], got shape {image.shape}")
-        image = pyvista.wrap(vtk_values(image))
+        image = _numpy_volume(image)
         image.spacing = check_resolution(resolution)
     elif resolution is not None:
         raise TypeError("resolution= is the spacing of a numpy array volume; image data has its own spacing: "
                         "set grid.spacing instead")
     return with_scalars(as_image_data(image), scalars, preference)
+
+
+def _numpy_volume(values: np.ndarray):
+    """A numpy volume ``[x, y, z]`` (or ``[x, y, z, component]``) as pyvista image data of spacing 1."""
+    import pyvista
+
+    if values.ndim not in (3, 4):
+        raise TypeError(f"a numpy volume must be a 3-D array indexed [x, y, z] (or 4-D, [x, y, z, component]), "
+                        f"got shape {values.shape}")
+    if values.dtype.kind not in "iufbc":
+        raise TypeError(f"a numpy volume must hold numbers, got dtype {values.dtype}: convert it first "
+                        "(e.g. values.astype(np.float32))")
+    values = vtk_values(values)
+    if values.ndim == 3:
+        return pyvista.wrap(values)
+    image = pyvista.ImageData(dimensions=values.shape[:3])
+    image.point_data["values"] = values.reshape(-1, values.shape[3], order="F")
+    return image
 
 
 def check_resolution(resolution) -> tuple:

@@ -167,7 +167,8 @@ class MipPlotterComponent:
         Parameters
         ----------
         grid : pyvista.ImageData or numpy.ndarray
-            Volume with point scalars (or a 3-D array indexed ``[x, y, z]``).
+            Volume with point scalars (or a 3-D array indexed ``[x, y, z]``, a
+            4-D one ``[x, y, z, component]``).
         method : str, default: "mip"
             A name from ``mipcast.METHODS``.
         **kwargs

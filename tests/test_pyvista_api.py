@@ -512,3 +512,35 @@ def test_big_endian_arrays_are_drawn_and_left_as_they_were(grid):
         assert np.array_equal(render(grid, scalars=swapped.ravel(order="F"), size=(32, 32)),
                               render(grid, scalars=native.ravel(order="F"), size=(32, 32))), dtype
         assert swapped.tobytes() == before and swapped.dtype == np.dtype(dtype), dtype
+
+
+def test_numpy_vector_and_complex_volumes_draw_their_magnitude_or_a_component(grid):
+    """A numpy volume [x, y, z, component] (a simulation's velocity) and a complex one (an MR reconstruction)
+    were refused ("must be a 3-D array") or, for complex scalars= values, a TypeError; they are drawn as the
+    same components in image data are: the magnitude by default, component= one of them (complex: 0 the real
+    part, 1 the imaginary part), missing where any component is NaN or masked."""
+    values = np.asarray(grid.point_data.active_scalars).reshape(grid.dimensions, order="F").astype(np.float32)
+    vector = np.stack([values, 0.5 * values[::-1], 0.25 * values[:, ::-1]], axis=-1)
+    magnitude = np.sqrt((vector.astype(np.float64) ** 2).sum(axis=-1)).astype(np.float32)
+    for method in ("mip", "analytic"):
+        expected = render(magnitude, method, size=(32, 32), as_float=True)
+        assert np.allclose(render(vector, method, size=(32, 32), as_float=True), expected, rtol=1e-5, equal_nan=True)
+        for k in range(3):
+            assert np.array_equal(render(vector, method, size=(32, 32), component=k),
+                                  render(np.ascontiguousarray(vector[..., k]), method, size=(32, 32))), (method, k)
+    complex_values = (vector[..., 0] + 1j * vector[..., 1]).astype(np.complex64)
+    assert np.allclose(render(complex_values, size=(32, 32), as_float=True),
+                       render(np.abs(complex_values), size=(32, 32), as_float=True), rtol=1e-5, equal_nan=True)
+    assert np.array_equal(render(complex_values, size=(32, 32), component=1),
+                          render(np.ascontiguousarray(vector[..., 1]), size=(32, 32)))
+    flat = complex_values.ravel(order="F")
+    assert np.array_equal(render(grid, scalars=flat, size=(32, 32)), render(complex_values, size=(32, 32)))
+    holed = np.ma.masked_array(complex_values, mask=np.zeros(complex_values.shape, bool))
+    holed[:, :, :10] = np.ma.masked
+    twin = np.abs(complex_values)
+    twin[:, :, :10] = np.nan
+    assert np.array_equal(render(holed, size=(32, 32)), render(twin, size=(32, 32)))
+    with pytest.raises(TypeError, match="must hold numbers.*astype"):
+        render(values.astype(object), size=(32, 32))
+    with pytest.raises(TypeError, match="3-D array.*4-D"):
+        render(values[..., 0], size=(32, 32))

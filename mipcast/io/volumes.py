@@ -679,19 +679,21 @@ def with_scalars(image, scalars=None, preference: str = "point"):
 
 
 def vtk_values(values) -> np.ndarray:
-    """``values`` as VTK can hold them: masked entries NaN, float16 as float32, long double as float64, in the
-    machine's byte order.
+    """``values`` as VTK can hold them: masked entries NaN, complex numbers as (real, imaginary) components,
+    float16 as float32, long double as float64, in the machine's byte order.
 
     A numpy masked array (netCDF4 and h5py-based readers return one where a
     variable has a fill value: land in an ocean model, no-data cells) would
     lose its mask in ``np.asarray`` and draw the fill value; its masked
     entries become missing data instead (NaN, in a float32 copy for 8/16-bit
     integers and float16/32, float64 otherwise; the caller's array is not
-    modified).  Big-endian arrays (FITS files through astropy, some raw
+    modified).  Complex values (an MR reconstruction before its magnitude is
+    taken) get a last axis of two components, real and imaginary, as
+    pyvista stores them: their magnitude is drawn by default (``component=0``
+    the real part).  Big-endian arrays (FITS files through astropy, some raw
     scanner dumps) are copied in the machine's byte order: ``pyvista.wrap``
     byte-swaps them in place, which corrupted the caller's array.  Other
-    arrays are returned unchanged but for the two float types VTK does not
-    have.
+    arrays are returned unchanged.
 
     Examples
     --------
@@ -699,27 +701,29 @@ def vtk_values(values) -> np.ndarray:
     ('float32', 'int16')
     >>> vtk_values(np.ma.masked_array([1, 2, 3], mask=[0, 1, 0], dtype=np.int16))
     array([ 1., nan,  3.], dtype=float32)
+    >>> vtk_values(np.array([3 + 4j], np.complex64))
+    array([[3., 4.]], dtype=float32)
     >>> vtk_values(np.arange(3, dtype=">i4")).dtype.isnative
     True
     """
-    if isinstance(values, np.ma.MaskedArray):
-        mask = np.ma.getmaskarray(values)
-        values = np.asarray(values.data)
-        if mask.any():
-            if values.dtype.kind not in "iufb":
-                raise TypeError(f"values must be numbers, got a masked array of dtype {values.dtype}")
-            small = values.dtype.kind in "iub" and values.dtype.itemsize <= 2 or values.dtype.kind == "f" \
-                and values.dtype.itemsize <= 4
-            values = values.astype(np.float32 if small else np.float64)
-            values[mask] = np.nan
-            return values
-    values = np.asarray(values)
+    mask = np.ma.getmaskarray(values) if isinstance(values, np.ma.MaskedArray) else None
+    values = np.asarray(values.data if mask is not None else values)
     if not values.dtype.isnative:
         values = values.astype(values.dtype.newbyteorder("="))
+    if values.dtype.kind == "c":
+        values = np.stack([values.real, values.imag], axis=-1)
+        mask = None if mask is None else np.repeat(mask[..., None], 2, axis=-1)
     if values.dtype.kind == "f" and values.dtype.itemsize == 2:
-        return values.astype(np.float32)
+        values = values.astype(np.float32)
     if values.dtype.kind == "f" and values.dtype.itemsize > 8:
-        return values.astype(np.float64)
+        values = values.astype(np.float64)
+    if mask is None or not mask.any():
+        return values
+    if values.dtype.kind not in "iufb":
+        raise TypeError(f"values must be numbers, got a masked array of dtype {values.dtype}")
+    small = values.dtype.itemsize <= (4 if values.dtype.kind == "f" else 2)
+    values = values.astype(np.float32 if small else np.float64)
+    values[mask] = np.nan
     return values
 
 
