@@ -96,6 +96,73 @@ def test_vti_round_trip_is_a_new_plain_image(tmp_path):
     assert read_volume(str(tmp_path / "a.vti")) is not image
 
 
+def _written(data, path, writer_type):
+    writer = writer_type()
+    writer.SetFileName(str(path))
+    writer.SetInputData(data)
+    if hasattr(writer, "SetFileTypeToBinary"):
+        writer.SetFileTypeToBinary()  # legacy: as pyvista and ParaView write it (ASCII keeps 6 digits)
+    assert writer.Write() == 1
+    return path
+
+
+def test_vtk_files_as_paraview_and_pyvista_write_them(tmp_path):
+    """Image data in every VTK format (XML, parallel XML, legacy), evenly spaced rectilinear grids (XML, legacy),
+    and files that name no active scalars (pyvista's save, ParaView's writers with several arrays): each is the
+    same volume. Until 2026-12-04 only .vti was read, and a .vti whose arrays none was the active scalars was
+    "damaged or incomplete"."""
+    from vtkmodules.vtkCommonDataModel import vtkRectilinearGrid
+    from vtkmodules.vtkFiltersCore import vtkAppendFilter
+    from vtkmodules.vtkIOLegacy import vtkDataSetWriter
+    from vtkmodules.vtkIOParallelXML import vtkXMLPImageDataWriter
+    from vtkmodules.vtkIOXML import vtkXMLRectilinearGridWriter, vtkXMLUnstructuredGridWriter
+
+    values = np.random.default_rng(0).random(SHAPE, dtype=np.float32)
+    source = make_image(values)  # "scalars": the active scalars
+    velocity = numpy_to_vtk(np.random.default_rng(1).random((values.size, 3), dtype=np.float32), deep=True)
+    velocity.SetName("velocity")
+    unnamed = make_image(values)
+    unnamed.GetPointData().AddArray(velocity)
+    unnamed.GetPointData().SetActiveScalars(None)  # the arrays stay, none is active: the first is drawn
+    assert unnamed.GetPointData().GetScalars() is None
+    grid = vtkRectilinearGrid()
+    grid.SetDimensions(source.GetDimensions())
+    for axis, (n, start, step) in enumerate(zip(source.GetDimensions(), source.GetOrigin(), source.GetSpacing())):
+        getattr(grid, f"Set{'XYZ'[axis]}Coordinates")(numpy_to_vtk(start + step * np.arange(n), deep=True))
+    grid.GetPointData().AddArray(source.GetPointData().GetScalars())
+    files = [_written(unnamed, tmp_path / "unnamed.vti", vtkXMLImageDataWriter),
+             _written(source, tmp_path / "pieces.pvti", vtkXMLPImageDataWriter),
+             _written(unnamed, tmp_path / "legacy.vtk", vtkDataSetWriter),
+             _written(grid, tmp_path / "grid.vtr", vtkXMLRectilinearGridWriter),
+             _written(grid, tmp_path / "grid.vtk", vtkDataSetWriter)]
+    for path in files:
+        image = read_volume(path)
+        assert is_plain_vtk(image), path.name
+        assert image.GetDimensions() == (11, 7, 6), path.name
+        assert image.GetSpacing() == pytest.approx(source.GetSpacing()), path.name
+        assert image.GetOrigin() == pytest.approx(source.GetOrigin()), path.name
+        assert image.GetPointData().GetScalars().GetName() == "scalars", path.name
+        np.testing.assert_array_equal(check_image(image), values, err_msg=path.name)
+    legacy = read_volume(tmp_path / "legacy.vtk")
+    np.testing.assert_array_equal(vtk_to_numpy(legacy.GetPointData().GetArray("velocity")),
+                                  vtk_to_numpy(velocity))
+    append = vtkAppendFilter()  # the same points and values as an unstructured mesh
+    append.AddInputData(source)
+    append.Update()
+    mesh = append.GetOutput()
+    _written(mesh, tmp_path / "mesh.vtu", vtkXMLUnstructuredGridWriter)
+    _written(mesh, tmp_path / "mesh.vtk", vtkDataSetWriter)
+    with pytest.raises(ValueError, match="unknown file type '.vtu'"):
+        read_volume(tmp_path / "mesh.vtu")
+    with pytest.raises(ValueError, match="holds a UnstructuredGrid, not image data.*Resample To Image"):
+        read_volume(tmp_path / "mesh.vtk")
+    uneven = vtkRectilinearGrid()
+    uneven.DeepCopy(grid)
+    uneven.SetZCoordinates(numpy_to_vtk(np.array([0.0, 1, 2, 3, 5, 8]), deep=True))
+    with pytest.raises(TypeError, match="z coordinates are not evenly spaced.*resample"):
+        read_volume(_written(uneven, tmp_path / "uneven.vtr", vtkXMLRectilinearGridWriter))
+
+
 def test_mha_round_trip(tmp_path):
     values = file_values()
     source = make_image(values, rot=rotation(-40, 10))
@@ -407,7 +474,7 @@ def test_missing_file_names_the_path(tmp_path):
 
 def test_unknown_extension_lists_the_supported_ones(tmp_path):
     (tmp_path / "volume.xyz").write_text("data")
-    with pytest.raises(ValueError, match=r"unknown file type '\.xyz'.*\.vti, \.nrrd") as info:
+    with pytest.raises(ValueError, match=r"unknown file type '\.xyz'.*\.vti, \.pvti") as info:
         read_volume(tmp_path / "volume.xyz")
     assert all(ext in str(info.value) for ext in SUPPORTED_EXTENSIONS)
 

@@ -38,7 +38,8 @@ from vtkmodules.util.numpy_support import get_vtk_array_type, numpy_to_vtk, vtk_
 from vtkmodules.vtkCommonCore import vtkDataArray, vtkLogger, vtkOutputWindow, vtkStringOutputWindow
 from vtkmodules.vtkCommonDataModel import vtkImageData, vtkRectilinearGrid
 from vtkmodules.vtkIOImage import vtkMetaImageReader, vtkNIFTIImageReader
-from vtkmodules.vtkIOXML import vtkXMLImageDataReader
+from vtkmodules.vtkIOLegacy import vtkDataSetReader
+from vtkmodules.vtkIOXML import vtkXMLImageDataReader, vtkXMLPImageDataReader, vtkXMLRectilinearGridReader
 
 from mipcast.core.camera_rays import matrix_array
 from mipcast.core.prepare import cell_centres
@@ -48,8 +49,8 @@ from mipcast.core.validation import check_image
 PathLike = Union[str, "os.PathLike[str]"]
 
 #: Extensions read by :func:`read_volume` (a folder is read as a DICOM series).
-SUPPORTED_EXTENSIONS = (".vti", ".nrrd", ".nhdr", ".nii", ".nii.gz", ".mha", ".mhd", ".dcm",
-                        ".dicom")
+SUPPORTED_EXTENSIONS = (".vti", ".pvti", ".vtr", ".vtk", ".nrrd", ".nhdr", ".nii", ".nii.gz", ".mha", ".mhd",
+                        ".dcm", ".dicom")
 
 _RAS_TO_LPS = np.diag([-1.0, -1.0, 1.0])
 _NRRD_SPACES = {  # NRRD 'space' -> matrix taking its coordinates to LPS
@@ -66,10 +67,15 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Opt
     Parameters
     ----------
     path : str or os.PathLike
-        ``.vti`` (VTK XML image data), ``.nrrd``/``.nhdr``, ``.nii``/``.nii.gz``
-        (NIfTI-1/2), ``.mha``/``.mhd`` (MetaImage), a ``.dcm`` file or a
-        folder of DICOM files.  A file with another extension is read as
-        DICOM if it carries the DICOM marker ('DICM' at byte 128).
+        ``.vti`` (VTK XML image data), ``.pvti`` (its parallel pieces),
+        ``.vtr`` (an evenly spaced XML rectilinear grid), ``.vtk`` (legacy
+        structured points or an evenly spaced rectilinear grid),
+        ``.nrrd``/``.nhdr``, ``.nii``/``.nii.gz`` (NIfTI-1/2), ``.mha``/``.mhd``
+        (MetaImage), a ``.dcm`` file or a folder of DICOM files.  A file with
+        another extension is read as DICOM if it carries the DICOM marker
+        ('DICM' at byte 128).  A VTK file that names no active scalars
+        (pyvista's ``save``, ParaView's writers) has its first numeric point
+        array (else cell array) active.
     series_uid : str, optional
         For a DICOM folder holding several series: which one to read (see
         :func:`mipcast.io.dicom.list_series`).
@@ -115,11 +121,13 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Opt
     ValueError
         For an unsupported extension (the message lists the supported ones),
         a file the reader cannot parse (the reader's own messages are
-        included), or a volume :func:`mipcast.core.validation.check_image` refuses
-        (its message is kept, e.g. "at least 2 points are needed along
-        every axis" for a single DICOM slice).
+        included), a VTK file holding no image data (a mesh: resample it),
+        or a volume :func:`mipcast.core.validation.check_image` refuses (its
+        message is kept, e.g. "at least 2 points are needed along every
+        axis" for a single DICOM slice).
     TypeError
-        From :func:`mipcast.core.validation.check_image` (unsupported scalar type).
+        From :func:`mipcast.core.validation.check_image` (unsupported scalar
+        type); for a rectilinear grid whose steps are uneven (resample it).
 
     Examples
     --------
@@ -170,7 +178,7 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Opt
         raise ValueError(f"volume picks a volume of a 4D NIfTI or NRRD file, not of '{path}' (a DICOM folder's "
                          "volumes are picked with series_uid, see mipcast.io.dicom.list_series)")
     else:
-        image = {"vti": _read_vti, "meta": _read_meta}[kind](path)
+        image = _read_meta(path) if kind == "meta" else _read_vtk_file(path, kind)
     image = right_handed(image)
     check_image(image)
     return image
@@ -184,7 +192,8 @@ def _kind(path: Path) -> str:
     if path.is_dir():
         return "dicom"
     name = path.name.lower()
-    for suffix, kind in ((".vti", "vti"), (".nrrd", "nrrd"), (".nhdr", "nrrd"),
+    for suffix, kind in ((".vti", "vti"), (".pvti", "pvti"), (".vtr", "vtr"), (".vtk", "legacy"),
+                         (".nrrd", "nrrd"), (".nhdr", "nrrd"),
                          (".nii", "nifti"), (".nii.gz", "nifti"), (".mha", "meta"),
                          (".mhd", "meta"), (".dcm", "dicom"), (".dicom", "dicom")):
         if name.endswith(suffix):
@@ -237,7 +246,9 @@ def _run(reader, path: Path, what: str) -> vtkImageData:
     output = reader.GetOutput()
     failed = ("ERROR" in messages or "File operation failed" in messages
               or reader.GetErrorCode() != 0 or output is None or output.GetNumberOfPoints() == 0
-              or (output.GetPointData().GetScalars() is None and output.GetCellData().GetScalars() is None))
+              or not any(attributes.GetArray(i) is not None for attributes in (output.GetPointData(),
+                                                                                  output.GetCellData())
+                         for i in range(attributes.GetNumberOfArrays())))
     if failed:
         detail = " ".join(line.strip() for line in messages.splitlines()
                           if line.strip() and not line.startswith(("ERROR: In", "Warning: In",
@@ -245,7 +256,9 @@ def _run(reader, path: Path, what: str) -> vtkImageData:
         detail = re.sub(r"\s*\(0x[0-9a-f]+\)", "", detail)[:500]
         raise ValueError(f"cannot read '{path}' as {what}: the file is damaged or incomplete"
                          + (f" (VTK: {detail})" if detail else ""))
-    return _fresh(output)
+    copy = output.NewInstance()
+    copy.ShallowCopy(output)
+    return copy
 
 
 def _fresh(source: vtkImageData) -> vtkImageData:
@@ -327,8 +340,36 @@ def right_handed(image: vtkImageData) -> vtkImageData:
 # formats
 # ---------------------------------------------------------------------------
 
-def _read_vti(path: Path) -> vtkImageData:
-    return _run(vtkXMLImageDataReader(), path, "VTK XML image data (.vti)")
+_VTK_FORMATS = {"vti": (vtkXMLImageDataReader, "VTK XML image data (.vti)"),
+                "pvti": (vtkXMLPImageDataReader, "VTK XML parallel image data (.pvti)"),
+                "vtr": (vtkXMLRectilinearGridReader, "VTK XML rectilinear grid (.vtr)"),
+                "legacy": (vtkDataSetReader, "legacy VTK (.vtk)")}
+
+
+def _read_vtk_file(path: Path, kind: str) -> vtkImageData:
+    """A VTK file of image data or an evenly spaced rectilinear grid, with active scalars (the first numeric
+    point array, else cell array, where the file names none: pyvista and ParaView write such files)."""
+    reader_type, what = _VTK_FORMATS[kind]
+    reader = reader_type()
+    if kind == "legacy":
+        reader.ReadAllScalarsOn()
+        reader.ReadAllVectorsOn()
+    data = _run(reader, path, what)
+    if isinstance(data, vtkRectilinearGrid):
+        data = as_image_data(data)
+    if not isinstance(data, vtkImageData):
+        raise ValueError(
+            f"cannot draw '{path}': it holds a {data.GetClassName()[3:]}, not image data; resample it onto "
+            "image data first (ParaView: Resample To Image; pyvista: grid.sample(pyvista.ImageData(...)); VTK: "
+            "vtkResampleToImage) and save that (.vti)")
+    if data.GetPointData().GetScalars() is None and data.GetCellData().GetScalars() is None:
+        for attributes in (data.GetPointData(), data.GetCellData()):
+            names = [attributes.GetArrayName(i) for i in range(attributes.GetNumberOfArrays())
+                     if attributes.GetArray(i) is not None]
+            if names:
+                attributes.SetActiveScalars(names[0])
+                break
+    return data
 
 
 def _read_meta(path: Path) -> vtkImageData:
