@@ -75,16 +75,11 @@ void mcCoveredPiece(vec4 d, float s0, float s1, float level, inout vec2 covered)
 // (integral, length) over s in [0, 1] of the part where the cubic d is >= level.
 vec2 mcCoveredCell(vec4 d, float level)
 {
-  float qa = 3.0 * d.w;
-  float qb = 2.0 * d.z;
-  float disc = max(qb * qb - 4.0 * qa * d.y, 0.0);
-  float qq = -0.5 * (qb + (qb < 0.0 ? -1.0 : 1.0) * sqrt(disc));
-  float r1 = clamp(abs(qa) > 1.0e-20 ? qq / qa : 0.0, 0.0, 1.0);
-  float r2 = clamp(abs(qq) > 1.0e-20 ? d.y / qq : 0.0, 0.0, 1.0);
+  vec2 r = mcCriticalPoints(d);
   vec2 covered = vec2(0.0);
-  mcCoveredPiece(d, 0.0, min(r1, r2), level, covered);
-  mcCoveredPiece(d, min(r1, r2), max(r1, r2), level, covered);
-  mcCoveredPiece(d, max(r1, r2), 1.0, level, covered);
+  mcCoveredPiece(d, 0.0, min(r.x, r.y), level, covered);
+  mcCoveredPiece(d, min(r.x, r.y), max(r.x, r.y), level, covered);
+  mcCoveredPiece(d, max(r.x, r.y), 1.0, level, covered);
   return covered;
 }
 #endif

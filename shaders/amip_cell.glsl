@@ -53,22 +53,33 @@ vec4 mcCellCubic(vec4 lo, vec4 hi, vec3 u0, vec3 du)
               q.z * du.z);
 }
 
+// The cubic's critical points in [0, 1]: the roots of d1 + 2 d2 s + 3 d3 s^2
+// by the cancellation-free formula, on the derivative scaled to its largest
+// coefficient (the roots do not change; texture values far from 1, 1e20 or
+// 1e-20, would overflow float32 in qb * qb or fall below the 1e-20 guards and
+// lose the maximum). A missing or out-of-range root is clamped into [0, 1],
+// which only re-tests a point of the segment (never above the true maximum);
+// a ~ 0 (quadratic or linear cubic) and tiny segments need no special case.
+vec2 mcCriticalPoints(vec4 d)
+{
+  float scale = max(max(abs(d.y), abs(d.z)), abs(d.w));
+  vec3 c = scale > 0.0 ? d.yzw / scale : vec3(0.0);
+  float qa = 3.0 * c.z;
+  float qb = 2.0 * c.y;
+  float disc = max(qb * qb - 4.0 * qa * c.x, 0.0);
+  float qq = -0.5 * (qb + (qb < 0.0 ? -1.0 : 1.0) * sqrt(disc));
+  float r1 = abs(qa) > 1.0e-20 ? qq / qa : 0.0;
+  float r2 = abs(qq) > 1.0e-20 ? c.x / qq : 0.0;
+  return clamp(vec2(r1, r2), 0.0, 1.0);
+}
+
 float mcCellMaximum(vec4 lo, vec4 hi, vec3 u0, vec3 du)
 {
   vec4 d = mcCellCubic(lo, hi, u0, du);
-  // Roots of d1 + 2 d2 s + 3 d3 s^2 by the cancellation-free formula; a
-  // missing or out-of-range root is clamped into [0, 1], which only re-tests
-  // a point of the segment (never above the true maximum). a ~ 0 (quadratic
-  // or linear cubic) and tiny segments need no special case.
-  float qa = 3.0 * d.w;
-  float qb = 2.0 * d.z;
-  float disc = max(qb * qb - 4.0 * qa * d.y, 0.0);
-  float qq = -0.5 * (qb + (qb < 0.0 ? -1.0 : 1.0) * sqrt(disc));
-  float r1 = abs(qa) > 1.0e-20 ? qq / qa : 0.0;
-  float r2 = abs(qq) > 1.0e-20 ? d.y / qq : 0.0;
+  vec2 r = mcCriticalPoints(d);
   float best = max(d.x, d.x + d.y + d.z + d.w);
-  best = max(best, mcCubic(d, clamp(r1, 0.0, 1.0)));
-  return max(best, mcCubic(d, clamp(r2, 0.0, 1.0)));
+  best = max(best, mcCubic(d, r.x));
+  return max(best, mcCubic(d, r.y));
 }
 
 // Ray parameters of the next voxel plane per axis after parameter t; 1e30

@@ -318,6 +318,45 @@ def scalar_image(image: Any) -> Any:
     return image
 
 
+#: The float values the GPU draws right, (largest magnitude, smallest range) per type (measured:
+#: docs/reliability.md, "Scalar types"). float32 reaches the shaders raw, where sums and differences of
+#: values past 2^123 overflow and ranges below 2^-110 meet float32's subnormals (flushed to zero); float64
+#: is normalised by VTK before its float32 texture, so float32's largest value and, for VTK's own average,
+#: ranges below 2^-120 bind.
+FLOAT_LIMITS = {"float32": (2.0 ** 123, 2.0 ** -110), "float64": (float(np.finfo(np.float32).max), 2.0 ** -120)}
+
+
+def check_float_range(prepared: "PreparedScalars", whole_range: Optional[Tuple[float, float]] = None) -> None:
+    """Refuse float values beyond what the GPU's float32 textures and shaders hold (:data:`FLOAT_LIMITS`;
+    every method drew garbage: a float64 volume of energies in erg, 1e50, or of 1e-40s; float32 past 1e37
+    or with a range of 1e-35). Checked on the user's data (:func:`mipcast.core.validation.check_image`, the
+    mappers' :class:`~mipcast.mappers.input_preparer.InputPreparer`), over ``whole_range`` on a rank's piece.
+
+    Raises
+    ------
+    InputError
+        Naming the range, the limit and the fix (a scale to apply first).
+    """
+    dtype = prepared.values.dtype
+    if dtype.kind != "f":
+        return
+    low, high = (float(v) for v in whole_range) if whole_range is not None else (prepared.low, prepared.high)
+    largest, smallest = FLOAT_LIMITS["float32" if dtype == np.float32 else "float64"]
+    reach = max(abs(low), abs(high))
+    if reach > largest:
+        scale = 10.0 ** np.floor(np.log10(reach) - 3)
+        raise InputError(
+            f"the values span {low:g} to {high:g}, beyond {largest:.3g}, the most the GPU's float32 textures "
+            f"and shaders hold for {dtype.name} data (they would overflow); scale them first (e.g. values / "
+            f"{scale:.0e}) or draw their logarithm")
+    if 0.0 < high - low < smallest:
+        scale = 10.0 ** np.floor(-np.log10(high - low))
+        raise InputError(
+            f"the values span {low:g} to {high:g}: a range below {smallest:.3g} is lost in the GPU's float32 "
+            f"textures and shaders for {dtype.name} data (flushed to zero or rounded away there); scale them "
+            f"first (e.g. values * {scale:.0e})")
+
+
 def missing_fill(low: float, high: float, fill_side: str = "below", dtype=np.float64) -> Tuple[float, float, float]:
     """(fill, missing_below, missing_above) of a volume with missing values whose finite range is ``low, high``.
 

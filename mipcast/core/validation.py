@@ -12,7 +12,7 @@ from typing import Any, Optional, Tuple
 import numpy as np
 
 from mipcast.core.errors import InputError
-from mipcast.core.prepare import CONVERTED_DTYPES, NATIVE_DTYPES, prepare_scalars
+from mipcast.core.prepare import CONVERTED_DTYPES, NATIVE_DTYPES, check_float_range, prepare_scalars
 
 #: Scalar types mipcast draws (int64/uint64 through a float64 copy: see :mod:`mipcast.core.prepare`).
 SUPPORTED_DTYPES = NATIVE_DTYPES + CONVERTED_DTYPES
@@ -54,7 +54,8 @@ def check_image(image: Any, component: Any = None, whole_range: Optional[Tuple[f
         along an axis, has no point scalars, no finite value, a zero, negative
         or non-finite spacing, a direction matrix that is not orthonormal, or
         32/64-bit values whose offset is too large for float32 textures to
-        resolve their range.
+        resolve their range, or float values beyond float32's reach
+        (:func:`mipcast.core.prepare.check_float_range`).
 
     Examples
     --------
@@ -62,7 +63,9 @@ def check_image(image: Any, component: Any = None, whole_range: Optional[Tuple[f
     >>> check_image(make_fixture("spheres", size=16)).shape
     (16, 16, 16)
     """
-    return prepare_scalars(image, component, whole_range=whole_range).values
+    prepared = prepare_scalars(image, component, whole_range=whole_range)
+    check_float_range(prepared, whole_range)
+    return prepared.values
 
 
 #: Voxel spacings from the origin beyond which the GPU's float32 ray set-up misplaces rays visibly (2**14: a

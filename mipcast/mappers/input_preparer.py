@@ -17,7 +17,8 @@ from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonDataModel import vtkDataSetAttributes, vtkImageData
 
 from mipcast.core.errors import InputError, InputWarning
-from mipcast.core.prepare import PreparedScalars, check_component, prepare_scalars, scalar_image, shade_range
+from mipcast.core.prepare import (PreparedScalars, check_component, check_float_range, prepare_scalars, scalar_image,
+                                  shade_range)
 from mipcast.core.validation import far_from_origin
 
 
@@ -106,6 +107,7 @@ class InputPreparer(VTKPythonAlgorithmBase):
         target = vtkImageData.GetData(out_info)
         try:
             prepared = prepare_scalars(source, self._component, self._fill_side, self._whole_range)
+            check_float_range(prepared, self._whole_range)
         except (TypeError, InputError) as error:
             self._problem, self._prepared = str(error), None
             target.SetDimensions(2, 2, 2)

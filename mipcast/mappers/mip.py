@@ -9,9 +9,8 @@ from mipcast.core import parameter_tables
 from mipcast.core.object_state import object_state
 from mipcast.core.errors import InputError
 from mipcast.core.parameters import defaults, parameter_accessors, uniform_values
-from mipcast.core.prepare import scalar_image
+from mipcast.core.prepare import prepare_scalars, scalar_image
 from mipcast.core.transfer_bounds import normalised_ends
-from mipcast.core.validation import check_image
 from mipcast.mappers import brick_rays, bricked_draw, clip_uniforms, shader_pieces
 from mipcast.mappers.float_readout import from_data_units
 from mipcast.mappers.input_preparer import InputPreparer
@@ -367,7 +366,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         if self.BLOCK_EXTREME is None or state.get("blocks_of") == stamp:
             return
         low, high = image.GetPointData().GetScalars().GetRange(0)
-        self.SetMaskInput(block_level_image(check_image(image), self.BLOCK, low, high, margin=self.BLOCK_MARGIN,
+        values = prepare_scalars(image).values  # the prepared copy: validated already
+        self.SetMaskInput(block_level_image(values, self.BLOCK, low, high, margin=self.BLOCK_MARGIN,
                                             extreme=self.BLOCK_EXTREME))
         self.SetMaskTypeToBinary()
         state["blocks_of"] = stamp
