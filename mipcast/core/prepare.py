@@ -50,6 +50,7 @@ Examples
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from typing import Any, Optional, Tuple
 
@@ -451,7 +452,14 @@ def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str =
         raise TypeError(
             f"the scalars '{array.GetName()}' are a bit array, which the GPU ray caster cannot "
             "upload; convert them to uint8 first (e.g. vtkImageCast)")
-    raw = vtk_to_numpy(array)
+    try:
+        raw = np.asarray(vtk_to_numpy(array))
+    except Exception:  # VTK 9.7's vtk_to_numpy fails on implicit arrays with a NameError of its own
+        raise TypeError(
+            f"the scalars '{array.GetName()}' are a {re.sub(r'^[0-9]+', '', array.GetClassName())}, whose values "
+            "are computed, not stored (an implicit array), which neither numpy nor the GPU ray caster reads "
+            "directly; copy them into a plain array first (e.g. copy = vtkDoubleArray(); "
+            "copy.DeepCopy(array))") from None
     if raw.dtype.type not in NATIVE_DTYPES + CONVERTED_DTYPES:
         raise TypeError(
             f"scalar type {raw.dtype} is not supported by the GPU ray caster; "
