@@ -445,8 +445,8 @@ def _transfer_points(cmap, clim, opacity, n_colors: int, flip_scalars: bool, log
     from pyvista.plotting.colors import get_cmap_safe
 
     low, high = float(clim[0]), float(clim[1])
-    if not high > low:
-        raise ValueError(f"clim must be (low, high) with high > low, got {tuple(clim)}")
+    if not (high > low and np.isfinite(low) and np.isfinite(high)):
+        raise ValueError(f"clim must be finite (low, high) with high > low, got {tuple(clim)}")
     if isinstance(cmap, pyvista.LookupTable):
         raise TypeError("cmap=pyvista.LookupTable is not taken: give its colour map as cmap (a name, a list of "
                         "colours or a matplotlib colormap), its range as clim and its opacity as opacity")

@@ -53,8 +53,8 @@ def grey_property(window: Sequence[float]) -> vtkVolumeProperty:
     1
     """
     low, high = float(window[0]), float(window[1])
-    if not high > low:
-        raise ValueError(f"window must be (low, high) with high > low, got {tuple(window)}")
+    if not (high > low and np.isfinite(low) and np.isfinite(high)):
+        raise ValueError(f"window must be finite (low, high) with high > low, got {tuple(window)}")
     colour = vtkColorTransferFunction()
     colour.AddRGBPoint(low, 0.0, 0.0, 0.0)
     colour.AddRGBPoint(high, 1.0, 1.0, 1.0)

@@ -45,6 +45,7 @@ if not hasattr(inspect, "getargspec"):
     inspect.getargspec = _getargspec
 
 import importlib.util
+import math
 import os
 import sys
 
@@ -298,9 +299,9 @@ class MipcastMIPRender(VTKPythonAlgorithmBase):
         window = "full"  # Window 0, 0: the data range, as documented
         if self._window != (0.0, 0.0):
             window = self._window
-            if not window[1] > window[0]:
+            if not (window[1] > window[0] and all(math.isfinite(v) for v in window)):
                 raise ValueError(
-                    f"Window must be (low, high) with high > low, got {window}; "
+                    f"Window must be finite (low, high) with high > low, got {window}; "
                     "set both to 0 for the data range")
         else:
             scalars = image.GetPointData().GetScalars()

@@ -86,6 +86,12 @@ def test_window_words_and_explicit_windows():
         resolve_window(image, "wide")
     with pytest.raises(ValueError, match="high > low"):
         OffscreenView(image, window=(1.0, 0.0))
+    # an infinite end drew black with a traceback from the render observer (the transfer bounds' IndexError)
+    for window in ((float("-inf"), 1.0), (0.0, float("inf"))):
+        with pytest.raises(ValueError, match="two finite numbers.*'full' is the data range"):
+            resolve_window(image, window)
+        with pytest.raises(ValueError, match="finite"):
+            OffscreenView(image, window=window)
 
 
 def test_a_dicom_ct_series_gets_the_ct_preset():

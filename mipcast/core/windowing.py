@@ -247,7 +247,7 @@ def resolve_window(image, window: WindowSpec = None, projection: str = "mip") ->
     Raises
     ------
     ValueError
-        For an unknown name or not two numbers.
+        For an unknown name, or not two finite numbers.
 
     Examples
     --------
@@ -272,7 +272,10 @@ def resolve_window(image, window: WindowSpec = None, projection: str = "mip") ->
     values = tuple(window)
     if len(values) != 2:
         raise ValueError(f"window must be (low, high), got {tuple(window)}")
-    return float(values[0]), float(values[1])
+    low, high = float(values[0]), float(values[1])
+    if not (np.isfinite(low) and np.isfinite(high)):
+        raise ValueError(f"window must be two finite numbers (low, high), got {values}; 'full' is the data range")
+    return low, high
 
 
 def parse_window(tokens: Optional[Sequence[str]]) -> WindowSpec:
