@@ -301,6 +301,17 @@ def parse_window(tokens: Optional[Sequence[str]]) -> WindowSpec:
                      f"got {' '.join(tokens)!r}")
 
 
+def _volume_and_stride(image) -> Tuple[np.ndarray, int]:
+    """The scalars (first component) as a volume [k, j, i], and the stride along each axis that leaves about
+    :data:`SAMPLE_LIMIT` points."""
+    values = vtk_to_numpy(image.GetPointData().GetScalars())
+    if values.ndim > 1:
+        values = values[:, 0]
+    nx, ny, nz = image.GetDimensions()
+    volume = values.reshape(nz, ny, nx)
+    return volume, max(1, int(np.ceil((volume.size / SAMPLE_LIMIT) ** (1.0 / 3.0))))
+
+
 def _cell_percentile(image, q: float) -> float:
     """The ``q``-th percentile of the trilinear interpolant at the cell centres (the mean of each cell's 8
     corners; cells with a missing corner left out; every k-th cell along each axis: at most about
@@ -309,12 +320,7 @@ def _cell_percentile(image, q: float) -> float:
     Rays see the interpolant, not the voxels: between the voxels of white noise it averages out, so a floor at a
     voxel percentile can lie above everything a ray meets (``np.random.rand`` drew black).
     """
-    values = vtk_to_numpy(image.GetPointData().GetScalars())
-    if values.ndim > 1:
-        values = values[:, 0]
-    nx, ny, nz = image.GetDimensions()
-    volume = values.reshape(nz, ny, nx)
-    stride = max(1, int(np.ceil((volume.size / SAMPLE_LIMIT) ** (1.0 / 3.0))))
+    volume, stride = _volume_and_stride(image)
     shape = tuple(len(range(0, n - 1, stride)) for n in volume.shape)
     total = np.zeros(shape)
     for corner in np.ndindex(2, 2, 2):
@@ -326,12 +332,7 @@ def _cell_percentile(image, q: float) -> float:
 
 def _axis_averages(image) -> np.ndarray:
     """The volume's means along each index axis (every k-th point: at most about :data:`SAMPLE_LIMIT` used)."""
-    values = vtk_to_numpy(image.GetPointData().GetScalars())
-    if values.ndim > 1:
-        values = values[:, 0]
-    nx, ny, nz = image.GetDimensions()
-    volume = values.reshape(nz, ny, nx)
-    stride = max(1, int(np.ceil((volume.size / SAMPLE_LIMIT) ** (1.0 / 3.0))))
+    volume, stride = _volume_and_stride(image)
     volume = volume[::stride, ::stride, ::stride]
     finite = np.isfinite(volume) if np.issubdtype(volume.dtype, np.floating) else None
     parts = []
