@@ -90,6 +90,23 @@ def test_render_with_auto_sampling_reports_and_uses_its_choice(tmp_path, capsys)
         main(["render", str(source), "--sample-distance", "-1", "--out", str(tmp_path / "x.png")])
 
 
+def test_render_out_without_a_picture_format_fails_before_reading(tmp_path, capsys):
+    """--out o (no extension) failed after the render with matplotlib's "unknown file extension: "; it is
+    refused first (exit 2) naming the formats; .jpg and .tiff are written as such."""
+    from matplotlib import pyplot
+
+    assert main(["render", str(tmp_path / "not-there.vti"), "--out", str(tmp_path / "o")]) == 2
+    assert "names no picture format: end it in .png, .jpg" in capsys.readouterr().err
+    source = tmp_path / "v.vti"
+    writer = vtkXMLImageDataWriter()
+    writer.SetFileName(str(source))
+    writer.SetInputData(make_fixture("vessels", size=16))
+    writer.Write()
+    for name in ("o.jpg", "o.tiff"):
+        assert main(["render", str(source), "--out", str(tmp_path / name), "--size", "24", "16"]) == 0
+        assert pyplot.imread(tmp_path / name).shape[:2] == (16, 24)
+
+
 def test_render_a_volume_of_a_4d_nifti(tmp_path, capsys):
     """--volume K draws volume K of a 4D NIfTI: the picture of that volume saved alone; past the end: exit 2 and
     the count."""

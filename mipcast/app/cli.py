@@ -269,10 +269,13 @@ def _run_render(args) -> int:
     from mipcast.core.validation import check_image
     from mipcast.mappers.input_preparer import window_image
 
-    image = with_scalars(read_volume(args.input, series_uid=args.series, volume=args.volume, padding=args.padding),
-                         args.scalars)
     if args.slab_sweep is not None and args.turntable is not None:
         raise ValueError("--slab-sweep and --turntable are two animations: give one of them")
+    if args.slab_sweep is None and args.turntable is None and args.out.suffix.lower() not in PICTURE_SUFFIXES:
+        raise ValueError(f"--out {args.out} names no picture format: end it in {', '.join(PICTURE_SUFFIXES)} "
+                         "(an animated .gif or .mp4 with --turntable or --slab-sweep)")
+    image = with_scalars(read_volume(args.input, series_uid=args.series, volume=args.volume, padding=args.padding),
+                         args.scalars)
     component = getattr(args, "component", None)
     check_image(image, component)  # mipcast.InputError before anything renders
     window = _window(window_image(image, component), args.window, args.method)
@@ -541,6 +544,10 @@ def _load_scene(scene: str, volume_size: int):
         image = read_volume(Path(name))
     # the measured tables (docs/bench.md, ...) use the data range, not the default window
     return image, window if window is not None else tuple(image.GetPointData().GetScalars().GetRange(0))
+
+
+#: What ``mipcast render --out`` writes a picture as (matplotlib's imsave, through Pillow).
+PICTURE_SUFFIXES = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".webp", ".gif")
 
 
 def _write_png(path: Path, pixels: np.ndarray) -> None:
