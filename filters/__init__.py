@@ -50,7 +50,8 @@ def render(image, method: str = "mip", *, scalars=None, size: Sequence[int] = (2
         ``pyvista.wrap`` makes it image data (spacing ``resolution``), a 4-D
         one ``[x, y, z, component]`` likewise with components, complex values
         as (real, imaginary) components; a numpy masked array's masked
-        entries are missing data (as NaN).
+        entries are missing data (as NaN); an array-like of 3 or 4 dimensions
+        (xarray, h5py, zarr, dask) is read with ``np.asarray``.
     method : str, default: "mip"
         A name from ``mipcast.METHODS``.
     scalars : str or array_like, optional
@@ -152,7 +153,8 @@ def add_volume(plotter, image, method: str = "mip", *, scalars=None,
         ``pyvista.wrap`` makes it image data (spacing ``resolution``), a 4-D
         one ``[x, y, z, component]`` likewise with components, complex values
         as (real, imaginary) components; a numpy masked array's masked
-        entries are missing data (as NaN).
+        entries are missing data (as NaN); an array-like of 3 or 4 dimensions
+        (xarray, h5py, zarr, dask) is read with ``np.asarray``.
     method : str, default: "mip"
         A name from ``mipcast.METHODS``.
     scalars : str or array_like, optional
@@ -402,6 +404,8 @@ def volume_image(image, scalars=None, resolution: Optional[Sequence[float]] = No
     >>> volume_image(np.zeros((4, 5, 6)), resolution=(1.0, 2.0, 3.0)).GetSpacing()
     (1.0, 2.0, 3.0)
     """
+    if not isinstance(image, np.ndarray) and hasattr(image, "__array__") and getattr(image, "ndim", None) in (3, 4):
+        image = np.asarray(image)  # an array-like volume: xarray's DataArray, h5py's or zarr's dataset, dask
     if isinstance(image, np.ndarray):
         image = _numpy_volume(image)
         image.spacing = check_resolution(resolution)

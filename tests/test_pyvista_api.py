@@ -544,3 +544,21 @@ def test_numpy_vector_and_complex_volumes_draw_their_magnitude_or_a_component(gr
         render(values.astype(object), size=(32, 32))
     with pytest.raises(TypeError, match="3-D array.*4-D"):
         render(values[..., 0], size=(32, 32))
+
+
+def test_array_like_volumes_are_read_as_numpy(grid):
+    """xarray's DataArray, h5py's and zarr's datasets and dask arrays are volumes users have: any object with
+    __array__ and 3 or 4 dimensions is drawn as np.asarray of it (it was "expected vtkImageData ... got ...")."""
+
+    class Dataset:  # what h5py.Dataset, zarr.Array and xarray.DataArray share for this purpose
+        def __init__(self, values):
+            self._values = values
+            self.ndim, self.shape, self.dtype = values.ndim, values.shape, values.dtype
+
+        def __array__(self, dtype=None, copy=None):
+            return self._values if dtype is None else self._values.astype(dtype)
+
+    values = np.asarray(grid.point_data.active_scalars).reshape(grid.dimensions, order="F").astype(np.float32)
+    assert np.array_equal(render(Dataset(values), "analytic", size=(32, 32)), render(values, "analytic", size=(32, 32)))
+    with pytest.raises(TypeError, match="expected vtkImageData"):
+        render(Dataset(values[0]), size=(32, 32))  # 2-D: not a volume
