@@ -189,6 +189,18 @@ def test_minimum_projections_hold_block_minima(specks, method):
     assert np.allclose(vtk_to_numpy(level.GetPointData().GetScalars()).reshape(minima.shape), minima, atol=1e-6)
 
 
+def _ramp(window, minimum=False):
+    """Opacity 0 at the window's floor (a MinIP: its ceiling), as pyvista's and ParaView's transfer functions."""
+    from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+
+    def configure(scene):
+        opacity = vtkPiecewiseFunction()
+        opacity.AddPoint(window[0], 1.0 if minimum else 0.0)
+        opacity.AddPoint(window[1], 0.0 if minimum else 1.0)
+        scene.volume.GetProperty().SetScalarOpacity(opacity)
+    return configure
+
+
 def test_missing_values_keep_their_picture(vessels):
     values = vessels.GetPointData().GetScalars()
     image = vtkImageData()
@@ -196,8 +208,13 @@ def test_missing_values_keep_their_picture(vessels):
     array = np.array([values.GetValue(i) for i in range(values.GetNumberOfTuples())], dtype=np.float32)
     array[: array.size // 5] = np.nan
     image.GetPointData().SetScalars(numpy_to_vtk(array, deep=True))
-    on, off = _pair(image, (0.25, 1.0), "oblique")
+    on, off = _pair(image, (0.25, 1.0), "oblique", _ramp((0.25, 1.0)))
     assert np.array_equal(on, off)
+    # opaque at the floor (OffscreenView's grey) rays must start below it: blocks would only cost, none are read
+    opaque = [OffscreenView(image, "mip", size=SIZE, view="oblique", window=(0.25, 1.0)) for _ in range(2)]
+    opaque[1].mapper.SetSkipping(False)
+    assert np.array_equal(opaque[0].screenshot(), opaque[1].screenshot())
+    assert "mip_hooks_blocks" not in opaque[0].mapper.GetShaderPieces()
 
 
 DEMIP_SETTINGS = {
@@ -293,6 +310,8 @@ def test_real_inputs_draw_the_same_with_skipping(method, case):
     for skipping in (True, False):
         scene = OffscreenView(image, method, size=(40, 40), view="oblique", window=window, component=component)
         scene.mapper.SetSkipping(skipping)
+        if prepared.missing:  # transparent at the fill side's bound, where rays may start with missing values
+            _ramp(window, minimum)(scene)
         pictures.append(scene.screenshot().astype(int))
         if skipping:
             assert any(n.endswith("_blocks") for n in scene.mapper.GetShaderPieces()), "nothing skipped"
@@ -306,3 +325,69 @@ def test_real_inputs_draw_the_same_with_skipping(method, case):
     else:
         assert np.array_equal(pictures[0], pictures[1]), (np.abs(pictures[0] - pictures[1]).max(),)
         assert np.array_equal(readouts[0], readouts[1], equal_nan=True)
+
+
+def _uniform(scene, name: str) -> float:
+    from vtkmodules.vtkCommonCore import reference
+
+    value = reference(0.0)
+    assert scene.volume.GetShaderProperty().GetFragmentCustomUniforms().GetUniformf(name, value)
+    return float(value)
+
+
+@pytest.mark.parametrize("method", ["mip", "analytic", "minip", "analytic_minip", "demip"])
+def test_missing_values_under_a_transparent_bound_keep_skipping_and_their_picture(vessels, method):
+    """With missing values a ray started beyond the bound on the fill's side (a MIP's floor, a MinIP's
+    ceiling), so that a ray through missing data only drew the background: blocks below the floor were
+    then read, a padded CT (21 % missing) drew 1.6x (mip) / 1.8x (analytic) slower than without its padding.
+    Where the transfer functions are transparent at that bound (pyvista's and ParaView's ramps) such a ray
+    draws nothing either way, so the bound is kept: the same picture as reading every sample, over a
+    coloured background and opaque geometry behind the volume. Under an opaque bound rays start beyond it
+    and no block is read (jumping below the running value only was slower than reading every sample)."""
+    from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
+    from vtkmodules.vtkFiltersSources import vtkPlaneSource
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
+
+    minimum = "minip" in method
+    values = vtk_to_numpy(vessels.GetPointData().GetScalars()).astype(np.float32).reshape(vessels.GetDimensions()[::-1])
+    values = 1.0 - values if minimum else values.copy()
+    values[:, :, :10] = np.nan  # rays through missing data only
+    values[::9, ::7, ::5] = np.nan
+    image = vtkImageData()
+    image.CopyStructure(vessels)
+    image.GetPointData().SetScalars(numpy_to_vtk(values.ravel(), deep=True))
+    window = (0.0, 0.75) if minimum else (0.25, 1.0)
+    pictures, bounds = {}, {}
+    for transparent in (True, False):
+        for skipping in (True, False):
+            scene = OffscreenView(image, method, size=SIZE, view="oblique", window=window)
+            scene.mapper.SetSkipping(skipping)
+            if transparent:
+                opacity = vtkPiecewiseFunction()
+                opacity.AddPoint(window[0], 1.0 if minimum else 0.0)
+                opacity.AddPoint(window[1], 0.0 if minimum else 1.0)
+                scene.volume.GetProperty().SetScalarOpacity(opacity)
+            scene.renderer.SetBackground(0.2, 0.4, 0.7)
+            plane = vtkPlaneSource()
+            plane.SetCenter(*(c - 0.6 * s for c, s in zip(image.GetCenter(), (0, 0, 48))))
+            plane.SetNormal(0.0, 0.0, 1.0)
+            plane.SetOrigin(-40, -40, -30)
+            plane.SetPoint1(90, -40, -30)
+            plane.SetPoint2(-40, 90, -30)
+            actor = vtkActor()
+            actor.SetMapper(vtkPolyDataMapper())
+            actor.GetMapper().SetInputConnection(plane.GetOutputPort())
+            actor.GetProperty().SetColor(1.0, 0.6, 0.1)
+            scene.renderer.AddActor(actor)
+            pictures[transparent, skipping] = scene.screenshot().astype(int)
+            if skipping:
+                blocks = any(n.endswith("_blocks") for n in scene.mapper.GetShaderPieces())
+                bounds[transparent] = _uniform(scene, "u_mc_skipCeiling" if minimum else "u_mc_skipFloor") \
+                    if blocks else None
+    for transparent in (True, False):
+        assert np.array_equal(pictures[transparent, True], pictures[transparent, False]), transparent
+    assert bounds[True] is not None and abs(bounds[True]) < 1.0e29  # the bound is kept: blocks beyond it are jumped
+    assert bounds[False] is None  # opaque there: the ray starts beyond it, and blocks would only cost
+    shown = pictures[True, True]
+    assert (np.abs(shown - [255 * 0.2, 255 * 0.4, 255 * 0.7]).max(-1) < 2).any()   # the background shows
+    assert ((shown[..., 0] > 120) & (shown[..., 2] < 50)).any()                        # and the (lit) plane behind
