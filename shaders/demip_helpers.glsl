@@ -194,7 +194,7 @@ void mcDemipBeginRay()
   mc_level = -1.0e30;
   mc_entered = 0;
   mc_start = 0;
-  mc_rayMax = -1.0e30;
+  mc_rayMax = -3.0e38;  // below every raw texel value (mip_hooks)
   mc_matchIndex = -1;
 }
 

@@ -18,7 +18,7 @@ void mcBeginRay(inout int first, inout int count)
   mcBeginMaterial();
   mc_runMaterial = 0.0;
   mc_sum = vec4(0.0);
-  mc_rayMax = -1.0e30;
+  mc_rayMax = -3.0e38;  // below every raw texel value (mip_hooks)
 }
 
 bool mcSample(float value, int i)

@@ -11,7 +11,7 @@ bool mc_noSample;
 
 void mcBeginRay(inout int first, inout int count)
 {
-  mc_rayMax = 1.0e30;
+  mc_rayMax = 3.0e38;  // above every raw texel value (+-3.2e37 at most: mip_hooks)
 }
 
 bool mcSample(float value, int i)
@@ -22,7 +22,7 @@ bool mcSample(float value, int i)
 
 void mcEndRay(int count)
 {
-  mc_noSample = mc_rayMax > 1.0e29;
+  mc_noSample = mc_rayMax > 1.0e38;
 #ifdef MC_GLOBAL_PHASE
   // a brick holding none of the ray's samples has no value (mipcast.mappers.bricked_draw)
   mc_rayMax = mc_noSample ? 1.0e30 : mcNormalised(mc_rayMax);

@@ -2,9 +2,11 @@
 // fills: Picking::Dec
 // mode: augment
 // Sampled MIP's hooks for sampled_loop: the largest sample along the ray.
+// Raw texel values reach +-3.2e37 (mipcast.core.prepare.FLOAT_LIMITS, a
+// missing value's fill included): the start lies below every one of them.
 void mcBeginRay(inout int first, inout int count)
 {
-  mc_rayMax = -1.0e30;
+  mc_rayMax = -3.0e38;
 }
 
 bool mcSample(float value, int i)

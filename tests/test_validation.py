@@ -228,7 +228,8 @@ SCALED_METHODS = ("mip", "analytic", "minip", "analytic_minip", "average", "anal
 
 
 @pytest.mark.parametrize("dtype, scale", [(np.float32, 1e-33), (np.float32, 1e-20), (np.float32, 1e20),
-                                          (np.float32, 1e37), (np.float64, 1e-36), (np.float64, 1e38)])
+                                          (np.float32, 1e37), (np.float32, -1e37), (np.float64, 1e-36),
+                                          (np.float64, 1e38)])
 def test_float_values_far_from_one_draw_as_the_same_values_near_one(dtype, scale):
     """Within the limits check_image keeps (mipcast.core.prepare.FLOAT_LIMITS) every method draws values times
     1e-36 .. 1e38 as it draws the values themselves, missing ones included. Before the limits, values past
@@ -241,7 +242,7 @@ def test_float_values_far_from_one_draw_as_the_same_values_near_one(dtype, scale
     values = values.reshape(24, 24, 24)
     values[::7, ::5, ::3] = np.nan
     for method in SCALED_METHODS:
-        expected = OffscreenView(_image(values), method, size=(32, 32)).screenshot().astype(int)
+        expected = OffscreenView(_image(np.sign(scale) * values), method, size=(32, 32)).screenshot().astype(int)
         drawn = OffscreenView(_image((values * scale).astype(dtype)), method, size=(32, 32)).screenshot()
         assert np.abs(drawn.astype(int) - expected).max() <= 1, (method, np.abs(drawn.astype(int) - expected).max())
 
