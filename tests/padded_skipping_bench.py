@@ -13,22 +13,18 @@ import time
 import warnings
 
 import numpy as np
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction
 
 from mipcast.data_fixtures import load_head_ct
+from mipcast.data_fixtures.synthetic import image_from_array
 from mipcast.offscreen import OffscreenView
 
 WINDOW = (150.0, 1800.0)
 
 
 def _image(like, values: np.ndarray) -> vtkImageData:
-    image = vtkImageData()
-    image.CopyStructure(like)
-    array = numpy_to_vtk(values.ravel(), deep=True)
-    array.SetName("HU")
-    image.GetPointData().SetScalars(array)
-    return image
+    return image_from_array(values, "HU", spacing=like.GetSpacing(), origin=like.GetOrigin())
 
 
 def main() -> None:

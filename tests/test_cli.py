@@ -37,11 +37,7 @@ def test_demo_writes_pictures_and_error_maps(tmp_path, capsys):
 
 
 def test_render_a_vti_file(tmp_path):
-    source = tmp_path / "spheres.vti"
-    writer = vtkXMLImageDataWriter()
-    writer.SetFileName(str(source))
-    writer.SetInputData(make_fixture("spheres", size=32))
-    writer.Write()
+    source = _vti(tmp_path, make_fixture("spheres", size=32), "spheres.vti")
     out = tmp_path / "out.png"
     assert main(["render", str(source), "--method", "mip", "--out", str(out), "--size", "48", "40"]) == 0
     picture = pyplot.imread(out)
@@ -61,22 +57,14 @@ def test_render_a_cell_array_as_the_image_of_its_cell_centres(tmp_path):
     cells = convert.GetOutput()
     pictures = []
     for name, image in (("cells", cells), ("centres", cell_centres(cells))):
-        source, out = tmp_path / f"{name}.vti", tmp_path / f"{name}.png"
-        writer = vtkXMLImageDataWriter()
-        writer.SetFileName(str(source))
-        writer.SetInputData(image)
-        writer.Write()
+        source, out = _vti(tmp_path, image, f"{name}.vti"), tmp_path / f"{name}.png"
         assert main(["render", str(source), "--method", "analytic", "--out", str(out), "--size", "48", "40"]) == 0
         pictures.append(pyplot.imread(out))
     assert pictures[0][..., :3].max() > 0.5 and np.array_equal(pictures[0], pictures[1])
 
 
 def test_render_with_auto_sampling_reports_and_uses_its_choice(tmp_path, capsys):
-    source = tmp_path / "vessels.vti"
-    writer = vtkXMLImageDataWriter()
-    writer.SetFileName(str(source))
-    writer.SetInputData(make_fixture("vessels", size=32))
-    writer.Write()
+    source = _vti(tmp_path, make_fixture("vessels", size=32), "vessels.vti")
     outputs = {}
     for distance in ("auto", "1.0"):
         outputs[distance] = tmp_path / f"{distance}.png"
@@ -97,11 +85,7 @@ def test_render_out_without_a_picture_format_fails_before_reading(tmp_path, caps
 
     assert main(["render", str(tmp_path / "not-there.vti"), "--out", str(tmp_path / "o")]) == 2
     assert "names no picture format: end it in .png, .jpg" in capsys.readouterr().err
-    source = tmp_path / "v.vti"
-    writer = vtkXMLImageDataWriter()
-    writer.SetFileName(str(source))
-    writer.SetInputData(make_fixture("vessels", size=16))
-    writer.Write()
+    source = _vti(tmp_path, make_fixture("vessels", size=16), "v.vti")
     for name in ("o.jpg", "o.tiff"):
         assert main(["render", str(source), "--out", str(tmp_path / name), "--size", "24", "16"]) == 0
         assert pyplot.imread(tmp_path / name).shape[:2] == (16, 24)
@@ -134,11 +118,7 @@ def test_render_a_volume_of_a_4d_nifti(tmp_path, capsys):
 def test_render_average_applies_the_window(tmp_path, capsys):
     """--method average/analytic_average with two windows: two pictures (before 2026-12-04 the window was printed
     and ignored: the same picture whatever the window); stock_average (VTK's own grey) says it ignores it."""
-    source = tmp_path / "vessels.vti"
-    writer = vtkXMLImageDataWriter()
-    writer.SetFileName(str(source))
-    writer.SetInputData(make_fixture("vessels", size=32))
-    writer.Write()
+    source = _vti(tmp_path, make_fixture("vessels", size=32), "vessels.vti")
     for method in ("average", "analytic_average"):
         shots = []
         for window in (["0", "1"], ["0", "0.25"]):
@@ -189,10 +169,7 @@ def test_bench_runs_on_a_volume_with_missing_values_and_counts_the_rays_that_saw
     values = np.asarray(make_fixture("vessels", size=n).GetPointData().GetScalars()).reshape(n, n, n)
     holed = values.astype(np.float32)
     holed.ravel()[::7] = np.nan
-    writer = vtkXMLImageDataWriter()
-    writer.SetFileName(str(tmp_path / "holed.vti"))
-    writer.SetInputData(image_from_array(holed, "values"))
-    writer.Write()
+    _vti(tmp_path, image_from_array(holed, "values"), "holed.vti")
     # (the sampled rays that met only missing samples were "GPU missed hit pixels" and ended the bench)
     assert main(["bench", "--scenes", str(tmp_path / "holed.vti"), "--size", "48", "--views", "oblique",
                  "--rounds", "1", "--out", str(tmp_path / "out")]) == 0
