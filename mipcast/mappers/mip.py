@@ -346,7 +346,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         The float readout is exact in data units (floor and ceiling off). With missing values the ray
         starts beyond the bound on the fill's side (a MIP's floor, a MinIP's ceiling), so that a ray that
         saw no finite data stays beyond the missing threshold (shaders/missing_exit.glsl) and draws the
-        background -- unless the transfer functions are transparent at that bound (:meth:`_start_hidden`):
+        background -- unless the transfer functions are transparent at that bound (:meth:`_fill_bound_kept`):
         a ray that stops there then draws nothing either, and blocks keep being skipped. The other bound
         (where a ray has surely met finite data) ends the ray as without missing values.
         """
