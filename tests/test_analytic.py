@@ -170,6 +170,10 @@ def test_volumes_beyond_one_texture_are_drawn_in_bricks_and_partitions_refused()
     view.mapper.SetPartitions(1, 1, 1)
     assert view.screenshot().max() > 100
     assert view.mapper.GetNumberOfBricks() == 0
+    for bad in ((0, 1, 1), (float("inf"), 1, 1), (1.5, 1, 1), (True, 1, 1)):  # inf was an OverflowError, 0 wrapped
+        with pytest.raises(ValueError, match="three integers >= 1"):
+            view.mapper.SetPartitions(*bad)
+    assert view.screenshot().max() > 100  # the refused call changed nothing
 
 
 @pytest.mark.parametrize("window", [None, (0.3, 0.9)])

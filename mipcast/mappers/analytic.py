@@ -334,11 +334,6 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
                 "SetPackedCorners(False) to silence this.\n")
         return False
 
-    def SetPartitions(self, x: int, y: int, z: int) -> None:
-        """Recorded so that rendering can refuse it: see :meth:`GetRenderProblem`."""
-        object_state(self)["partitions"] = (int(x), int(y), int(z))
-        super().SetPartitions(x, y, z)
-
     def GetRenderProblem(self):
         """As :meth:`MIPVolumeMapper.GetRenderProblem`, plus the one-texture rule.
 
@@ -351,7 +346,7 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         problem = super().GetRenderProblem()
         if problem is not None:
             return problem
-        if object_state(self).get("partitions", (1, 1, 1)) != (1, 1, 1):
+        if self._partitioned():
             return ("analytic MIP walks the whole volume in one 3D texture, so partitioned "
                     "rendering (SetPartitions) would not be exact: call SetPartitions(1, 1, 1) "
                     "(a volume beyond the 3D texture limit is drawn in bricks by the mapper itself)")

@@ -85,11 +85,6 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
         return object_state(self).get("readout", "value")
 
     # -- rendering rules -----------------------------------------------------
-    def SetPartitions(self, x: int, y: int, z: int) -> None:
-        """Recorded so that rendering can refuse it: see :meth:`GetRenderProblem`."""
-        object_state(self)["partitions"] = (int(x), int(y), int(z))
-        super().SetPartitions(x, y, z)
-
     def GetRenderProblem(self):
         """As :meth:`MIPVolumeMapper.GetRenderProblem`, plus: no partitioned rendering.
 
@@ -99,7 +94,7 @@ class DEMIPVolumeMapper(MIPVolumeMapper):
         refused (with a message) instead of drawing per-block depths.
         """
         problem = super().GetRenderProblem()
-        if problem is None and object_state(self).get("partitions", (1, 1, 1)) != (1, 1, 1):
+        if problem is None and self._partitioned():
             problem = ("DEMIP needs the whole ray in one texture: partitioned rendering "
                        "(SetPartitions) would measure depth per block; call SetPartitions(1, 1, 1)")
         return problem

@@ -1,6 +1,8 @@
 """The base mipcast mapper: VTK's GPU ray caster running mipcast's own ray loop."""
 from __future__ import annotations
 
+import numbers
+
 from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow, vtkWeakReference
 from vtkmodules.vtkRenderingCore import vtkVolume
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
@@ -258,6 +260,23 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         return object_state(self).get("render_problem")
 
     # -- attachment ---------------------------------------------------------
+    def SetPartitions(self, x: int, y: int, z: int) -> None:
+        """VTK's partitioned rendering, recorded (:meth:`_partitioned`) for the methods that refuse it.
+
+        Raises ``ValueError`` unless three integers >= 1 (VTK's own setter wraps others silently).
+        """
+        values = (x, y, z)
+        if not all(isinstance(v, numbers.Real) and not isinstance(v, bool) and float(v).is_integer() and v >= 1
+                   for v in values):
+            raise ValueError(f"partitions must be three integers >= 1, got {values}")
+        parts = tuple(int(v) for v in values)
+        object_state(self)["partitions"] = parts
+        super().SetPartitions(*parts)
+
+    def _partitioned(self) -> bool:
+        """Whether :meth:`SetPartitions` asked for more than one partition."""
+        return object_state(self).get("partitions", (1, 1, 1)) != (1, 1, 1)
+
     def Attach(self, volume: vtkVolume) -> None:
         """Install this method's shader pieces on ``volume`` and set its mapper.
 
