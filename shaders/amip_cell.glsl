@@ -54,22 +54,25 @@ vec4 mcCellCubic(vec4 lo, vec4 hi, vec3 u0, vec3 du)
 }
 
 // The cubic's critical points in [0, 1]: the roots of d1 + 2 d2 s + 3 d3 s^2
-// by the cancellation-free formula, on the derivative scaled to its largest
-// coefficient (the roots do not change; texture values far from 1, 1e20 or
-// 1e-20, would overflow float32 in qb * qb or fall below the 1e-20 guards and
-// lose the maximum). A missing or out-of-range root is clamped into [0, 1],
-// which only re-tests a point of the segment (never above the true maximum);
-// a ~ 0 (quadratic or linear cubic) and tiny segments need no special case.
+// by the cancellation-free formula, on the derivative in VTK's normalised
+// units (raw texel differences times its scale: the roots do not change;
+// float32 texel values far from 1, 1e20 or 1e-20, would overflow in qb * qb
+// or fall below the 1e-20 guards and lose the maximum). The scale rides on
+// the multiplies by 2 and 3 the formula has anyway, one more for d1: this is
+// the cell walk's hot path (scaling to the largest coefficient cost 15 %).
+// The cap keeps a constant volume's zero coefficients zero. A missing or out-of-range root is clamped into [0, 1], which only
+// re-tests a point of the segment (never above the true maximum); a ~ 0
+// (quadratic or linear cubic) and tiny segments need no special case.
 vec2 mcCriticalPoints(vec4 d)
 {
-  float scale = max(max(abs(d.y), abs(d.z)), abs(d.w));
-  vec3 c = scale > 0.0 ? d.yzw / scale : vec3(0.0);
-  float qa = 3.0 * c.z;
-  float qb = 2.0 * c.y;
-  float disc = max(qb * qb - 4.0 * qa * c.x, 0.0);
+  vec3 k = min(in_volume_scale[0].r, 1.0e30) * vec3(1.0, 2.0, 3.0);  // the same for every cell
+  float c1 = k.x * d.y;
+  float qa = k.z * d.w;
+  float qb = k.y * d.z;
+  float disc = max(qb * qb - 4.0 * qa * c1, 0.0);
   float qq = -0.5 * (qb + (qb < 0.0 ? -1.0 : 1.0) * sqrt(disc));
   float r1 = abs(qa) > 1.0e-20 ? qq / qa : 0.0;
-  float r2 = abs(qq) > 1.0e-20 ? c.x / qq : 0.0;
+  float r2 = abs(qq) > 1.0e-20 ? c1 / qq : 0.0;
   return clamp(vec2(r1, r2), 0.0, 1.0);
 }
 
