@@ -246,9 +246,7 @@ def _run(reader, path: Path, what: str) -> vtkImageData:
     output = reader.GetOutput()
     failed = ("ERROR" in messages or "File operation failed" in messages
               or reader.GetErrorCode() != 0 or output is None or output.GetNumberOfPoints() == 0
-              or not any(attributes.GetArray(i) is not None for attributes in (output.GetPointData(),
-                                                                                  output.GetCellData())
-                         for i in range(attributes.GetNumberOfArrays())))
+              or not (_numeric_names(output.GetPointData()) or _numeric_names(output.GetCellData())))
     if failed:
         detail = " ".join(line.strip() for line in messages.splitlines()
                           if line.strip() and not line.startswith(("ERROR: In", "Warning: In",
@@ -364,12 +362,17 @@ def _read_vtk_file(path: Path, kind: str) -> vtkImageData:
             "vtkResampleToImage) and save that (.vti)")
     if data.GetPointData().GetScalars() is None and data.GetCellData().GetScalars() is None:
         for attributes in (data.GetPointData(), data.GetCellData()):
-            names = [attributes.GetArrayName(i) for i in range(attributes.GetNumberOfArrays())
-                     if attributes.GetArray(i) is not None]
+            names = _numeric_names(attributes)
             if names:
                 attributes.SetActiveScalars(names[0])
                 break
     return data
+
+
+def _numeric_names(attributes) -> list:
+    """Names of the numeric arrays of point or cell data, in order."""
+    return [attributes.GetArrayName(i) for i in range(attributes.GetNumberOfArrays())
+            if attributes.GetArray(i) is not None]
 
 
 def _read_meta(path: Path) -> vtkImageData:
