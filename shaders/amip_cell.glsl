@@ -11,6 +11,11 @@
 // Index space: point i sits at texture coordinate (i + 0.5) / N, so
 // p(t) = origin + t * dir with t the texture-space length along the ray.
 // Work counters, read by the amip_stats_readout piece (mipcast/mappers/amip_stats.py).
+// The power of two nearest below VTK's texture scale (raw texel -> normalised), set once per ray in
+// mcBeginRay and used by mcCriticalPoints: scaling by it is exact, so every brick of a distributed volume,
+// whatever its own texture scale, finds the roots one texture finds.
+float mc_cubicScale = 1.0;
+
 float mc_cellsWalked = 0.0;
 float mc_cellsSolved = 0.0;
 float mc_blocksJumped = 0.0;
@@ -54,18 +59,19 @@ vec4 mcCellCubic(vec4 lo, vec4 hi, vec3 u0, vec3 du)
 }
 
 // The cubic's critical points in [0, 1]: the roots of d1 + 2 d2 s + 3 d3 s^2
-// by the cancellation-free formula, on the derivative in VTK's normalised
-// units (raw texel differences times its scale: the roots do not change;
-// float32 texel values far from 1, 1e20 or 1e-20, would overflow in qb * qb
-// or fall below the 1e-20 guards and lose the maximum). The scale rides on
-// the multiplies by 2 and 3 the formula has anyway, one more for d1: this is
-// the cell walk's hot path (scaling to the largest coefficient cost 15 %).
-// The cap keeps a constant volume's zero coefficients zero. A missing or out-of-range root is clamped into [0, 1], which only
-// re-tests a point of the segment (never above the true maximum); a ~ 0
-// (quadratic or linear cubic) and tiny segments need no special case.
+// by the cancellation-free formula, on the derivative scaled by
+// mc_cubicScale, near VTK's normalised units (float32 texel values far from
+// 1, 1e20 or 1e-20, would overflow in qb * qb or fall below the 1e-20 guards
+// and lose the maximum). A power of two set once per ray: exact (the same
+// roots as unscaled where those were right), and one multiply per cell riding
+// on the formula's own multiplies by 2 and 3 (dividing by the largest
+// coefficient instead cost the walk 15 %). A missing or out-of-range root is
+// clamped into [0, 1], which only re-tests a point of the segment (never
+// above the true maximum); a ~ 0 (quadratic or linear cubic) and tiny
+// segments need no special case.
 vec2 mcCriticalPoints(vec4 d)
 {
-  vec3 k = min(in_volume_scale[0].r, 1.0e30) * vec3(1.0, 2.0, 3.0);  // the same for every cell
+  vec3 k = mc_cubicScale * vec3(1.0, 2.0, 3.0);
   float c1 = k.x * d.y;
   float qa = k.z * d.w;
   float qb = k.y * d.z;
@@ -132,6 +138,7 @@ vec3 mc_cropHighIndex;
 // near-plane cap, the camera inside the volume) to where it leaves.
 McRay mcBeginRay()
 {
+  mc_cubicScale = exp2(floor(log2(min(in_volume_scale[0].r, 1.0e30))));
   McRay ray;
   vec3 entry;
   vec3 dir;
@@ -166,6 +173,7 @@ McRay mcBeginRay()
 #else
 McRay mcBeginRay()
 {
+  mc_cubicScale = exp2(floor(log2(min(in_volume_scale[0].r, 1.0e30))));
   McRay ray;
   vec3 dims = u_mc_dims;
   vec3 dirTex = normalize(g_dirStep);
