@@ -71,7 +71,8 @@ def render(image, method: str = "mip", *, scalars=None, size: Sequence[int] = (2
         Grey window (low, high) in data units; default (``"auto"``) the
         window a viewer would pick (a CT preset for HU, else histogram
         percentiles: :func:`mipcast.core.windowing.default_window`);
-        ``"full"`` the data range; or a preset name such as ``"ct-bone"``.
+        ``"full"`` the data range; a preset name such as ``"ct-bone"``; or
+        ``"dicom"`` (``"dicom:2"``, ``"dicom:BONE"``), a window the DICOM series carries.
     as_float : bool, default: False
         Return each pixel's maximum in data units (float32, NaN where a ray
         misses) instead of the 8-bit RGB picture.
@@ -167,7 +168,9 @@ def add_volume(plotter, image, method: str = "mip", *, scalars=None,
         Colour limits (low, high); one number ``c`` means ``(-c, c)``, as in
         pyvista; default (``"auto"``) the window a viewer would pick
         (:func:`mipcast.core.windowing.default_window`); ``"full"`` the data
-        range; or a preset name such as ``"ct-bone"``.
+        range; a preset name such as ``"ct-bone"``; or ``"dicom"``
+        (``"dicom:2"``, ``"dicom:BONE"``), a window a DICOM series carries
+        (:func:`mipcast.core.windowing.dicom_windows`).
     opacity : float, str or sequence of float, default: 1.0
         A constant opacity, one of pyvista's opacity transfer function
         names (``"linear"``, ``"sigmoid"``, ...) or opacities spread over

@@ -126,7 +126,9 @@ class OffscreenView:
         (:func:`mipcast.core.windowing.default_window` for the method's
         projection, MIP, MinIP or average: a CT preset for Hounsfield
         units, else histogram percentiles); ``"full"`` the data
-        range; or a preset name (:data:`mipcast.core.windowing.PRESETS`).
+        range; a preset name (:data:`mipcast.core.windowing.PRESETS`); or
+        ``"dicom"`` (``"dicom:2"``, ``"dicom:BONE"``), a window a DICOM series
+        carries (:func:`mipcast.core.windowing.dicom_windows`).
         The chosen (low, high) is ``self.window``.
     whole_range : (low, high), optional
         The finite range of the whole volume when ``image`` is a piece of it

@@ -609,3 +609,136 @@ def test_a_series_whose_spacing_changes_in_zones_is_resampled_onto_the_finest_st
         inside = (r[None] - shift[:, None, None] >= -1e-3)
         assert np.isnan(values[~inside]).all() and not np.isnan(values[inside]).any()
         np.testing.assert_allclose(values[inside], expected[inside], atol=1e-3)
+
+
+# ---------------------------------------------------------------------------
+# the series' own grey windows (VOI LUT)
+# ---------------------------------------------------------------------------
+
+def set_tags(folder, tags_of):
+    """Rewrite every file of ``folder`` with the tags ``tags_of(instance_number)`` gives (keyword: value)."""
+    for path in sorted(folder.iterdir()):
+        ds = pydicom.dcmread(str(path))
+        for keyword, value in tags_of(int(ds.InstanceNumber)).items():
+            setattr(ds, keyword, value)
+        save(ds, path)
+
+
+def test_the_series_windows_are_read_as_dicom_maps_them(tmp_path):
+    """WindowCenter / WindowWidth (PS3.3 C.11.2.1.2) become (low, high) in the rescaled values' units:
+    LINEAR maps c - 0.5 - (w - 1)/2 to black and c - 0.5 + (w - 1)/2 to white, LINEAR_EXACT c -+ w/2; several
+    windows keep their order and their WindowCenterWidthExplanation; a width of 0 is no window."""
+    from mipcast.core.windowing import dicom_windows
+
+    assert dicom_windows(read_dicom(CT5N)) == [("", (-160.0, 239.0))]  # 40 / 400, every slice
+    assert dicom_windows(read_dicom(get_testdata_file("MR_small.dcm"))) == [("", (-200.0, 1399.0))]  # 600 / 1600
+    # an enhanced CT: the shared FrameVOILUTSequence (49 / 102)
+    assert dicom_windows(read_dicom(get_testdata_file("eCT_Supplemental.dcm"))) == [("", (-2.0, 99.0))]
+
+    folder = Series().write(tmp_path / "a")
+    set_tags(folder, lambda n: {"WindowCenter": ["300", "500", "40"], "WindowWidth": ["800", "2000", "0"],
+                                "WindowCenterWidthExplanation": ["ANGIO", "BONE", "BROKEN"]})
+    assert dicom_windows(read_dicom(folder)) == [("ANGIO", (-100.0, 699.0)), ("BONE", (-500.0, 1499.0))]
+    set_tags(folder, lambda n: {"VOILUTFunction": "LINEAR_EXACT"})
+    assert dicom_windows(read_dicom(folder)) == [("ANGIO", (-100.0, 700.0)), ("BONE", (-500.0, 1500.0))]
+    assert not dicom_windows(read_dicom(Series().write(tmp_path / "none")))  # no window tags: none
+
+
+def test_slices_with_their_own_windows_give_the_shared_or_the_median_window(tmp_path):
+    """An MR scanner windows each slice: the windows most slices share, else the slices' median centre and
+    width."""
+    from mipcast.core.windowing import dicom_windows
+
+    folder = Series().write(tmp_path / "s")  # 6 slices, instance numbers 1..6
+    set_tags(folder, lambda n: {"WindowCenter": "100" if n <= 4 else str(50 * n), "WindowWidth": "201"})
+    assert dicom_windows(read_dicom(folder)) == [("", (-0.5, 199.5))]  # 4 of 6 share 100 / 201
+    set_tags(folder, lambda n: {"WindowCenter": str(100 * n), "WindowWidth": str(100 * n)})
+    # centres 100..600 and widths 100..600 (LINEAR: each window's middle is c - 0.5): medians 349.5 and 349
+    assert dicom_windows(read_dicom(folder)) == [("median of the slices' windows", (175.0, 524.0))]
+
+
+def test_an_enhanced_file_reads_its_per_frame_windows(tmp_path):
+    """FrameVOILUTSequence per frame wins over the shared one; here every frame has its own two windows."""
+    from mipcast.core.windowing import dicom_windows
+
+    series = Series()
+    ds = base_dataset(ENHANCED_CT_IMAGE, series.uid)
+    ds.NumberOfFrames = 6
+    ds.Rows, ds.Columns = series.rows, series.cols
+    ds.SamplesPerPixel = 1
+    ds.PhotometricInterpretation = "MONOCHROME2"
+    ds.BitsAllocated, ds.BitsStored, ds.HighBit, ds.PixelRepresentation = 16, 16, 15, 1
+    shared, orientation, measures, voi = Dataset(), Dataset(), Dataset(), Dataset()
+    orientation.ImageOrientationPatient = ds_numbers(series.iop, 6)
+    measures.PixelSpacing = ds_numbers(series.pixel_spacing, 4)
+    voi.WindowCenter, voi.WindowWidth = "40", "400"
+    shared.PlaneOrientationSequence = Sequence([orientation])
+    shared.PixelMeasuresSequence = Sequence([measures])
+    shared.FrameVOILUTSequence = Sequence([voi])
+    ds.SharedFunctionalGroupsSequence = Sequence([shared])
+    groups = []
+    for k in range(6):
+        group, position, own = Dataset(), Dataset(), Dataset()
+        position.ImagePositionPatient = ds_numbers(series.ipp(k), 4)
+        own.WindowCenter, own.WindowWidth = ["300", "500"], ["801", "2001"]
+        own.WindowCenterWidthExplanation = ["ANGIO", "BONE"]
+        group.PlanePositionSequence = Sequence([position])
+        group.FrameVOILUTSequence = Sequence([own])
+        groups.append(group)
+    ds.PerFrameFunctionalGroupsSequence = Sequence(groups)
+    ds.PixelData = np.stack([series.pixels(k) for k in range(6)]).astype("<i2").tobytes()
+    save(ds, tmp_path / "enhanced.dcm")
+    assert dicom_windows(read_dicom(tmp_path / "enhanced.dcm")) == [("ANGIO", (-100.5, 699.5)),
+                                                                     ("BONE", (-500.5, 1499.5))]
+
+
+def angio_series(folder):
+    """A small CT angiography series: a bright tube (400 HU) in soft tissue (40 HU) and a bone slab (1200 HU),
+    noise-free, carrying an ANGIO (300 / 800) and a BONE (500 / 2000) window."""
+    series = Series(rot=rotation(0), n=24, rows=24, cols=24, pixel_spacing=(1.0, 1.0), step=1.0, intercept=-1024)
+    z, r, c = np.mgrid[0:24, 0:24, 0:24]
+    hu = np.full((24, 24, 24), 40.0)
+    hu[(r - 12) ** 2 + (c - 10) ** 2 < 9] = 400.0
+    hu[:, :, 18:21] = 1200.0
+    series.pixels = lambda k: (hu[k] + 1024).astype(np.int16)
+    series.write(folder)
+    set_tags(folder, lambda n: {"WindowCenter": ["300", "500"], "WindowWidth": ["800", "2000"],
+                                "WindowCenterWidthExplanation": ["ANGIO", "BONE"]})
+    return folder
+
+
+def test_the_dicom_window_draws_as_its_ends_in_the_cli_and_in_pyvista(tmp_path, capsys):
+    """``--window dicom`` draws the picture of ``--window LOW HIGH`` with the series' first window (not the
+    default window's), ``dicom:BONE`` and ``dicom:2`` the second; the default run lists them; pyvista's
+    ``clim="dicom"`` is its ``clim=(low, high)``; a volume without DICOM windows refuses the word, naming why."""
+    from matplotlib.image import imread
+
+    from mipcast.app.cli import main
+
+    folder = angio_series(tmp_path / "s")
+
+    def render(*window):
+        out = tmp_path / f"{'_'.join(window) or 'default'}.png"
+        args = ["render", str(folder), "--method", "mip", "--size", "64", "64", "--out", str(out)]
+        assert main(args + (["--window", *window] if window else [])) == 0
+        return imread(out)
+
+    default = render()
+    printed = capsys.readouterr().out
+    assert "the series' own windows: --window dicom (ANGIO: -100 to 699), dicom:2 (BONE: -500 to 1499)" in printed
+    angio = render("dicom")
+    assert np.array_equal(angio, render("-100", "699"))
+    assert not np.array_equal(angio, default)  # the default is ct-mip, 150 to 1800
+    bone = render("dicom:BONE")
+    assert np.array_equal(bone, render("dicom:2")) and np.array_equal(bone, render("-500", "1499"))
+    assert not np.array_equal(bone, angio)
+    assert main(["render", str(folder), "--window", "dicom:LUNG", "--out", str(tmp_path / "x.png")]) == 2
+    assert "the series' windows are dicom (ANGIO: -100 to 699), dicom:2 (BONE: -500 to 1499)" in capsys.readouterr().err
+
+    pv = pytest.importorskip("pyvista")
+    import mipcast.filters  # noqa: F401  (registers grid.mip)
+    grid = read_dicom(folder)
+    assert np.array_equal(grid.mip.render("analytic", size=(48, 48), clim="dicom"),
+                          grid.mip.render("analytic", size=(48, 48), clim=(-100, 699)))
+    with pytest.raises(ValueError, match="carries none"):
+        pv.wrap(np.asarray(grid.point_data["values"]).reshape(24, 24, 24)).mip.render("mip", clim="dicom")

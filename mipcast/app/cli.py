@@ -160,8 +160,9 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
-_WINDOW_HELP = ("grey window: LOW HIGH in data units, 'full' (the data range), or a preset (ct-mip, ct-bone, "
-                "ct-angio); default: CT preset ct-mip (150 1800) for HU data, else histogram percentiles "
+_WINDOW_HELP = ("grey window: LOW HIGH in data units, 'full' (the data range), a preset (ct-mip, ct-bone, "
+                "ct-angio, ct-minip, ct-soft), or 'dicom' (a DICOM series' own window; 'dicom:2', 'dicom:NAME' "
+                "another); default: CT preset ct-mip (150 1800) for HU data, else histogram percentiles "
                 "(docs/usage.md, 'The default window')")
 
 
@@ -322,7 +323,8 @@ def _run_render(args) -> int:
 
 def _window(image, tokens, method: str = "mip"):
     """``--window`` tokens -> (low, high) for ``method``'s projection; says which rule chose a default one."""
-    from mipcast.core.windowing import parse_window, resolve_window, window_and_reason
+    from mipcast.core.windowing import (describe_dicom_windows, dicom_windows, parse_window, resolve_window,
+                                        window_and_reason)
 
     projection = METHODS[method].projection if method in METHODS else "mip"
     if method == "stock_average":  # VTK's AVERAGE_INTENSITY blend draws a grey of the data-range-normalised mean
@@ -332,6 +334,8 @@ def _window(image, tokens, method: str = "mip"):
     if spec is None or spec == "auto":
         window, reason = window_and_reason(image, projection)
         print(f"window {window[0]:.6g} to {window[1]:.6g} ({reason}; --window full for the data range)")
+        if dicom_windows(image):
+            print(f"the series' own windows: --window {describe_dicom_windows(dicom_windows(image))}")
         return window
     return resolve_window(image, spec, projection)
 

@@ -45,8 +45,14 @@ get other windows:
   thin slab inside the body) would draw it nearly black.
 
 ``"full"`` is the data range (the default before this rule), ``"auto"`` the
-rule, a preset name (:data:`PRESETS`) its window, and ``(low, high)`` itself,
-whatever the projection.
+rule, a preset name (:data:`PRESETS`) its window, ``"dicom"`` the first of the
+windows a DICOM series carries (its WindowCenter / WindowWidth, recorded by
+:func:`mipcast.io.dicom.read_dicom`; ``"dicom:2"`` or ``"dicom:BONE"`` another,
+:func:`dicom_windows`), and ``(low, high)`` itself, whatever the projection.
+The DICOM windows are not the default: a scanner sets them for reading
+slices (a CT's soft-tissue window, 40 / 400, saturates a MIP through a whole
+head wherever bone or contrast lies on the ray), but a CT angiography
+series often carries the window its MIPs are read with.
 
 Missing voxels (NaN, +-Inf) are no part of any window: the rules and
 ``"full"`` see the finite values only (callers pass
@@ -67,7 +73,7 @@ True
 """
 from __future__ import annotations
 
-from typing import Optional, Sequence, Tuple, Union
+from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -83,8 +89,9 @@ PRESETS = {"ct-mip": (150.0, 1800.0), "ct-bone": (-500.0, 1500.0), "ct-angio": (
            "ct-minip": (-1000.0, -400.0), "ct-soft": (-160.0, 240.0)}
 #: The projections the default window has a rule for (``Method.projection``).
 PROJECTIONS = ("mip", "minip", "average")
-#: The words :func:`resolve_window` takes besides presets and (low, high).
-KEYWORDS = ("auto", "full")
+#: The words :func:`resolve_window` takes besides presets and (low, high) (``"dicom"`` also as
+#: ``"dicom:K"`` or ``"dicom:NAME"``).
+KEYWORDS = ("auto", "full", "dicom")
 #: At most this many voxels enter the percentiles (an even stride over the rest).
 SAMPLE_LIMIT = 2_000_000
 
@@ -125,6 +132,52 @@ def units(image) -> str:
         return str(array.GetVariantValue(0).ToString())
     name = image.GetPointData().GetScalars().GetName() or ""
     return "HU" if name.upper() == "HU" else ""
+
+
+def dicom_windows(image) -> List[Tuple[str, Tuple[float, float]]]:
+    """The grey windows a DICOM series carries: ``[(name, (low, high)), ...]``, the scanner's first first.
+
+    Read from the field data :func:`mipcast.io.dicom.read_dicom` records (its WindowCenter / WindowWidth as
+    DICOM's VOILUTFunction maps them; ``name`` its WindowCenterWidthExplanation, ``""`` where it has none).
+    ``[]`` for a volume that carries none.
+
+    Examples
+    --------
+    >>> import os
+    >>> from pydicom.data import get_testdata_file
+    >>> from mipcast.io.dicom import read_dicom
+    >>> dicom_windows(read_dicom(os.path.dirname(get_testdata_file("dicomdirtests/98892001/CT5N/2062"))))
+    [('', (-160.0, 239.0))]
+    """
+    ends = image.GetFieldData().GetArray("dicom_windows")
+    if ends is None or ends.GetNumberOfComponents() != 2:
+        return []
+    names = image.GetFieldData().GetAbstractArray("dicom_window_names")
+    count = names.GetNumberOfValues() if names is not None else 0
+    return [(str(names.GetValue(k)) if k < count else "", (float(ends.GetComponent(k, 0)), float(ends.GetComponent(k, 1))))
+            for k in range(ends.GetNumberOfTuples())]
+
+
+def _dicom_window(image, word: str) -> Tuple[float, float]:
+    """``"dicom"`` (the first), ``"dicom:K"`` (1-based) or ``"dicom:NAME"`` (case-insensitive): that window."""
+    windows = dicom_windows(image)
+    if not windows:
+        raise ValueError(f"window {word!r} is a DICOM series' own window (WindowCenter / WindowWidth, recorded by "
+                         "mipcast.io.read_dicom), and this volume carries none: give LOW HIGH, 'auto', 'full' or "
+                         f"a preset ({', '.join(sorted(PRESETS))})")
+    choice = word.partition(":")[2].strip()
+    if not choice:
+        return windows[0][1]
+    for index, (name, window) in enumerate(windows, 1):
+        if choice == str(index) or (name and choice.lower() == name.lower()):
+            return window
+    raise ValueError(f"window {word!r}: the series' windows are {describe_dicom_windows(windows)}")
+
+
+def describe_dicom_windows(windows: Sequence[Tuple[str, Tuple[float, float]]]) -> str:
+    """``dicom_windows`` in words, each as the word that picks it: ``dicom (ANGIO: -150 to 550), dicom:2 (...)``."""
+    return ", ".join(f"dicom{'' if k == 1 else f':{k}'} ({name + ': ' if name else ''}{low:.6g} to {high:.6g})"
+                     for k, (name, (low, high)) in enumerate(windows, 1))
 
 
 def looks_like_ct(image, values: Optional[np.ndarray] = None) -> bool:
@@ -240,14 +293,16 @@ def resolve_window(image, window: WindowSpec = None, projection: str = "mip") ->
         The volume the window is for.
     window : None, str or sequence of two floats
         ``None`` or ``"auto"``: :func:`default_window`; ``"full"``: the data
-        range; a name of :data:`PRESETS`; or ``(low, high)``, returned as floats.
+        range; a name of :data:`PRESETS`; ``"dicom"``, ``"dicom:K"`` or
+        ``"dicom:NAME"``: a window the DICOM series carries (:func:`dicom_windows`);
+        or ``(low, high)``, returned as floats.
     projection : {"mip", "minip", "average"}, default: "mip"
         The method's projection (``Method.projection``): which default rule.
 
     Raises
     ------
     ValueError
-        For an unknown name, or not two finite numbers.
+        For an unknown name, a DICOM window the volume does not carry, or not two finite numbers.
 
     Examples
     --------
@@ -268,7 +323,10 @@ def resolve_window(image, window: WindowSpec = None, projection: str = "mip") ->
             return (low, high) if high > low else constant_window(low)
         if name in PRESETS:
             return PRESETS[name]
-        raise ValueError(f"window must be (low, high), 'auto', 'full' or one of {sorted(PRESETS)}; got {window!r}")
+        if name.partition(":")[0] == "dicom":
+            return _dicom_window(image, window.strip())
+        raise ValueError(f"window must be (low, high), 'auto', 'full', 'dicom' or one of {sorted(PRESETS)}; "
+                         f"got {window!r}")
     values = tuple(window)
     if len(values) != 2:
         raise ValueError(f"window must be (low, high), got {tuple(window)}")
@@ -279,7 +337,7 @@ def resolve_window(image, window: WindowSpec = None, projection: str = "mip") ->
 
 
 def parse_window(tokens: Optional[Sequence[str]]) -> WindowSpec:
-    """The command line's ``--window``: ``LOW HIGH``, ``auto``, ``full`` or a preset name.
+    """The command line's ``--window``: ``LOW HIGH``, ``auto``, ``full``, a preset name or ``dicom[:K|:NAME]``.
 
     Examples
     --------
@@ -292,12 +350,14 @@ def parse_window(tokens: Optional[Sequence[str]]) -> WindowSpec:
         word = tokens[0].strip().lower()
         if word in KEYWORDS or word in PRESETS:
             return word
+        if word.partition(":")[0] == "dicom":
+            return tokens[0].strip()  # the name as given (matched case-insensitively)
     if len(tokens) == 2:
         try:
             return float(tokens[0]), float(tokens[1])
         except ValueError:
             pass
-    raise ValueError(f"--window takes LOW HIGH, 'auto', 'full' or one of {', '.join(sorted(PRESETS))}; "
+    raise ValueError(f"--window takes LOW HIGH, 'auto', 'full', 'dicom' or one of {', '.join(sorted(PRESETS))}; "
                      f"got {' '.join(tokens)!r}")
 
 

@@ -32,6 +32,7 @@ import math
 import os
 import sys
 import warnings
+from collections import Counter
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
@@ -48,6 +49,11 @@ PathLike = Union[str, "os.PathLike[str]"]
 SCALARS_NAME = "values"
 #: Name of the one-value string array in the field data holding the units.
 UNITS_NAME = "units"
+#: Names of the field-data arrays holding the series' own grey windows (its VOI LUT windows: WindowCenter /
+#: WindowWidth, see :func:`_series_windows`): (low, high) in the values' units, two components a window, the
+#: scanner's first window first; and each window's WindowCenterWidthExplanation (``""`` where it has none).
+WINDOWS_NAME = "dicom_windows"
+WINDOW_NAMES_NAME = "dicom_window_names"
 
 # Tolerances (see _check_steps for how they are used).  Positions are fitted
 # with a least-squares regular grid; the tolerances scale with the voxel.
@@ -183,6 +189,17 @@ def read_dicom(path: PathLike, series_uid: Optional[str] = None, padding: str = 
           RescaleType if it names something else), ``"Gy"`` or
           ``"relative"`` for RT Dose, the ``Units`` tag for PET (e.g.
           ``"BQML"``), ``""`` when DICOM does not say (e.g. MR);
+        - field data ``"dicom_windows"`` and ``"dicom_window_names"`` where
+          the series has grey windows of its own (WindowCenter /
+          WindowWidth, several with WindowCenterWidthExplanation; an
+          enhanced file's FrameVOILUTSequence): (low, high) a window in the
+          values' units, as DICOM's VOILUTFunction maps them, the scanner's
+          first window first, and their names.  A series whose slices have
+          different windows (an MR scanner windows each) gets the windows most
+          slices share, or one from the slices' median centre and width.
+          ``window="dicom"`` (``--window dicom``, ``clim="dicom"``) draws
+          with the first, ``"dicom:2"`` or ``"dicom:BONE"`` another
+          (:func:`mipcast.core.windowing.dicom_windows`);
         - dimensions ``(Columns, Rows, slices)``, spacing
           ``(PixelSpacing[1], PixelSpacing[0], slice step)``, origin the
           ImagePositionPatient of the first slice along the normal, and the
@@ -1149,6 +1166,7 @@ def _assemble(frames: List[_Frame], files, pydicom, padding: str = "missing") ->
     units.SetName(UNITS_NAME)
     units.InsertNextValue(_units(ds0, first.rescale_type))
     image.GetFieldData().AddArray(units)
+    _add_windows(image, _series_windows(frames, headers))
     return image
 
 
@@ -1506,6 +1524,88 @@ def _units(ds, rescale_type: str) -> str:
     if modality == "PT":
         return str(ds.get("Units", "") or "")
     return ""
+
+
+def _frame_windows(frame: _Frame, ds) -> tuple:
+    """One frame's VOI windows, ``((low, high, explanation), ...)``, in the rescaled values' units.
+
+    From the frame's FrameVOILUTSequence (an enhanced multi-frame file: per frame, else shared), else the
+    dataset's WindowCenter / WindowWidth (each may hold several windows, named by
+    WindowCenterWidthExplanation).  DICOM PS3.3 C.11.2.1.2: VOILUTFunction LINEAR (the default) maps
+    ``c - 0.5 - (w - 1) / 2`` to black and ``c - 0.5 + (w - 1) / 2`` to white; LINEAR_EXACT ``c -+ w / 2``;
+    SIGMOID, which has no ends, gets LINEAR_EXACT's (its 12 % and 88 % points).  Windows that are not
+    numbers or not wider than 0 are left out.
+    """
+    source = ds
+    if frame.tile is None:
+        per_frame = ds.get("PerFrameFunctionalGroupsSequence", None)
+        own = per_frame[frame.index] if per_frame is not None and frame.index is not None \
+            and frame.index < len(per_frame) else None
+        for group in (own, _first_item(ds, "SharedFunctionalGroupsSequence")):
+            item = _first_item(group, "FrameVOILUTSequence")
+            if item is not None and item.get("WindowCenter", None) is not None:
+                source = item
+                break
+    try:
+        centres = _as_list(source.get("WindowCenter", None))
+        widths = _as_list(source.get("WindowWidth", None))
+        names = _as_list(source.get("WindowCenterWidthExplanation", None))
+        function = str(source.get("VOILUTFunction", None) or ds.get("VOILUTFunction", None) or "LINEAR")
+    except (TypeError, ValueError):  # a damaged value: no window, the picture does not depend on it
+        return ()
+    windows = []
+    for k, (centre, width) in enumerate(zip(centres, widths)):
+        try:
+            centre, width = float(centre), float(width)
+        except (TypeError, ValueError):
+            continue
+        if not (math.isfinite(centre) and math.isfinite(width) and width > 0):
+            continue
+        if function.strip().upper() == "LINEAR" and width >= 1:
+            low, high = centre - 0.5 - (width - 1) / 2, centre - 0.5 + (width - 1) / 2
+        else:
+            low, high = centre - width / 2, centre + width / 2
+        if high > low:
+            windows.append((low, high, str(names[k]).strip() if k < len(names) else ""))
+    return tuple(windows)
+
+
+def _as_list(value) -> list:
+    """A DICOM value of multiplicity 1-n as a list (``[]`` when absent)."""
+    if value is None or value == "":
+        return []
+    return list(value) if isinstance(value, (list, tuple)) or type(value).__name__ == "MultiValue" else [value]
+
+
+def _series_windows(frames: List[_Frame], headers) -> tuple:
+    """The series' windows: those most frames share (a CT's, every slice the same), or, where no set of
+    windows is shared by half the frames (an MR scanner's window chosen per slice), one window from the
+    median centre and median width of each frame's first, named "median of the slices' windows"."""
+    per_frame = [_frame_windows(frame, headers[frame.file]) for frame in frames]
+    shared = Counter(windows for windows in per_frame if windows)
+    if not shared:
+        return ()
+    windows, count = shared.most_common(1)[0]
+    if 2 * count >= len(frames):
+        return windows
+    firsts = np.array([windows[0][:2] for windows in per_frame if windows])
+    centre = float(np.median(firsts.mean(axis=1)))
+    width = float(np.median(firsts[:, 1] - firsts[:, 0]))
+    return ((centre - width / 2, centre + width / 2, "median of the slices' windows"),)
+
+
+def _add_windows(image: vtkImageData, windows: tuple) -> None:
+    """``windows`` as the field data :data:`WINDOWS_NAME` and :data:`WINDOW_NAMES_NAME` (nothing if none)."""
+    if not windows:
+        return
+    ends = numpy_to_vtk(np.array([w[:2] for w in windows], dtype=np.float64), deep=True)
+    ends.SetName(WINDOWS_NAME)
+    names = vtkStringArray()
+    names.SetName(WINDOW_NAMES_NAME)
+    for window in windows:
+        names.InsertNextValue(window[2])
+    image.GetFieldData().AddArray(ends)
+    image.GetFieldData().AddArray(names)
 
 
 def _fmt(values) -> str:
