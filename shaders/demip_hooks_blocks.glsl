@@ -18,22 +18,28 @@
 //   and the sample that reached it stays in march 2's range.
 // A ray still at the floor is drawn as the tables' bottom (normalised 0.0),
 // one at or above the ceiling as their top (1.0), as mip_hooks_blocks does.
+// mc_rayMax is the samples' own maximum (demip_helpers), the floor bounding
+// it where it is used, as in mip_hooks_blocks, whose missing-value rule
+// this follows (mc_rayMissing, MC_MISSING_FLAG).
 #define MC_SECOND_MARCH
 #define MC_SAMPLE_BLOCKS
+#define MC_MISSING_FLAG
 float mc_samplesFloor;
 float mc_samplesCeiling;
+float mc_samplesMissing;  // raw: the ray has met finite data once its maximum reaches it
 
 void mcBeginRay(inout int first, inout int count)
 {
   mcDemipBeginRay();
   mc_samplesFloor = mcRaw(u_mc_skipFloor);
   mc_samplesCeiling = mcRaw(u_mc_skipCeiling);
-  mc_rayMax = mc_samplesFloor;
+  mc_samplesMissing = u_mc_missingBelow > -1.0e29 ? mcRaw(u_mc_missingBelow) : -3.4e38;
 }
 
 bool mcBlockSkips(float blockMax)
 {
-  return blockMax <= mc_rayMax;
+  return blockMax <= max(mc_rayMax, mc_samplesFloor)
+         && (mc_rayMax >= mc_samplesMissing || blockMax < mc_samplesMissing);
 }
 
 bool mcSample(float value, int i)
@@ -48,5 +54,6 @@ bool mcSample(float value, int i)
 
 void mcEndRay(int count)
 {
-  mc_rayMax = MC_BOUNDED_NORMALISED(mc_rayMax, mc_samplesFloor, mc_samplesCeiling);
+  mc_rayMissing = mc_rayMax < mc_samplesMissing;
+  mc_rayMax = MC_BOUNDED_NORMALISED(max(mc_rayMax, mc_samplesFloor), mc_samplesFloor, mc_samplesCeiling);
 }

@@ -7,7 +7,11 @@
 // (mc_drawsNothing) for foveated_paint_beneath to paint what lay beneath
 // the volume, or, in a float readout, to draw nothing. Once per ray, after
 // the loop.
+#ifdef MC_MISSING_FLAG
+  if (mc_rayMissing)  // hooks that start rays at the floor say it themselves (mip_globals)
+#else
   if (mc_rayMax < u_mc_missingBelow)
+#endif
   {
     mc_drawsNothing = true;
   }

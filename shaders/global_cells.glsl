@@ -25,6 +25,19 @@ float mcGlobalNormalised(float raw)
   return u_mc_globalNorm.x > 0.5 ? raw * u_mc_globalNorm.y + u_mc_globalNorm.z : mcNormalised(raw);
 }
 
+// Its inverse: a value on the whole volume's scale (the missing threshold, u_mc_missingBelow/Above) as
+// this brick's raw texel value, which the cell hooks compare with the corners (MC_CELLS_RAW).
+float mcGlobalRaw(float normalised)
+{
+  float local = (normalised - u_mc_globalNorm.z) / u_mc_globalNorm.y;
+  if (u_mc_globalNorm.x > 1.5)
+  {
+    return mcRaw(local);
+  }
+  return u_mc_globalNorm.x > 0.5 ? local : mcRaw(normalised);
+}
+#define MC_CELLS_RAW mcGlobalRaw
+
 // The whole volume's ray: entry point (absolute point index), direction
 // (point-index units per unit world length) and where the walk starts (ray
 // parameter from the entry: 0, or where the camera is inside the volume the

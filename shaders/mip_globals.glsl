@@ -8,6 +8,12 @@
 // (refusal, image_terminate, demip_two_pass_fetch).
 float mc_rayMax;
 
+// Whether the ray met missing data only, for hook pieces that start their rays at a transfer-function
+// bound (they #define MC_MISSING_FLAG: *_hooks_blocks, amip_max_hooks, amip_min_hooks). Their value is
+// then the bound's table end, which says nothing of that; missing_exit, missing_exit_above and
+// foveated_missing_flag read the flag instead of comparing the value with the threshold.
+bool mc_rayMissing = false;
+
 // Normalised scalar (VTK's scale/bias) -> raw texel value.
 float mcRaw(float normalised)
 {

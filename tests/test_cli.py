@@ -341,39 +341,3 @@ def test_render_parameters_must_follow_the_input(tmp_path, capsys):
     assert out.exists()
 
 
-@pytest.mark.parametrize("method", ["mip", "analytic"])
-def test_render_keeps_the_floor_of_a_volume_with_missing_values(tmp_path, method, monkeypatch):
-    """mipcast render draws mip and analytic with zero opacity below the window's floor: on its black
-    background the opaque grey's picture (OffscreenView's), and with missing values (a padded CT) the rays
-    keep the floor and skip the blocks below it instead of reading every cell."""
-    from mipcast.app.cli import transparent_floor
-    from mipcast.data_fixtures.synthetic import image_from_array
-    from mipcast.offscreen import OffscreenView
-
-    values = np.asarray(make_fixture("vessels", size=32).GetPointData().GetScalars()).reshape(32, 32, 32)
-    holed = values.astype(np.float32)
-    holed[:, :, :8] = np.nan  # rays through missing data only
-    holed.ravel()[::11] = np.nan
-    image = image_from_array(holed, "values")
-    import mipcast.app.cli as cli
-
-    drawn = []
-    monkeypatch.setattr(cli, "transparent_floor", lambda view: (drawn.append(view), transparent_floor(view)))
-    window = ["0.3", "0.95"]
-    out = tmp_path / f"{method}.png"
-    assert main(["render", str(_vti(tmp_path, image)), "--method", method, "--window", *window,
-                 "--out", str(out), "--size", "64", "48"]) == 0
-    assert len(drawn) == 1 and any(n.endswith("_blocks") for n in drawn[0].mapper.GetShaderPieces())
-    opaque = OffscreenView(image, method, size=(64, 48), window=(0.3, 0.95))
-    expected = opaque.screenshot()
-    assert expected.max() > 100 and (expected == 0).all(axis=2).mean() > 0.2
-    # skipping's own rule (docs/methods.md, "Block skipping"): a ray whose maximum lies less than one table
-    # texel below the floor is drawn at the floor's constant colour, within one grey of reading every sample
-    png = (pyplot.imread(out)[..., :3] * 255).round().astype(int)
-    assert np.abs(png - expected).max() <= 1 and np.mean(np.any(png != expected, axis=2)) < 0.001
-    blocks = ("mip_hooks_blocks", "amip_loop_blocks")
-    assert not any(n in opaque.mapper.GetShaderPieces() for n in blocks)  # opaque floor: every sample read
-    kept = OffscreenView(image, method, size=(64, 48), window=(0.3, 0.95))
-    transparent_floor(kept)
-    assert np.array_equal(kept.screenshot(), png)
-    assert any(n in kept.mapper.GetShaderPieces() for n in blocks)  # the floor kept: blocks below it jumped

@@ -294,8 +294,6 @@ def _run_render(args) -> int:
               f"grey level: {verdict} the target")
     view = OffscreenView(image, args.method, size=tuple(args.size), view=args.view,
                          sample_distance=distance, window=window, component=component)
-    if args.method in TRANSPARENT_FLOOR_METHODS:
-        transparent_floor(view)
     set_parameters(view.mapper, **args.params)
     if args.stereo is not None:
         from mipcast.mappers.stereo import set_stereo
@@ -550,33 +548,6 @@ def _load_scene(scene: str, volume_size: int):
         image = read_volume(Path(name))
     # the measured tables (docs/bench.md, ...) use the data range, not the default window
     return image, window if window is not None else tuple(image.GetPointData().GetScalars().GetRange(0))
-
-
-#: Methods whose picture on ``mipcast render``'s black background, with nothing else in the scene, is the
-#: same whether a ray below the window's floor is drawn opaque black or not at all: the value's colour
-#: alone (not DEMIP's shading, nor foveation's blend of levels, nor a MinIP's white above its ceiling).
-TRANSPARENT_FLOOR_METHODS = ("mip", "analytic")
-
-
-def transparent_floor(view) -> None:
-    """Give ``view``'s volume zero opacity a little below its window's floor (opaque above it).
-
-    The picture on the black background does not change; what does is that a volume with missing
-    values keeps its floor: rays may start there and skip the blocks below it
-    (:meth:`mipcast.mappers.mip.MIPVolumeMapper._fill_bound_kept`; a padded head CT, analytic at 512²:
-    230 ms a frame with the opaque floor, 138 with this, ``tests/padded_skipping_bench.py``), within
-    skipping's own one grey below the floor
-    (docs/methods.md, "Block skipping").
-    """
-    from vtkmodules.vtkCommonDataModel import vtkPiecewiseFunction
-
-    low, high = view.window
-    step = low - (high - low) / 64.0  # below the floor, where the colour is black: the opacity table's
-    opacity = vtkPiecewiseFunction()  # interpolation across the step then changes no pixel
-    opacity.AddPoint(step, 0.0)
-    opacity.AddPoint(float(np.nextafter(step, np.inf)), 1.0)
-    opacity.AddPoint(high, 1.0)
-    view.volume.GetProperty().SetScalarOpacity(opacity)
 
 
 #: What ``mipcast render --out`` writes a picture as (matplotlib's imsave, through Pillow).

@@ -361,15 +361,13 @@ class AnalyticMIPVolumeMapper(MIPVolumeMapper):
         from the data minimum up to a floor (a window above the background;
         mirrored for the minimum, :meth:`_window_bounds_blocks`).  Without one
         the check costs more than it saves on llvmpipe, so the plain loop is
-        used; so too with missing values where rays cannot start at that
-        bound (:meth:`_fill_bound_kept`).
+        used.
         """
         names = self._packed_pieces(super().GetShaderPieces())
         state = object_state(self)
         # a brick walking the whole volume's ray (global_cells): the plain walk
         distributed = state.get("global_box") is not None and state.get("global_cells", True)
-        if (self.GetSkipping() and self._window_bounds_blocks() and not distributed
-                and self._fill_bound_kept()):
+        if self.GetSkipping() and self._window_bounds_blocks() and not distributed:
             names = tuple("amip_loop_blocks" if n == "amip_loop" else n for n in names)
         if object_state(self).get("stat") is not None:  # mipcast.mappers.amip_stats reads work counters
             names = tuple("amip_stats_readout" if n == "float_readout" else n for n in names)

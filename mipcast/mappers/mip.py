@@ -327,16 +327,14 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         """Whether a hook piece with a skipping variant skips blocks now (the block level in the mask slot).
 
         Skipping on, a window that leaves blocks to skip
-        (:meth:`_window_bounds_blocks`), one texture (not a brick of a
+        (:meth:`_window_bounds_blocks`), and one texture (not a brick of a
         distributed volume, whose samples are read by hand, nor drawn in
-        bricks), and rays that may start at that bound (:meth:`_fill_bound_kept`).
+        bricks).  Missing values do not matter: the hooks tell a ray that met
+        missing data only themselves (shaders/mip_hooks_blocks.glsl).
         """
         if not self._parameters().get("skipping", False) or object_state(self).get("global_box") is not None:
             return False
-        # with missing values and the bound given up, blocks jump below the running value only: slower than
-        # reading every sample (a padded head CT, 512^2: mip 120 ms against 70; tests/padded_skipping_bench.py)
-        return (self._window_bounds_blocks() and not bricked_draw.bricking_limit(self)
-                and self._fill_bound_kept())
+        return self._window_bounds_blocks() and not bricked_draw.bricking_limit(self)
 
     def _draws_blocks(self, names=None) -> bool:
         """Whether the pieces ``names`` (default: :meth:`GetShaderPieces`) skip blocks."""
@@ -362,12 +360,13 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     def _push_skipping(self, uniforms, skipping: bool) -> None:
         """The floor, ceiling and block uniforms of the skipping loops, and the block maxima (once per input).
 
-        The float readout is exact in data units (floor and ceiling off). With missing values the ray
-        starts beyond the bound on the fill's side (a MIP's floor, a MinIP's ceiling), so that a ray that
-        saw no finite data stays beyond the missing threshold (shaders/missing_exit.glsl) and draws the
-        background -- unless the transfer functions are transparent at that bound (:meth:`_fill_bound_kept`):
-        a ray that stops there then draws nothing either, and blocks keep being skipped. The other bound
-        (where a ray has surely met finite data) ends the ray as without missing values.
+        The float readout is exact in data units (floor and ceiling off).  With missing values rays still
+        start at the fill side's bound (a MIP's floor, a MinIP's ceiling): the hooks keep whether a ray has
+        met finite data apart from its running value, so a ray that met missing data only ends beyond the
+        missing threshold and draws nothing whatever the transfer functions are at that bound
+        (shaders/mip_hooks_blocks.glsl, amip_max_hooks.glsl and their mirrors).  Until 2026-12-04 the bound
+        was given up there unless the opacity was 0 at it, and the plain loop drawn (a padded head CT under
+        an opaque grey, analytic at 512^2: 286 ms a frame against 177 with blocks; docs/methods.md).
         """
         image = self.GetRenderedInput()
         dims = image.GetDimensions() if image is not None else (2, 2, 2)
@@ -377,31 +376,10 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         state = object_state(self)
         # counting work (mipcast.mappers.amip_stats) keeps the display's shortcuts
         exact = (state.get("exact_readout", False) and state.get("stat") is None) or not skipping
-        exact_floor = exact_ceiling = exact
-        if not exact and not self._fill_bound_kept():
-            below = type(self).MISSING_FILL == "below"
-            exact_floor = below or self.BLOCK_EXTREME is None
-            exact_ceiling = not below or self.BLOCK_EXTREME is None
-        uniforms.SetUniformf("u_mc_skipFloor", -1.0e30 if exact_floor else floor)
-        uniforms.SetUniformf("u_mc_skipCeiling", 1.0e30 if exact_ceiling else ceiling)
+        uniforms.SetUniformf("u_mc_skipFloor", -1.0e30 if exact else floor)
+        uniforms.SetUniformf("u_mc_skipCeiling", 1.0e30 if exact else ceiling)
         if image is not None and image.GetNumberOfPoints() > 0 and not bricked_draw.bricking_limit(self):
             self._update_block_level(image)  # (drawn in bricks: each brick has its own)
-
-    def _fill_bound_kept(self) -> bool:
-        """Whether rays may start at the transfer functions' bound on the missing values' fill side (a
-        MIP's floor, a MinIP's ceiling; normalised): nothing is missing, or a ray stopped there draws
-        nothing, as a ray that saw no finite data does -- zero scalar opacity there, and a missing-value
-        piece that discards (not a foveation level's flag, which paints beneath)."""
-        if self._missing_below() is None:
-            return True
-        image, volume = self.GetRenderedInput(), self.GetAttachedVolume()
-        if (self.BLOCK_EXTREME is None or type(self).MISSING_PIECE not in ("missing_exit", "missing_exit_above")
-                or image is None or volume is None):
-            return False
-        # the transfer functions are constant from the data's end to the bound: read them at the end
-        low, high = image.GetPointData().GetScalars().GetRange(0)
-        return volume.GetProperty().GetScalarOpacity(0).GetValue(low if type(self).MISSING_FILL == "below"
-                                                                 else high) == 0.0
 
     def _update_block_level(self, image) -> None:
         """(Re)build the block level (maxima or minima, :data:`BLOCK_EXTREME`) when the input changed;
@@ -586,10 +564,12 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         self._push_derived_uniforms(uniforms, settings)
         if self._draws_blocks(object_state(self).get("installed", ())):  # the pieces drawn with
             self._push_skipping(uniforms, True)
+        # the missing threshold (shaders/missing_exit.glsl; missing_exit_above.glsl for MISSING_FILL "above"),
+        # also read by the skipping hooks, which take -/+1e30 for "nothing missing"
         missing = self._missing_below()
-        if missing is not None:  # shaders/missing_exit.glsl (missing_exit_above.glsl: MISSING_FILL "above")
-            uniforms.SetUniformf("u_mc_missingBelow" if type(self).MISSING_FILL == "below" else "u_mc_missingAbove",
-                                 missing)
+        below = type(self).MISSING_FILL == "below"
+        uniforms.SetUniformf("u_mc_missingBelow" if below else "u_mc_missingAbove",
+                             missing if missing is not None else (-1.0e30 if below else 1.0e30))
 
     def _slab_settings(self) -> tuple:
         """``(thickness, centre, normal)`` of the slab (the ``SLAB`` parameters; 0: none)."""

@@ -181,9 +181,5 @@ class AnalyticAverageVolumeMapper(_ExactProjection):
     BRICKS = "mean"
     BRICK_READOUT = "amip_average_brick_readout"
 
-    def _push_derived_uniforms(self, uniforms, settings) -> None:
-        super()._push_derived_uniforms(uniforms, settings)
-        uniforms.SetUniformf("u_mc_missingBelow", -_FAR)  # replaced by the threshold when data is missing
-
     PIECES = _exact_pieces("amip_average_hooks", color="average_color")
     PACKED = {"amip_corners": "amip_corners_packed", "average_color": "average_color_packed"}
