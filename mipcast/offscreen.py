@@ -24,6 +24,7 @@ import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL back 
 
 from mipcast import methods
 from mipcast.mappers.float_readout import render_float
+from mipcast.mappers.gpu_limits import max_picture_size
 from mipcast.mappers.input_preparer import missing_as_background, prepared_image, window_image
 from mipcast.core.patient_views import PATIENT_VIEWS, set_patient_view
 from mipcast.core.prepare import scalar_image
@@ -175,6 +176,7 @@ class OffscreenView:
         self.render_window.SetMultiSamples(0)  # MSAA would blend silhouette pixels with the background
         self.render_window.AddRenderer(self.renderer)
         self.render_window.SetSize(*self.size)
+        self._fits = None  # the window size checked against the driver's largest picture (_check_fits)
         set_view(self.renderer, scalar_image(image), view)  # frames what is drawn (cell data: the centres)
 
     def set_input(self, image, component=None) -> None:
@@ -217,7 +219,9 @@ class OffscreenView:
 
         A volume beyond the 3D texture limit is drawn in bricks by the
         mapper itself (:mod:`mipcast.mappers.bricked_draw`), as in any window.
+        A picture larger than the driver draws is refused (:meth:`_check_fits`).
         """
+        self._check_fits()
         self.render_window.Render()
         grab = vtkWindowToImageFilter()
         grab.SetInput(self.render_window)
@@ -231,6 +235,7 @@ class OffscreenView:
 
     def float_image(self) -> np.ndarray:
         """Render and return each pixel's maximum in data units (float32, NaN = miss)."""
+        self._check_fits()
         return render_float(self.render_window, self.mapper)
 
     def frame_times(self, frames: int = 10, warmup: int = 3) -> list:
@@ -239,6 +244,7 @@ class OffscreenView:
         Each timed frame is a full re-render followed by ``WaitForCompletion``,
         so the time includes the GPU work, not just its submission.
         """
+        self._check_fits()
         for _ in range(warmup):
             self._render_and_wait()
         times = []
@@ -247,6 +253,22 @@ class OffscreenView:
             self._render_and_wait()
             times.append(time.perf_counter() - start)
         return times
+
+    def _check_fits(self) -> None:
+        """Refuse a window larger than the driver draws (``ValueError``): VTK draws it black, silently
+        (llvmpipe: 16384 pixels a side; until 2026-12-04 a 17000 x 300 screenshot came back black).  Checked
+        once per window size, after the window's first render (the driver's limit needs its context)."""
+        size = tuple(self.render_window.GetSize())
+        if getattr(self, "_fits", None) == size:
+            return
+        if self.render_window.GetNeverRendered():
+            self.render_window.Render()
+        limit = max_picture_size(self.render_window)
+        if limit and max(size) > limit:
+            raise ValueError(f"a picture of {size[0]} x {size[1]} pixels is larger than this OpenGL driver draws "
+                             f"({limit} pixels a side, GL_MAX_TEXTURE_SIZE; VTK would draw it black): render at "
+                             f"most {limit} x {limit}, or in tiles")
+        self._fits = size
 
     def _render_and_wait(self) -> None:
         self.render_window.Render()

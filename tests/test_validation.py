@@ -343,3 +343,24 @@ def test_a_typed_implicit_array_names_the_copy_where_numpy_cannot_read_it():
     assert completed.returncode == 0, completed.stderr[-2000:]
     out = completed.stdout.strip()
     assert out == "" or ("'ramp' are a vtkAffineDoubleArray" in out and "copy.DeepCopy(array)" in out), out
+
+
+def test_a_picture_larger_than_the_driver_draws_is_refused_not_drawn_black():
+    """VTK draws a window wider than GL_MAX_TEXTURE_SIZE black, silently (llvmpipe: 16384 pixels a side; a
+    17000 x 300 screenshot of the vessels came back all zeros until 2026-12-04): OffscreenView refuses it,
+    naming the limit; at the limit it draws."""
+    from mipcast.data_fixtures import make_fixture
+    from mipcast.mappers.gpu_limits import max_picture_size
+
+    image = make_fixture("vessels", size=16)
+    probe = OffscreenView(image, "mip", size=(8, 8), view="front")
+    probe.screenshot()
+    limit = max_picture_size(probe.render_window)
+    assert limit >= 1024
+    for get in ("screenshot", "float_image"):
+        view = OffscreenView(image, "mip", size=(limit + 1, 4), view="front")
+        with pytest.raises(ValueError, match=rf"{limit + 1} x 4 pixels is larger than this OpenGL driver draws "
+                                             rf"\({limit} pixels a side"):
+            getattr(view, get)()
+    drawn = OffscreenView(image, "mip", size=(limit, 4), view="front").screenshot()
+    assert drawn.shape == (4, limit, 3) and drawn.max() > 100

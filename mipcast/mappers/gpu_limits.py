@@ -51,6 +51,24 @@ def max_texture_size_3d(window) -> int:
     return int(vtkTextureObject.GetMaximumTextureSize3D(window))
 
 
+def max_picture_size(window) -> int:
+    """The largest picture ``window``'s driver draws, pixels a side (``GL_MAX_TEXTURE_SIZE``: VTK's
+    offscreen framebuffer is made of such textures; larger, it draws black), 0 if it has not rendered yet.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkRenderWindow
+    >>> import vtkmodules.vtkRenderingOpenGL2
+    >>> max_picture_size(vtkRenderWindow())   # never rendered: unknown
+    0
+    """
+    if not _ready(window):
+        return 0
+    from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
+
+    return int(vtkTextureObject.GetMaximumTextureSize(window))
+
+
 def gl_extensions(window) -> frozenset:
     """The OpenGL extensions ``window``'s context reports (empty if it has not rendered)."""
     if not _ready(window):
