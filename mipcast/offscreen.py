@@ -221,8 +221,8 @@ class OffscreenView:
         mapper itself (:mod:`mipcast.mappers.bricked_draw`), as in any window.
         A picture larger than the driver draws is refused (:meth:`_check_fits`).
         """
-        self._check_fits()
         self.render_window.Render()
+        self._check_fits()
         grab = vtkWindowToImageFilter()
         grab.SetInput(self.render_window)
         grab.SetInputBufferTypeToRGB()
@@ -235,8 +235,9 @@ class OffscreenView:
 
     def float_image(self) -> np.ndarray:
         """Render and return each pixel's maximum in data units (float32, NaN = miss)."""
+        values = render_float(self.render_window, self.mapper)
         self._check_fits()
-        return render_float(self.render_window, self.mapper)
+        return values
 
     def frame_times(self, frames: int = 10, warmup: int = 3) -> list:
         """Wall-clock seconds of ``frames`` renders after ``warmup`` untimed ones.
@@ -244,9 +245,9 @@ class OffscreenView:
         Each timed frame is a full re-render followed by ``WaitForCompletion``,
         so the time includes the GPU work, not just its submission.
         """
-        self._check_fits()
         for _ in range(warmup):
             self._render_and_wait()
+            self._check_fits()
         times = []
         for _ in range(frames):
             start = time.perf_counter()
@@ -257,12 +258,10 @@ class OffscreenView:
     def _check_fits(self) -> None:
         """Refuse a window larger than the driver draws (``ValueError``): VTK draws it black, silently
         (llvmpipe: 16384 pixels a side; until 2026-12-04 a 17000 x 300 screenshot came back black).  Checked
-        once per window size, after the window's first render (the driver's limit needs its context)."""
+        once per window size, after a render (the driver's limit needs the window's context)."""
         size = tuple(self.render_window.GetSize())
-        if getattr(self, "_fits", None) == size:
+        if self._fits == size:
             return
-        if self.render_window.GetNeverRendered():
-            self.render_window.Render()
         limit = max_picture_size(self.render_window)
         if limit and max(size) > limit:
             raise ValueError(f"a picture of {size[0]} x {size[1]} pixels is larger than this OpenGL driver draws "

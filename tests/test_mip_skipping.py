@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPlane
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
 from mipcast.data_fixtures import make_fixture
 from mipcast.mappers.max_blocks import block_minima
@@ -173,14 +174,14 @@ def test_skipping_needs_a_bound(specks, method):
     windowed = OffscreenView(image, method, size=(32, 32), window=window)
     windowed.screenshot()
     assert piece in windowed.mapper.GetShaderPieces()
-    assert windowed.mapper.GetMaskInput() is not None
+    assert vtkOpenGLGPUVolumeRayCastMapper.GetMaskInput(windowed.mapper) is not None  # VTK's slot: the block level
 
 
 @pytest.mark.parametrize("method", ["minip", "analytic_minip"])
 def test_minimum_projections_hold_block_minima(specks, method):
     windowed = OffscreenView(specks[True], method, size=(32, 32), window=METHODS[method][1])
     windowed.screenshot()
-    level = windowed.mapper.GetMaskInput()
+    level = vtkOpenGLGPUVolumeRayCastMapper.GetMaskInput(windowed.mapper)  # VTK's slot (GetMaskInput: the user's)
     assert level.GetPointData().GetScalars().GetName() == "block_min"
     scalars = specks[True].GetPointData().GetScalars()
     values = vtk_to_numpy(scalars).reshape(specks[True].GetDimensions()[::-1])

@@ -242,6 +242,8 @@ def _copy_settings(mapper, volume, entry) -> None:
         first.SetInputData(image)
     if first.GetComponent() != mapper.GetComponent():
         first.SetComponent(mapper.GetComponent())
+    if first.GetMaskInput() is not mapper.GetMaskInput():
+        first.SetMaskInput(mapper.GetMaskInput())
     first.SetSampleDistance(mapper.GetSampleDistance())  # VTK's setters ignore equal values
     first.SetImageSampleDistance(mapper.GetImageSampleDistance())
     first.SetLockSampleDistanceToInputSpacing(mapper.GetLockSampleDistanceToInputSpacing())

@@ -102,6 +102,8 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     ``docs/methods.md#foveated-rendering``.
     """
 
+    #: Its levels draw pyramids built from the input, not the masked copy: a mask is refused (for now).
+    DRAWS_MASK = False
     #: The mapper's own (skipped) draw only needs the refusal piece (and its helper).
     #: Beyond one texture each level too large is composited over bricks first, then masked and
     #: blended (:mod:`mipcast.mappers.bricked_foveated`); refused for a layer that cannot brick.

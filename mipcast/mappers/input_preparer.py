@@ -12,13 +12,13 @@ import warnings
 from typing import Optional
 
 import numpy as np
-from vtkmodules.util.numpy_support import numpy_to_vtk
+from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.util.vtkAlgorithm import VTKPythonAlgorithmBase
 from vtkmodules.vtkCommonDataModel import vtkDataSetAttributes, vtkImageData
 
 from mipcast.core.errors import InputError, InputWarning
-from mipcast.core.prepare import (PreparedScalars, check_component, check_float_range, prepare_scalars, scalar_image,
-                                  shade_range)
+from mipcast.core.prepare import (VALID_POINT_MASK, PreparedScalars, check_component, check_float_range, prepare_scalars,
+                                  scalar_image, shade_range)
 from mipcast.core.validation import far_from_origin
 
 
@@ -53,6 +53,8 @@ class InputPreparer(VTKPythonAlgorithmBase):
         self._problem: Optional[str] = None
         self._prepared: Optional[PreparedScalars] = None
         self._whole_range: Optional[tuple] = None
+        self._mask: Optional[vtkImageData] = None
+        self._mask_stamp: Optional[tuple] = None
 
     def SetComponent(self, component) -> None:
         """Component of multi-component scalars to draw (int >= 0), or -1 / None / "magnitude"."""
@@ -94,6 +96,17 @@ class InputPreparer(VTKPythonAlgorithmBase):
         """What :meth:`SetWholeRange` set (None: the input is the whole volume)."""
         return self._whole_range
 
+    def SetMask(self, mask: Optional[vtkImageData]) -> None:
+        """A binary mask, or None: points where its scalars are 0 or less are missing data (:func:`masked`).
+
+        The mapper's ``SetMaskInput`` sets it, and sets it again before each
+        update: a mask modified since is read again (its modification time).
+        """
+        stamp = None if mask is None else (mask.GetAddressAsString("vtkObjectBase"), mask.GetMTime())
+        if stamp != self._mask_stamp:
+            self._mask, self._mask_stamp = mask, stamp
+            self.Modified()
+
     def GetProblem(self) -> Optional[str]:
         """Why the last input cannot be drawn, or None."""
         return self._problem
@@ -106,6 +119,8 @@ class InputPreparer(VTKPythonAlgorithmBase):
         source = vtkImageData.GetData(in_info[0])
         target = vtkImageData.GetData(out_info)
         try:
+            if self._mask is not None:
+                source = masked(source, self._mask)
             prepared = prepare_scalars(source, self._component, self._fill_side, self._whole_range)
             check_float_range(prepared, self._whole_range)
         except (TypeError, InputError) as error:
@@ -133,6 +148,54 @@ class InputPreparer(VTKPythonAlgorithmBase):
         _copy_structure(target, source)
         target.GetPointData().SetScalars(array)
         return 1
+
+
+def masked(image: vtkImageData, mask: vtkImageData) -> vtkImageData:
+    """``image`` with the points where ``mask``'s scalars are 0 or less hidden (missing data), as VTK's binary
+    masks leave out the samples where the mask is not above 0.
+
+    A shallow copy (``image`` is not modified) with a ``vtkValidPointMask`` array
+    (:func:`mipcast.core.prepare.hidden_points`), combined with one it has.
+
+    Raises
+    ------
+    InputError
+        If the mask has no point scalars, other dimensions than the image, or
+        the image draws cell scalars.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> from mipcast.core.prepare import hidden_points
+    >>> image = make_fixture("spheres", size=8)
+    >>> mask = vtkImageData()
+    >>> mask.SetDimensions(image.GetDimensions())
+    >>> _ = mask.GetPointData().SetScalars(numpy_to_vtk((np.arange(512) % 2).astype(np.uint8), deep=True))
+    >>> int(hidden_points(masked(image, mask)).sum()), hidden_points(image) is None
+    (256, True)
+    """
+    scalars = mask.GetPointData().GetScalars()
+    if scalars is None:
+        raise InputError("the mask (SetMaskInput) has no point scalars: give it one array, above 0 where the "
+                         "volume is drawn")
+    if mask.GetDimensions() != image.GetDimensions():
+        raise InputError(f"the mask (SetMaskInput) has dimensions {mask.GetDimensions()}, the volume "
+                         f"{image.GetDimensions()}: a mask holds one value per point of the volume (resample it "
+                         "onto the volume, e.g. vtkImageReslice with the volume as its information input)")
+    if image.GetPointData().GetScalars() is None:
+        raise InputError("a mask (SetMaskInput) hides points, and this volume draws cell scalars: convert them "
+                         "to point scalars first (vtkCellDataToPointData)")
+    values = vtk_to_numpy(scalars)
+    inside = (values if values.ndim == 1 else values[:, 0]) > 0
+    out = vtkImageData()
+    out.ShallowCopy(image)
+    valid = out.GetPointData().GetArray(VALID_POINT_MASK)
+    if valid is not None and valid.GetNumberOfComponents() == 1:
+        inside = inside & (vtk_to_numpy(valid) != 0)
+    array = numpy_to_vtk(inside.astype(np.uint8), deep=True)
+    array.SetName(VALID_POINT_MASK)
+    out.GetPointData().AddArray(array)
+    return out
 
 
 def piece_range(preparer: InputPreparer) -> Optional[tuple]:

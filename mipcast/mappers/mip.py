@@ -71,6 +71,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     #: Missing voxels (NaN/Inf) are drawn as missing data (docs/reliability.md);
     #: a projection that cannot draw them sets this False and refuses such input.
     DRAWS_MISSING = True
+    #: Whether a mask (:meth:`SetMaskInput`) is drawn; a method that cannot sets this False and refuses it.
+    DRAWS_MASK = True
     #: Where the preparer fills missing voxels: ``"below"`` every finite value
     #: (maximum and average projections) or ``"above"`` (minimum projections).
     MISSING_FILL = "below"
@@ -161,8 +163,58 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         preparer = self.GetInputPreparer()
         if preparer.GetNumberOfInputConnections(0) == 0:
             return None
+        preparer.SetMask(self.GetMaskInput())  # (a mask modified since it was set is read again)
         preparer.Update()
         return preparer.GetOutputDataObject(0)
+
+    def SetMaskInput(self, mask) -> None:
+        """A binary mask (``vtkImageData`` of the volume's dimensions), or None: VTK's ``SetMaskInput``.
+
+        Points where the mask's scalars are 0 or less are missing data in
+        every method (never the maximum or minimum, left out of the averages;
+        a ray through masked points only shows what lies behind), exactly,
+        as VTK's own binary masks leave out the samples where the mask is not
+        above 0 (CT angiography's bone removal: a mask of what is kept).  The
+        mask is read again when it is modified.  VTK's mask slot itself holds
+        the mapper's block level (block skipping); label-map masks are refused
+        (:meth:`SetMaskType`).  Not drawn beyond the 3D texture limit (bricks)
+        nor by foveated rendering yet: those refuse it, naming the workaround.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from vtkmodules.util.numpy_support import numpy_to_vtk
+        >>> from vtkmodules.vtkCommonDataModel import vtkImageData
+        >>> mask = vtkImageData()
+        >>> mask.SetDimensions(8, 8, 8)
+        >>> _ = mask.GetPointData().SetScalars(numpy_to_vtk(np.ones(512, np.uint8), deep=True))
+        >>> mapper = MIPVolumeMapper()
+        >>> mapper.SetMaskInput(mask)
+        >>> mapper.GetMaskInput() is mask
+        True
+        """
+        if mask is not None and not (hasattr(mask, "IsA") and mask.IsA("vtkImageData")):
+            raise TypeError(f"SetMaskInput takes a vtkImageData (or None), got {type(mask).__name__}")
+        object_state(self)["user_mask"] = mask
+        self.GetInputPreparer().SetMask(mask)
+        self.Modified()
+
+    def GetMaskInput(self):
+        """The mask :meth:`SetMaskInput` set, or None (VTK's mask slot holds the block level)."""
+        return object_state(self).get("user_mask")
+
+    def SetMaskType(self, mask_type) -> None:
+        """Binary only (``vtkGPUVolumeRayCastMapper.BinaryMaskType``): a label map colours samples by label,
+        which a projection of one value along each ray has no use for; ``TypeError`` otherwise."""
+        if mask_type != vtkOpenGLGPUVolumeRayCastMapper.BinaryMaskType:
+            raise TypeError("mipcast's methods draw binary masks only (SetMaskTypeToBinary: points where the "
+                            "mask is 0 are missing data); a label map colours samples by label, which a "
+                            "projection keeping one value per ray cannot show")
+        vtkOpenGLGPUVolumeRayCastMapper.SetMaskType(self, mask_type)
+
+    def SetMaskTypeToLabelMap(self) -> None:
+        """Refused: see :meth:`SetMaskType`."""
+        self.SetMaskType(vtkOpenGLGPUVolumeRayCastMapper.LabelMapMaskType)
 
     def SetComponent(self, component) -> None:
         """Which component of multi-component scalars to draw: an int >= 0, or -1 / "magnitude" (default).
@@ -185,6 +237,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         (a refused input reaches VTK as the preparer's 2x2x2 stand-in).
         """
         preparer = self.GetInputPreparer()
+        preparer.SetMask(self.GetMaskInput())
         preparer.Update()
         prepared = preparer.GetPrepared()
         if prepared is not None and not prepared.changed and not prepared.cells:
@@ -390,8 +443,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
             return
         low, high = image.GetPointData().GetScalars().GetRange(0)
         values = prepare_scalars(image).values  # the prepared copy: validated already
-        self.SetMaskInput(block_level_image(values, self.BLOCK, low, high, margin=self.BLOCK_MARGIN,
-                                            extreme=self.BLOCK_EXTREME))
+        vtkOpenGLGPUVolumeRayCastMapper.SetMaskInput(self, block_level_image(
+            values, self.BLOCK, low, high, margin=self.BLOCK_MARGIN, extreme=self.BLOCK_EXTREME))
         self.SetMaskTypeToBinary()
         state["blocks_of"] = stamp
 
@@ -515,6 +568,12 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         too_large = bricked_draw.refusal(self) or brick_rays.jitter_problem(self)
         if too_large is not None:
             return too_large
+        if self.GetMaskInput() is not None and (not self.DRAWS_MASK or bricked_draw.bricking_limit(self)):
+            where = ("beyond the 3D texture limit (drawn in bricks)" if self.DRAWS_MASK
+                     else f"by {type(self).__name__}")
+            return (f"a mask (SetMaskInput) is not drawn {where} yet: hide the masked points in the volume "
+                    "instead (NaN there, missing data in every method; or a vtkValidPointMask array, 0 where "
+                    "hidden), or SetMaskInput(None)")
         prepared = self.GetInputPreparer().GetPrepared()
         if not self.DRAWS_MISSING and prepared is not None and prepared.missing:
             return (f"input refused, nothing is drawn: {type(self).__name__} cannot draw missing values "
