@@ -351,3 +351,25 @@ def test_a_mask_that_cannot_be_drawn_is_refused_naming_why(vessels48):
     object_state(bricked.mapper)["texture_limit"] = 20  # a smaller GPU: 48^3 in bricks
     bricked.mapper.SetMaskInput(_mask_of(vessels48, np.ones((48, 48, 48), bool)))
     assert "not drawn beyond the 3D texture limit" in bricked.mapper.GetRenderProblem()
+
+
+@pytest.mark.parametrize("method", ["mip", "analytic", "minip", "average", "demip", "foveated"])
+def test_blend_modes_other_than_the_methods_own_are_refused(vessels48, method):
+    """Every mipcast method puts its ray loop in VTK's maximum-intensity template. Until 2026-12-04 another
+    blend mode was taken silently: composite, isosurface and minimum drew the method's picture anyway,
+    additive the whole box lit. Now the setters refuse naming what to use, and a mode set past them (from
+    C++: VTK's own class method) is a render problem, drawn as nothing, not as a wrong picture."""
+    from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper as Base
+
+    view = OffscreenView(vessels48, method, size=(48, 48))  # the projection's default window
+    plain = view.screenshot()
+    assert plain.max() > 100
+    for setter in ("SetBlendModeToComposite", "SetBlendModeToAdditive", "SetBlendModeToIsoSurface",
+                   "SetBlendModeToMinimumIntensity", "SetBlendModeToAverageIntensity"):
+        with pytest.raises(ValueError, match="vtkGPUVolumeRayCastMapper"):
+            getattr(view.mapper, setter)()
+    view.mapper.SetBlendModeToMaximumIntensity()  # its own: accepted
+    assert np.array_equal(view.screenshot(), plain)
+    Base.SetBlendMode(view.mapper, Base.ADDITIVE_BLEND)  # past the Python setters
+    assert "blend mode 'additive' is not one of its settings" in view.mapper.GetRenderProblem()
+    assert view.screenshot().max() == 0

@@ -167,6 +167,41 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         preparer.Update()
         return preparer.GetOutputDataObject(0)
 
+    def SetBlendMode(self, mode: int) -> None:
+        """Fixed: VTK's maximum-intensity blend, in whose shader template every mipcast method (MIP, MinIP,
+        average, DEMIP, ...) puts its own ray loop; any other mode is a ``ValueError`` naming what to use.
+
+        Until 2026-12-04 another mode was taken: composite, isosurface and minimum drew the method's picture
+        anyway, additive the whole box lit (VTK's additive template around mipcast's loop).
+        """
+        if mode != vtkOpenGLGPUVolumeRayCastMapper.MAXIMUM_INTENSITY_BLEND:
+            raise ValueError(_blend_mode_refusal(self, mode))
+        vtkOpenGLGPUVolumeRayCastMapper.SetBlendMode(self, mode)
+
+    def SetBlendModeToComposite(self) -> None:
+        """Refused (:meth:`SetBlendMode`)."""
+        self.SetBlendMode(vtkOpenGLGPUVolumeRayCastMapper.COMPOSITE_BLEND)
+
+    def SetBlendModeToMinimumIntensity(self) -> None:
+        """Refused (:meth:`SetBlendMode`)."""
+        self.SetBlendMode(vtkOpenGLGPUVolumeRayCastMapper.MINIMUM_INTENSITY_BLEND)
+
+    def SetBlendModeToAverageIntensity(self) -> None:
+        """Refused (:meth:`SetBlendMode`)."""
+        self.SetBlendMode(vtkOpenGLGPUVolumeRayCastMapper.AVERAGE_INTENSITY_BLEND)
+
+    def SetBlendModeToAdditive(self) -> None:
+        """Refused (:meth:`SetBlendMode`)."""
+        self.SetBlendMode(vtkOpenGLGPUVolumeRayCastMapper.ADDITIVE_BLEND)
+
+    def SetBlendModeToIsoSurface(self) -> None:
+        """Refused (:meth:`SetBlendMode`)."""
+        self.SetBlendMode(vtkOpenGLGPUVolumeRayCastMapper.ISOSURFACE_BLEND)
+
+    def SetBlendModeToSlice(self) -> None:
+        """Refused (:meth:`SetBlendMode`)."""
+        self.SetBlendMode(vtkOpenGLGPUVolumeRayCastMapper.SLICE_BLEND)
+
     def SetMaskInput(self, mask) -> None:
         """A binary mask (``vtkImageData`` of the volume's dimensions), or None: VTK's ``SetMaskInput``.
 
@@ -559,6 +594,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         image = self.GetInput()
         if image is None:
             return "no input: call SetInputData(image) or SetInputConnection(port)"
+        if self.GetBlendMode() != vtkOpenGLGPUVolumeRayCastMapper.MAXIMUM_INTENSITY_BLEND:  # set from C++
+            return _blend_mode_refusal(self, self.GetBlendMode())
         clipping = clip_uniforms.clipping_problem(self)
         if clipping is not None:
             return clipping
@@ -784,6 +821,17 @@ def _check_before_render(mapper, event) -> None:
     object_state(mapper)["refused"] = (mapper.GetCropping(), mapper.GetCroppingRegionPlanes())
     mapper.SetCropping(True)
     mapper.SetCroppingRegionPlanes(0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+
+
+def _blend_mode_refusal(mapper, mode: int) -> str:
+    """Why ``mapper`` does not draw blend mode ``mode`` (:meth:`MIPVolumeMapper.SetBlendMode`)."""
+    names = {getattr(vtkOpenGLGPUVolumeRayCastMapper, f"{n}_BLEND"): n.lower().replace("_", " ")
+             for n in ("COMPOSITE", "MAXIMUM_INTENSITY", "MINIMUM_INTENSITY", "AVERAGE_INTENSITY", "ADDITIVE",
+                       "ISOSURFACE", "SLICE")}
+    return (f"{type(mapper).__name__} draws its own projection in VTK's maximum-intensity blend mode; blend "
+            f"mode {names.get(mode, mode)!r} is not one of its settings: for MinIP or an average use "
+            "mipcast.create_mapper('minip' / 'analytic_minip' / 'average' / 'analytic_average'), for "
+            "composite, additive, isosurface or slice rendering VTK's vtkGPUVolumeRayCastMapper")
 
 
 def _restore_after_refused_render(mapper, event) -> None:
