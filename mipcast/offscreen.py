@@ -29,7 +29,7 @@ from mipcast.mappers.input_preparer import missing_as_background, prepared_image
 from mipcast.core.patient_views import PATIENT_VIEWS, set_patient_view
 from mipcast.core.prepare import scalar_image
 from mipcast.core.windowing import resolve_window
-from mipcast.core.validation import check_choice, check_image, check_positive, check_size
+from mipcast.core.validation import check_choice, check_image, check_positive, check_size, samples_per_ray_problem
 
 #: View presets: (azimuth, elevation, parallel projection).  Azimuth and
 #: elevation rotate the camera from the default view down -z.
@@ -161,6 +161,11 @@ class OffscreenView:
         self.method = methods.METHODS[check_choice("method", method, tuple(methods.METHODS))]
         self.window = resolve_window(window_image(image, component, self.whole_range), window, self.method.projection)
         self.mapper = self.method.create()
+        # VTK's own GPU mappers and mipcast's sampled ones: at most MAX_SAMPLES_PER_RAY samples a ray
+        sampled = getattr(self.mapper, "_samples_rays", lambda: self.mapper.IsA("vtkGPUVolumeRayCastMapper"))()
+        dense = samples_per_ray_problem(scalar_image(image), self.sample_distance) if sampled else None
+        if dense is not None:
+            raise ValueError(dense)
         self.set_input(image, component)
         self.mapper.SetAutoAdjustSampleDistances(False)
         self.mapper.SetSampleDistance(self.sample_distance)

@@ -364,3 +364,28 @@ def test_a_picture_larger_than_the_driver_draws_is_refused_not_drawn_black():
             getattr(view, get)()
     drawn = OffscreenView(image, "mip", size=(limit, 4), view="front").screenshot()
     assert drawn.shape == (4, limit, 3) and drawn.max() > 100
+
+
+@pytest.mark.parametrize("method", ["mip", "stock", "demip", "foveated"])
+def test_a_sample_distance_beyond_the_loop_limit_is_refused_not_cut_short(method):
+    """llvmpipe ends a shader loop after 65536 iterations: the vessels 32³ sampled at 1/2500 of a voxel drew
+    0.64 of the range off (stock VTK's MIP as mipcast's), silently, until 2026-12-04. OffscreenView refuses a
+    sample distance that takes more samples along the volume's diagonal, naming the finest allowed, and a
+    mipcast mapper in a VTK pipeline refuses to draw it; the exact methods take no sample distance."""
+    from mipcast.core.validation import MAX_SAMPLES_PER_RAY
+    from mipcast.data_fixtures import make_fixture
+
+    image = make_fixture("vessels", size=32)
+    diagonal = 31.0 * 3 ** 0.5
+    fine = diagonal / (2 * MAX_SAMPLES_PER_RAY)
+    with pytest.raises(ValueError, match=r"takes 131072 samples along the volume's diagonal .* at least 0\.000819"):
+        OffscreenView(image, method, size=(16, 16), sample_distance=fine)
+    assert OffscreenView(image, method, size=(16, 16), sample_distance=diagonal / MAX_SAMPLES_PER_RAY)
+    if method != "stock":
+        view = OffscreenView(image, method, size=(16, 16))
+        view.mapper.SetSampleDistance(fine)
+        assert "samples along the volume's diagonal" in view.mapper.GetRenderProblem()
+        assert view.screenshot().max() == 0
+    exact = OffscreenView(image, "analytic", size=(16, 16))
+    exact.mapper.SetSampleDistance(fine)  # ignored by the cell walk
+    assert exact.mapper.GetRenderProblem() is None and exact.screenshot().max() > 100

@@ -19,7 +19,7 @@ import numpy as np
 from vtkmodules.vtkRenderingCore import vtkCamera
 
 from mipcast import reference
-from mipcast.core.validation import check_image, check_positive
+from mipcast.core.validation import check_image, check_positive, samples_per_ray_problem
 
 #: Samples per voxel tried, cheapest first.
 CANDIDATES = (1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0, 24.0, 32.0)
@@ -93,16 +93,18 @@ def choose_samples_per_voxel(image, camera, size: Sequence[int], grey_levels: fl
         sampled = reference.render(image, view, calibration, method="mip", sample_distance=spacing / rate)
         return float(np.mean(np.abs(sampled[hits] - exact[hits]) <= tolerance)) if hits.any() else 1.0
 
-    low_index, high_index = 0, len(CANDIDATES) - 1
-    best = within(CANDIDATES[high_index])
+    # rates a ray can take (at most MAX_SAMPLES_PER_RAY samples along the volume's diagonal)
+    candidates = [rate for rate in CANDIDATES if samples_per_ray_problem(image, spacing / rate) is None] or [1.0]
+    low_index, high_index = 0, len(candidates) - 1
+    best = within(candidates[high_index])
     if best < goal:
-        return AutoSampling(CANDIDATES[-1], spacing / CANDIDATES[-1], best, False, int(hits.sum()))
-    while low_index < high_index:  # invariant: CANDIDATES[high_index] meets the goal
+        return AutoSampling(candidates[-1], spacing / candidates[-1], best, False, int(hits.sum()))
+    while low_index < high_index:  # invariant: candidates[high_index] meets the goal
         middle = (low_index + high_index) // 2
-        share_met = within(CANDIDATES[middle])
+        share_met = within(candidates[middle])
         if share_met >= goal:
             high_index, best = middle, share_met
         else:
             low_index = middle + 1
-    rate = CANDIDATES[high_index]
+    rate = candidates[high_index]
     return AutoSampling(rate, spacing / rate, best, True, int(hits.sum()))

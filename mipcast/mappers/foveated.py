@@ -104,6 +104,10 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
 
     #: Its levels draw pyramids built from the input, not the masked copy: a mask is refused (for now).
     DRAWS_MASK = False
+
+    def _samples_rays(self) -> bool:
+        """Whether its levels' method samples its rays (the cell walks do not)."""
+        return not foveated_levels.walks_cells(self._parameters()["method"])
     #: The mapper's own (skipped) draw only needs the refusal piece (and its helper).
     #: Beyond one texture each level too large is composited over bricks first, then masked and
     #: blended (:mod:`mipcast.mappers.bricked_foveated`); refused for a layer that cannot brick.

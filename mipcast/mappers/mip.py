@@ -13,6 +13,7 @@ from mipcast.core.errors import InputError
 from mipcast.core.parameters import defaults, parameter_accessors, uniform_values
 from mipcast.core.prepare import prepare_scalars, scalar_image
 from mipcast.core.transfer_bounds import normalised_ends
+from mipcast.core.validation import samples_per_ray_problem
 from mipcast.mappers import brick_rays, bricked_draw, clip_uniforms, shader_pieces
 from mipcast.mappers.float_readout import from_data_units
 from mipcast.mappers.input_preparer import InputPreparer
@@ -424,6 +425,10 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
             return False
         return self._window_bounds_blocks() and not bricked_draw.bricking_limit(self)
 
+    def _samples_rays(self) -> bool:
+        """Whether this method samples its rays at the sample distance (not a cell walk)."""
+        return "sampled_loop" in type(self).PIECES
+
     def _draws_blocks(self, names=None) -> bool:
         """Whether the pieces ``names`` (default: :meth:`GetShaderPieces`) skip blocks."""
         return not _BLOCK_PIECES.isdisjoint(self.GetShaderPieces() if names is None else names)
@@ -611,6 +616,11 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
             return (f"a mask (SetMaskInput) is not drawn {where} yet: hide the masked points in the volume "
                     "instead (NaN there, missing data in every method; or a vtkValidPointMask array, 0 where "
                     "hidden), or SetMaskInput(None)")
+        if self._samples_rays() and not (self.GetAutoAdjustSampleDistances()
+                                         or self.GetLockSampleDistanceToInputSpacing()):
+            dense = samples_per_ray_problem(image, self.GetSampleDistance())
+            if dense is not None:
+                return dense
         prepared = self.GetInputPreparer().GetPrepared()
         if not self.DRAWS_MISSING and prepared is not None and prepared.missing:
             return (f"input refused, nothing is drawn: {type(self).__name__} cannot draw missing values "
