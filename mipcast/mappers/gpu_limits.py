@@ -44,11 +44,7 @@ def max_texture_size_3d(window) -> int:
     >>> max_texture_size_3d(vtkRenderWindow())   # never rendered: unknown
     0
     """
-    if not _ready(window):
-        return 0
-    from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
-
-    return int(vtkTextureObject.GetMaximumTextureSize3D(window))
+    return _texture_limit(window, "GetMaximumTextureSize3D")
 
 
 def max_picture_size(window) -> int:
@@ -62,11 +58,16 @@ def max_picture_size(window) -> int:
     >>> max_picture_size(vtkRenderWindow())   # never rendered: unknown
     0
     """
+    return _texture_limit(window, "GetMaximumTextureSize")
+
+
+def _texture_limit(window, query: str) -> int:
+    """``vtkTextureObject.<query>(window)``, 0 while the window has not rendered (no context to ask)."""
     if not _ready(window):
         return 0
     from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
 
-    return int(vtkTextureObject.GetMaximumTextureSize(window))
+    return int(getattr(vtkTextureObject, query)(window))
 
 
 def gl_extensions(window) -> frozenset:
