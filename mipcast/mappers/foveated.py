@@ -102,8 +102,11 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     ``docs/methods.md#foveated-rendering``.
     """
 
-    #: Its levels draw pyramids built from the input, not the masked copy: a mask is refused (for now).
-    DRAWS_MASK = False
+    def _mask_not_drawn(self):
+        """Levels drawn in bricks take the unmasked input: a mask is refused there (for now)."""
+        image = self.GetInput()
+        return ("by foveated levels beyond the 3D texture limit (drawn in bricks)"
+                if image is not None and bricked_foveated.level_limit(self, image) else None)
 
     def _samples_rays(self) -> bool:
         """Whether its levels' method samples its rays (the cell walks do not)."""
@@ -497,7 +500,7 @@ def _begin_frame(mapper, state, volume, renderer) -> SimpleNamespace:
     """What this frame's levels share: its plan (gaze, refinement step, content level, tiles), the sampling,
     the picture kept from the last frame, the depth buffer's copy and, with content-adaptive density, the
     pictures its masks are decided from (:func:`_begin_masks`)."""
-    image = mapper.GetInput()
+    image = mapper._masked_input()  # a mask's hidden points missing in every level and its pyramid
     params = mapper._parameters()
     width, height, x0, y0 = [0], [0], [0], [0]
     renderer.GetTiledSizeAndOrigin(width, height, x0, y0)

@@ -16,7 +16,7 @@ from mipcast.core.transfer_bounds import normalised_ends
 from mipcast.core.validation import samples_per_ray_problem
 from mipcast.mappers import brick_rays, bricked_draw, clip_uniforms, shader_pieces
 from mipcast.mappers.float_readout import from_data_units
-from mipcast.mappers.input_preparer import InputPreparer
+from mipcast.mappers.input_preparer import InputPreparer, masked
 from mipcast.mappers.max_blocks import block_bytes, block_level_image
 from mipcast.mappers.private_draw import rendering_renderer, scissor_from_origin
 from mipcast.mappers.stereo import eye_uniforms
@@ -72,8 +72,6 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
     #: Missing voxels (NaN/Inf) are drawn as missing data (docs/reliability.md);
     #: a projection that cannot draw them sets this False and refuses such input.
     DRAWS_MISSING = True
-    #: Whether a mask (:meth:`SetMaskInput`) is drawn; a method that cannot sets this False and refuses it.
-    DRAWS_MASK = True
     #: Where the preparer fills missing voxels: ``"below"`` every finite value
     #: (maximum and average projections) or ``"above"`` (minimum projections).
     MISSING_FILL = "below"
@@ -213,8 +211,9 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         above 0 (CT angiography's bone removal: a mask of what is kept).  The
         mask is read again when it is modified.  VTK's mask slot itself holds
         the mapper's block level (block skipping); label-map masks are refused
-        (:meth:`SetMaskType`).  Not drawn beyond the 3D texture limit (bricks)
-        nor by foveated rendering yet: those refuse it, naming the workaround.
+        (:meth:`SetMaskType`).  Not drawn beyond the 3D texture limit (bricks,
+        foveated levels in bricks included) yet: refused there, naming the
+        workaround.
 
         Examples
         --------
@@ -234,6 +233,22 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         object_state(self)["user_mask"] = mask
         self.GetInputPreparer().SetMask(mask)
         self.Modified()
+
+    def _mask_not_drawn(self):
+        """Where this mapper does not draw a mask (words for the refusal), or None."""
+        return "beyond the 3D texture limit (drawn in bricks)" if bricked_draw.bricking_limit(self) else None
+
+    def _masked_input(self):
+        """Your input with the mask's hidden points (:func:`~mipcast.mappers.input_preparer.masked`: a shallow
+        copy, kept while input and mask are unchanged), or your input itself without a mask."""
+        image, mask = self.GetInput(), self.GetMaskInput()
+        if image is None or mask is None:
+            return image
+        state = object_state(self)
+        stamp = tuple(x for obj in (image, mask) for x in (obj.GetAddressAsString("vtkObjectBase"), obj.GetMTime()))
+        if state.get("masked_input", (None,))[0] != stamp:
+            state["masked_input"] = (stamp, masked(image, mask))
+        return state["masked_input"][1]
 
     def GetMaskInput(self):
         """The mask :meth:`SetMaskInput` set, or None (VTK's mask slot holds the block level)."""
@@ -610,9 +625,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         too_large = bricked_draw.refusal(self) or brick_rays.jitter_problem(self)
         if too_large is not None:
             return too_large
-        if self.GetMaskInput() is not None and (not self.DRAWS_MASK or bricked_draw.bricking_limit(self)):
-            where = ("beyond the 3D texture limit (drawn in bricks)" if self.DRAWS_MASK
-                     else f"by {type(self).__name__}")
+        where = self._mask_not_drawn() if self.GetMaskInput() is not None else None
+        if where is not None:
             return (f"a mask (SetMaskInput) is not drawn {where} yet: hide the masked points in the volume "
                     "instead (NaN there, missing data in every method; or a vtkValidPointMask array, 0 where "
                     "hidden), or SetMaskInput(None)")
