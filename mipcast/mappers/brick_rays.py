@@ -402,7 +402,7 @@ def cached_bricks(mapper, limit: int, name: str, make) -> list:
     from mipcast.mappers.bricks import brick_extents, extract_brick
 
     state = object_state(mapper)
-    image = mapper.GetInput()
+    image = mapper._masked_input()  # your input, a mask's hidden points hidden (MIPVolumeMapper.SetMaskInput)
     key = (image.GetAddressAsString("vtkObjectBase"), image.GetMTime(), int(limit), type(mapper))
     cached = state.get(name)
     if cached is not None and cached["key"] == key:

@@ -15,7 +15,12 @@ from typing import List, Sequence, Tuple
 
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkCommonDataModel import vtkDataSetAttributes, vtkImageData
+
+from mipcast.core.prepare import VALID_POINT_MASK
+
+#: Point arrays that hide points (missing data: :func:`mipcast.core.prepare.hidden_points`), carried into bricks.
+HIDING_ARRAYS = (vtkDataSetAttributes.GhostArrayName(), VALID_POINT_MASK)
 
 
 def brick_ranges(points: int, limit: int) -> List[Tuple[int, int]]:
@@ -57,7 +62,9 @@ def extract_brick(image: vtkImageData, extent: Sequence[int]) -> vtkImageData:
 
     The copy's extent starts at 0; its origin is the original origin moved by
     the direction matrix times ``(x0, y0, z0) * spacing``; spacing, direction
-    and the scalars' type and name are kept.  ``image`` is not modified.
+    and the scalars' type and name are kept, and so are the arrays that hide
+    points (:data:`HIDING_ARRAYS`: they are missing data in the brick too).
+    ``image`` is not modified.
 
     Examples
     --------
@@ -85,4 +92,11 @@ def extract_brick(image: vtkImageData, extent: Sequence[int]) -> vtkImageData:
                          array_type=scalars.GetDataType())
     array.SetName(scalars.GetName() or "scalars")
     brick.GetPointData().SetScalars(array)
+    for name in HIDING_ARRAYS:  # hidden points stay hidden (missing data) in the brick
+        hiding = image.GetPointData().GetArray(name)
+        if hiding is not None and hiding.GetNumberOfComponents() == 1:
+            part = vtk_to_numpy(hiding).reshape(dims[2], dims[1], dims[0])[z0:z1 + 1, y0:y1 + 1, x0:x1 + 1]
+            copy = numpy_to_vtk(np.ascontiguousarray(part).ravel(), deep=True, array_type=hiding.GetDataType())
+            copy.SetName(name)
+            brick.GetPointData().AddArray(copy)
     return brick

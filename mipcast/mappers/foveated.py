@@ -102,11 +102,6 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     ``docs/methods.md#foveated-rendering``.
     """
 
-    def _mask_not_drawn(self):
-        """Levels drawn in bricks take the unmasked input: a mask is refused there (for now)."""
-        image = self.GetInput()
-        return ("by foveated levels beyond the 3D texture limit (drawn in bricks)"
-                if image is not None and bricked_foveated.level_limit(self, image) else None)
 
     def _samples_rays(self) -> bool:
         """Whether its levels' method samples its rays (the cell walks do not)."""

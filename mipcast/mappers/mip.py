@@ -211,9 +211,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         above 0 (CT angiography's bone removal: a mask of what is kept).  The
         mask is read again when it is modified.  VTK's mask slot itself holds
         the mapper's block level (block skipping); label-map masks are refused
-        (:meth:`SetMaskType`).  Not drawn beyond the 3D texture limit (bricks,
-        foveated levels in bricks included) yet: refused there, naming the
-        workaround.
+        (:meth:`SetMaskType`).  Beyond the 3D texture limit the bricks carry
+        the hidden points too.
 
         Examples
         --------
@@ -233,10 +232,6 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         object_state(self)["user_mask"] = mask
         self.GetInputPreparer().SetMask(mask)
         self.Modified()
-
-    def _mask_not_drawn(self):
-        """Where this mapper does not draw a mask (words for the refusal), or None."""
-        return "beyond the 3D texture limit (drawn in bricks)" if bricked_draw.bricking_limit(self) else None
 
     def _masked_input(self):
         """Your input with the mask's hidden points (:func:`~mipcast.mappers.input_preparer.masked`: a shallow
@@ -625,11 +620,6 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         too_large = bricked_draw.refusal(self) or brick_rays.jitter_problem(self)
         if too_large is not None:
             return too_large
-        where = self._mask_not_drawn() if self.GetMaskInput() is not None else None
-        if where is not None:
-            return (f"a mask (SetMaskInput) is not drawn {where} yet: hide the masked points in the volume "
-                    "instead (NaN there, missing data in every method; or a vtkValidPointMask array, 0 where "
-                    "hidden), or SetMaskInput(None)")
         if self._samples_rays() and not (self.GetAutoAdjustSampleDistances()
                                          or self.GetLockSampleDistanceToInputSpacing()):
             dense = samples_per_ray_problem(image, self.GetSampleDistance())
