@@ -742,3 +742,23 @@ def test_the_dicom_window_draws_as_its_ends_in_the_cli_and_in_pyvista(tmp_path, 
                           grid.mip.render("analytic", size=(48, 48), clim=(-100, 699)))
     with pytest.raises(ValueError, match="carries none"):
         pv.wrap(np.asarray(grid.point_data["values"]).reshape(24, 24, 24)).mip.render("mip", clim="dicom")
+
+
+def test_the_viewer_cycles_the_series_windows(tmp_path):
+    """`mipcast view`'s `w` key: the default window, then the series' own (ANGIO, BONE), the CT presets that
+    meet the data, the data range, round again; each drawn (the volume's colour range is the window)."""
+    from mipcast.app.viewer import _Viewer
+
+    viewer = _Viewer(read_dicom(angio_series(tmp_path / "s")), "mip", off_screen=True, window_size=(48, 48))
+    first = viewer.plotter.screenshot()
+    seen = []
+    for _ in range(8):
+        viewer.next_window()
+        colours = viewer.volume.GetProperty().GetRGBTransferFunction(0).GetRange()
+        seen.append((viewer.window_label, tuple(colours)))
+    viewer.plotter.close()
+    assert seen[:2] == [("dicom (ANGIO)", (-100.0, 699.0)), ("dicom:2 (BONE)", (-500.0, 1499.0))]
+    words = [word for word, _ in seen]
+    assert words[2:7] == ["ct-mip", "ct-angio", "ct-bone", "ct-soft", "full"]  # ct-minip lies below the data
+    assert words[7] == "auto"  # round again
+    assert first.max() > 100

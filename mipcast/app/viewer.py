@@ -5,7 +5,10 @@ Everything the viewer offers comes from the method table
 
 Keys
     ``m`` next method of the table (those that render in a view), ``d``
-    next depth mode (methods with a ``depth_mode`` parameter), ``[`` / ``]``
+    next depth mode (methods with a ``depth_mode`` parameter), ``w`` next
+    grey window (the projection's default, a DICOM series' own windows, the
+    CT presets for Hounsfield units, the data range:
+    :func:`mipcast.core.windowing.window_choices`), ``[`` / ``]``
     move the slab towards / away from the camera by a quarter of its
     thickness (at least a voxel; methods with a slab, once the slab
     thickness slider is above 0), pyvista's own keys (``q`` quits, ``r``
@@ -213,6 +216,7 @@ class _Viewer:
         self.component = component  # of multi-component scalars (default: the magnitude)
         projection = METHODS[method].projection if method in METHODS else "mip"  # MinIP/average: their own
         self.clim = resolve_window(window_image(self.grid, component), clim, projection)
+        self.window_label = "given" if clim is not None else "auto"  # the status line's name of the window
         self.voxel = min(abs(s) for s in self.grid.GetSpacing())
         self.sample_voxels = 1.0
         self.volume = None
@@ -225,6 +229,7 @@ class _Viewer:
         if self.interactive:
             self.plotter.add_key_event("m", self.next_method)
             self.plotter.add_key_event("d", self.next_depth_mode)
+            self.plotter.add_key_event("w", self.next_window)
             self.plotter.add_key_event("bracketleft", lambda: self.move_slab(-1))
             self.plotter.add_key_event("bracketright", lambda: self.move_slab(1))
             self.plotter.iren.add_observer("MouseMoveEvent", self._on_mouse_move)
@@ -270,6 +275,19 @@ class _Viewer:
         names = list(view_methods())
         following = names[(names.index(self.method) + 1) % len(names)] if self.method in names else names[0]
         self.set_method(following)
+
+    def next_window(self) -> None:
+        """The grey window after the current one in :func:`~mipcast.core.windowing.window_choices` (for the
+        current method's projection; the method, camera and parameters stay)."""
+        from mipcast.core.windowing import window_choices
+        from mipcast.mappers.input_preparer import window_image
+
+        projection = METHODS[self.method].projection if self.method in METHODS else "mip"
+        choices = window_choices(window_image(self.grid, self.component), projection)
+        words = [word for word, _ in choices]
+        index = words.index(self.window_label) + 1 if self.window_label in words else 0
+        self.window_label, self.clim = choices[index % len(choices)]
+        self.set_method(self.method)
 
     def next_depth_mode(self) -> None:
         modes = _depth_modes(self.mapper)
@@ -364,7 +382,8 @@ class _Viewer:
         self.legend = widget
 
     def _show_status(self, note: str = "") -> None:
-        lines = [f"method: {self.method}   (m: next)"]
+        lines = [f"method: {self.method}   (m: next)",
+                 f"window: {self.window_label} {self.clim[0]:.6g} to {self.clim[1]:.6g}   (w: next)"]
         if _depth_modes(self.mapper):
             lines.append(f"depth mode: {self.mapper.GetDepthMode()}   (d: next)")
         if self._has("slab_thickness") and self.mapper.GetSlabThickness():

@@ -180,6 +180,34 @@ def describe_dicom_windows(windows: Sequence[Tuple[str, Tuple[float, float]]]) -
                      for k, (name, (low, high)) in enumerate(windows, 1))
 
 
+def window_choices(image, projection: str = "mip") -> List[Tuple[str, Tuple[float, float]]]:
+    """The windows a viewer offers in turn (``mipcast view``'s ``w`` key): ``[(word, (low, high)), ...]``.
+
+    The projection's default rule (``"auto"``), the windows a DICOM series carries (``"dicom"``,
+    ``"dicom:2"``, ... with their names), the CT presets for Hounsfield units, and the data range
+    (``"full"``); a window equal to an earlier one, or beside the data (a MinIP preset above a CT's
+    air-free data), is left out.
+
+    Examples
+    --------
+    >>> from mipcast.data_fixtures import make_fixture
+    >>> [word for word, _ in window_choices(make_fixture("spheres", size=16))]
+    ['auto']
+    """
+    choices = [("auto", default_window(image, projection))]
+    choices += [(f"dicom{'' if k == 1 else f':{k}'}" + (f" ({name})" if name else ""), window)
+                for k, (name, window) in enumerate(dicom_windows(image), 1)]
+    if looks_like_ct(image):
+        choices += [(name, PRESETS[name]) for name in ("ct-mip", "ct-angio", "ct-bone", "ct-soft", "ct-minip")]
+    full = resolve_window(image, "full")
+    choices.append(("full", full))
+    unique = []
+    for word, window in choices:
+        if all(window != seen for _, seen in unique) and window[1] > full[0] and window[0] < full[1]:
+            unique.append((word, window))
+    return unique
+
+
 def looks_like_ct(image, values: Optional[np.ndarray] = None) -> bool:
     """Whether the scalars are Hounsfield units (see the module docstring for the rule).
 
