@@ -23,7 +23,6 @@
 float mc_cellsFloor;
 float mc_cellsCeiling;
 float mc_cellsMissing;  // raw
-bool mc_cellsFinite;
 float mc_cellsUnseen;   // while the ray has met no finite data, just above mc_cellsMissing; then -3.4e38
 
 float mcCellsBegin()
@@ -31,8 +30,7 @@ float mcCellsBegin()
   mc_cellsFloor = mcRaw(u_mc_skipFloor);
   mc_cellsCeiling = mcRaw(u_mc_skipCeiling);
   mc_cellsMissing = u_mc_missingAbove < 1.0e29 ? MC_CELLS_RAW(u_mc_missingAbove) : 3.4e38;
-  mc_cellsFinite = u_mc_missingAbove >= 1.0e29;
-  mc_cellsUnseen = mc_cellsFinite ? -3.4e38 : mc_cellsMissing + abs(mc_cellsMissing) * 1.0e-6 + 1.0e-30;
+  mc_cellsUnseen = u_mc_missingAbove >= 1.0e29 ? -3.4e38 : mc_cellsMissing + abs(mc_cellsMissing) * 1.0e-6 + 1.0e-30;
   return mc_cellsCeiling;
 }
 
@@ -49,22 +47,18 @@ void mcCell(vec4 lo, vec4 hi, vec3 u0, vec3 du, float span, inout float value)
   {
     mc_cellsSolved += 1.0;
     float cellMin = -mcCellMaximum(-lo, -hi, u0, du);
-    if (cellMin <= mc_cellsMissing)
-    {
-      mc_cellsFinite = true;
-      mc_cellsUnseen = -3.4e38;
-    }
+    mc_cellsUnseen = cellMin <= mc_cellsMissing ? -3.4e38 : mc_cellsUnseen;
     value = min(value, cellMin);
   }
 }
 
 bool mcCellsBlockSkips(float blockBound, float value)
 {
-  return blockBound >= value && (mc_cellsFinite || blockBound > mc_cellsMissing);
+  return blockBound >= max(value, mc_cellsUnseen);
 }
 
 float mcCellsEnd(float value)
 {
-  mc_rayMissing = !mc_cellsFinite;
+  mc_rayMissing = mc_cellsUnseen > -3.0e38;
   return MC_BOUNDED_NORMALISED(value, mc_cellsFloor, mc_cellsCeiling);
 }

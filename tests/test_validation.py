@@ -368,8 +368,8 @@ def test_a_picture_larger_than_the_driver_draws_is_refused_not_drawn_black():
 
 @pytest.mark.parametrize("method", ["mip", "stock", "demip", "foveated"])
 def test_a_sample_distance_beyond_the_loop_limit_is_refused_not_cut_short(method):
-    """llvmpipe ends a shader loop after 65536 iterations: the vessels 32³ sampled at 1/2500 of a voxel drew
-    0.64 of the range off (stock VTK's MIP as mipcast's), silently, until 2026-12-04. OffscreenView refuses a
+    """llvmpipe ends a shader loop after 65536 iterations: the vessels 32³ sampled at 2500 samples a voxel drew
+    66 % of the range off the float64 reference (stock VTK's MIP 63 %; tests/loop_limit_check.py), silently, until 2026-12-04. OffscreenView refuses a
     sample distance that takes more samples along the volume's diagonal, naming the finest allowed, and a
     mipcast mapper in a VTK pipeline refuses to draw it; the exact methods take no sample distance."""
     from mipcast.core.validation import MAX_SAMPLES_PER_RAY

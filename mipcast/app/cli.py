@@ -332,8 +332,9 @@ def _window(image, tokens, method: str = "mip"):
     if spec is None or spec == "auto":
         window, reason = window_and_reason(image, projection)
         print(f"window {window[0]:.6g} to {window[1]:.6g} ({reason}; --window full for the data range)")
-        if dicom_windows(image):
-            print(f"the series' own windows: --window {describe_dicom_windows(dicom_windows(image))}")
+        own = dicom_windows(image)
+        if own:
+            print(f"the series' own windows: --window {describe_dicom_windows(own)}")
         return window
     return resolve_window(image, spec, projection)
 

@@ -32,7 +32,7 @@ import math
 import os
 import sys
 import warnings
-from collections import Counter
+from collections import Counter, abc
 from pathlib import Path
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union
 
@@ -1574,7 +1574,8 @@ def _as_list(value) -> list:
     """A DICOM value of multiplicity 1-n as a list (``[]`` when absent)."""
     if value is None or value == "":
         return []
-    return list(value) if isinstance(value, (list, tuple)) or type(value).__name__ == "MultiValue" else [value]
+    # pydicom's MultiValue is a Sequence; a one-value element is a number or a string
+    return list(value) if isinstance(value, abc.Sequence) and not isinstance(value, (str, bytes)) else [value]
 
 
 def _series_windows(frames: List[_Frame], headers) -> tuple:
