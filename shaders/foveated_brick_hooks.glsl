@@ -13,10 +13,12 @@
 // and blend weight are the level's own pieces, as for a volume in one
 // texture. The box is drawn without the user's cropping (the bricks
 // honoured it, and with no sample marched the loop would discard every
-// ray): where the user crops (u_mc_fovNoValueDiscard 1) a ray without a
-// value draws nothing, as the single texture's ray crossing hidden regions
-// only (discarded, or in a masked level painting what lies beneath:
-// foveated_paint_beneath). A DEMIP level's composited premultiplied colours arrive
+// ray). A ray without a value (it met missing data, cropped regions or
+// clipped space only; the outline rays no brick samples got their sample
+// on the CPU) draws nothing, as the single texture's ray does (discarded,
+// or in a masked level painting what lies beneath: foveated_paint_beneath):
+// the value box holds no missing values, so the level's missing piece is
+// not installed to say it. A DEMIP level's composited premultiplied colours arrive
 // the same way in u_mc_fovColours (bricked_demip's depth, Eq. 1 and sphere
 // on the CPU), which foveated_brick_color writes as the ray's colour; the
 // other layers' levels leave it unused.
@@ -38,7 +40,7 @@ void mcEndRay(int count)
 {
   vec2 mc_fovValueAt = (gl_FragCoord.xy - in_windowLowerLeftCorner) * in_inverseWindowSize;
   mc_rayMax = texture2D(u_mc_fovValues, mc_fovValueAt).r;
-  if (mc_rayMax < -1.0e29 && u_mc_fovNoValueDiscard > 0.5)
+  if (mc_rayMax < -1.0e29)
   {
     mcDrawNothing();  // (mip_globals)
   }

@@ -179,3 +179,35 @@ def test_bricked_levels_follow_the_users_cropping_and_clipping(image):
     grey = np.abs(pictures[0] - pictures[1]).max(axis=-1)
     assert pictures[1].max() > 200 and (grey <= 1).mean() >= 0.999
     assert mapper.GetCropping()  # the user's settings are left as they were
+
+
+@pytest.mark.parametrize("method", ["mip", "analytic"])
+def test_bricked_levels_draw_missing_values_as_the_single_texture_does(image, method):
+    """A ray of missing data only draws nothing in a level drawn from bricks, as in one texture.
+
+    A NaN slab through the vessels: the level-0 rays near the box's corners cross the slab only.
+    Until 2026-12-04 a level drawn from bricks drew such a ray as a value of -1e30 (black, and
+    -1.9e30 in the float readout) instead of leaving the coarser level beneath (18 pixels up to
+    22 grey off the single texture's picture for mip, 20 up to 28 for analytic).
+    """
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    values = vtk_to_numpy(image.GetPointData().GetScalars()).astype(np.float32).reshape(48, 48, 48)
+    values[20:28] = np.nan  # (z, y, x): a slab of 8 slices
+    holed = vtkImageData()
+    holed.CopyStructure(image)
+    array = numpy_to_vtk(values.ravel(), deep=1)
+    array.SetName("scalars")
+    holed.GetPointData().SetScalars(array)
+    one, bricked = foveated(holed, method), foveated(holed, method, limit=LIMIT)
+    expected, got = one.screenshot().astype(int), bricked.screenshot().astype(int)
+    assert bricked.mapper.GetLastProblem() is None and bricked.mapper.GetNumberOfBricks() == 27 + 8
+    assert got.max() > 200 and (got.max(axis=-1) > 10).mean() > 0.3  # a picture, not a black frame
+    grey = np.abs(got - expected).max(axis=-1)
+    assert (grey <= 1).all()
+    low, high = np.nanmin(values), np.nanmax(values)
+    readout, unbricked = bricked.float_image(), one.float_image()
+    assert np.array_equal(np.isnan(readout), np.isnan(unbricked)) and np.isnan(readout).sum() > 1000
+    assert np.nanmin(readout) >= low  # no ray drawn from the bricks' "no value"
+    assert np.nanmax(np.abs(readout - unbricked)) <= 1e-4 * (high - low)

@@ -700,8 +700,6 @@ def _level_entry(mapper, state, volume, frame, layer, kind, source) -> tuple:
                                   layer.image_sample_distance)
     if bricks:  # the bricks honoured the cropping (shaders/foveated_brick_hooks.glsl)
         level_mapper.SetCropping(False)
-        level_volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniformf(
-            "u_mc_fovNoValueDiscard", 1.0 if mapper.GetCropping() else 0.0)
     foveated_levels.set_uniforms(level_volume, frame.plan, layer, frame.kept)
     band = foveated_levels.set_silhouette(level_volume, frame.silhouette if len(frame.plan.layers) > 1 else None,
                                           layer.level)
