@@ -153,7 +153,7 @@ def _with_missing(image):
 
 
 @pytest.mark.parametrize("layer, missing, tolerance", [("demip", False, 0.0), ("demip", True, 0.0),
-                                                       ("mip", False, 4.0)])
+                                                       ("mip", False, 4.0), ("mip", True, 0.0), ("analytic", True, 0.0)])
 def test_demip_layers_missing_values_and_content_adaptive_density_reduce_exactly(image, layer, missing, tolerance):
     """DEMIP levels (phase 1 MAX, phase 2 MIN, the colours on the CPU from the level's GPU tables), missing values
     (the whole fill, coarse points of missing voxels only) and content-adaptive masks from the reduced coarsest
