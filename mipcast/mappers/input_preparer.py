@@ -55,6 +55,7 @@ class InputPreparer(VTKPythonAlgorithmBase):
         self._whole_range: Optional[tuple] = None
         self._mask: Optional[vtkImageData] = None
         self._mask_stamp: Optional[tuple] = None
+        self._masked: Optional[vtkImageData] = None
 
     def SetComponent(self, component) -> None:
         """Component of multi-component scalars to draw (int >= 0), or -1 / None / "magnitude"."""
@@ -107,6 +108,14 @@ class InputPreparer(VTKPythonAlgorithmBase):
             self._mask, self._mask_stamp = mask, stamp
             self.Modified()
 
+    def GetMasked(self) -> Optional[vtkImageData]:
+        """The last input with the mask's hidden points (:func:`masked`), or None without a mask (or refused).
+
+        What the foveated pyramid and the bricks cut from, so that a mask is
+        applied once per input and mask.
+        """
+        return self._masked
+
     def GetProblem(self) -> Optional[str]:
         """Why the last input cannot be drawn, or None."""
         return self._problem
@@ -118,9 +127,10 @@ class InputPreparer(VTKPythonAlgorithmBase):
     def RequestData(self, request, in_info, out_info) -> int:
         source = vtkImageData.GetData(in_info[0])
         target = vtkImageData.GetData(out_info)
+        self._masked = None
         try:
             if self._mask is not None:
-                source = masked(source, self._mask)
+                source = self._masked = masked(source, self._mask)
             prepared = prepare_scalars(source, self._component, self._fill_side, self._whole_range)
             check_float_range(prepared, self._whole_range)
         except (TypeError, InputError) as error:

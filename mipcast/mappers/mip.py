@@ -16,7 +16,7 @@ from mipcast.core.transfer_bounds import normalised_ends
 from mipcast.core.validation import samples_per_ray_problem
 from mipcast.mappers import brick_rays, bricked_draw, clip_uniforms, shader_pieces
 from mipcast.mappers.float_readout import from_data_units
-from mipcast.mappers.input_preparer import InputPreparer, masked
+from mipcast.mappers.input_preparer import InputPreparer
 from mipcast.mappers.max_blocks import block_bytes, block_level_image
 from mipcast.mappers.private_draw import rendering_renderer, scissor_from_origin
 from mipcast.mappers.stereo import eye_uniforms
@@ -234,16 +234,15 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         self.Modified()
 
     def _masked_input(self):
-        """Your input with the mask's hidden points (:func:`~mipcast.mappers.input_preparer.masked`: a shallow
-        copy, kept while input and mask are unchanged), or your input itself without a mask."""
-        image, mask = self.GetInput(), self.GetMaskInput()
-        if image is None or mask is None:
+        """Your input with the mask's hidden points (the preparer's masked copy,
+        :meth:`~mipcast.mappers.input_preparer.InputPreparer.GetMasked`), or your input itself without a mask
+        (or when the mask is refused: the render is refused then)."""
+        image = self.GetInput()
+        if image is None or self.GetMaskInput() is None:
             return image
-        state = object_state(self)
-        stamp = tuple(x for obj in (image, mask) for x in (obj.GetAddressAsString("vtkObjectBase"), obj.GetMTime()))
-        if state.get("masked_input", (None,))[0] != stamp:
-            state["masked_input"] = (stamp, masked(image, mask))
-        return state["masked_input"][1]
+        self.GetRenderedInput()  # the preparer (and its masked copy) up to date
+        masked_copy = self.GetInputPreparer().GetMasked()
+        return image if masked_copy is None else masked_copy
 
     def GetMaskInput(self):
         """The mask :meth:`SetMaskInput` set, or None (VTK's mask slot holds the block level)."""
