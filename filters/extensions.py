@@ -5,7 +5,8 @@ is imported:
 
 - :class:`MipAccessor` via ``pyvista.register_dataset_accessor("mip",
   pyvista.ImageData)`` (and ``RectilinearGrid``, evenly spaced ones drawn as
-  image data): ``grid.mip.render(...)``, ``grid.mip.plot(...)``;
+  image data, and ``MultiBlock``, holding one volume or image pieces of one
+  grid: :func:`mipcast.io.composite.one_image`): ``grid.mip.render(...)``, ``grid.mip.plot(...)``;
 - :class:`MipPlotterComponent` via ``pyvista.register_plotter_component("mip")``:
   ``plotter.mip.add_volume(...)``; pyvista calls its ``__plotter_close__``
   when the plotter closes, which removes the volumes it added.
@@ -25,6 +26,7 @@ from mipcast.filters import add_volume, plot, render
 from mipcast.methods import detach
 
 
+@pyvista.register_dataset_accessor("mip", pyvista.MultiBlock)  # holding one volume (mipcast.io.composite)
 @pyvista.register_dataset_accessor("mip", pyvista.RectilinearGrid)  # evenly spaced: drawn as image data
 @pyvista.register_dataset_accessor("mip", pyvista.ImageData)
 class MipAccessor:

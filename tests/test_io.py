@@ -163,6 +163,73 @@ def test_vtk_files_as_paraview_and_pyvista_write_them(tmp_path):
         read_volume(_written(uneven, tmp_path / "uneven.vtr", vtkXMLRectilinearGridWriter))
 
 
+def test_composite_files_holding_one_volume_or_its_pieces(tmp_path):
+    """.vtm (multiblock), .vtpd (partitioned) and .vtpc (partitioned collection) files as pyvista and ParaView write them: one image block, or
+    image pieces of one grid (VTK's extents, or pyvista's extract_subset, which moves each piece's origin to its
+    first point; nested, with empty blocks) are read as the volume itself; blocks that are not one volume
+    (two volumes side by side, pieces leaving a gap) are refused naming the fix. Until 2026-12-04 both
+    extensions were unknown, and pyvista's MultiBlock was refused ("expected vtkImageData")."""
+    from vtkmodules.vtkCommonDataModel import (vtkMultiBlockDataSet, vtkPartitionedDataSet,
+                                               vtkPartitionedDataSetCollection)
+    from vtkmodules.vtkImagingCore import vtkExtractVOI
+    from vtkmodules.vtkIOParallelXML import vtkXMLPartitionedDataSetCollectionWriter, vtkXMLPartitionedDataSetWriter
+    from vtkmodules.vtkIOXML import vtkXMLMultiBlockDataWriter
+
+    values = np.random.default_rng(0).random(SHAPE, dtype=np.float32)  # (z, y, x) = (6, 7, 11)
+    source = make_image(values)
+
+    def cut(extent, rebase=False):
+        voi = vtkExtractVOI()
+        voi.SetInputData(source)
+        voi.SetVOI(*extent)
+        voi.Update()
+        piece = voi.GetOutput()
+        if rebase:  # pyvista's extract_subset: the extent from 0, the origin at the piece's first point
+            first = piece.GetPoint(0)
+            piece.SetExtent(0, extent[1] - extent[0], 0, extent[3] - extent[2], 0, extent[5] - extent[4])
+            piece.SetOrigin(first)
+        return piece
+
+    one = vtkMultiBlockDataSet()
+    one.SetBlock(0, vtkMultiBlockDataSet())  # an empty block first
+    one.SetBlock(1, source)
+    pieces = vtkPartitionedDataSet()  # ranks' pieces sharing one layer of points
+    for index, extent in enumerate([(0, 10, 0, 6, 0, 2), (0, 10, 0, 6, 2, 5)]):
+        pieces.SetPartition(index, cut(extent))
+    nested = vtkMultiBlockDataSet()  # blocks without a shared layer, rebased, inside a block
+    inner = vtkMultiBlockDataSet()
+    for index, extent in enumerate([(0, 4, 0, 6, 0, 5), (5, 10, 0, 6, 0, 5)]):
+        inner.SetBlock(index, cut(extent, rebase=True))
+    nested.SetBlock(0, inner)
+    collection = vtkPartitionedDataSetCollection()  # ParaView 5.10+'s "Save Data" of partitioned data
+    collection.SetPartitionedDataSet(0, pieces)
+    files = [_written(one, tmp_path / "one.vtm", vtkXMLMultiBlockDataWriter),
+             _written(pieces, tmp_path / "pieces.vtpd", vtkXMLPartitionedDataSetWriter),
+             _written(collection, tmp_path / "pieces.vtpc", vtkXMLPartitionedDataSetCollectionWriter),
+             _written(nested, tmp_path / "nested.vtm", vtkXMLMultiBlockDataWriter)]
+    for path in files:
+        image = read_volume(path)
+        assert image.GetDimensions() == (11, 7, 6), path.name
+        assert image.GetSpacing() == pytest.approx(source.GetSpacing()), path.name
+        assert image.GetOrigin() == pytest.approx(source.GetOrigin()), path.name
+        np.testing.assert_array_equal(check_image(image), values, err_msg=path.name)
+
+    apart = vtkMultiBlockDataSet()  # two volumes side by side
+    apart.SetBlock(0, source)
+    moved = make_image(values)
+    moved.SetOrigin(100.0, 0.0, 0.0)
+    apart.SetBlock(1, moved)
+    gap = vtkPartitionedDataSet()  # slices 3 and 4 in no piece
+    gap.SetPartition(0, cut((0, 10, 0, 6, 0, 2)))
+    gap.SetPartition(1, cut((0, 10, 0, 6, 5, 5)))
+    for data, name in ((apart, "apart.vtm"), (gap, "gap.vtpd")):
+        with pytest.raises(TypeError, match="holds 2 data sets .*not one volume.*draw one of them"):
+            read_volume(_written(data, tmp_path / name, vtkXMLMultiBlockDataWriter if name.endswith("vtm")
+                                 else vtkXMLPartitionedDataSetWriter))
+    with pytest.raises(ValueError, match="holds no data set with points"):
+        read_volume(_written(vtkMultiBlockDataSet(), tmp_path / "empty.vtm", vtkXMLMultiBlockDataWriter))
+
+
 def test_mha_round_trip(tmp_path):
     values = file_values()
     source = make_image(values, rot=rotation(-40, 10))

@@ -245,6 +245,37 @@ def test_an_evenly_spaced_rectilinear_grid_is_drawn_as_image_data(grid):
         uneven.mip.render("mip", size=SIZE)
 
 
+def test_a_multiblock_holding_one_volume_is_drawn_as_that_volume(grid):
+    """pyvista's MultiBlock (pv.read of a .vtm, a reader's output): ``mb.mip``, ``render`` and ``add_volume`` draw
+    the one volume it holds (nested, beside empty blocks), or its image pieces joined (pyvista's
+    extract_subset, which rebases each piece's origin); blocks that are not one volume raise TypeError naming
+    the fix. Until 2026-12-04 a MultiBlock had no ``mip`` and the filters raised "expected vtkImageData"."""
+    nz = grid.dimensions[2]
+    image = grid.copy()
+    image.origin, image.spacing = (3.0, -2.0, 7.5), (0.5, 0.7, 1.1)
+    expected = image.mip.render("analytic", size=SIZE)
+    assert (expected.max(axis=-1) > 40).mean() > 0.1  # the vessels
+    one = pv.MultiBlock({"empty": pv.MultiBlock(), "inner": pv.MultiBlock([None, image])})
+    halves = pv.MultiBlock([image.extract_subset((0, 23, 0, 23, 0, nz // 2)),
+                            image.extract_subset((0, 23, 0, 23, nz // 2, nz - 1))])
+    assert halves[1].origin[2] != image.origin[2]  # rebased: the second piece's origin is its first point
+    before = [(piece.origin, piece.extent, piece.active_scalars.copy()) for piece in halves]
+    for blocks in (one, halves):
+        assert np.array_equal(blocks.mip.render("analytic", size=SIZE), expected)
+        assert np.array_equal(render(blocks, "analytic", size=SIZE), expected)
+        plotter = pv.Plotter(off_screen=True, window_size=SIZE)
+        try:
+            volume = plotter.mip.add_volume(blocks, "analytic")
+            assert volume.mapper.GetInput().GetDimensions() == image.dimensions
+        finally:
+            plotter.close()
+    apart = pv.MultiBlock([image, image.translate((100.0, 0.0, 0.0))])
+    with pytest.raises(TypeError, match="holds 2 data sets.*draw one of them: pyvista mb\\[0\\]"):
+        apart.mip.render(size=SIZE)
+    for piece, (origin, extent, values) in zip(halves, before):  # the user's blocks are left as they were
+        assert piece.origin == origin and piece.extent == extent and np.array_equal(piece.active_scalars, values)
+
+
 def _transfer_functions(volume, values):
     """RGB and opacity of ``volume``'s property at ``values``."""
     prop = volume.GetProperty()

@@ -36,21 +36,24 @@ from typing import Optional, Tuple, Union
 import numpy as np
 from vtkmodules.util.numpy_support import get_vtk_array_type, numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkDataArray, vtkLogger, vtkOutputWindow, vtkStringOutputWindow
-from vtkmodules.vtkCommonDataModel import vtkImageData, vtkRectilinearGrid
+from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet, vtkImageData, vtkRectilinearGrid
 from vtkmodules.vtkIOImage import vtkMetaImageReader, vtkNIFTIImageReader
 from vtkmodules.vtkIOLegacy import vtkDataSetReader
-from vtkmodules.vtkIOXML import vtkXMLImageDataReader, vtkXMLPImageDataReader, vtkXMLRectilinearGridReader
+from vtkmodules.vtkIOXML import (vtkXMLImageDataReader, vtkXMLMultiBlockDataReader,
+                                 vtkXMLPartitionedDataSetCollectionReader, vtkXMLPartitionedDataSetReader,
+                                 vtkXMLPImageDataReader, vtkXMLRectilinearGridReader)
 
 from mipcast.core.camera_rays import matrix_array
 from mipcast.core.prepare import cell_centres
+from mipcast.io.composite import one_image
 from mipcast.io.dicom import caller_level, integer_dtype
 from mipcast.core.validation import check_image
 
 PathLike = Union[str, "os.PathLike[str]"]
 
 #: Extensions read by :func:`read_volume` (a folder is read as a DICOM series).
-SUPPORTED_EXTENSIONS = (".vti", ".pvti", ".vtr", ".vtk", ".nrrd", ".nhdr", ".nii", ".nii.gz", ".mha", ".mhd",
-                        ".dcm", ".dicom")
+SUPPORTED_EXTENSIONS = (".vti", ".pvti", ".vtr", ".vtk", ".vtm", ".vtpd", ".vtpc", ".nrrd", ".nhdr", ".nii",
+                        ".nii.gz", ".mha", ".mhd", ".dcm", ".dicom")
 
 _RAS_TO_LPS = np.diag([-1.0, -1.0, 1.0])
 _NRRD_SPACES = {  # NRRD 'space' -> matrix taking its coordinates to LPS
@@ -69,7 +72,9 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Opt
     path : str or os.PathLike
         ``.vti`` (VTK XML image data), ``.pvti`` (its parallel pieces),
         ``.vtr`` (an evenly spaced XML rectilinear grid), ``.vtk`` (legacy
-        structured points or an evenly spaced rectilinear grid),
+        structured points or an evenly spaced rectilinear grid), ``.vtm`` /
+        ``.vtpd`` / ``.vtpc`` (XML multiblock / partitioned data (collection)
+        holding one volume or image pieces of one grid: :func:`mipcast.io.composite.one_image`),
         ``.nrrd``/``.nhdr``, ``.nii``/``.nii.gz`` (NIfTI-1/2), ``.mha``/``.mhd``
         (MetaImage), a ``.dcm`` file or a folder of DICOM files.  A file with
         another extension is read as DICOM if it carries the DICOM marker
@@ -193,6 +198,7 @@ def _kind(path: Path) -> str:
         return "dicom"
     name = path.name.lower()
     for suffix, kind in ((".vti", "vti"), (".pvti", "pvti"), (".vtr", "vtr"), (".vtk", "legacy"),
+                         (".vtm", "vtm"), (".vtpd", "vtpd"), (".vtpc", "vtpc"),
                          (".nrrd", "nrrd"), (".nhdr", "nrrd"),
                          (".nii", "nifti"), (".nii.gz", "nifti"), (".mha", "meta"),
                          (".mhd", "meta"), (".dcm", "dicom"), (".dicom", "dicom")):
@@ -245,8 +251,10 @@ def _run(reader, path: Path, what: str) -> vtkImageData:
     messages = window.GetOutput()
     output = reader.GetOutput()
     failed = ("ERROR" in messages or "File operation failed" in messages
-              or reader.GetErrorCode() != 0 or output is None or output.GetNumberOfPoints() == 0
-              or not (_numeric_names(output.GetPointData()) or _numeric_names(output.GetCellData())))
+              or reader.GetErrorCode() != 0 or output is None
+              or (not isinstance(output, vtkCompositeDataSet)  # (its data sets are checked as the one drawn)
+                  and (output.GetNumberOfPoints() == 0
+                       or not (_numeric_names(output.GetPointData()) or _numeric_names(output.GetCellData())))))
     if failed:
         detail = " ".join(line.strip() for line in messages.splitlines()
                           if line.strip() and not line.startswith(("ERROR: In", "Warning: In",
@@ -341,7 +349,10 @@ def right_handed(image: vtkImageData) -> vtkImageData:
 _VTK_FORMATS = {"vti": (vtkXMLImageDataReader, "VTK XML image data (.vti)"),
                 "pvti": (vtkXMLPImageDataReader, "VTK XML parallel image data (.pvti)"),
                 "vtr": (vtkXMLRectilinearGridReader, "VTK XML rectilinear grid (.vtr)"),
-                "legacy": (vtkDataSetReader, "legacy VTK (.vtk)")}
+                "legacy": (vtkDataSetReader, "legacy VTK (.vtk)"),
+                "vtm": (vtkXMLMultiBlockDataReader, "VTK XML multiblock data (.vtm)"),
+                "vtpd": (vtkXMLPartitionedDataSetReader, "VTK XML partitioned data set (.vtpd)"),
+                "vtpc": (vtkXMLPartitionedDataSetCollectionReader, "VTK XML partitioned data set collection (.vtpc)")}
 
 
 def _read_vtk_file(path: Path, kind: str) -> vtkImageData:
@@ -353,6 +364,8 @@ def _read_vtk_file(path: Path, kind: str) -> vtkImageData:
         reader.ReadAllScalarsOn()
         reader.ReadAllVectorsOn()
     data = _run(reader, path, what)
+    if isinstance(data, vtkCompositeDataSet):
+        data = one_image(data)
     if isinstance(data, vtkRectilinearGrid):
         data = as_image_data(data)
     if not isinstance(data, vtkImageData):
@@ -593,7 +606,10 @@ EVEN_STEPS = 1e-5
 def as_image_data(data):
     """``data`` as image data the ray caster draws right: right-handed, and a rectilinear grid evenly spaced.
 
-    Image data with a left-handed direction matrix becomes its
+    A composite data set (pyvista's ``MultiBlock``, a ``.vtm`` or ``.vtpd``
+    file) is the one volume it holds (:func:`mipcast.io.composite.one_image`:
+    its only data set, or image pieces of one grid joined; else a
+    ``TypeError`` naming the fix).  Image data with a left-handed direction matrix becomes its
     :func:`right_handed` copy.  pyvista's ``RectilinearGrid`` (a netCDF or
     xarray grid of latitudes, longitudes and levels, a simulation's output)
     is image data when its steps along each axis are equal (within
@@ -606,7 +622,8 @@ def as_image_data(data):
     Raises
     ------
     TypeError
-        For a rectilinear grid whose steps along an axis differ.
+        For a rectilinear grid whose steps along an axis differ; a composite
+        data set of several data sets that are not pieces of one image.
 
     Examples
     --------
@@ -620,6 +637,8 @@ def as_image_data(data):
     >>> image.GetOrigin(), image.GetSpacing(), image.GetDirectionMatrix().GetElement(1, 1)
     ((0.0, 4.0, 3.0), (0.5, 2.0, 2.0), -1.0)
     """
+    if isinstance(data, vtkCompositeDataSet):
+        data = one_image(data)
     if isinstance(data, vtkImageData):
         return right_handed(data)
     if not isinstance(data, vtkRectilinearGrid):
