@@ -79,8 +79,9 @@
     float mc_lo = 0.0;
     float mc_hi = float(mc_count);
     mcClipRange(mc_base, g_dirStep, mc_lo, mc_hi);
-    mc_first = max(mc_first, int(ceil(clamp(mc_lo, 0.0, float(mc_count)))));
-    mc_count = min(mc_count, int(floor(clamp(mc_hi, -1.0, float(mc_count)))) + 1);
+    // a sample on a plane is kept whatever rounding makes of it: 1e-3 of a step (mipcast.core.clipping.SAMPLE_ON_PLANE)
+    mc_first = max(mc_first, int(ceil(clamp(mc_lo - 1.0e-3, 0.0, float(mc_count)))));
+    mc_count = min(mc_count, int(floor(clamp(mc_hi + 1.0e-3, -1.0, float(mc_count)))) + 1);
     if (mc_count <= mc_first)
     {
       MC_DRAW_NOTHING(g_fragColor)  // clipped away: nothing of the ray is left

@@ -31,6 +31,13 @@ import numpy as np
 #: of the cropping box and the slab's two faces.
 MAX_PLANES = 14
 
+#: A sample within this many steps outside a plane is kept (sampled methods): a sample ON a plane is kept
+#: whatever float rounding makes of it. Orthographic views along an axis put every ray's samples on the
+#: voxel planes, and a slab centred on one with a whole number of spacings has both faces there (a clinical
+#: thick slab): without it the near face's slice was dropped and the far one's kept, as rounding fell
+#: (the shader's ``1.0e-3`` in ``shaders/sampled_loop.glsl``; the references and the CPU's outline rays).
+SAMPLE_ON_PLANE = 1.0e-3
+
 
 def _vector(name: str, value, size: int = 3) -> np.ndarray:
     array = np.asarray(value, dtype=np.float64).reshape(-1)

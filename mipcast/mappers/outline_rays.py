@@ -33,6 +33,7 @@ from typing import Optional, Sequence
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
+from mipcast.core.clipping import SAMPLE_ON_PLANE
 from mipcast.core.object_state import object_state
 from mipcast.mappers.brick_rays import cap_steps, ray_uniforms, whole_of
 from mipcast.mappers.private_draw import read_depth
@@ -177,7 +178,8 @@ def along(image, start: np.ndarray, step: np.ndarray, steps: np.ndarray, keep=No
     values = trilinear(volume_array(image), np.clip(at, 0.0, upper).reshape(-1, 3)).reshape(len(start), len(k))
     kept = k[None, :] <= count[:, None]
     if keep is not None:
-        kept &= (k[None, :] >= keep[0][:, None]) & (k[None, :] <= keep[1][:, None])
+        tie = SAMPLE_ON_PLANE  # a sample on a plane is kept, as in the shader
+        kept &= (k[None, :] + tie >= keep[0][:, None]) & (k[None, :] - tie <= keep[1][:, None])
     if crop is not None:
         from mipcast.core.clipping import crop_visible
 

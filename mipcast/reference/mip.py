@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mipcast.core.clipping import crop_visible
+from mipcast.core.clipping import SAMPLE_ON_PLANE, crop_visible
 from mipcast.reference.rays import BUDGET, cells, gather, trilinear
 
 
@@ -23,7 +23,8 @@ def _sampled_reduce(values: np.ndarray, entry: np.ndarray, direction: np.ndarray
                     floor: float = -np.inf) -> tuple:
     """``reduce`` (np.maximum, np.minimum, np.add) over the samples ``entry + k * step``, k = 1..K.
 
-    ``keep = (lo, hi)`` (N,): only samples with ``lo <= k * step <= hi`` count.
+    ``keep = (lo, hi)`` (N,): only samples with ``lo <= k * step <= hi`` count (within
+    :data:`mipcast.core.clipping.SAMPLE_ON_PLANE` steps: a sample on a plane counts).
     ``crop = (low, high, flags)`` (index space, :func:`mipcast.core.clipping.crop_visible`):
     only samples in a visible cropping region count.  Only samples ``>= floor`` count.
     Returns the reduction (``empty`` where no sample counted) and the number of
@@ -40,8 +41,8 @@ def _sampled_reduce(values: np.ndarray, entry: np.ndarray, direction: np.ndarray
         sample = trilinear(values, position.reshape(-1, 3)).reshape(len(rows), len(k))
         valid = k[None, :] <= count[rows, None]
         if keep is not None:  # a clipped ray keeps the unclipped ray's sample positions
-            at = k * step
-            valid &= (at >= keep[0][rows, None]) & (at <= keep[1][rows, None])
+            at, tie = k * step, SAMPLE_ON_PLANE * step  # a sample on a plane counts
+            valid &= (at + tie >= keep[0][rows, None]) & (at - tie <= keep[1][rows, None])
         if crop is not None:  # a sample in a hidden cropping region does not count
             valid &= crop_visible(position, *crop)
         if floor > -np.inf:
