@@ -169,7 +169,8 @@ def test_composite_files_holding_one_volume_or_its_pieces(tmp_path):
     first point; nested, with empty blocks) are read as the volume itself; blocks that are not one volume
     (two volumes side by side, pieces leaving a gap) are refused naming the fix. Until 2026-12-04 both
     extensions were unknown, and pyvista's MultiBlock was refused ("expected vtkImageData")."""
-    from vtkmodules.vtkCommonDataModel import (vtkMultiBlockDataSet, vtkPartitionedDataSet,
+    from vtkmodules.vtkCommonCore import VTK_UNSIGNED_CHAR
+    from vtkmodules.vtkCommonDataModel import (vtkDataSetAttributes, vtkMultiBlockDataSet, vtkPartitionedDataSet,
                                                vtkPartitionedDataSetCollection)
     from vtkmodules.vtkImagingCore import vtkExtractVOI
     from vtkmodules.vtkIOParallelXML import vtkXMLPartitionedDataSetCollectionWriter, vtkXMLPartitionedDataSetWriter
@@ -193,9 +194,15 @@ def test_composite_files_holding_one_volume_or_its_pieces(tmp_path):
     one = vtkMultiBlockDataSet()
     one.SetBlock(0, vtkMultiBlockDataSet())  # an empty block first
     one.SetBlock(1, source)
-    pieces = vtkPartitionedDataSet()  # ranks' pieces sharing one layer of points
-    for index, extent in enumerate([(0, 10, 0, 6, 0, 2), (0, 10, 0, 6, 2, 5)]):
-        pieces.SetPartition(index, cut(extent))
+    pieces = vtkPartitionedDataSet()  # ranks' pieces with a ghost layer each (ParaView's, vtkGhostType)
+    for index, (extent, ghost) in enumerate([((0, 10, 0, 6, 0, 3), 3), ((0, 10, 0, 6, 2, 5), 2)]):
+        piece = cut(extent)
+        layers = np.zeros((extent[5] - extent[4] + 1, 7, 11), np.uint8)
+        layers[ghost - extent[4]] = vtkDataSetAttributes.DUPLICATEPOINT
+        ghosts = numpy_to_vtk(layers.ravel(), deep=True, array_type=VTK_UNSIGNED_CHAR)
+        ghosts.SetName(vtkDataSetAttributes.GhostArrayName())
+        piece.GetPointData().AddArray(ghosts)
+        pieces.SetPartition(index, piece)
     nested = vtkMultiBlockDataSet()  # blocks without a shared layer, rebased, inside a block
     inner = vtkMultiBlockDataSet()
     for index, extent in enumerate([(0, 4, 0, 6, 0, 5), (5, 10, 0, 6, 0, 5)]):
@@ -213,6 +220,8 @@ def test_composite_files_holding_one_volume_or_its_pieces(tmp_path):
         assert image.GetSpacing() == pytest.approx(source.GetSpacing()), path.name
         assert image.GetOrigin() == pytest.approx(source.GetOrigin()), path.name
         np.testing.assert_array_equal(check_image(image), values, err_msg=path.name)
+        # a piece's ghost layer is the other's own: no point of the whole is a duplicate
+        assert image.GetPointData().GetArray(vtkDataSetAttributes.GhostArrayName()) is None, path.name
 
     apart = vtkMultiBlockDataSet()  # two volumes side by side
     apart.SetBlock(0, source)

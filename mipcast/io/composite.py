@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkDataArray
-from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet, vtkImageData
+from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet, vtkDataSetAttributes, vtkImageData
 
 from mipcast.core.camera_rays import matrix_array
 from mipcast.core.errors import InputError
@@ -57,7 +57,9 @@ def one_image(data: vtkCompositeDataSet):
     vtkDataSet
         The only leaf as it is (image data, a rectilinear grid, ...: the
         caller's checks apply), or a new ``vtkImageData`` over the union of
-        the pieces' extents holding the point and cell arrays every piece has.
+        the pieces' extents holding the point and cell arrays every piece has
+        (of a ghost array only its HIDDEN bits: the pieces' ghost layers are
+        the neighbours' own points).
 
     Raises
     ------
@@ -173,6 +175,12 @@ def _fill(image, pieces, whole, extents, attribute: str, cells: bool):
         for span, array in zip(spans, arrays):
             shape = tuple(s.stop - s.start for s in span) + (components,)
             out[span] = vtk_to_numpy(array).reshape(shape)
+        if first.GetName() == vtkDataSetAttributes.GhostArrayName():
+            # a piece's ghost layers are another piece's own points and cells: in the whole only what hides
+            # them stays (HIDDENPOINT, HIDDENCELL: blanking), not the DUPLICATE... bits of the pieces' overlaps
+            out &= np.array(vtkDataSetAttributes.HIDDENCELL if cells else vtkDataSetAttributes.HIDDENPOINT, out.dtype)
+            if not out.any():
+                continue
         if active is not None and first.GetName() == active.GetName():
             target.SetScalars(joined)
         else:
