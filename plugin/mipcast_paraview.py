@@ -115,7 +115,7 @@ def _documentation(text):
 @smhint.xml('<ShowInMenu category="mipcast"/>')
 @smhint.xml('<RepresentationType view="RenderView" type="Slice"/>')
 @smproperty.input(name="Input", port_index=0)
-@smdomain.datatype(dataTypes=["vtkImageData"], composite_data_supported=False)
+@smdomain.datatype(dataTypes=["vtkImageData"], composite_data_supported=True)  # one volume or its pieces
 @smdomain.xml('<InputArrayDomain name="input_array" attribute_type="point"/>')
 class MipcastMIPRender(VTKPythonAlgorithmBase):
     """Render a volume's maximum intensity projection offscreen into a 2D image.
@@ -259,9 +259,17 @@ class MipcastMIPRender(VTKPythonAlgorithmBase):
 
     # -- helpers -------------------------------------------------------------------
     def _volume(self, source):
-        """A shallow copy of the input with the chosen array as active point scalars."""
-        from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkImageData
+        """A shallow copy of the input with the chosen array as active point scalars.
 
+        A multiblock or partitioned input is the one volume it holds, or its image pieces joined
+        (:func:`mipcast.io.composite.one_image`; a .vtm / .vtpd file, a reader's multiblock output).
+        """
+        from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet, vtkDataObject, vtkImageData
+
+        if isinstance(source, vtkCompositeDataSet):
+            from mipcast.io.composite import one_image
+
+            source = one_image(source)
         if not isinstance(source, vtkImageData):
             kind = "nothing" if source is None else type(source).__name__
             raise TypeError(

@@ -194,6 +194,24 @@ def bad_volumes():
     }
 
 
+def pieces_of_one_volume(image):
+    """A multiblock of two image pieces of ``image`` (a .vtm of a volume): the filter draws the whole volume."""
+    from vtkmodules.vtkCommonDataModel import vtkMultiBlockDataSet
+    from vtkmodules.vtkImagingCore import vtkExtractVOI
+
+    blocks = vtkMultiBlockDataSet()
+    for index, extent in enumerate([(0, 31, 0, 31, 0, 15), (0, 31, 0, 31, 15, 31)]):
+        cut = vtkExtractVOI()
+        cut.SetInputData(image)
+        cut.SetVOI(*extent)
+        cut.Update()
+        blocks.SetBlock(index, cut.GetOutput())
+    with CapturedLog() as captured:
+        result, _ = compare(image, mip_render(Input=producer_of(blocks), Method="analytic"), "analytic")
+    result["log"] = captured.text.strip()
+    return result
+
+
 def main(argv):
     image = make_fixture("vessels", size=32)
     producer = producer_of(image)
@@ -208,6 +226,7 @@ def main(argv):
     report["errors"] = {name: error_text(data, **props)
                         for name, (data, props) in bad_volumes().items()}
     report["recovery"] = recovery(image)
+    report["pieces"] = pieces_of_one_volume(image)
     if "--png" in argv:
         write_png(argv[argv.index("--png") + 1], picture)
     print(json.dumps(report))

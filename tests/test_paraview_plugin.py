@@ -67,6 +67,16 @@ def test_bad_input_reports_the_problem(report, case, words):
         assert word in message, message
 
 
+def test_a_multiblock_of_image_pieces_is_drawn_as_the_whole_volume(report):
+    """A .vtm of a volume's pieces (ParaView's multiblock readers): the filter joins them
+    (mipcast.io.composite); until 2026-12-04 it refused anything but vtkImageData."""
+    pieces = report["pieces"]
+    assert pieces["log"] == ""
+    assert pieces["dims"] == [WIDTH, HEIGHT, 1] and pieces["lit_pixels"] > 0.10 * pieces["pixels"]
+    assert pieces["max_rgb_diff"] == 0 and pieces["nan_mismatch"] == 0
+    assert pieces["max_value_diff"] <= 1e-6 * pieces["value_range"]
+
+
 def test_filter_recovers_after_an_error(report):
     recovery = report["recovery"]
     assert recovery["failed_reported"]
