@@ -115,6 +115,26 @@ def test_render_a_volume_of_a_4d_nifti(tmp_path, capsys):
     assert "holds 3 volumes (volume 0 to 2); there is no volume 3" in capsys.readouterr().err
 
 
+def test_render_a_data_set_of_a_multiblock_file(tmp_path, capsys):
+    """A .vtm holding a volume and a mesh (a simulation's output, pyvista's MultiBlock.save): --volume K draws
+    its data set K, the picture of that volume saved alone; without it: exit 2 naming the data sets and the
+    option."""
+    import pyvista
+
+    image = pyvista.wrap(make_fixture("vessels", size=24))
+    pyvista.MultiBlock({"mesh": pyvista.Sphere(), "volume": image}).save(tmp_path / "scene.vtm")
+    image.save(tmp_path / "alone.vti")
+    shots = {}
+    for name, source, extra in (("picked", "scene.vtm", ["--volume", "1"]), ("alone", "alone.vti", [])):
+        out = tmp_path / f"{name}.png"
+        assert main(["render", str(tmp_path / source), "--out", str(out), "--size", "48", "40"] + extra) == 0
+        shots[name] = pyplot.imread(out)
+    assert np.array_equal(shots["picked"], shots["alone"]) and shots["picked"][..., :3].max() > 0.5
+    assert main(["render", str(tmp_path / "scene.vtm"), "--out", str(tmp_path / "x.png")]) == 2
+    error = capsys.readouterr().err
+    assert "0: PolyData" in error and "1: ImageData" in error and "--volume K" in error
+
+
 def test_render_average_applies_the_window(tmp_path, capsys):
     """--method average/analytic_average with two windows: two pictures (before 2026-12-04 the window was printed
     and ignored: the same picture whatever the window); stock_average (VTK's own grey) says it ignores it."""

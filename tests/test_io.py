@@ -232,9 +232,14 @@ def test_composite_files_holding_one_volume_or_its_pieces(tmp_path):
     gap.SetPartition(0, cut((0, 10, 0, 6, 0, 2)))
     gap.SetPartition(1, cut((0, 10, 0, 6, 5, 5)))
     for data, name in ((apart, "apart.vtm"), (gap, "gap.vtpd")):
-        with pytest.raises(TypeError, match="holds 2 data sets .*not one volume.*draw one of them"):
+        with pytest.raises(TypeError, match="holds 2 data sets .*not one volume.*draw one of them.*volume=K"):
             read_volume(_written(data, tmp_path / name, vtkXMLMultiBlockDataWriter if name.endswith("vtm")
                                  else vtkXMLPartitionedDataSetWriter))
+    second = read_volume(tmp_path / "apart.vtm", volume=1)  # a file's data set K (mipcast render --volume K)
+    assert second.GetOrigin() == pytest.approx((100.0, 0.0, 0.0))
+    np.testing.assert_array_equal(check_image(second), values)
+    with pytest.raises(ValueError, match="holds 2 data set.*pick one of 0 to 1, not 2"):
+        read_volume(tmp_path / "apart.vtm", volume=2)
     with pytest.raises(ValueError, match="holds no data set with points"):
         read_volume(_written(vtkMultiBlockDataSet(), tmp_path / "empty.vtm", vtkXMLMultiBlockDataWriter))
 

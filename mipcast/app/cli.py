@@ -90,7 +90,8 @@ def _parser() -> argparse.ArgumentParser:
                              "(--out sweep.gif or .mp4)")
     render.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
     render.add_argument("--volume", type=_volume, default=None, metavar="K",
-                    help="which volume of a 4D NIfTI or NRRD file (a time series), from 0 (default: the first)")
+                        help="which volume of a 4D NIfTI or NRRD file (a time series), or which data set of a "
+                             ".vtm/.vtpd/.vtpc file, from 0 (default: the first volume; a composite file's one)")
     render.add_argument("--padding", default="missing", choices=["missing", "keep"],
                         help="DICOM pixels holding the PixelPaddingValue (outside a CT's field of view): "
                              "missing data (default) or kept as values")
@@ -114,7 +115,8 @@ def _parser() -> argparse.ArgumentParser:
     view.add_argument("--view", default=None, choices=VIEW_NAMES, help="first camera (default: pyvista's)")
     view.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
     view.add_argument("--volume", type=_volume, default=None, metavar="K",
-                  help="which volume of a 4D NIfTI or NRRD file (a time series), from 0 (default: the first)")
+                      help="which volume of a 4D NIfTI or NRRD file (a time series), or which data set of a "
+                           ".vtm/.vtpd/.vtpc file, from 0 (default: the first volume; a composite file's one)")
     view.add_argument("--padding", default="missing", choices=["missing", "keep"],
                       help="DICOM pixels holding the PixelPaddingValue (outside a CT's field of view): "
                            "missing data (default) or kept as values")

@@ -20,6 +20,8 @@ Examples
 """
 from __future__ import annotations
 
+from typing import Optional
+
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkDataArray
@@ -43,7 +45,7 @@ def leaves(data: vtkCompositeDataSet) -> list:
     return found
 
 
-def one_image(data: vtkCompositeDataSet):
+def one_image(data: vtkCompositeDataSet, index: Optional[int] = None):
     """The one volume ``data`` holds: its only non-empty leaf, or its image pieces joined.
 
     Parameters
@@ -51,6 +53,10 @@ def one_image(data: vtkCompositeDataSet):
     data : vtkCompositeDataSet
         A multiblock, partitioned or partitioned-collection data set
         (pyvista's ``MultiBlock``); not modified.
+    index : int, optional
+        Take its data set ``index`` (from 0, in :func:`leaves`' order: the
+        non-empty ones at any depth) instead, e.g. the volume of a file that
+        also holds meshes.
 
     Returns
     -------
@@ -64,7 +70,7 @@ def one_image(data: vtkCompositeDataSet):
     Raises
     ------
     InputError
-        If ``data`` holds no data set with points.
+        If ``data`` holds no data set with points, or fewer than ``index + 1``.
     TypeError
         If it holds several data sets that are not pieces of one image data
         grid (the message lists them and the fix: pick one block).
@@ -91,18 +97,25 @@ def one_image(data: vtkCompositeDataSet):
     kind = data.GetClassName()[3:]
     if not found:
         raise InputError(f"the {kind} holds no data set with points: load or generate data first")
+    if index is not None:
+        if not 0 <= index < len(found):
+            raise InputError(f"the {kind} holds {len(found)} data set(s) with points: pick one of 0 to "
+                             f"{len(found) - 1}, not {index}")
+        return found[index]
     if len(found) == 1:
         return found[0]
     if all(isinstance(leaf, vtkImageData) for leaf in found):
         joined = _joined(found)
         if joined is not None:
             return joined
-    listing = ", ".join(f"{leaf.GetClassName()[3:]} of {leaf.GetNumberOfPoints()} points" for leaf in found[:6])
+    listing = ", ".join(f"{number}: {leaf.GetClassName()[3:]} of {leaf.GetNumberOfPoints()} points"
+                        for number, leaf in enumerate(found[:6]))
     raise TypeError(
         f"the {kind} holds {len(found)} data sets ({listing}{', ...' if len(found) > 6 else ''}), not one "
         "volume (or pieces of one image data grid: the same spacing and direction, origins whole steps apart, "
-        "extents that fill a box); draw one of them: pyvista mb[0] (or mb['name']), VTK GetBlock(0), ParaView's Extract Block, "
-        "or resample them onto one image first (vtkResampleToImage)")
+        "extents that fill a box); draw one of them: pyvista mb[0] (or mb['name']), VTK GetBlock(0), "
+        "ParaView's Extract Block, a file's read_volume(path, volume=K) or mipcast render --volume K; or "
+        "resample them onto one image first (vtkResampleToImage)")
 
 
 def _joined(pieces: list):

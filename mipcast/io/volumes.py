@@ -87,7 +87,9 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Opt
     volume : int, optional
         For a 4D NIfTI or NRRD file (a time series: fMRI, perfusion, DCE, 4D
         CT; a DWI's gradients): which volume to read, from 0; default the
-        first, with a warning that names how many there are.
+        first, with a warning that names how many there are.  For a
+        ``.vtm`` / ``.vtpd`` / ``.vtpc`` file: which of its non-empty data
+        sets, from 0 (default: its one volume).
     padding : {"missing", "keep"}
         For DICOM: the pixels holding the series' PixelPaddingValue (outside
         a CT's field of view) are read as missing data (NaN), or kept as
@@ -179,11 +181,12 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Opt
         image = _read_nifti(path, volume)
     elif kind == "nrrd":
         image = _read_nrrd(path, volume)
-    elif volume is not None:
-        raise ValueError(f"volume picks a volume of a 4D NIfTI or NRRD file, not of '{path}' (a DICOM folder's "
-                         "volumes are picked with series_uid, see mipcast.io.dicom.list_series)")
+    elif volume is not None and kind not in _COMPOSITE_KINDS:
+        raise ValueError(f"volume picks a volume of a 4D NIfTI or NRRD file or a data set of a .vtm, .vtpd or "
+                         f".vtpc file, not of '{path}' (a DICOM folder's volumes are picked with series_uid, see "
+                         "mipcast.io.dicom.list_series)")
     else:
-        image = _read_meta(path) if kind == "meta" else _read_vtk_file(path, kind)
+        image = _read_meta(path) if kind == "meta" else _read_vtk_file(path, kind, volume)
     image = right_handed(image)
     check_image(image)
     return image
@@ -346,6 +349,9 @@ def right_handed(image: vtkImageData) -> vtkImageData:
 # formats
 # ---------------------------------------------------------------------------
 
+#: The composite formats (:func:`mipcast.io.composite.one_image`), whose data set ``volume`` picks.
+_COMPOSITE_KINDS = ("vtm", "vtpd", "vtpc")
+
 _VTK_FORMATS = {"vti": (vtkXMLImageDataReader, "VTK XML image data (.vti)"),
                 "pvti": (vtkXMLPImageDataReader, "VTK XML parallel image data (.pvti)"),
                 "vtr": (vtkXMLRectilinearGridReader, "VTK XML rectilinear grid (.vtr)"),
@@ -355,9 +361,10 @@ _VTK_FORMATS = {"vti": (vtkXMLImageDataReader, "VTK XML image data (.vti)"),
                 "vtpc": (vtkXMLPartitionedDataSetCollectionReader, "VTK XML partitioned data set collection (.vtpc)")}
 
 
-def _read_vtk_file(path: Path, kind: str) -> vtkImageData:
+def _read_vtk_file(path: Path, kind: str, index: Optional[int] = None) -> vtkImageData:
     """A VTK file of image data or an evenly spaced rectilinear grid, with active scalars (the first numeric
-    point array, else cell array, where the file names none: pyvista and ParaView write such files)."""
+    point array, else cell array, where the file names none: pyvista and ParaView write such files); of a
+    composite file its one volume, or its data set ``index``."""
     reader_type, what = _VTK_FORMATS[kind]
     reader = reader_type()
     if kind == "legacy":
@@ -365,7 +372,7 @@ def _read_vtk_file(path: Path, kind: str) -> vtkImageData:
         reader.ReadAllVectorsOn()
     data = _run(reader, path, what)
     if isinstance(data, vtkCompositeDataSet):
-        data = one_image(data)
+        data = one_image(data, index)
     if isinstance(data, vtkRectilinearGrid):
         data = as_image_data(data)
     if not isinstance(data, vtkImageData):
