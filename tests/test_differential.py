@@ -1,0 +1,25 @@
+"""Random combinations of input and settings (tests/differential_check.py), each against its float64 reference.
+
+The first 24 cases of the differential run: every method with a float readout and a reference, drawn with a
+random scalar type, NaN holes, a mask, vectors, anisotropic spacing, a rotated direction, an extent not from
+0, a slab, a clipping plane, cropping regions, bricks and view. Each must agree with the reference within the
+method's tolerance (docs/reliability.md, "Ties", lists the cases further on that do not, and why).
+"""
+import numpy as np
+import pytest
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+from mipcast.data_fixtures import make_fixture
+from differential_check import run_case
+
+
+@pytest.fixture(scope="module")
+def base():
+    return vtk_to_numpy(make_fixture("vessels", size=24).GetPointData().GetScalars()).astype(np.float64).reshape(
+        24, 24, 24)
+
+
+@pytest.mark.parametrize("number", range(24))
+def test_a_random_combination_agrees_with_the_reference(base, number):
+    case, problem = run_case(number, base)
+    assert problem is None, (case, problem)
