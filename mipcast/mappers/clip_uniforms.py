@@ -251,7 +251,9 @@ def copy_clipping(source, target) -> None:
 
     Setters are called only where values differ (nothing is rebuilt).  The
     private mapper draws outside the renderer's props, so it also gets the
-    camera its slab follows (``object_state(target)["clip_camera"]``).
+    camera its slab follows (``object_state(target)["clip_camera"]``): the
+    renderer's, or, where ``source`` is itself private (a foveated level's
+    bricks' source), the one ``source`` was given.
     """
     from mipcast.core.object_state import object_state
     from mipcast.mappers.private_draw import rendering_renderer
@@ -260,7 +262,8 @@ def copy_clipping(source, target) -> None:
     if settings[0]:  # the slab may follow the camera; DEMIP's depth range needs it
         volume = source.GetAttachedVolume()
         renderer = rendering_renderer(source, volume) if volume is not None else None
-        object_state(target)["clip_camera"] = renderer.GetActiveCamera() if renderer is not None else None
+        object_state(target)["clip_camera"] = (renderer.GetActiveCamera() if renderer is not None
+                                               else object_state(source).get("clip_camera"))
     planes = source.GetClippingPlanes()
     if target.GetClippingPlanes() is not planes:
         target.SetClippingPlanes(planes)
