@@ -5,13 +5,14 @@
 Case ``k`` (seeded by ``k``, so a failure is replayed by its number) draws the vessels 24^3 with a random
 method (those with a float readout and a reference; or the foveated method, a random layer, gaze and
 content tolerance, its fovea against the layer's reference: exact with acuity only, within 1 grey of the
-window wherever a structure is above its floor with content-adaptive density, issue 17), scalar type (float32, float64, int16, uint8), NaN
-holes, a mask (SetMaskInput, the reference given NaN there), 3-component vectors (their magnitude),
-anisotropic spacing, a rotated direction, an extent not from 0, a slab, a clipping plane, cropping
-regions, bricks (a texture limit of 12) and view, at 40x36, and prints the cases whose float readout
-is off the reference by more than the method's tolerance (sampled methods on 8-bit data: 2 of 250,
-the texture unit's 8-bit filtering, docs/reliability.md) or disagree on hit and miss on more than 3 %
-of the pixels.  docs/reliability.md, "Ties", lists what it found.
+window wherever a structure is above its floor with content-adaptive density, issue 17), scalar type
+(float32, float64, int16, uint8), NaN holes, a mask (SetMaskInput, the reference given NaN there),
+3-component vectors (their magnitude or one component), anisotropic spacing, a rotated direction, an
+extent not from 0, a volume matrix, a sample distance, a slab, a clipping plane, cropping regions, bricks
+(a texture limit of 12), view and picture size (40x36 or 41x37), and prints the cases whose float readout
+is off the reference by more than the method's tolerance (sampled methods on 8-bit data: 2 of 250, the
+texture unit's 8-bit filtering, docs/reliability.md) or disagree on hit and miss on more than 3 % of the
+pixels.  docs/reliability.md, "Ties", lists what it found.
 """
 import argparse
 import random
@@ -43,7 +44,9 @@ def draw_case(rng: random.Random) -> dict:
                 bricks=rng.random() < 0.3, view=rng.choice(["oblique", "perspective", "front"]),
                 crop=rng.random() < 0.3, clip=rng.random() < 0.3, flags=rng.choice(FLAGS),
                 layer=rng.choice(LAYERS), gaze=(rng.uniform(0.3, 0.7), rng.uniform(0.3, 0.7)),
-                tolerance=rng.choice([0.0, 0.0, 2.0, 8.0]))
+                tolerance=rng.choice([0.0, 0.0, 2.0, 8.0]), matrix=rng.random() < 0.25,
+                component=rng.choice([None, None, 0, 2]), distance=rng.choice([None, None, 0.37, 1.9]),
+                size=rng.choice([SIZE, (41, 37)]))
 
 
 def volumes(case: dict, base: np.ndarray):
@@ -91,8 +94,20 @@ def run_case(number: int, base: np.ndarray) -> tuple:
     """(case, problem or None)."""
     case = draw_case(random.Random(number))
     image, reference_image, mask = volumes(case, base)
-    scene = OffscreenView(image, case["method"], size=SIZE, view=case["view"])
+    component = case.get("component") if case["vectors"] else None
+    sampled = not METHODS[case["layer"] if case["method"] == "foveated" else case["method"]].walks_cells
+    distance = case.get("distance") if sampled else None
+    size = case.get("size", SIZE)
+    scene = OffscreenView(image, case["method"], size=size, view=case["view"], sample_distance=distance,
+                          component=component)
     mapper, camera = scene.mapper, scene.camera
+    matrix = None
+    if case.get("matrix"):  # the volume placed by its own matrix (a clinical pipeline's, ParaView's transform)
+        scene.volume.SetOrientation(20.0, -35.0, 10.0)
+        scene.volume.SetScale(1.0, 1.3, 0.8)
+        scene.volume.SetPosition(4.0, -3.0, 2.0)
+        scene.renderer.ResetCamera()
+        matrix = scene.volume.GetMatrix()
     foveated = case["method"] == "foveated"
     if foveated:  # its fovea: the layer method at full quality, against the layer's reference
         mapper.SetMethod(case["layer"])
@@ -129,15 +144,17 @@ def run_case(number: int, base: np.ndarray) -> tuple:
     got = scene.float_image()
     if foveated:
         plan = mapper.GetLastPlan()
-        outside = foveation.eccentricity(SIZE, plan.gaze, plan.aspect) >= plan.start
+        outside = foveation.eccentricity(size, plan.gaze, plan.aspect) >= plan.start
         got[outside] = np.nan
     clip = (np.concatenate([p[0] for p in planes]), np.concatenate([p[1] for p in planes])) if planes else None
     expected = METHODS[name].reference(reference_image, camera, scene.size, sample_distance=scene.sample_distance,
-                                       window=scene.window, clip_planes=clip, cropping=cropping)
+                                       window=scene.window, clip_planes=clip, cropping=cropping, matrix=matrix,
+                                       **({"component": component} if component is not None else {}))
     if foveated:
         expected[outside] = np.nan
     values = vtk_to_numpy(reference_image.GetPointData().GetScalars()).astype(np.float64)
-    values = np.linalg.norm(values, axis=1) if values.ndim == 2 else values
+    if values.ndim == 2:
+        values = values[:, component] if component is not None else np.linalg.norm(values, axis=1)
     span = np.nanmax(values) - np.nanmin(values)
     agree = np.mean(np.isnan(got) == np.isnan(expected))
     both = np.isfinite(got) & np.isfinite(expected)
