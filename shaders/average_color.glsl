@@ -13,6 +13,6 @@
   {
     discard;
   }
-  g_srcColor = computeColor(vec4(mc_rayMax), computeOpacity(vec4(mc_rayMax)));
+  g_srcColor = computeColor(MC_COLOR_AT(mc_rayMax), computeOpacity(MC_OPACITY_AT(mc_rayMax)));  // (mip_globals)
   g_fragColor.rgb = g_srcColor.rgb * g_srcColor.a;
   g_fragColor.a = g_srcColor.a;

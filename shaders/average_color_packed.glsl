@@ -8,6 +8,6 @@
   {
     discard;
   }
-  g_srcColor = computeColor(vec4(mc_rayMax), computeOpacity(vec4(mc_rayMax), 0), 0);
+  g_srcColor = computeColor(MC_COLOR_AT(mc_rayMax), computeOpacity(MC_OPACITY_AT(mc_rayMax), 0), 0);  // (mip_globals)
   g_fragColor.rgb = g_srcColor.rgb * g_srcColor.a;
   g_fragColor.a = g_srcColor.a;

@@ -31,9 +31,9 @@ void mcBeginRay(inout int first, inout int count)
 
 bool mcSample(float value, int i)
 {
-  vec4 scalar = vec4(mcNormalised(value));
-  float alpha = computeOpacity(scalar);
-  mc_betaProduct *= mcMidaStep(mcMaterial(value), alpha, computeColor(scalar, alpha).rgb, mc_runMaterial, mc_sum);
+  float s = mcNormalised(value);
+  float alpha = computeOpacity(MC_OPACITY_AT(s));  // (mip_globals)
+  mc_betaProduct *= mcMidaStep(mcMaterial(value), alpha, computeColor(MC_COLOR_AT(s), alpha).rgb, mc_runMaterial, mc_sum);
   return true;
 }
 

@@ -8,7 +8,7 @@
 //   c = c * (1 - sph_w) + c_sphere * sph_w               (Eq. 2)
 //   c = c * (1 - chroma_w) + c_chroma(depth) * chroma_w  (pseudo-chromadepth)
 // clamped to [0, 1]; the opacity stays MIP's, then alpha is premultiplied.
-  g_srcColor = computeColor(vec4(mc_rayMax), computeOpacity(vec4(mc_rayMax)));
+  g_srcColor = computeColor(MC_COLOR_AT(mc_rayMax), computeOpacity(MC_OPACITY_AT(mc_rayMax)));  // (mip_globals)
   if (mc_matchIndex >= 0)
   {
     vec3 mc_color = g_srcColor.rgb * (1.0 - u_mc_depthWeight) + 2.0 * u_mc_depthWeight * (1.0 - mc_depth);

@@ -24,9 +24,9 @@ void mcBeginRay(inout int first, inout int count)
 bool mcSample(float value, int i)
 {
   mc_rayMax = max(mc_rayMax, value);
-  vec4 scalar = vec4(mcNormalised(value));
-  float alpha = computeOpacity(scalar);
-  mcMidaStep(mcMaterial(value), alpha, computeColor(scalar, alpha).rgb, mc_runMaterial, mc_sum);
+  float s = mcNormalised(value);
+  float alpha = computeOpacity(MC_OPACITY_AT(s));  // (mip_globals)
+  mcMidaStep(mcMaterial(value), alpha, computeColor(MC_COLOR_AT(s), alpha).rgb, mc_runMaterial, mc_sum);
   return true;
 }
 

@@ -37,6 +37,19 @@ float mcNormalised(float raw)
 // global_phase), and the hooks that use it come after that.
 #define MC_BOUNDED_NORMALISED(raw, lo, hi) ((raw) <= (lo) ? 0.0 : ((raw) >= (hi) ? 1.0 : mcNormalised(raw)))
 
+// Where VTK's transfer-function tables hold a normalised value s. VTK tabulates each function at n points,
+// i / (n - 1) of the table's range (vtkColorTransferFunction::GetTable), into a texture whose texel i lies
+// at (i + 0.5) / n, and reads it at s itself: the function half a table step off, -1/2 step at 0 to +1/2 at
+// 1 (stock VTK's own lookups; under a window 3 % of the range wide up to 4 grey darker). mipcast's colour
+// lookups read at mcAtTable instead: the function at s, interpolated between its tabulated points. Macros:
+// the samplers are declared after this piece.
+float mcAtTable(float s, float texels)
+{
+  return (clamp(s, 0.0, 1.0) * (texels - 1.0) + 0.5) / texels;
+}
+#define MC_COLOR_AT(s) vec4(mcAtTable((s), float(textureSize(in_colorTransferFunc_0[0], 0).x)))
+#define MC_OPACITY_AT(s) vec4(mcAtTable((s), float(textureSize(in_opacityTransferFunc_0[0], 0).x)))
+
 // A cast ray that draws nothing (clipped or cropped away, missing the
 // volume): MC_DRAW_NOTHING(result) where it is found, in place of discard
 // (mcDrawNothing() where the function goes on to its end anyway). It

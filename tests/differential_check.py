@@ -35,6 +35,10 @@ TYPES = {"f32": np.float32, "f64": np.float64, "i16": np.int16, "u8": np.uint8}
 FLAGS = (0x2000, 0x7ffdfff, 0x1d, 0x2f3f40, 0x400)  # sub-volume, all but the centre, a fence, a cross, one
 #: The foveated method's layers (SetMethod) with a reference; its fovea is checked against the layer's.
 LAYERS = ("mip", "analytic", "demip")
+#: Grey windows, as fractions of the finite data range (None: OffscreenView's default).
+WINDOWS = (None, None, (0.1, 0.6), (0.4, 0.45), (0.0, 0.05), (0.7, 1.0))
+#: Methods whose picture is the float readout through the window's grey ramp: their pictures are checked too.
+GREY = ("mip", "analytic", "minip", "analytic_minip", "average", "analytic_average")
 
 
 def draw_case(rng: random.Random) -> dict:
@@ -46,7 +50,7 @@ def draw_case(rng: random.Random) -> dict:
                 layer=rng.choice(LAYERS), gaze=(rng.uniform(0.3, 0.7), rng.uniform(0.3, 0.7)),
                 tolerance=rng.choice([0.0, 0.0, 2.0, 8.0]), matrix=rng.random() < 0.25,
                 component=rng.choice([None, None, 0, 2]), distance=rng.choice([None, None, 0.37, 1.9]),
-                size=rng.choice([SIZE, (41, 37)]))
+                size=rng.choice([SIZE, (41, 37)]), window=rng.choice(WINDOWS))
 
 
 def volumes(case: dict, base: np.ndarray):
@@ -98,8 +102,15 @@ def run_case(number: int, base: np.ndarray) -> tuple:
     sampled = not METHODS[case["layer"] if case["method"] == "foveated" else case["method"]].walks_cells
     distance = case.get("distance") if sampled else None
     size = case.get("size", SIZE)
+    values = vtk_to_numpy(reference_image.GetPointData().GetScalars()).astype(np.float64)
+    if values.ndim == 2:
+        values = values[:, component] if component is not None else np.linalg.norm(values, axis=1)
+    span = np.nanmax(values) - np.nanmin(values)
+    window = case.get("window")
+    if window is not None:
+        window = tuple(float(np.nanmin(values) + f * span) for f in window)
     scene = OffscreenView(image, case["method"], size=size, view=case["view"], sample_distance=distance,
-                          component=component)
+                          component=component, window=window)
     mapper, camera = scene.mapper, scene.camera
     matrix = None
     if case.get("matrix"):  # the volume placed by its own matrix (a clinical pipeline's, ParaView's transform)
@@ -152,10 +163,6 @@ def run_case(number: int, base: np.ndarray) -> tuple:
                                        **({"component": component} if component is not None else {}))
     if foveated:
         expected[outside] = np.nan
-    values = vtk_to_numpy(reference_image.GetPointData().GetScalars()).astype(np.float64)
-    if values.ndim == 2:
-        values = values[:, component] if component is not None else np.linalg.norm(values, axis=1)
-    span = np.nanmax(values) - np.nanmin(values)
     agree = np.mean(np.isnan(got) == np.isnan(expected))
     both = np.isfinite(got) & np.isfinite(expected)
     errors = np.abs(got[both] - expected[both]) / span
@@ -176,6 +183,14 @@ def run_case(number: int, base: np.ndarray) -> tuple:
     if problem or agree <= 0.97 or error > tolerance:
         return case, (f"{problem or ''} hit/miss agree {agree:.3f}, error {error:.3g} of the range "
                       f"(tolerance {tolerance:g}) at {int((errors > tolerance).sum())} of {int(both.sum())} pixels")
+    if name in GREY and not foveated:  # the picture: the reference through the window's grey ramp (block
+        # skipping starts rays at the window's floor, the float readout does not)
+        low, high = scene.window
+        grey = np.where(np.isnan(expected), 0.0, np.round(np.clip((expected - low) / (high - low), 0.0, 1.0) * 255))
+        allowed = 2.0 + 255.0 * (tolerance - METHODS[name].reference_tolerance) * span / (high - low)
+        off = np.abs(scene.screenshot()[..., 0].astype(float) - grey) > allowed
+        if off.mean() > 0.01:
+            return case, f"picture: {int(off.sum())} pixels more than {allowed:.3g} grey off the reference's"
     return case, None
 
 

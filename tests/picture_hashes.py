@@ -15,7 +15,10 @@ on one machine only.  ``docs/refactor-hashes.json`` holds the run made on
 the development machine (llvmpipe) before the "one definition per method"
 restructuring; its 46 foveated entries were made again when the foveation
 plan's ``start`` began keeping every coarse level out of the fovea (at these
-64 x 56 views the full-quality disc grew; every other entry unchanged).
+64 x 56 views the full-quality disc grew; every other entry unchanged), and
+its 8-bit entries were made again (125 changed, no float entry) when the
+colour pieces began reading VTK's tables where they hold the value
+(docs/methods.md, "Reading VTK's tables where they hold the value").
 """
 from __future__ import annotations
 

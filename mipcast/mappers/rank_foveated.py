@@ -814,15 +814,16 @@ def _table_width(function, low: float, high: float) -> int:
 
 
 def gpu_colour(values: np.ndarray, volume_property, value_range=None) -> np.ndarray:
-    """Data values -> premultiplied RGBA as VTK's ray caster looks them up; NaN: transparent.
+    """Data values -> premultiplied RGBA as mipcast's colour pieces look them up in VTK's tables; NaN: transparent.
 
     VTK tabulates component 0's colour and scalar-opacity functions at
     ``width`` points ``low + i (high - low) / (width - 1)`` (``GetTable``;
-    ``width`` at least 1024) into float textures and samples them, linearly
-    filtered, at ``u = (value - low) / (high - low)``, i.e. at texel
-    ``u width - 1/2``: not quite the function at the value (up to half a
-    table step off), which this reproduces. ``value_range``: (low, high), the
-    level volume's scalar range; default the colour function's range.
+    ``width`` at least 1024) into float textures; mipcast's pieces read them,
+    linearly filtered, where the table holds ``u = (value - low) / (high -
+    low)``: at texel ``u (width - 1)`` (``mcAtTable``, shaders/mip_globals.glsl;
+    VTK's own lookups read at texel ``u width - 1/2``, up to half a table step
+    off), which this reproduces. ``value_range``: (low, high), the level
+    volume's scalar range; default the colour function's range.
 
     >>> from mipcast.offscreen import grey_property
     >>> gpu_colour(np.array([[0.0, 0.5, np.nan]]), grey_property((0.0, 1.0)))[0, :, 0].round(3).tolist()
@@ -856,7 +857,7 @@ def gpu_lookup(values: np.ndarray, volume_property, value_range=None) -> Tuple[n
         high = low + 1.0
 
     def lookup(table, texels):
-        t = np.clip((values[hit] - low) / (high - low) * texels - 0.5, 0.0, texels - 1.0)
+        t = np.clip((values[hit] - low) / (high - low) * (texels - 1.0), 0.0, texels - 1.0)
         i = np.minimum(np.floor(t).astype(int), max(texels - 2, 0))
         f = (t - i)[:, None]
         return table[i] * (1.0 - f) + table[np.minimum(i + 1, texels - 1)] * f
