@@ -330,7 +330,9 @@ def parity_checks(sizes: Sizes) -> dict:
     Returns
     -------
     dict
-        ``mip_vs_stock`` (per view: :func:`mipcast.core.metrics.grey_diff`),
+        ``mip_vs_stock`` (per view: :func:`mipcast.core.metrics.grey_diff`;
+        passed within 1 grey: mipcast reads VTK's colour tables where they
+        hold the value, stock half a table step off, docs/methods.md),
         ``analytic_vs_exact`` (per view: p99 and max in % of the data range,
         within one grey level), ``demip_vs_reference`` (per view: share of
         pixels within 2 grey levels of the reference picture, share of depths
@@ -355,7 +357,7 @@ def parity_checks(sizes: Sizes) -> dict:
     for view in ("oblique", "perspective"):
         pictures = {m: OffscreenView(image, m, size=size, view=view).screenshot() for m in ("stock", "mip")}
         diff = grey_diff(pictures["stock"], pictures["mip"])
-        result["mip_vs_stock"][view] = {**diff, "passed": diff["max"] == 0}
+        result["mip_vs_stock"][view] = {**diff, "passed": diff["max"] <= 1}
         analytic = OffscreenView(image, "analytic", size=size, view=view)
         exact = reference.render(image, analytic.camera, size, method="analytic")
         errors = summary(analytic.float_image(), exact, high - low)
