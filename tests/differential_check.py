@@ -9,10 +9,11 @@ window wherever a structure is above its floor with content-adaptive density, is
 (float32, float64, int16, uint8), NaN holes, a mask (SetMaskInput, the reference given NaN there),
 3-component vectors (their magnitude or one component), anisotropic spacing, a rotated direction, an
 extent not from 0, a volume matrix, a sample distance, a slab, a clipping plane, cropping regions, bricks
-(a texture limit of 12), view and picture size (40x36 or 41x37), and prints the cases whose float readout
-is off the reference by more than the method's tolerance (sampled methods on 8-bit data: 2 of 250, the
+(a texture limit of 12), view, picture size (40x36 or 41x37) and grey window, and prints the cases whose
+float readout is off the reference by more than the method's tolerance (sampled methods on 8-bit data: 2 of 250, the
 texture unit's 8-bit filtering, docs/reliability.md) or disagree on hit and miss on more than 3 % of the
-pixels.  docs/reliability.md, "Ties", lists what it found.
+pixels, or, for the methods whose picture is their value through the window's grey ramp (GREY), whose
+picture is more than 2 grey off the reference's on more than 1 % of the pixels.  docs/reliability.md, "Ties", lists what it found.
 """
 import argparse
 import random
