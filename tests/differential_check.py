@@ -9,7 +9,8 @@ window wherever a structure is above its floor with content-adaptive density, is
 (float32, float64, int16, uint8), NaN holes, a mask (SetMaskInput, the reference given NaN there),
 3-component vectors (their magnitude or one component), anisotropic spacing, a rotated direction, an
 extent not from 0, a volume matrix, a sample distance, a slab, a clipping plane, cropping regions, bricks
-(a texture limit of 12), view, picture size (40x36 or 41x37) and grey window, and prints the cases whose
+(a texture limit of 12), view, picture size (40x36 or 41x37), grey window and, for DEMIP, its projection
+(LMIP, attenuated, MIDA) and thresholds, and prints the cases whose
 float readout is off the reference by more than the method's tolerance (sampled methods on 8-bit data: 2 of 250, the
 texture unit's 8-bit filtering, docs/reliability.md) or disagree on hit and miss on more than 3 % of the
 pixels, or, for the methods whose picture is their value through the window's grey ramp (GREY), whose
@@ -36,6 +37,8 @@ TYPES = {"f32": np.float32, "f64": np.float64, "i16": np.int16, "u8": np.uint8}
 FLAGS = (0x2000, 0x7ffdfff, 0x1d, 0x2f3f40, 0x400)  # sub-volume, all but the centre, a fence, a cross, one
 #: The foveated method's layers (SetMethod) with a reference; its fovea is checked against the layer's.
 LAYERS = ("mip", "analytic", "demip")
+#: DEMIP's projections (SetProjection), drawn for the DEMIP methods with random settings.
+PROJECTIONS = ("mip", "mip", "lmip", "attenuated", "mida")
 #: Grey windows, as fractions of the finite data range (None: OffscreenView's default).
 WINDOWS = (None, None, (0.1, 0.6), (0.4, 0.45), (0.0, 0.05), (0.7, 1.0))
 #: Methods whose picture is the float readout through the window's grey ramp: their pictures are checked too.
@@ -51,7 +54,9 @@ def draw_case(rng: random.Random) -> dict:
                 layer=rng.choice(LAYERS), gaze=(rng.uniform(0.3, 0.7), rng.uniform(0.3, 0.7)),
                 tolerance=rng.choice([0.0, 0.0, 2.0, 8.0]), matrix=rng.random() < 0.25,
                 component=rng.choice([None, None, 0, 2]), distance=rng.choice([None, None, 0.37, 1.9]),
-                size=rng.choice([SIZE, (41, 37)]), window=rng.choice(WINDOWS))
+                size=rng.choice([SIZE, (41, 37)]), window=rng.choice(WINDOWS),
+                demip=dict(projection=rng.choice(PROJECTIONS), local_threshold=rng.choice([0.2, 0.5, 0.8]),
+                           attenuation=rng.choice([0.0, 0.05, 0.3]), material_threshold=rng.choice([0.02, 0.1, 0.5])))
 
 
 def volumes(case: dict, base: np.ndarray):
@@ -126,6 +131,13 @@ def run_case(number: int, base: np.ndarray) -> tuple:
         mapper.SetGazePoint(*case["gaze"])
         mapper.SetContentTolerance(case["tolerance"])
     name = case["layer"] if foveated else case["method"]
+    settings = {}
+    if name in ("demip", "demip_two_pass") and "demip" in case and not foveated:  # projections, thresholds
+        settings = dict(case["demip"])
+        if name == "demip_two_pass":
+            settings["projection"] = "mip"  # (the two-pass variant draws MIP's maximum)
+        for key, value in settings.items():
+            getattr(mapper, "Set" + "".join(part.capitalize() for part in key.split("_")))(value)
     if mask is not None:
         mapper.SetMaskInput(mask)
     planes, cropping = [], None
@@ -161,7 +173,7 @@ def run_case(number: int, base: np.ndarray) -> tuple:
     clip = (np.concatenate([p[0] for p in planes]), np.concatenate([p[1] for p in planes])) if planes else None
     expected = METHODS[name].reference(reference_image, camera, scene.size, sample_distance=scene.sample_distance,
                                        window=scene.window, clip_planes=clip, cropping=cropping, matrix=matrix,
-                                       **({"component": component} if component is not None else {}))
+                                       **({"component": component} if component is not None else {}), **settings)
     if foveated:
         expected[outside] = np.nan
     agree = np.mean(np.isnan(got) == np.isnan(expected))
