@@ -9,7 +9,8 @@ window wherever a structure is above its floor with content-adaptive density, is
 (float32, float64, int16, uint8), NaN holes, a mask (SetMaskInput, the reference given NaN there),
 3-component vectors (their magnitude or one component), anisotropic spacing, a rotated direction, an
 extent not from 0, a volume matrix, a sample distance, a slab, a clipping plane, cropping regions, bricks
-(a texture limit of 12), view, picture size (40x36 or 41x37), grey window and, for DEMIP, its projection
+(a texture limit of 12), view, picture size (40x36 or 41x37), grey window, cell scalars (drawn at the
+cell centres) and, for DEMIP, its projection
 (LMIP, attenuated, MIDA) and thresholds, and prints the cases whose
 float readout is off the reference by more than the method's tolerance (sampled methods on 8-bit data: 2 of 250, the
 texture unit's 8-bit filtering, docs/reliability.md) or disagree on hit and miss on more than 3 % of the
@@ -56,7 +57,8 @@ def draw_case(rng: random.Random) -> dict:
                 component=rng.choice([None, None, 0, 2]), distance=rng.choice([None, None, 0.37, 1.9]),
                 size=rng.choice([SIZE, (41, 37)]), window=rng.choice(WINDOWS),
                 demip=dict(projection=rng.choice(PROJECTIONS), local_threshold=rng.choice([0.2, 0.5, 0.8]),
-                           attenuation=rng.choice([0.0, 0.05, 0.3]), material_threshold=rng.choice([0.02, 0.1, 0.5])))
+                           attenuation=rng.choice([0.0, 0.05, 0.3]), material_threshold=rng.choice([0.02, 0.1, 0.5])),
+                cells=rng.random() < 0.15)
 
 
 def volumes(case: dict, base: np.ndarray):
@@ -71,18 +73,19 @@ def volumes(case: dict, base: np.ndarray):
         values[5:14, 8:20, 3:12] = np.nan  # (z, y, x)
     array = np.stack([values, values * 0.5, values * 0.25], -1).reshape(-1, 3) if case["vectors"] else values.ravel()
     image = vtkImageData()
-    image.SetDimensions(24, 24, 24)
+    cells = case.get("cells", False) and not case["mask"]  # (a mask hides points: refused with cell scalars)
+    image.SetDimensions(*((25, 25, 25) if cells else (24, 24, 24)))  # cell scalars: drawn at the cell centres
     if case["anisotropic"]:
         image.SetSpacing(0.7, 1.0, 1.6)
     if case["rotated"]:
         c, s = np.cos(0.5), np.sin(0.5)
         image.SetDirectionMatrix(c, -s, 0, s, c, 0, 0, 0, 1)
     if case["extent"]:
-        image.SetExtent(5, 28, -3, 20, 2, 25)
+        image.SetExtent(5, 28 + cells, -3, 20 + cells, 2, 25 + cells)
     image.SetOrigin(1.5, -2.0, 3.0)
     scalars = numpy_to_vtk(array, deep=True)
     scalars.SetName("s")
-    image.GetPointData().SetScalars(scalars)
+    (image.GetCellData() if cells else image.GetPointData()).SetScalars(scalars)
     if not case["mask"]:
         return image, image, None
     keep = np.ones(base.shape, bool)
@@ -108,7 +111,8 @@ def run_case(number: int, base: np.ndarray) -> tuple:
     sampled = not METHODS[case["layer"] if case["method"] == "foveated" else case["method"]].walks_cells
     distance = case.get("distance") if sampled else None
     size = case.get("size", SIZE)
-    values = vtk_to_numpy(reference_image.GetPointData().GetScalars()).astype(np.float64)
+    drawn = reference_image.GetPointData().GetScalars() or reference_image.GetCellData().GetScalars()
+    values = vtk_to_numpy(drawn).astype(np.float64)
     if values.ndim == 2:
         values = values[:, component] if component is not None else np.linalg.norm(values, axis=1)
     span = np.nanmax(values) - np.nanmin(values)
