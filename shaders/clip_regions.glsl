@@ -25,10 +25,15 @@ bool mcCropRegionVisible(vec3 p, vec3 low, vec3 high)
   return ((u_mc_cropFlags >> (code.x + 3 * code.y + 9 * code.z)) & 1) != 0;
 }
 
-// The sampled loop's test: sample i at base + i * step (texture coordinates) counts.
+// The sampled loop's test: sample i at base + i * step (texture coordinates) counts. A sample on a
+// region's boundary counts when the region on either side of it along the ray is visible (1e-3 of a step:
+// mipcast.core.clipping.sample_visible, SAMPLE_ON_PLANE), whatever float rounding makes of it.
 bool mcCropSampleVisible(vec3 base, vec3 step, int i)
 {
-  return mcCropRegionVisible(base + float(i) * step, u_mc_cropLow, u_mc_cropHigh);
+  vec3 p = base + float(i) * step;
+  vec3 e = 1.0e-3 * step;
+  return mcCropRegionVisible(p - e, u_mc_cropLow, u_mc_cropHigh) || mcCropRegionVisible(p + e, u_mc_cropLow,
+                                                                                          u_mc_cropHigh);
 }
 
 // The first crossing of a cropping plane by origin + t * dir after t = a,

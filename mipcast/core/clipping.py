@@ -253,6 +253,24 @@ def crop_region(points: np.ndarray, low: np.ndarray, high: np.ndarray) -> np.nda
     return code[..., 0] + 3 * code[..., 1] + 9 * code[..., 2]
 
 
+def sample_visible(points: np.ndarray, step: np.ndarray, low: np.ndarray, high: np.ndarray, flags: int) -> np.ndarray:
+    """Whether each sample (N, 3) of a ray stepping by ``step`` (broadcast) counts under cropping regions.
+
+    A sample on a region's boundary counts when the region on either side of
+    it along the ray is visible (within :data:`SAMPLE_ON_PLANE` steps, as a
+    sample on a clipping plane is kept): float rounding no longer decides. The
+    shader's test is the same (``mcCropSampleVisible``, shaders/clip_regions.glsl).
+
+    Examples
+    --------
+    >>> sample_visible(np.array([[1.0, 0.5, 0.5]]), np.array([1.0, 0.0, 0.0]), np.zeros(3), np.ones(3),
+    ...                0x2000).tolist()   # on the plane x = 1 between the visible centre and a hidden region
+    [True]
+    """
+    offset = SAMPLE_ON_PLANE * np.asarray(step, dtype=np.float64)
+    return crop_visible(points - offset, low, high, flags) | crop_visible(points + offset, low, high, flags)
+
+
 def crop_visible(points: np.ndarray, low: np.ndarray, high: np.ndarray, flags: int) -> np.ndarray:
     """Whether each point (N, 3) lies in a region whose bit is set in ``flags``.
 

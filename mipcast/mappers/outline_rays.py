@@ -181,9 +181,10 @@ def along(image, start: np.ndarray, step: np.ndarray, steps: np.ndarray, keep=No
         tie = SAMPLE_ON_PLANE  # a sample on a plane is kept, as in the shader
         kept &= (k[None, :] + tie >= keep[0][:, None]) & (k[None, :] - tie <= keep[1][:, None])
     if crop is not None:
-        from mipcast.core.clipping import crop_visible
+        from mipcast.core.clipping import sample_visible
 
-        kept &= crop_visible(at.reshape(-1, 3), *crop).reshape(kept.shape)
+        steps = np.broadcast_to(step[:, None, :], at.shape).reshape(-1, 3)
+        kept &= sample_visible(at.reshape(-1, 3), steps, *crop).reshape(kept.shape)
     return np.where(kept, values, np.nan)
 
 

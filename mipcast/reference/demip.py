@@ -17,7 +17,7 @@ import numpy as np
 
 from mipcast.core.camera_rays import placed
 from mipcast.core.parameter_tables import DEMIP
-from mipcast.core.clipping import SAMPLE_ON_PLANE, crop_visible
+from mipcast.core.clipping import SAMPLE_ON_PLANE, sample_visible
 from mipcast.core.parameters import check_values
 from mipcast.core.demip_depth import DepthGeometry, enhance
 from mipcast.core.shading import FLOOR_TOLERANCE
@@ -214,7 +214,7 @@ def _samples(values, entry, direction, count, step, crop=None) -> tuple:
     sample = trilinear(values, position.reshape(-1, 3)).reshape(len(count), len(k))
     valid = k[None, :] <= count[:, None]
     if crop is not None:
-        valid &= crop_visible(position, *crop)
+        valid &= sample_visible(position, step * direction[:, None, :], *crop)
     return sample, valid
 
 

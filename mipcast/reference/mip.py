@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mipcast.core.clipping import SAMPLE_ON_PLANE, crop_visible
+from mipcast.core.clipping import SAMPLE_ON_PLANE, crop_visible, sample_visible
 from mipcast.reference.rays import BUDGET, cells, gather, trilinear
 
 
@@ -43,8 +43,8 @@ def _sampled_reduce(values: np.ndarray, entry: np.ndarray, direction: np.ndarray
         if keep is not None:  # a clipped ray keeps the unclipped ray's sample positions
             at, tie = k * step, SAMPLE_ON_PLANE * step  # a sample on a plane counts
             valid &= (at + tie >= keep[0][rows, None]) & (at - tie <= keep[1][rows, None])
-        if crop is not None:  # a sample in a hidden cropping region does not count
-            valid &= crop_visible(position, *crop)
+        if crop is not None:  # a sample in a hidden cropping region does not count (one on a boundary does)
+            valid &= sample_visible(position, step * direction[rows, None, :], *crop)
         if floor > -np.inf:
             valid &= sample >= floor
         sample[~valid] = empty
