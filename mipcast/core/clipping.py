@@ -253,6 +253,19 @@ def crop_region(points: np.ndarray, low: np.ndarray, high: np.ndarray) -> np.nda
     return code[..., 0] + 3 * code[..., 1] + 9 * code[..., 2]
 
 
+def sample_kept(at: np.ndarray, low: np.ndarray, high: np.ndarray, step: float = 1.0) -> np.ndarray:
+    """Whether samples at ``at`` (ray parameter, broadcast) lie in the kept interval ``[low, high]`` of a ray
+    stepping by ``step`` (the same units): a sample on an end is kept, within :data:`SAMPLE_ON_PLANE` steps.
+
+    Examples
+    --------
+    >>> sample_kept(np.array([1.9999999, 2.0, 5.0, 5.01]), 2.0, 5.0).tolist()
+    [True, True, True, False]
+    """
+    tie = SAMPLE_ON_PLANE * step
+    return (at + tie >= low) & (at - tie <= high)
+
+
 def sample_visible(points: np.ndarray, step: np.ndarray, low: np.ndarray, high: np.ndarray, flags: int) -> np.ndarray:
     """Whether each sample (N, 3) of a ray stepping by ``step`` (broadcast) counts under cropping regions.
 

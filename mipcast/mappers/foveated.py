@@ -102,10 +102,6 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     ``docs/methods.md#foveated-rendering``.
     """
 
-
-    def _samples_rays(self) -> bool:
-        """Whether its levels' method samples its rays (the cell walks do not)."""
-        return not foveated_levels.walks_cells(self._parameters()["method"])
     #: The mapper's own (skipped) draw only needs the refusal piece (and its helper).
     #: Beyond one texture each level too large is composited over bricks first, then masked and
     #: blended (:mod:`mipcast.mappers.bricked_foveated`); refused for a layer that cannot brick.
@@ -118,6 +114,10 @@ class FoveatedVolumeMapper(MIPVolumeMapper):
     #: The same with the refinement mask built on the GPU from the deciding level's picture (no readback).
     COARSE_LEVEL_PIECES = foveated_levels.COARSE_LEVEL_PIECES
     PARAMETERS = parameter_tables.FOVEATED
+
+    def _samples_rays(self) -> bool:
+        """Whether its levels' method samples its rays (the cell walks do not)."""
+        return not foveated_levels.walks_cells(self._parameters()["method"])
 
     def __init__(self) -> None:
         super().__init__()

@@ -33,7 +33,7 @@ from typing import Optional, Sequence
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
-from mipcast.core.clipping import SAMPLE_ON_PLANE
+from mipcast.core.clipping import sample_kept, sample_visible
 from mipcast.core.object_state import object_state
 from mipcast.mappers.brick_rays import cap_steps, ray_uniforms, whole_of
 from mipcast.mappers.private_draw import read_depth
@@ -177,12 +177,9 @@ def along(image, start: np.ndarray, step: np.ndarray, steps: np.ndarray, keep=No
     at = start[:, None, :] + k[None, :, None] * step[:, None, :]
     values = trilinear(volume_array(image), np.clip(at, 0.0, upper).reshape(-1, 3)).reshape(len(start), len(k))
     kept = k[None, :] <= count[:, None]
-    if keep is not None:
-        tie = SAMPLE_ON_PLANE  # a sample on a plane is kept, as in the shader
-        kept &= (k[None, :] + tie >= keep[0][:, None]) & (k[None, :] - tie <= keep[1][:, None])
+    if keep is not None:  # (a sample on a plane is kept, as in the shader)
+        kept &= sample_kept(k[None, :].astype(float), keep[0][:, None], keep[1][:, None])
     if crop is not None:
-        from mipcast.core.clipping import sample_visible
-
         steps = np.broadcast_to(step[:, None, :], at.shape).reshape(-1, 3)
         kept &= sample_visible(at.reshape(-1, 3), steps, *crop).reshape(kept.shape)
     return np.where(kept, values, np.nan)

@@ -17,7 +17,7 @@ import numpy as np
 
 from mipcast.core.camera_rays import placed
 from mipcast.core.parameter_tables import DEMIP
-from mipcast.core.clipping import SAMPLE_ON_PLANE, sample_visible
+from mipcast.core.clipping import sample_kept, sample_visible
 from mipcast.core.parameters import check_values
 from mipcast.core.demip_depth import DepthGeometry, enhance
 from mipcast.core.shading import FLOOR_TOLERANCE
@@ -156,8 +156,7 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
         sample, valid = _samples(values, entry[part], direction[part], count[part], step, crop)
         if clip_planes is not None:
             at = np.arange(1, sample.shape[1] + 1)[None, :] * step
-            tie = SAMPLE_ON_PLANE * step  # a sample on a plane counts
-            valid = valid & (at + tie >= lo[part, None]) & (at - tie <= hi[part, None])
+            valid = valid & sample_kept(at, lo[part, None], hi[part, None], step)  # (one on a plane too)
         sampled[part] = valid.any(axis=1)
         if projection == "attenuated":
             maximum[part] = attenuated_maximum(sample, valid, low, high, attenuation * voxels_per_step)

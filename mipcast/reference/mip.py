@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mipcast.core.clipping import SAMPLE_ON_PLANE, crop_visible, sample_visible
+from mipcast.core.clipping import crop_visible, sample_kept, sample_visible
 from mipcast.reference.rays import BUDGET, cells, gather, trilinear
 
 
@@ -41,8 +41,7 @@ def _sampled_reduce(values: np.ndarray, entry: np.ndarray, direction: np.ndarray
         sample = trilinear(values, position.reshape(-1, 3)).reshape(len(rows), len(k))
         valid = k[None, :] <= count[rows, None]
         if keep is not None:  # a clipped ray keeps the unclipped ray's sample positions
-            at, tie = k * step, SAMPLE_ON_PLANE * step  # a sample on a plane counts
-            valid &= (at + tie >= keep[0][rows, None]) & (at - tie <= keep[1][rows, None])
+            valid &= sample_kept(k * step, keep[0][rows, None], keep[1][rows, None], step)  # (one on a plane too)
         if crop is not None:  # a sample in a hidden cropping region does not count (one on a boundary does)
             valid &= sample_visible(position, step * direction[rows, None, :], *crop)
         if floor > -np.inf:
