@@ -1,6 +1,6 @@
 """Random combinations of input and settings, every exact-readout method against its float64 reference.
 
-    python tests/differential_check.py [--first 0] [--count 60] [--cases K ...]
+    python tests/differential_check.py [--first 0] [--count 60] [--cases K ...] [--after OFFSET]
 
 Case ``k`` (seeded by ``k``, so a failure is replayed by its number) draws the vessels 24^3 with a random
 method (those with a float readout and a reference; or the foveated method, a random layer, gaze and
@@ -20,6 +20,7 @@ picture is more than 2 grey off the reference's on more than 1 % of the pixels. 
 import argparse
 import random
 import warnings
+from typing import Optional
 
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
@@ -29,8 +30,12 @@ from mipcast.core import foveation
 from mipcast.core.clipping import slab_planes
 from mipcast.core.object_state import object_state
 from mipcast.data_fixtures import make_fixture
+from mipcast import methods
 from mipcast.methods import METHODS
-from mipcast.offscreen import OffscreenView
+from mipcast.core.prepare import scalar_image
+from mipcast.core.windowing import resolve_window
+from mipcast.mappers.input_preparer import window_image
+from mipcast.offscreen import OffscreenView, set_view
 
 CHECKED = [name for name, method in METHODS.items() if method.float_readout and method.reference is not None]
 SIZE = (40, 36)
@@ -103,25 +108,67 @@ def volumes(case: dict, base: np.ndarray):
     return image, reference_image, mask
 
 
-def run_case(number: int, base: np.ndarray) -> tuple:
-    """(case, problem or None)."""
-    case = draw_case(random.Random(number))
-    image, reference_image, mask = volumes(case, base)
-    component = case.get("component") if case["vectors"] else None
-    sampled = not METHODS[case["layer"] if case["method"] == "foveated" else case["method"]].walks_cells
-    distance = case.get("distance") if sampled else None
-    size = case.get("size", SIZE)
-    drawn = reference_image.GetPointData().GetScalars() or reference_image.GetCellData().GetScalars()
+def case_window(case: dict, image, component) -> Optional[tuple]:
+    """The case's grey window in data units (None: OffscreenView's default)."""
+    if case.get("window") is None:
+        return None
+    drawn = image.GetPointData().GetScalars() or image.GetCellData().GetScalars()
     values = vtk_to_numpy(drawn).astype(np.float64)
     if values.ndim == 2:
         values = values[:, component] if component is not None else np.linalg.norm(values, axis=1)
-    span = np.nanmax(values) - np.nanmin(values)
-    window = case.get("window")
-    if window is not None:
-        window = tuple(float(np.nanmin(values) + f * span) for f in window)
-    scene = OffscreenView(image, case["method"], size=size, view=case["view"], sample_distance=distance,
-                          component=component, window=window)
+    low, span = np.nanmin(values), np.nanmax(values) - np.nanmin(values)
+    return tuple(float(low + f * span) for f in case["window"])
+
+
+def case_settings(case: dict) -> tuple:
+    """(component, sample distance or None) of a case."""
+    component = case.get("component") if case["vectors"] else None
+    sampled = not METHODS[case["layer"] if case["method"] == "foveated" else case["method"]].walks_cells
+    return component, case.get("distance") if sampled else None
+
+
+def scene_for(case: dict, image, reference_image) -> OffscreenView:
+    """A fresh scene drawing ``case`` (its window from ``reference_image``: the mask's points NaN)."""
+    component, distance = case_settings(case)
+    return OffscreenView(image, case["method"], size=case.get("size", SIZE), view=case["view"],
+                         sample_distance=distance, component=component,
+                         window=case_window(case, reference_image, component))
+
+
+def replace_method(scene: OffscreenView, other: OffscreenView) -> None:
+    """Draw ``scene``'s volume with ``other``'s mapper and method from now on (same volume, renderer, window)."""
+    methods.detach(scene.mapper)
+    methods.attach(other.mapper, scene.volume)
+    scene.mapper, scene.method = other.mapper, other.method
+
+
+def change_scene(scene: OffscreenView, case: dict, image, reference_image) -> None:
+    """Change a scene that drew another case to draw ``case``: what OffscreenView's constructor sets."""
+    component, distance = case_settings(case)
+    scene.set_input(image, component)
+    scene.sample_distance = distance or min(abs(s) for s in image.GetSpacing())
+    scene.mapper.SetSampleDistance(scene.sample_distance)
+    scene.set_window(resolve_window(window_image(image, component, None),
+                                    case_window(case, reference_image, component),
+                                    scene.method.projection))
+    scene.size = case.get("size", SIZE)
+    scene.render_window.SetSize(*scene.size)
+    scene.volume.SetOrientation(0.0, 0.0, 0.0)
+    scene.volume.SetScale(1.0, 1.0, 1.0)
+    scene.volume.SetPosition(0.0, 0.0, 0.0)
+    set_view(scene.renderer, scalar_image(image), case["view"])
+
+
+def configure(scene: OffscreenView, case: dict, number: int, image, mask, reset: bool = False) -> tuple:
+    """Apply the case's matrix and mapper settings (``reset``: undo another case's first); returns
+    (clip planes for the reference, cropping, matrix, DEMIP settings)."""
     mapper, camera = scene.mapper, scene.camera
+    if reset:
+        mapper.RemoveAllClippingPlanes()
+        mapper.SetCropping(False)
+        mapper.SetSlabThickness(0.0)
+        mapper.SetMaskInput(None)
+        object_state(mapper).pop("texture_limit", None)  # asked of the driver again
     matrix = None
     if case.get("matrix"):  # the volume placed by its own matrix (a clinical pipeline's, ParaView's transform)
         scene.volume.SetOrientation(20.0, -35.0, 10.0)
@@ -169,6 +216,46 @@ def run_case(number: int, base: np.ndarray) -> tuple:
         planes.append((centre[None, :], normal[None, :]))
     if case["bricks"]:
         object_state(mapper)["texture_limit"] = 12  # pretend a small GPU
+    return planes, cropping, matrix, settings
+
+
+def run_case(number: int, base: np.ndarray, after: Optional[int] = None) -> tuple:
+    """(case, problem or None).  ``after``: the scene first draws case ``after`` (with case ``number``'s
+    method, or for ``number`` a multiple of 3 its own, the volume's mapper then replaced by one of case
+    ``number``'s method), then is changed to case ``number`` (input, window, view, size, sample distance,
+    matrix and every mapper setting), keeping its volume and window, as an interactive viewer does; for odd
+    ``number`` the input is the first image object, given case ``number``'s contents by ``DeepCopy``."""
+    case = draw_case(random.Random(number))
+    image, reference_image, mask = volumes(case, base)
+    component = case.get("component") if case["vectors"] else None
+    drawn = reference_image.GetPointData().GetScalars() or reference_image.GetCellData().GetScalars()
+    values = vtk_to_numpy(drawn).astype(np.float64)
+    if values.ndim == 2:
+        values = values[:, component] if component is not None else np.linalg.norm(values, axis=1)
+    span = np.nanmax(values) - np.nanmin(values)
+    if after is None:
+        scene = scene_for(case, image, reference_image)
+    else:  # the scene drew another case first, then is changed to this one
+        first = draw_case(random.Random(after))
+        if number % 3:  # else the first case's own method: the volume's mapper is replaced (ParaView's Method)
+            first["method"] = case["method"]
+        other = np.ascontiguousarray(base.transpose(2, 1, 0)[::-1])  # other contents: stale state shows
+        first_image, first_reference, first_mask = volumes(first, other)
+        scene = scene_for(first, first_image, first_reference)
+        configure(scene, first, after, first_image, first_mask)
+        scene.float_image()
+        scene.screenshot()
+        if number % 2:  # odd cases: the same image object given the new contents (a time step read in place)
+            first_image.DeepCopy(image)
+            image = first_image
+        if first["method"] != case["method"]:
+            replace_method(scene, scene_for(case, image, reference_image))
+        change_scene(scene, case, image, reference_image)
+    planes, cropping, matrix, settings = configure(scene, case, number, image, mask, reset=after is not None)
+    mapper, camera = scene.mapper, scene.camera
+    foveated = case["method"] == "foveated"
+    name = case["layer"] if foveated else case["method"]
+    size = scene.size
     got = scene.float_image()
     if foveated:
         plan = mapper.GetLastPlan()
@@ -216,6 +303,8 @@ def main() -> None:
     parser.add_argument("--first", type=int, default=0)
     parser.add_argument("--count", type=int, default=60)
     parser.add_argument("--cases", type=int, nargs="*", help="these case numbers only")
+    parser.add_argument("--after", type=int, help="draw case N on a scene that drew case N + AFTER first (its "
+                        "method N's), then was changed: what a viewer's settings leave behind")
     args = parser.parse_args()
     warnings.simplefilter("ignore")
     base = vtk_to_numpy(make_fixture("vessels", size=24).GetPointData().GetScalars()).astype(np.float64)
@@ -223,7 +312,7 @@ def main() -> None:
     off = 0
     numbers = args.cases or range(args.first, args.first + args.count)
     for number in numbers:
-        case, problem = run_case(number, base)
+        case, problem = run_case(number, base, None if args.after is None else number + args.after)
         if problem:
             off += 1
             print(f"case {number}: {problem}\n    {case}")

@@ -150,6 +150,25 @@ def index_space(image: vtkImageData) -> tuple:
     return to_index, np.array(image.GetDimensions(), float) - 1.0
 
 
+def first_point(image: vtkImageData) -> tuple:
+    """Where the first point of ``image``'s extent lies: its index-to-physical matrix at the extent's start.
+
+    Not ``image.GetPoint(0)``: VTK 9.7 keeps an image's points from before a
+    ``DeepCopy`` or ``ShallowCopy`` into it that changed its spacing, origin
+    or direction but not its extent (a time step read into the same object).
+
+    Examples
+    --------
+    >>> image = vtkImageData()
+    >>> image.SetExtent(2, 5, 0, 3, 0, 1)
+    >>> image.SetSpacing(0.5, 1.0, 1.0)
+    >>> first_point(image)
+    (1.0, 0.0, 0.0)
+    """
+    index = np.array([*image.GetExtent()[0::2], 1.0], float)
+    return tuple(float(v) for v in (matrix_array(image.GetIndexToPhysicalMatrix()) @ index)[:3])
+
+
 def placed(image, matrix=None):
     """``image`` as its vtkVolume's ``matrix`` places it in the world: its index-to-physical matrix is index -> world.
 

@@ -12,7 +12,7 @@ from typing import Optional, Sequence
 
 import numpy as np
 
-from mipcast.core.camera_rays import matrix_array, placed
+from mipcast.core.camera_rays import first_point, matrix_array, placed
 
 
 def global_texture_box(piece_extent: Sequence[int], whole: Sequence[int]):
@@ -265,7 +265,7 @@ def whole_of(image, matrix=None):
     (4.0, 10.0, 0.0, 3.0, 0.0, 1.0)
     """
     dims = image.GetDimensions()  # counted from 0: the first point of the extent is the origin
-    return whole_geometry(((0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1), image.GetPoint(0), image.GetSpacing(),
+    return whole_geometry(((0, dims[0] - 1, 0, dims[1] - 1, 0, dims[2] - 1), first_point(image), image.GetSpacing(),
                            image.GetDirectionMatrix()), matrix)
 
 

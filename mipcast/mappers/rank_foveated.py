@@ -56,6 +56,7 @@ from typing import Callable, Optional, Sequence, Tuple
 import numpy as np
 
 from mipcast.core import content_adaptive, foveation
+from mipcast.core.camera_rays import first_point
 from mipcast.core.object_state import object_state
 from mipcast.core.prepare import missing_fill, prepare_scalars
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
@@ -477,7 +478,7 @@ def _reduce_coarse_levels(rank, reduce: Reduce) -> None:
             at += nx * ny * nz
             spacing = [s * ((f - 1) / (n - 1) if n > 1 else 1.0) for s, f, n in zip(spacing, dims, (nx, ny, nz))]
             dims = [nx, ny, nz]
-            rank.coarse_levels[level] = _image_of(values, whole_image.GetPoint(0), spacing,
+            rank.coarse_levels[level] = _image_of(values, first_point(whole_image), spacing,
                                                   whole_image.GetDirectionMatrix(), rank.values0.dtype, name)
     except Exception as error:  # noqa: BLE001
         rank.problem = repr(error)
