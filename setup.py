@@ -40,6 +40,9 @@ setup(
         # NRRD: every encoding, detached headers, axes of any kind (VTK's reader misreads 3D Slicer's vector
         # volumes, takes a short first axis as components, and reads only the first of a time series)
         "pynrrd>=1.0",
+        # TIFF stacks (ImageJ hyperstacks, OME-TIFF): axes, physical sizes, LZW and other codecs
+        "tifffile>=2023.1",
+        "imagecodecs>=2023.1",
         "matplotlib>=3.6",
         "tqdm>=4.60",
     ],

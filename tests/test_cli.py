@@ -112,7 +112,7 @@ def test_render_a_volume_of_a_4d_nifti(tmp_path, capsys):
     assert np.array_equal(shots["picked"], shots["alone"]) and shots["picked"][..., :3].max() > 0.5
     assert not np.array_equal(shots["picked"], shots["first"])
     assert main(["render", str(tmp_path / "series.nii.gz"), "--volume", "3", "--out", str(tmp_path / "x.png")]) == 2
-    assert "holds 3 volumes (volume 0 to 2); there is no volume 3" in capsys.readouterr().err
+    assert "holds 3 volumes (4D NIfTI; volume 0 to 2); there is no volume 3" in capsys.readouterr().err
 
 
 def test_render_a_data_set_of_a_multiblock_file(tmp_path, capsys):

@@ -403,7 +403,7 @@ def test_a_4d_nifti_reads_the_volume_asked_for(tmp_path):
         assert picked.GetBounds() == first.GetBounds()
         assert picked.GetDirectionMatrix().GetElement(0, 1) == first.GetDirectionMatrix().GetElement(0, 1)
     np.testing.assert_array_equal(check_image(first), check_image(read_volume(tmp_path / "series.nii.gz", volume=0)))
-    with pytest.raises(ValueError, match="holds 5 volumes \\(volume 0 to 4\\); there is no volume 5"):
+    with pytest.raises(ValueError, match="holds 5 volumes \\(4D NIfTI; volume 0 to 4\\); there is no volume 5"):
         read_volume(tmp_path / "series.nii.gz", volume=5)
     with pytest.raises(ValueError, match="integer >= 0"):
         read_volume(tmp_path / "series.nii.gz", volume=-1)

@@ -68,7 +68,7 @@ def _parser() -> argparse.ArgumentParser:
     demo.add_argument("--size", type=int, default=256, help="image width and height (pixels)")
     demo.set_defaults(run=_run_demo)
 
-    render = sub.add_parser("render", help="render a volume file (.vti/.nrrd/.nii/.mha/DICOM) to PNG",
+    render = sub.add_parser("render", help="render a volume file (.vti/.nrrd/.nii/.mha/.tif/DICOM) to PNG",
                             formatter_class=argparse.RawDescriptionHelpFormatter, allow_abbrev=False)
     render.add_argument("input", type=Path)
     render.add_argument("--method", default="mip", choices=sorted(METHODS))
@@ -90,14 +90,14 @@ def _parser() -> argparse.ArgumentParser:
                              "(--out sweep.gif or .mp4)")
     render.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
     render.add_argument("--volume", type=_volume, default=None, metavar="K",
-                        help="which volume of a 4D NIfTI or NRRD file (a time series), or which data set of a "
-                             ".vtm/.vtpd/.vtpc file, from 0 (default: the first volume; a composite file's one)")
+                        help=_VOLUME_HELP)
     render.add_argument("--padding", default="missing", choices=["missing", "keep"],
                         help="DICOM pixels holding the PixelPaddingValue (outside a CT's field of view): "
                              "missing data (default) or kept as values")
     render.add_argument("--scalars", default=None, help="point array to project (default: the active scalars)")
     render.add_argument("--component", type=_component, default=None, metavar="K|magnitude",
-                        help="component of a multi-component array to draw (default: the magnitude)")
+                        help="component of a multi-component array (a TIFF stack's channel) to draw "
+                             "(default: the magnitude)")
     render.add_argument("--stereo", default=None, choices=["anaglyph", "side-by-side", "left", "right"],
                         help="a stereo pair of any method: red-cyan anaglyph or side by side (each eye half "
                              "width); use a perspective view (--view perspective) for depth")
@@ -115,8 +115,7 @@ def _parser() -> argparse.ArgumentParser:
     view.add_argument("--view", default=None, choices=VIEW_NAMES, help="first camera (default: pyvista's)")
     view.add_argument("--series", default=None, help="DICOM SeriesInstanceUID when a folder holds several")
     view.add_argument("--volume", type=_volume, default=None, metavar="K",
-                      help="which volume of a 4D NIfTI or NRRD file (a time series), or which data set of a "
-                           ".vtm/.vtpd/.vtpc file, from 0 (default: the first volume; a composite file's one)")
+                      help=_VOLUME_HELP)
     view.add_argument("--padding", default="missing", choices=["missing", "keep"],
                       help="DICOM pixels holding the PixelPaddingValue (outside a CT's field of view): "
                            "missing data (default) or kept as values")
@@ -162,6 +161,8 @@ def _parser() -> argparse.ArgumentParser:
     return parser
 
 
+_VOLUME_HELP = ("which volume of a 4D NIfTI or NRRD file (a time series), which time point of a TIFF stack, or "
+                "which data set of a .vtm/.vtpd/.vtpc file, from 0 (default: the first volume; a composite file's one)")
 _WINDOW_HELP = ("grey window: LOW HIGH in data units, 'full' (the data range), a preset (ct-mip, ct-bone, "
                 "ct-angio, ct-minip, ct-soft), or 'dicom' (a DICOM series' own window; 'dicom:2', 'dicom:NAME' "
                 "another); default: CT preset ct-mip (150 1800) for HU data, else histogram percentiles "

@@ -53,7 +53,7 @@ PathLike = Union[str, "os.PathLike[str]"]
 
 #: Extensions read by :func:`read_volume` (a folder is read as a DICOM series).
 SUPPORTED_EXTENSIONS = (".vti", ".pvti", ".vtr", ".vtk", ".vtm", ".vtpd", ".vtpc", ".nrrd", ".nhdr", ".nii",
-                        ".nii.gz", ".mha", ".mhd", ".dcm", ".dicom")
+                        ".nii.gz", ".mha", ".mhd", ".tif", ".tiff", ".dcm", ".dicom")
 
 _RAS_TO_LPS = np.diag([-1.0, -1.0, 1.0])
 _NRRD_SPACES = {  # NRRD 'space' -> matrix taking its coordinates to LPS
@@ -76,7 +76,9 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Opt
         ``.vtpd`` / ``.vtpc`` (XML multiblock / partitioned data (collection)
         holding one volume or image pieces of one grid: :func:`mipcast.io.composite.one_image`),
         ``.nrrd``/``.nhdr``, ``.nii``/``.nii.gz`` (NIfTI-1/2), ``.mha``/``.mhd``
-        (MetaImage), a ``.dcm`` file or a folder of DICOM files.  A file with
+        (MetaImage), ``.tif``/``.tiff`` (a microscope's stack: ImageJ
+        hyperstacks, OME-TIFF, plain pages; :mod:`mipcast.io.tiff`), a
+        ``.dcm`` file or a folder of DICOM files.  A file with
         another extension is read as DICOM if it carries the DICOM marker
         ('DICM' at byte 128).  A VTK file that names no active scalars
         (pyvista's ``save``, ParaView's writers) has its first numeric point
@@ -87,7 +89,8 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Opt
     volume : int, optional
         For a 4D NIfTI or NRRD file (a time series: fMRI, perfusion, DCE, 4D
         CT; a DWI's gradients): which volume to read, from 0; default the
-        first, with a warning that names how many there are.  For a
+        first, with a warning that names how many there are; for a TIFF
+        stack, which time point (``T``).  For a
         ``.vtm`` / ``.vtpd`` / ``.vtpc`` file: which of its non-empty data
         sets, from 0 (default: its one volume).
     padding : {"missing", "keep"}
@@ -181,8 +184,13 @@ def read_volume(path: PathLike, *, series_uid: Optional[str] = None, volume: Opt
         image = _read_nifti(path, volume)
     elif kind == "nrrd":
         image = _read_nrrd(path, volume)
+    elif kind == "tiff":
+        from mipcast.io.tiff import read_tiff
+
+        image = read_tiff(path, volume)
     elif volume is not None and kind not in _COMPOSITE_KINDS:
-        raise ValueError(f"volume picks a volume of a 4D NIfTI or NRRD file or a data set of a .vtm, .vtpd or "
+        raise ValueError(f"volume picks a volume of a 4D NIfTI or NRRD file, a time point of a TIFF stack or a "
+                         f"data set of a .vtm, .vtpd or "
                          f".vtpc file, not of '{path}' (a DICOM folder's volumes are picked with series_uid, see "
                          "mipcast.io.dicom.list_series)")
     else:
@@ -204,7 +212,8 @@ def _kind(path: Path) -> str:
                          (".vtm", "vtm"), (".vtpd", "vtpd"), (".vtpc", "vtpc"),
                          (".nrrd", "nrrd"), (".nhdr", "nrrd"),
                          (".nii", "nifti"), (".nii.gz", "nifti"), (".mha", "meta"),
-                         (".mhd", "meta"), (".dcm", "dicom"), (".dicom", "dicom")):
+                         (".mhd", "meta"), (".tif", "tiff"), (".tiff", "tiff"), (".dcm", "dicom"),
+                         (".dicom", "dicom")):
         if name.endswith(suffix):
             return kind
     if _has_dicom_marker(path):
@@ -429,15 +438,9 @@ def _read_nifti(path: Path, volume: Optional[int] = None) -> vtkImageData:
     image = _run(reader, path, "NIfTI (.nii/.nii.gz)")
     header = reader.GetNIFTIHeader()
     count = reader.GetTimeDimension()
-    if volume is None and count > 1:
-        warnings.warn(f"'{path}' holds {count} volumes (4D NIfTI); the first is read: pass volume=K "
-                      f"(mipcast render/view --volume K), K from 0 to {count - 1}, for another",
-                      stacklevel=caller_level())
-    elif volume is not None:
-        if volume >= count:
-            raise ValueError(f"'{path}' holds {count} volume{'s' if count > 1 else ''} (volume 0"
-                             f"{f' to {count - 1}' if count > 1 else ''}); there is no volume {volume}")
-        _keep_volume(image, int(volume), count)
+    number = volume_number(path, count, volume, kind="4D NIfTI")
+    if volume is not None:
+        _keep_volume(image, number, count)
     spacing = np.array(image.GetSpacing())
     geometry = None
     sform, qform = reader.GetSFormMatrix(), reader.GetQFormMatrix()
@@ -538,7 +541,9 @@ def _read_nrrd(path: Path, volume: Optional[int] = None) -> vtkImageData:
                 raise ValueError(f"'{path}' holds one volume of {sizes[others[0]]} components ({kind}); there is no "
                                  f"volume {volume} (pass component=K to draw one component)")
         else:
-            values = _nrrd_volume(path, values, sizes[others[0]], kind, others[0], volume)
+            along = f"along its axis {others[0]}"
+            values = values[..., volume_number(path, sizes[others[0]], volume, (f"volume {along}", f"volumes {along}"),
+                                               kind)]
     elif volume is not None and volume != 0:
         raise ValueError(f"'{path}' holds 1 volume (volume 0); there is no volume {volume}")
     image = vtkImageData()
@@ -563,21 +568,24 @@ def _nrrd_spatial_axes(header: dict, kinds: list, ndim: int) -> list:
     return list(range(min(ndim, 3)))
 
 
-def _nrrd_volume(path: Path, values: np.ndarray, count: int, kind: str, axis: int,
-                 volume: Optional[int]) -> np.ndarray:
-    """Volume ``volume`` (default 0, with a warning when there are several) of the last axis of ``values``."""
+def volume_number(path: Path, count: int, volume: Optional[int], noun: tuple = ("volume", "volumes"),
+                  kind: str = "") -> int:
+    """Which of a file's ``count`` volumes to read: ``volume``, checked, or 0 (a warning says how many when
+    there are several).  ``noun``: one volume of the file and several (``("time point", "time points")``),
+    ``kind`` what they are (``4D NIfTI``, a NRRD axis's kind, ``T`` of a TIFF stack)."""
+    one, many = noun
     if volume is None:
         if count > 1:
-            warnings.warn(f"'{path}' holds {count} volumes along its axis {axis} ({kind}); the first is read: pass "
+            warnings.warn(f"'{path}' holds {count} {many}{f' ({kind})' if kind else ''}; the first is read: pass "
                           f"volume=K (mipcast render/view --volume K), K from 0 to {count - 1}, for another",
                           stacklevel=caller_level())
-        volume = 0
+        return 0
     if isinstance(volume, bool) or not isinstance(volume, (int, np.integer)) or volume < 0:
         raise ValueError(f"volume must be an integer >= 0 (the first volume is 0), got {volume!r}")
     if volume >= count:
-        raise ValueError(f"'{path}' holds {count} volume{'s' if count > 1 else ''} along its axis {axis} ({kind}; "
-                         f"volume 0{f' to {count - 1}' if count > 1 else ''}); there is no volume {volume}")
-    return values[..., int(volume)]
+        raise ValueError(f"'{path}' holds {count} {many if count > 1 else one} ({f'{kind}; ' if kind else ''}volume 0"
+                         f"{f' to {count - 1}' if count > 1 else ''}); there is no volume {volume}")
+    return int(volume)
 
 
 def _nrrd_geometry(path: Path, image: vtkImageData, header: dict, spatial: list) -> None:
