@@ -115,7 +115,8 @@ def _documentation(text):
 @smhint.xml('<ShowInMenu category="mipcast"/>')
 @smhint.xml('<RepresentationType view="RenderView" type="Slice"/>')
 @smproperty.input(name="Input", port_index=0)
-@smdomain.datatype(dataTypes=["vtkImageData"], composite_data_supported=True)  # one volume or its pieces
+# image data, one volume or its pieces (a multiblock), an evenly spaced rectilinear grid (netCDF's)
+@smdomain.datatype(dataTypes=["vtkImageData", "vtkRectilinearGrid"], composite_data_supported=True)
 @smdomain.xml('<InputArrayDomain name="input_array" attribute_type="point"/>')
 class MipcastMIPRender(VTKPythonAlgorithmBase):
     """Render a volume's maximum intensity projection offscreen into a 2D image.
@@ -259,21 +260,28 @@ class MipcastMIPRender(VTKPythonAlgorithmBase):
 
     # -- helpers -------------------------------------------------------------------
     def _volume(self, source):
-        """A shallow copy of the input with the chosen array as active point scalars.
+        """A shallow copy of the input as image data (:func:`mipcast.io.as_image_data`), the chosen array
+        as active point scalars.
 
         A multiblock or partitioned input is the one volume it holds, or its image pieces joined
-        (:func:`mipcast.io.composite.one_image`; a .vtm / .vtpd file, a reader's multiblock output).
+        (a .vtm / .vtpd file, a reader's multiblock output); an evenly spaced rectilinear grid (netCDF
+        CF's) is image data; a left-handed direction matrix is made right-handed (voxels kept in place).
         """
-        from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet, vtkDataObject, vtkImageData
+        from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkImageData, vtkRectilinearGrid
 
-        if isinstance(source, vtkCompositeDataSet):
-            from mipcast.io.composite import one_image
+        from mipcast.io import as_image_data
 
-            source = one_image(source)
+        try:
+            source = as_image_data(source) if source is not None else None
+        except TypeError as error:
+            if isinstance(source, vtkRectilinearGrid):  # uneven steps
+                raise TypeError(f"{error} (ParaView: Filters > Resample To Image)") from None
+            raise
         if not isinstance(source, vtkImageData):
             kind = "nothing" if source is None else type(source).__name__
             raise TypeError(
-                f"the input must be image data (vtkImageData), got {kind}; resample it "
+                f"the input must be image data (vtkImageData) or an evenly spaced rectilinear grid, got {kind}; "
+                "resample it "
                 "first (Filters > Resample To Image)")
         image = vtkImageData()
         image.ShallowCopy(source)

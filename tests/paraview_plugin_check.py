@@ -22,7 +22,7 @@ import sys
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 from vtkmodules.vtkCommonCore import vtkOutputWindow, vtkStringOutputWindow
-from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkCommonDataModel import vtkDataObject, vtkImageData
 
 import mipcast.plugin
 from vtk_png import write_png
@@ -142,7 +142,7 @@ def error_text(data, **properties):
     from paraview.simple import Delete
 
     with CapturedLog() as captured:
-        source = data if not isinstance(data, vtkImageData) else producer_of(data)
+        source = producer_of(data) if isinstance(data, vtkDataObject) else data  # (else a source proxy)
         render = mip_render(Input=source, **properties)
         render.UpdatePipeline()
         Delete(render)
@@ -212,6 +212,48 @@ def pieces_of_one_volume(image):
     return result
 
 
+def other_forms_of(image):
+    """The same volume as an evenly spaced rectilinear grid with a decreasing x axis (netCDF CF's), as image
+    data with a left-handed direction matrix (x flipped), and an uneven rectilinear grid (refused): the first
+    two drawn as ``image``, analytic, its float readout also against the float64 reference."""
+    from vtkmodules.vtkCommonDataModel import vtkRectilinearGrid
+
+    nx, ny, nz = image.GetDimensions()
+    values = vtk_to_numpy(image.GetPointData().GetScalars()).reshape(nz, ny, nx)
+    flipped = numpy_to_vtk(np.ascontiguousarray(values[:, :, ::-1]).ravel(), deep=True)
+    flipped.SetName("scalars")
+    grid = vtkRectilinearGrid()
+    grid.SetDimensions(nx, ny, nz)
+    for axis, count, decreasing in (("X", nx, True), ("Y", ny, False), ("Z", nz, False)):
+        coordinates = np.arange(count, dtype=np.float64)
+        getattr(grid, f"Set{axis}Coordinates")(numpy_to_vtk(coordinates[::-1].copy() if decreasing else coordinates,
+                                                             deep=True))
+    grid.GetPointData().SetScalars(flipped)
+    mirrored = vtkImageData()
+    mirrored.SetDimensions(nx, ny, nz)
+    mirrored.SetOrigin(nx - 1.0, 0.0, 0.0)
+    mirrored.SetDirectionMatrix(-1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
+    mirrored.GetPointData().SetScalars(flipped)
+    results = {}
+    for name, data in (("rectilinear", grid), ("left_handed", mirrored)):
+        with CapturedLog() as captured:
+            render = mip_render(Input=producer_of(data), Method="analytic")
+            result, _ = compare(image, render, "analytic")
+        values = fetch_arrays(render)[2]
+        view = OffscreenView(image, "analytic", size=(WIDTH, HEIGHT), view="oblique", window="full")
+        expected = METHODS["analytic"].reference(image, view.camera, view.size, window=view.window)
+        hit = np.isfinite(values) & np.isfinite(expected)
+        result["reference_nan_mismatch"] = int(np.count_nonzero(np.isnan(values) != np.isnan(expected)))
+        result["max_reference_diff"] = float(np.abs(values[hit] - expected[hit]).max())
+        result["log"] = captured.text.strip()
+        results[name] = result
+    uneven = vtkRectilinearGrid()
+    uneven.DeepCopy(grid)
+    uneven.SetZCoordinates(numpy_to_vtk(np.cumsum(np.linspace(0.5, 1.5, nz)), deep=True))
+    results["uneven"] = error_text(uneven)
+    return results
+
+
 def main(argv):
     image = make_fixture("vessels", size=32)
     producer = producer_of(image)
@@ -227,6 +269,7 @@ def main(argv):
                         for name, (data, props) in bad_volumes().items()}
     report["recovery"] = recovery(image)
     report["pieces"] = pieces_of_one_volume(image)
+    report["forms"] = other_forms_of(image)
     if "--png" in argv:
         write_png(argv[argv.index("--png") + 1], picture)
     print(json.dumps(report))

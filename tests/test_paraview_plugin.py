@@ -77,6 +77,26 @@ def test_a_multiblock_of_image_pieces_is_drawn_as_the_whole_volume(report):
     assert pieces["max_value_diff"] <= 1e-6 * pieces["value_range"]
 
 
+@pytest.mark.parametrize("form", ["rectilinear", "left_handed"])
+def test_an_even_rectilinear_grid_and_a_left_handed_image_are_drawn_as_the_volume(report, form):
+    """netCDF CF's rectilinear grids (evenly spaced, an axis decreasing) and a left-handed direction matrix:
+    drawn as the same volume as image data (mipcast.io.as_image_data), the float readout the float64
+    reference's; until 2026-12-05 the filter refused both (not image data; a reflection)."""
+    import mipcast
+
+    drawn = report["forms"][form]
+    assert drawn["log"] == ""
+    assert drawn["max_rgb_diff"] == 0 and drawn["nan_mismatch"] == 0 and drawn["lit_pixels"] > 0.10 * drawn["pixels"]
+    assert drawn["reference_nan_mismatch"] == 0
+    assert drawn["max_reference_diff"] <= mipcast.METHODS["analytic"].reference_tolerance * drawn["value_range"]
+
+
+def test_an_uneven_rectilinear_grid_is_refused_naming_paraviews_resample_filter(report):
+    message = report["forms"]["uneven"]
+    assert message.startswith("mipcast MIP Render:") and "not evenly spaced" in message, message
+    assert "Filters > Resample To Image" in message, message
+
+
 def test_filter_recovers_after_an_error(report):
     recovery = report["recovery"]
     assert recovery["failed_reported"]
