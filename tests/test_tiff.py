@@ -110,10 +110,25 @@ def test_axes_that_cannot_be_placed_and_damaged_files_say_so(tmp_path, hyperstac
     assert np.array_equal(values_of(first), np.moveaxis(STACK[0], 1, -1))
     with pytest.raises(ValueError, match="damaged or incomplete"):
         read_volume(cut, volume=3)
-    single = tmp_path / "single.tif"
+    single, planar = tmp_path / "single.tif", tmp_path / "planar.tif"
     tifffile.imwrite(single, STACK[0, 0, 0])
-    with pytest.raises(ValueError, match="at least 2 points are needed along every axis"):
-        read_volume(single)
+    tifffile.imwrite(planar, STACK[0, :4, 0], photometric="rgb", planarconfig="separate")  # 4 planes of 1 image
+    for path, axes in ((single, "YX"), (planar, "SYX")):
+        with pytest.raises(ValueError, match=rf"holds one 2D image \(axes {axes}, .*a projection needs at least 2 "
+                                             "slices"):
+            read_volume(path)
+
+
+def test_every_pixel_type_a_stack_holds(tmp_path):
+    """Half floats (VTK has no such type: float32, every value exact), bits (uint8), and the others as they are."""
+    for dtype in (np.float16, np.uint8, np.int8, np.uint32, np.int64, np.float64, bool):
+        values = (RNG.random((3, 8, 6)) * 100).astype(dtype)
+        path = tmp_path / f"{np.dtype(dtype).name}.tif"
+        tifffile.imwrite(path, values, photometric="minisblack")
+        image = read_volume(path)
+        drawn = values_of(image)
+        assert drawn.dtype == {np.float16: np.float32, bool: np.uint8}.get(dtype, np.dtype(dtype)), dtype
+        assert np.array_equal(drawn, values.astype(drawn.dtype)), dtype
 
 
 def test_the_cli_renders_a_time_point_and_channel_of_a_stack(tmp_path, hyperstack):

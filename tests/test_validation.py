@@ -181,6 +181,24 @@ def test_32_and_64_bit_data_render_exactly_unpacked():
         assert np.max(np.abs(found[hits] - exact[hits])) <= 1e-4 * np.ptp(values)
 
 
+@pytest.mark.parametrize("dtype", ["longlong", "ulonglong", "int64", "uint64"])
+def test_64_bit_integers_of_either_numpy_spelling_are_drawn(dtype):
+    """numpy has two 64-bit integer types on Linux (long, "l", and longlong, "q": tifffile's, h5py's for
+    some files), equal as dtypes but not as type objects; VTK wraps "q" as vtkTypeInt64Array.  Both are
+    drawn (as float64), the float readout the float64 reference's; until 2026-12-05 "q" was refused as
+    an unsupported scalar type."""
+    base = np.random.default_rng(3).random((12, 14, 16))
+    image = _image((base * 5000).astype(dtype))
+    assert vtk_to_numpy(image.GetPointData().GetScalars()).dtype.char in "qQlL"
+    check_image(image)
+    view = OffscreenView(image, "mip", size=(48, 48))
+    found = view.float_image()
+    expected = reference.render(image, view.camera, (48, 48), method="mip", sample_distance=view.sample_distance)
+    hits = ~np.isnan(expected) & ~np.isnan(found)
+    assert hits.mean() > 0.2 and np.mean(np.isnan(found) != np.isnan(expected)) < 0.02
+    assert np.max(np.abs(found[hits] - expected[hits])) <= METHODS["mip"].reference_tolerance * 5000
+
+
 _SCALARS_VANISH = r"""
 import sys
 import numpy as np

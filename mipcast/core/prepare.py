@@ -460,7 +460,7 @@ def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str =
             "are computed, not stored (an implicit array), which neither numpy nor the GPU ray caster reads "
             "directly; copy them into a plain array first (e.g. copy = vtkDoubleArray(); "
             "copy.DeepCopy(array))") from None
-    if raw.dtype.type not in NATIVE_DTYPES + CONVERTED_DTYPES:
+    if raw.dtype not in NATIVE_DTYPES + CONVERTED_DTYPES:  # (dtype equality: numpy's longlong is int64 too)
         raise TypeError(
             f"scalar type {raw.dtype} is not supported by the GPU ray caster; "
             "cast to float32, int16 or uint16 first (e.g. numpy .astype(np.float32))")
@@ -480,7 +480,7 @@ def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str =
         what, changed = "magnitude", True
     else:
         values, what, changed = np.ascontiguousarray(raw[:, chosen]), f"component {chosen}", True
-    if values.dtype.type in CONVERTED_DTYPES:
+    if values.dtype in CONVERTED_DTYPES:
         values, changed = values.astype(np.float64), True
     if hidden is not None:
         if values.dtype.kind != "f":  # float32 holds 8/16-bit integers exactly

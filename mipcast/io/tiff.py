@@ -42,7 +42,7 @@ from vtkmodules.util.numpy_support import numpy_to_vtk
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.io.dicom import caller_level
-from mipcast.io.volumes import volume_number
+from mipcast.io.volumes import volume_number, vtk_values
 
 #: Micrometres in one of each length unit OME and ImageJ write (lower case; ImageJ's "micron", "\\u00B5m").
 MICROMETRES = {"m": 1e6, "cm": 1e4, "mm": 1e3, "um": 1.0, "µm": 1.0, "μm": 1.0, "micron": 1.0, "microns": 1.0,
@@ -152,6 +152,11 @@ def _read_values(path: Path, tif, series, axes: str, shape: tuple, volume: Optio
             "columns X, slices Z (or the pages of a plain stack), channels C or samples S as components and time "
             f"points T as volumes{'; ' + ', '.join(unknown + stacked) + ' cannot be placed' if unknown or stacked else ''}"
             ": save one volume per file (Fiji: Image > Duplicate, or Hyperstacks > Reduce Dimensionality)")
+    if slices is None or sizes[slices] < 2:
+        raise ValueError(
+            f"cannot read '{path}': it holds one 2D image (axes {axes}, sizes {' '.join(map(str, shape))}), not a "
+            "stack of slices; a projection needs at least 2 slices (a file of one slice per page, or an ImageJ "
+            "hyperstack / OME-TIFF with a Z axis)")
     count = sizes.get("T", 1)
     time = volume_number(path, count, volume, ("time point", "time points"), "T")
     if "T" in sizes and count > 1:
@@ -166,16 +171,14 @@ def _read_values(path: Path, tif, series, axes: str, shape: tuple, volume: Optio
     for axis in [a for a in axes if a not in ("Y", "X", "C", "S", slices)]:  # axes of size 1 left
         values = np.take(values, 0, axis=axes.index(axis))
         axes = axes.replace(axis, "")
-    order = [axes.index(a) for a in (slices, "Y", "X") if a is not None and a in axes]
+    order = [axes.index(a) for a in (slices, "Y", "X")]
     components = [axes.index(a) for a in ("C", "S") if a in axes and a != slices]
     values = np.transpose(values, order + components)
-    if slices is None or slices not in axes:
-        values = values[np.newaxis]  # one page: one slice (refused downstream: 2 points per axis are needed)
     if values.ndim > 4:
         values = values.reshape(*values.shape[:3], -1)
-    if values.dtype == bool:
+    if values.dtype == bool:  # (bits: VTK's bit arrays are not drawn)
         values = values.astype(np.uint8)
-    return values
+    return vtk_values(values)  # half floats as float32, the machine's byte order, complex as two components
 
 
 def _page_ndim(series) -> int:
@@ -258,8 +261,7 @@ def _image(values: np.ndarray, spacing: tuple) -> vtkImageData:
     image.SetDimensions(nx, ny, nz)
     image.SetSpacing(*spacing)
     image.SetDirectionMatrix(1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, -1.0)
-    native = values.dtype.newbyteorder("=")
-    points = np.ascontiguousarray(values, dtype=native)
+    points = np.ascontiguousarray(values)
     # (``points`` is tifffile's buffer or its contiguous copy: the VTK array keeps it alive, no second copy)
     array = numpy_to_vtk(points.reshape(nx * ny * nz, -1) if values.ndim == 4 else points.ravel(), deep=False)
     array.SetName("values")

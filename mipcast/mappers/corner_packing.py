@@ -37,7 +37,7 @@ def packable(values: np.ndarray) -> bool:
     >>> packable(np.arange(10, dtype=np.int16)), packable(np.arange(10.0))
     (True, False)
     """
-    return values.dtype.type in _UNIFORM_TYPES
+    return values.dtype in _UNIFORM_TYPES
 
 
 def packed_corners(values: np.ndarray, out: Optional[np.ndarray] = None) -> np.ndarray:
