@@ -86,7 +86,8 @@ from mipcast.core.parameter_tables import DEMIP_SETTINGS
 from mipcast.core.parameters import set_parameters
 from mipcast.core.prepare import prepare_scalars
 from mipcast.core.validation import check_choice
-from mipcast.mappers.brick_rays import global_texture_box, ray_uniforms, set_brick_uniforms, set_ray_uniforms  # noqa: F401
+from mipcast.mappers.brick_rays import (global_texture_box, push_interpolation, ray_uniforms, set_brick_uniforms,  # noqa: F401
+                                          set_ray_uniforms)
 from mipcast.mappers.clip_uniforms import slab_of
 from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, first_match_index
 from mipcast.mappers.demip_composite import demip_composite, demip_picture  # noqa: F401  (demip_picture: public here)
@@ -451,6 +452,7 @@ class DistributedView:
         volumes = [self.local.volume] + ([self.depth_volume] if self.depth_mapper is not None else [])
         for volume in volumes:
             set_ray_uniforms(volume.GetShaderProperty().GetFragmentCustomUniforms(), values)
+            push_interpolation(volume)
 
     def set_parameters(self, **settings) -> None:
         """Change the method's parameters (every rank alike), as :func:`mipcast.core.parameters.set_parameters`."""

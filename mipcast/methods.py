@@ -199,14 +199,15 @@ def _demip_two_pass() -> DEMIPTwoPassVolumeMapper:
 def projection_reference(name: str) -> Callable[..., np.ndarray]:
     """The float64 reference :func:`mipcast.reference.render` of ``name``, in the table's signature.
 
-    ``reference(image, camera, size, *, sample_distance=None, window=None,
-    clip_planes=None, cropping=None, component=None, matrix=None)``: sampled projections use
+    ``reference(image, camera, size, *, sample_distance=None, window=None, clip_planes=None,
+    cropping=None, component=None, matrix=None, interpolation="linear")``: sampled projections use
     ``sample_distance`` (samples at ``entry + k * sample_distance``), exact
     ones ignore it; ``clip_planes`` is ``(origins, normals)`` in world
     coordinates; ``cropping`` is ``(region planes, region flags)`` as VTK's
     ``SetCroppingRegionPlanes`` / ``GetCroppingRegionFlags()``; ``component`` as
     :meth:`~mipcast.MIPVolumeMapper.SetComponent`; ``matrix`` the volume's own
-    (:func:`mipcast.reference.render`).
+    (:func:`mipcast.reference.render`); ``interpolation`` ``"nearest"`` for the sampled ones under the
+    volume property's nearest-neighbour interpolation.
 
     Examples
     --------
@@ -216,10 +217,10 @@ def projection_reference(name: str) -> Callable[..., np.ndarray]:
     sampled = "sample_distance" in reference.METHODS[name]
 
     def projection(image, camera, size, *, sample_distance=None, window=None, clip_planes=None,
-                   cropping=None, component=None, matrix=None) -> np.ndarray:
+                   cropping=None, component=None, matrix=None, interpolation="linear") -> np.ndarray:
         extra = {"sample_distance": sample_distance} if sampled else {}
         return reference.render(image, camera, size, name, clip_planes=clip_planes, cropping=cropping,
-                                component=component, matrix=matrix, **extra)
+                                component=component, matrix=matrix, interpolation=interpolation, **extra)
 
     projection.__name__ = f"{name}_reference"
     projection.__doc__ = f"The float64 reference of {name!r} (mipcast.reference.render)."

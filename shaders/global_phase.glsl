@@ -15,7 +15,8 @@
 // the camera is inside the volume (its near plane cuts the box) VTK's
 // near-plane cap when the ray crosses it beyond the entry (u_mc_rayCap: the
 // cap n . p = w in point indices, brick_rays.near_cap; n = 0: no cap). mcGlobalSample(k) interpolates it by hand
-// (texelFetch of the cell's 8 points, exact cell index and fractions),
+// (texelFetch of the cell's 8 points, exact cell index and fractions; under the
+// volume property's nearest-neighbour interpolation, u_mc_nearest, the nearest of them),
 // so the value does not depend on the brick's texture size; a brick takes
 // the samples whose cell (clamped to the whole box) lies in its extent:
 // every cell lies in a brick (bricks share a point layer), a sample on a
@@ -92,6 +93,10 @@ float mcGlobalSample(int k)
     return -1.0e30;
   }
   vec3 mc_t = mc_p - mc_c;
+  if (u_mc_nearest > 0.5)
+  {
+    mc_t = step(vec3(0.5), mc_t);  // nearest-neighbour interpolation: the nearest point, half-way rounding up
+  }
   ivec3 mc_i = ivec3(mc_c - u_mc_brickLo);
   ivec3 mc_j = ivec3(mc_c1 - u_mc_brickLo);
   float mc_v000 = texelFetch(in_volume[0], mc_i, 0).r;

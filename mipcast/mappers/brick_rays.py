@@ -11,6 +11,7 @@ from __future__ import annotations
 from typing import Optional, Sequence
 
 import numpy as np
+from vtkmodules.vtkCommonCore import VTK_NEAREST_INTERPOLATION
 
 from mipcast.core.camera_rays import first_point, matrix_array, placed
 
@@ -80,12 +81,21 @@ def set_brick_uniforms(uniforms, whole: Sequence[int], piece: Sequence[int], spa
                                 ("u_mc_rayPoint0", "u_mc_rayPointX", "u_mc_rayPointY", "u_mc_rayDirection")})
     uniforms.SetUniform4f("u_mc_rayEye", [0.0, 0.0, 0.0, 0.0])
     uniforms.SetUniform4f("u_mc_rayCap", [0.0, 0.0, 0.0, 0.0])
+    uniforms.SetUniformf("u_mc_nearest", 0.0)
 
 
 def set_ray_uniforms(uniforms, values: dict) -> None:
     """Put :func:`ray_uniforms`' values on a vtkUniforms (vec3 and vec4)."""
     for name, value in values.items():
         (uniforms.SetUniform4f if len(value) == 4 else uniforms.SetUniform3f)(name, value)
+
+
+def push_interpolation(volume) -> None:
+    """``u_mc_nearest`` on ``volume``'s shader property: 1 when its property asks for nearest-neighbour
+    interpolation (``global_phase`` then takes each sample's nearest point, as the GPU's own lookup does)."""
+    prop = volume.GetProperty()
+    nearest = prop is not None and prop.GetInterpolationType() == VTK_NEAREST_INTERPOLATION
+    volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniformf("u_mc_nearest", 1.0 if nearest else 0.0)
 
 
 def ray_uniforms(image, camera, size) -> dict:
@@ -322,6 +332,7 @@ def push_whole_rays(volume, sample_distance: float, whole, camera, size) -> None
     uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
     uniforms.SetUniformf("u_mc_rayStep", float(sample_distance))
     set_ray_uniforms(uniforms, ray_uniforms(whole, camera, tuple(size)))
+    push_interpolation(volume)
 
 
 def push_rays(mapper, entry, camera, shape, size=None) -> None:

@@ -20,7 +20,7 @@ from mipcast.core.validation import check_choice, check_positive, check_size
 from mipcast.reference.demip import render_demip
 from mipcast.reference.mip import (exact_maximum, exact_mean, exact_minimum, sampled_maximum, sampled_mean,
                                    sampled_minimum)
-from mipcast.reference.rays import BUDGET, RAY_CHUNK, clip_interval, cropping_setup, hit_rays, scatter
+from mipcast.reference.rays import BUDGET, RAY_CHUNK, clip_interval, cropping_setup, hit_rays, nearest, scatter
 
 #: Parameters each method accepts; all of them are required ("demip" also
 #: takes optional ones: :data:`mipcast.reference.demip.PARAMETERS`).
@@ -107,6 +107,9 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
         (also ``"minip"``, ``"average"``).
         The exact methods take none.
         ``component : int or "magnitude"`` (optional, every method): see ``image``.
+        ``interpolation : {"linear", "nearest"}`` (optional, ``"mip"``, ``"minip"``,
+        ``"average"``): ``"nearest"`` samples the nearest point's value, as the GPU
+        does under ``SetInterpolationTypeToNearest`` (the exact methods refuse it).
 
     Returns
     -------
@@ -146,11 +149,15 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
      [0. 1. 2.]]
     """
     component = params.pop("component", None)
+    interpolation = check_choice("interpolation", params.pop("interpolation", "linear"), ("linear", "nearest"))
     minimum = method in ("minip", "analytic_minip")
     image = scalar_image(image)  # cell scalars: drawn on the image of the cell centres
     prepared = prepare_scalars(image, component, "above" if minimum else "below")
     width, height = check_size(size)
     method = check_choice("method", method, tuple(METHODS))
+    if interpolation == "nearest" and method not in ("mip", "minip", "average"):
+        raise ValueError(f"interpolation='nearest' is drawn by the sampled mip, minip and average only, not by "
+                         f"{method!r} (the exact methods walk the trilinear interpolant)")
     if method == "demip":  # depth, colour or maximum: see mipcast.reference.demip
         return render_demip(image, camera, (width, height), clip_planes=clip_planes, cropping=cropping,
                             component=component, matrix=matrix, **params)
@@ -173,6 +180,8 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     lo, hi = clip_interval(image, entry, direction, length, clip_planes, within_box=not sampled)
 
     kernel = _KERNELS[method]
+    if interpolation == "nearest":
+        kernel = functools.partial(kernel, sampler=nearest)
     if method in ("average", "analytic_average") and prepared.missing:
         # the mean over the finite part of the ray: samples below the finite floor (sampled), cells
         # with a missing corner (exact) do not count (docs/methods.md, "Missing values")

@@ -20,14 +20,15 @@ def _sample_count(length: np.ndarray, step: float) -> np.ndarray:
 
 def _sampled_reduce(values: np.ndarray, entry: np.ndarray, direction: np.ndarray, length: np.ndarray,
                     step: float, reduce: np.ufunc, empty: float, keep=None, crop=None,
-                    floor: float = -np.inf) -> tuple:
+                    floor: float = -np.inf, sampler=trilinear) -> tuple:
     """``reduce`` (np.maximum, np.minimum, np.add) over the samples ``entry + k * step``, k = 1..K.
 
     ``keep = (lo, hi)`` (N,): only samples with ``lo <= k * step <= hi`` count (within
     :data:`mipcast.core.clipping.SAMPLE_ON_PLANE` steps: a sample on a plane counts).
     ``crop = (low, high, flags)`` (index space, :func:`mipcast.core.clipping.crop_visible`):
     only samples in a visible cropping region count.  Only samples ``>= floor`` count.
-    Returns the reduction (``empty`` where no sample counted) and the number of
+    ``sampler``: :func:`~mipcast.reference.rays.trilinear`, or :func:`~mipcast.reference.rays.nearest`
+    (the volume property's nearest-neighbour interpolation).  Returns the reduction (``empty`` where no sample counted) and the number of
     samples that counted.
     """
     count = _sample_count(length, step)
@@ -38,7 +39,7 @@ def _sampled_reduce(values: np.ndarray, entry: np.ndarray, direction: np.ndarray
         rows = np.flatnonzero(count >= first)
         k = np.arange(first, min(count.max(), first + max(1, BUDGET // len(rows)) - 1) + 1)
         position = entry[rows, None, :] + (k[:, None] * step) * direction[rows, None, :]
-        sample = trilinear(values, position.reshape(-1, 3)).reshape(len(rows), len(k))
+        sample = sampler(values, position.reshape(-1, 3)).reshape(len(rows), len(k))
         valid = k[None, :] <= count[rows, None]
         if keep is not None:  # a clipped ray keeps the unclipped ray's sample positions
             valid &= sample_kept(k * step, keep[0][rows, None], keep[1][rows, None], step)  # (one on a plane too)
@@ -54,25 +55,27 @@ def _sampled_reduce(values: np.ndarray, entry: np.ndarray, direction: np.ndarray
 
 
 def sampled_maximum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-                    length: np.ndarray, step: float, keep=None, crop=None) -> np.ndarray:
+                    length: np.ndarray, step: float, keep=None, crop=None, sampler=trilinear) -> np.ndarray:
     """VTK-style sampled maximum along rays starting at their box entry (``-inf``: no sample kept)."""
-    return _sampled_reduce(values, entry, direction, length, step, np.maximum, -np.inf, keep, crop)[0]
+    return _sampled_reduce(values, entry, direction, length, step, np.maximum, -np.inf, keep, crop,
+                           sampler=sampler)[0]
 
 
 def sampled_minimum(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-                    length: np.ndarray, step: float, keep=None, crop=None) -> np.ndarray:
+                    length: np.ndarray, step: float, keep=None, crop=None, sampler=trilinear) -> np.ndarray:
     """VTK-style sampled minimum (MINIMUM_INTENSITY blend) along rays starting at their box entry."""
-    return _sampled_reduce(values, entry, direction, length, step, np.minimum, np.inf, keep, crop)[0]
+    return _sampled_reduce(values, entry, direction, length, step, np.minimum, np.inf, keep, crop,
+                           sampler=sampler)[0]
 
 
-def sampled_mean(values: np.ndarray, entry: np.ndarray, direction: np.ndarray,
-                 length: np.ndarray, step: float, keep=None, crop=None, floor: float = -np.inf) -> np.ndarray:
+def sampled_mean(values: np.ndarray, entry: np.ndarray, direction: np.ndarray, length: np.ndarray, step: float,
+                 keep=None, crop=None, floor: float = -np.inf, sampler=trilinear) -> np.ndarray:
     """Mean of the same samples (VTK's AVERAGE_INTENSITY blend, every sample in range, opaque).
 
     ``floor``: only samples ``>= floor`` count (missing data: the samples
     the fill pulled below the finite minimum are missing); NaN where none counts.
     """
-    total, used = _sampled_reduce(values, entry, direction, length, step, np.add, 0.0, keep, crop, floor)
+    total, used = _sampled_reduce(values, entry, direction, length, step, np.add, 0.0, keep, crop, floor, sampler)
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(used > 0, total / np.maximum(used, 1), np.nan)
 

@@ -68,6 +68,20 @@ def cells(values: np.ndarray, position: np.ndarray) -> np.ndarray:
     return np.clip(np.floor(position), 0, top).astype(np.int64)
 
 
+def nearest(values: np.ndarray, position: np.ndarray) -> np.ndarray:
+    """The value of the point nearest each index position (M, 3), clamped to the grid: a 3D texture's
+    nearest-neighbour lookup (``SetInterpolationTypeToNearest``; half-way rounds up, as ``floor(u * N)``).
+
+    Examples
+    --------
+    >>> nearest(np.arange(8.0).reshape(2, 2, 2), np.array([[0.4, 0.6, 0.0], [1.5, 0.2, 3.0]])).tolist()
+    [2.0, 5.0]
+    """
+    top = np.array(values.shape[::-1]) - 1
+    index = np.clip(np.floor(position + 0.5), 0, top).astype(np.int64)
+    return values[index[:, 2], index[:, 1], index[:, 0]]
+
+
 def trilinear(values: np.ndarray, position: np.ndarray) -> np.ndarray:
     """Clamp-to-edge trilinear interpolation at index positions (M, 3)."""
     position = np.clip(position, 0, np.array(values.shape[::-1]) - 1.0)

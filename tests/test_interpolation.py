@@ -1,0 +1,67 @@
+"""The volume property's interpolation (``SetInterpolationTypeToNearest``, ParaView's Interpolation Type):
+the sampled projections sample the nearest voxel, as VTK's own do, against the float64 reference sampling
+it too; the exact projections, which walk the trilinear interpolant, refuse it naming the fix (until
+2026-12-05 they drew the trilinear picture as if linear had been asked)."""
+import numpy as np
+import pytest
+
+from mipcast import reference
+from mipcast.core.object_state import object_state
+from mipcast.data_fixtures import make_fixture
+from mipcast.methods import METHODS
+from mipcast.offscreen import OffscreenView
+
+SIZE = (48, 48)
+
+
+@pytest.fixture(scope="module")
+def image():
+    return make_fixture("vessels", size=24)
+
+
+@pytest.mark.parametrize("view, bricks", [("oblique", False), ("perspective", False), ("front", False),
+                                          ("perspective", True), ("oblique", True)])
+@pytest.mark.parametrize("name", ["mip", "minip", "average"])
+def test_sampled_projections_sample_the_nearest_voxel(image, name, view, bricks):
+    """In one texture and in bricks (texture limit 12: the bricks take the whole volume's samples by hand,
+    ``global_phase``, which until 2026-12-05 interpolated them linearly whatever the property said: every
+    pixel but 0-2 of 1233 off, up to 0.46 of the range).  A sample half-way between two points rounds up;
+    float32 and float64 may round such a tie apart: in bricks 1 of 1233 pixels is such a tie."""
+    scene = OffscreenView(image, name, size=SIZE, window=(0.25, 1.0), view=view)
+    if bricks:
+        object_state(scene.mapper)["texture_limit"] = 12
+    scene.volume.GetProperty().SetInterpolationTypeToNearest()
+    got = scene.float_image()
+    assert (scene.mapper.GetNumberOfBricks() > 1) == bricks
+    nearest, linear = (METHODS[name].reference(image, scene.camera, scene.size, sample_distance=scene.sample_distance,
+                                               window=scene.window, interpolation=kind)
+                       for kind in ("nearest", "linear"))
+    both = np.isfinite(got) & np.isfinite(nearest)
+    assert both.sum() > 500 and np.mean(np.isnan(got) != np.isnan(nearest)) < 0.01  # (silhouette pixels)
+    within = np.abs(got[both] - nearest[both]) <= METHODS[name].reference_tolerance
+    assert within.all() if not bricks else within.mean() >= 0.995, int((~within).sum())
+    assert np.abs(got[both] - linear[both]).max() > 0.04  # the property is honoured: not the linear picture
+
+
+@pytest.mark.parametrize("name, layer", [("analytic", None), ("analytic_minip", None), ("analytic_average", None),
+                                         ("foveated", "analytic")])
+def test_exact_projections_refuse_nearest_interpolation_naming_the_fix(image, name, layer):
+    scene = OffscreenView(image, name, size=SIZE, window=(0.25, 1.0))
+    if layer is not None:
+        scene.mapper.SetMethod(layer)
+    scene.volume.GetProperty().SetInterpolationTypeToNearest()
+    assert np.isnan(scene.float_image()).all() and scene.screenshot().max() == 0
+    problem = scene.mapper.GetLastProblem()
+    assert "nearest-neighbour interpolation" in problem and "SetInterpolationTypeToLinear()" in problem, problem
+    assert "sampled method" in problem, problem
+    scene.volume.GetProperty().SetInterpolationTypeToLinear()
+    drawn = scene.float_image()
+    assert scene.mapper.GetLastProblem() is None and np.isfinite(drawn).sum() > 500
+
+
+def test_the_reference_draws_nearest_for_the_sampled_projections_only(image):
+    scene = OffscreenView(image, "analytic", size=SIZE)
+    with pytest.raises(ValueError, match="interpolation='nearest' is drawn by the sampled mip, minip and average"):
+        reference.render(image, scene.camera, SIZE, "analytic", interpolation="nearest")
+    with pytest.raises(ValueError, match="interpolation must be one of|unknown interpolation"):
+        reference.render(image, scene.camera, SIZE, "mip", sample_distance=1.0, interpolation="cubic")
