@@ -10,7 +10,7 @@ window wherever a structure is above its floor with content-adaptive density, is
 3-component vectors (their magnitude or one component), anisotropic spacing, a rotated direction, an
 extent not from 0, a volume matrix, a sample distance, a slab, a clipping plane, cropping regions, bricks
 (a texture limit of 12), view, picture size (40x36 or 41x37), grey window, cell scalars (drawn at the
-cell centres) and, for DEMIP, its projection
+cell centres), for the sampled mip, minip and average nearest-neighbour interpolation and, for DEMIP, its projection
 (LMIP, attenuated, MIDA) and thresholds, and prints the cases whose
 float readout is off the reference by more than the method's tolerance (sampled methods on 8-bit data: 2 of 250, the
 texture unit's 8-bit filtering, docs/reliability.md) or disagree on hit and miss on more than 3 % of the
@@ -30,12 +30,13 @@ from mipcast.core import foveation
 from mipcast.core.clipping import slab_planes
 from mipcast.core.object_state import object_state
 from mipcast.data_fixtures import make_fixture
-from mipcast import methods
+from mipcast import methods, reference
 from mipcast.methods import METHODS
 from mipcast.core.prepare import scalar_image
 from mipcast.core.windowing import resolve_window
 from mipcast.mappers.input_preparer import window_image
 from mipcast.offscreen import OffscreenView, set_view
+from mipcast.reference import rays
 
 CHECKED = [name for name, method in METHODS.items() if method.float_readout and method.reference is not None]
 SIZE = (40, 36)
@@ -49,6 +50,9 @@ PROJECTIONS = ("mip", "mip", "lmip", "attenuated", "mida")
 WINDOWS = (None, None, (0.1, 0.6), (0.4, 0.45), (0.0, 0.05), (0.7, 1.0))
 #: Methods whose picture is the float readout through the window's grey ramp: their pictures are checked too.
 GREY = ("mip", "analytic", "minip", "analytic_minip", "average", "analytic_average")
+#: Point-index units within which a sample half-way between two points is a tie under nearest-neighbour
+#: interpolation: the GPU places samples in float32.
+TIE = 1e-5
 
 
 def draw_case(rng: random.Random) -> dict:
@@ -216,7 +220,15 @@ def configure(scene: OffscreenView, case: dict, number: int, image, mask, reset:
         planes.append((centre[None, :], normal[None, :]))
     if case["bricks"]:
         object_state(mapper)["texture_limit"] = 12  # pretend a small GPU
+    if nearest_case(case, number):  # the volume property's nearest-neighbour interpolation
+        scene.volume.GetProperty().SetInterpolationTypeToNearest()
     return planes, cropping, matrix, settings
+
+
+def nearest_case(case: dict, number: int) -> bool:
+    """Whether case ``number`` draws with nearest-neighbour interpolation: a sampled projection with a
+    reference for it, one in five (drawn apart from the case, so that every other draw stays as it was)."""
+    return case["method"] in ("mip", "minip", "average") and random.Random(number + 3000).random() < 0.2
 
 
 def run_case(number: int, base: np.ndarray, after: Optional[int] = None) -> tuple:
@@ -262,9 +274,27 @@ def run_case(number: int, base: np.ndarray, after: Optional[int] = None) -> tupl
         outside = foveation.eccentricity(size, plan.gaze, plan.aspect) >= plan.start
         got[outside] = np.nan
     clip = (np.concatenate([p[0] for p in planes]), np.concatenate([p[1] for p in planes])) if planes else None
+    if nearest_case(case, number):
+        settings["interpolation"] = "nearest"
     expected = METHODS[name].reference(reference_image, camera, scene.size, sample_distance=scene.sample_distance,
                                        window=scene.window, clip_planes=clip, cropping=cropping, matrix=matrix,
                                        **({"component": component} if component is not None else {}), **settings)
+    if nearest_case(case, number):  # a sample within float rounding of half-way between two points is a tie:
+        # either point's value may count, sample by sample: the reductions of the lower and of the higher of the
+        # two values bound every choice (maximum, minimum and mean alike); expected is got moved into the bounds
+        bounds = []
+        for pick in (np.minimum, np.maximum):
+            reference.nearest = lambda values, position, pick=pick: pick(rays.nearest(values, position - TIE),
+                                                                        rays.nearest(values, position + TIE))
+            try:
+                bounds.append(METHODS[name].reference(reference_image, camera, scene.size,
+                                                      sample_distance=scene.sample_distance, window=scene.window,
+                                                      clip_planes=clip, cropping=cropping, matrix=matrix,
+                                                      **({"component": component} if component is not None else {}),
+                                                      **settings))
+            finally:
+                reference.nearest = rays.nearest
+        expected = np.where(np.isnan(got), expected, np.clip(got, bounds[0], bounds[1]))
     if foveated:
         expected[outside] = np.nan
     agree = np.mean(np.isnan(got) == np.isnan(expected))
@@ -287,8 +317,10 @@ def run_case(number: int, base: np.ndarray, after: Optional[int] = None) -> tupl
     if problem or agree <= 0.97 or error > tolerance:
         return case, (f"{problem or ''} hit/miss agree {agree:.3f}, error {error:.3g} of the range "
                       f"(tolerance {tolerance:g}) at {int((errors > tolerance).sum())} of {int(both.sum())} pixels")
-    if name in GREY and not foveated:  # the picture: the reference through the window's grey ramp (block
-        # skipping starts rays at the window's floor, the float readout does not)
+    if name in GREY and not foveated and not nearest_case(case, number):  # the picture: the reference through
+        # the window's grey ramp (block skipping starts rays at the window's floor, the float readout does not).
+        # Not under nearest-neighbour interpolation: VTK reads the colour table nearest too, its colours step
+        # between the table's entries (docs/reliability.md, "Blend modes"); the floats are checked
         low, high = scene.window
         grey = np.where(np.isnan(expected), 0.0, np.round(np.clip((expected - low) / (high - low), 0.0, 1.0) * 255))
         allowed = 2.0 + 255.0 * (tolerance - METHODS[name].reference_tolerance) * span / (high - low)

@@ -25,8 +25,8 @@ def image():
 def test_sampled_projections_sample_the_nearest_voxel(image, name, view, bricks):
     """In one texture and in bricks (texture limit 12: the bricks take the whole volume's samples by hand,
     ``global_phase``, which until 2026-12-05 interpolated them linearly whatever the property said: every
-    pixel but 0-2 of 1233 off, up to 0.46 of the range).  A sample half-way between two points rounds up;
-    float32 and float64 may round such a tie apart: in bricks 1 of 1233 pixels is such a tie."""
+    pixel but 0-2 of 1233 off, up to 0.46 of the range; and the CPU's one sample of a grazing outline ray,
+    ``outline_rays``, was linear too: 1 pixel of 1233 off by 0.047 once the bricks were right)."""
     scene = OffscreenView(image, name, size=SIZE, window=(0.25, 1.0), view=view)
     if bricks:
         object_state(scene.mapper)["texture_limit"] = 12
@@ -38,8 +38,7 @@ def test_sampled_projections_sample_the_nearest_voxel(image, name, view, bricks)
                        for kind in ("nearest", "linear"))
     both = np.isfinite(got) & np.isfinite(nearest)
     assert both.sum() > 500 and np.mean(np.isnan(got) != np.isnan(nearest)) < 0.01  # (silhouette pixels)
-    within = np.abs(got[both] - nearest[both]) <= METHODS[name].reference_tolerance
-    assert within.all() if not bricks else within.mean() >= 0.995, int((~within).sum())
+    assert np.abs(got[both] - nearest[both]).max() <= METHODS[name].reference_tolerance
     assert np.abs(got[both] - linear[both]).max() > 0.04  # the property is honoured: not the linear picture
 
 

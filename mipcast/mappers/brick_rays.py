@@ -90,11 +90,16 @@ def set_ray_uniforms(uniforms, values: dict) -> None:
         (uniforms.SetUniform4f if len(value) == 4 else uniforms.SetUniform3f)(name, value)
 
 
+def nearest_interpolation(volume) -> bool:
+    """Whether ``volume``'s property asks for nearest-neighbour interpolation (``SetInterpolationTypeToNearest``)."""
+    prop = volume.GetProperty() if volume is not None else None
+    return prop is not None and prop.GetInterpolationType() == VTK_NEAREST_INTERPOLATION
+
+
 def push_interpolation(volume) -> None:
     """``u_mc_nearest`` on ``volume``'s shader property: 1 when its property asks for nearest-neighbour
     interpolation (``global_phase`` then takes each sample's nearest point, as the GPU's own lookup does)."""
-    prop = volume.GetProperty()
-    nearest = prop is not None and prop.GetInterpolationType() == VTK_NEAREST_INTERPOLATION
+    nearest = nearest_interpolation(volume)
     volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniformf("u_mc_nearest", 1.0 if nearest else 0.0)
 
 

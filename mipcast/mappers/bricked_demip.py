@@ -60,7 +60,8 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import DEMIP_SETTINGS
 from mipcast.mappers import clip_uniforms, float_readout
-from mipcast.mappers.brick_rays import box_in_view, brick_entry, cached_bricks, placed, push_rays, whole_of
+from mipcast.mappers.brick_rays import (box_in_view, brick_entry, cached_bricks, nearest_interpolation, placed,
+                                       push_rays, whole_of)
 from mipcast.mappers.bricked_draw import seen
 from mipcast.mappers.demip_brick import DEMIPBrickDepthMapper, bind_maximum, match_index
 from mipcast.mappers.demip_composite import demip_composite, demip_premultiplied
@@ -380,7 +381,8 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
         before = np.isnan(values)
         image = placed(mapper.GetRenderedInput(), volume.GetMatrix())  # the volume's matrix folded in
         values = seen(mapper, outline_rays.complete(values, empty, image, camera, size, distance,
-                                                    undrawn=outline_rays.undrawn(mapper, renderer, drawn_any)))
+                                                    undrawn=outline_rays.undrawn(mapper, renderer, drawn_any),
+                                                    nearest=nearest_interpolation(volume)))
         completed = before & ~np.isnan(values)
     # the ordered projections' rays end at opaque geometry: the scene depth in their state texture's alpha
     scan = {"isd": isd, "size": size, "scene": scene_depth(renderer, shape) if mapper.GetProjection() != "mip" else None}

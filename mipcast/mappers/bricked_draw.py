@@ -63,7 +63,8 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 
 from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms, float_readout, outline_rays
-from mipcast.mappers.brick_rays import box_in_view, brick_entry, cached_bricks, placed, push_rays
+from mipcast.mappers.brick_rays import (box_in_view, brick_entry, cached_bricks, nearest_interpolation, placed,
+                                       push_rays)
 from mipcast.mappers.box_outline import box_corners, front_faces
 from mipcast.mappers.input_preparer import piece_range
 from mipcast.mappers.private_draw import (auto_sample_distance, draw_over, follow_volume, kept_texture,
@@ -380,7 +381,8 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
     if rule != "mean":
         undrawn = outline_rays.undrawn(mapper, renderer, drawn_any)
         if sampled:
-            result = outline_rays.complete(result, empty, image, camera, aspect_size, step, combine, undrawn=undrawn)
+            result = outline_rays.complete(result, empty, image, camera, aspect_size, step, combine, undrawn=undrawn,
+                                           nearest=nearest_interpolation(volume))
         elif undrawn is not None and (undrawn & np.isnan(result)).any():  # a walk's rays have no clamped sample;
             # those the whole box's raster covers on its outline and no brick's does: walked on the CPU
             from mipcast import reference
@@ -397,7 +399,8 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
         none = np.sum([np.nan_to_num(-n) for n in counts], axis=0) == 0.0  # (a brick's ray without one: discarded)
         none &= outline_rays.unhidden(renderer, image, shape, aspect_size, step, none)  # not behind opaque geometry
         sample = outline_rays.single_samples(image, camera, shape, aspect_size, step, none,
-                                             outline_rays.cut_by(mapper, camera, image))
+                                             outline_rays.cut_by(mapper, camera, image),
+                                             nearest=nearest_interpolation(volume))
         low, high = _counted_range(mapper)
         mean = np.where(np.isfinite(sample) & (sample >= low) & (sample <= high), sample, mean)
     return mean

@@ -35,7 +35,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 
 from mipcast.core.clipping import sample_kept, sample_visible
 from mipcast.core.object_state import object_state
-from mipcast.mappers.brick_rays import cap_steps, ray_uniforms, whole_of
+from mipcast.mappers.brick_rays import cap_steps, nearest_interpolation, ray_uniforms, whole_of
 from mipcast.mappers.private_draw import read_depth
 
 
@@ -120,19 +120,21 @@ def walked(image, camera, shape: Sequence[int], size: Sequence[int], pixels: np.
 
 
 def single_samples(image, camera, shape: Sequence[int], size: Sequence[int], sample_distance: float,
-                   pixels: np.ndarray, cut=(None, None)) -> np.ndarray:
+                   pixels: np.ndarray, cut=(None, None), nearest: bool = False) -> np.ndarray:
     """The one sample (data units) of the grazing rays at ``pixels`` (bool (rows, columns), top row first).
 
     ``image``: the one-component volume the bricks draw (scalars in data
     units); ``shape``: the ray grid (rows, columns); ``size``: the viewport's
     (width, height), the camera's aspect; ``cut``: the mapper's clipping
-    (:func:`cut_by`), which drops the sample as the loop drops it.  NaN where
+    (:func:`cut_by`), which drops the sample as the loop drops it; ``nearest``: the
+    volume property's nearest-neighbour interpolation (:func:`along`).  NaN where
     the ray misses the box, is not a single-sample ray (then the bricks'
     answer stands) or its sample is clipped away.
     """
     point, step, r, c, s_in, s_out = _chords(image, camera, shape, size, sample_distance, pixels)
     entry = point + s_in[:, None] * step
-    values = along(image, entry, step, np.ones(len(r)), *_kept(image, entry, step, np.ones(len(r)), cut))[:, 0]
+    values = along(image, entry, step, np.ones(len(r)), *_kept(image, entry, step, np.ones(len(r)), cut),
+                   nearest=nearest)[:, 0]
     out = np.full(len(r), np.nan)
     grazing = (s_out >= s_in) & (s_out - s_in < 1.0)  # one sample, past the exit: clamped onto the box
     out[grazing] = values[grazing]
@@ -167,15 +169,20 @@ def face_rays(image, camera, shape: Sequence[int], size: Sequence[int], sample_d
     return r, c, start, step, np.min(np.where(step == 0.0, 1.0e30, exits), axis=1)
 
 
-def along(image, start: np.ndarray, step: np.ndarray, steps: np.ndarray, keep=None, crop=None) -> np.ndarray:
+def along(image, start: np.ndarray, step: np.ndarray, steps: np.ndarray, keep=None, crop=None,
+          nearest: bool = False) -> np.ndarray:
     """The samples (n, k) of :func:`face_rays`' rays in a sampled loop, read clamped onto the box; NaN past a
     ray's last, and where clipping drops a sample: ``keep = (lo, hi)`` (n,) keeps the samples ``lo <= k <= hi``
-    steps from the start, ``crop`` those in a visible cropping region (:func:`cut_by`)."""
+    steps from the start, ``crop`` those in a visible cropping region (:func:`cut_by`).  Interpolated
+    trilinearly, or with ``nearest`` the nearest point's value (``global_phase``'s ``u_mc_nearest``)."""
+    from mipcast.reference.rays import nearest as nearest_point
+
     count = 1 + np.floor(np.maximum(0.0, steps - 1.0)).astype(int)
     k = np.arange(1, int(count.max(initial=1)) + 1)  # (one column for no rays)
     upper = np.array(image.GetDimensions(), dtype=float) - 1.0
     at = start[:, None, :] + k[None, :, None] * step[:, None, :]
-    values = trilinear(volume_array(image), np.clip(at, 0.0, upper).reshape(-1, 3)).reshape(len(start), len(k))
+    sampler = nearest_point if nearest else trilinear
+    values = sampler(volume_array(image), np.clip(at, 0.0, upper).reshape(-1, 3)).reshape(len(start), len(k))
     kept = k[None, :] <= count[:, None]
     if keep is not None:  # (a sample on a plane is kept, as in the shader)
         kept &= sample_kept(k[None, :].astype(float), keep[0][:, None], keep[1][:, None])
@@ -232,7 +239,8 @@ def face_samples(mapper, renderer, image, shape: Sequence[int], sample_distance:
     rows, columns, start, step, steps, end, shown, planes, crop = _face_setup(mapper, renderer, image, shape,
                                                                              sample_distance, face, pixels)
     samples = along(image, start, step, np.minimum(steps, np.ceil(end)), *_kept(image, start, step, steps,
-                                                                                (planes, crop)))
+                                                                                (planes, crop)),
+                    nearest=nearest_interpolation(mapper.GetAttachedVolume()))
     return rows, columns, start, step, np.where(shown[:, None], samples, np.nan)
 
 
@@ -339,7 +347,7 @@ def undrawn(mapper, renderer, drawn: np.ndarray) -> Optional[np.ndarray]:
 
 
 def complete(values: np.ndarray, empty: np.ndarray, image, camera, size, sample_distance: float,
-             combine=np.fmax, undrawn=None) -> np.ndarray:
+             combine=np.fmax, undrawn=None, nearest: bool = False) -> np.ndarray:
     """``values`` (bricks combined, NaN: none) with the grazing rays a brick drew but none sampled filled in.
 
     ``empty``: the rays some brick drew a fragment for without a sample;
@@ -347,10 +355,10 @@ def complete(values: np.ndarray, empty: np.ndarray, image, camera, size, sample_
     ``undrawn``: the rays no brick drew a fragment for (:func:`undrawn`),
     filled in too where they graze the whole box (the whole box's raster may
     cover a pixel centre on its outline that the bricks' faces, rastered from
-    other corners, do not).
+    other corners, do not); ``nearest``: the volume property's nearest-neighbour interpolation.
     """
     missing = (empty if undrawn is None else empty | undrawn) & np.isnan(values)
     if not missing.any():
         return values
-    found = single_samples(image, camera, values.shape, size, sample_distance, missing)
+    found = single_samples(image, camera, values.shape, size, sample_distance, missing, nearest=nearest)
     return combine(values, found)
