@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numbers
 
-from vtkmodules.vtkCommonCore import VTK_NEAREST_INTERPOLATION, vtkCommand, vtkOutputWindow, vtkWeakReference
+from vtkmodules.vtkCommonCore import vtkCommand, vtkOutputWindow, vtkWeakReference
 from vtkmodules.vtkRenderingCore import vtkVolume
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
@@ -619,14 +619,6 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         too_large = bricked_draw.refusal(self) or brick_rays.jitter_problem(self)
         if too_large is not None:
             return too_large
-        volume = self.GetAttachedVolume()
-        if (not self._samples_rays() and volume is not None and volume.GetProperty() is not None
-                and volume.GetProperty().GetInterpolationType() == VTK_NEAREST_INTERPOLATION):
-            return ("the exact projections (analytic, analytic_minip, analytic_average) walk the trilinear "
-                    "interpolant between the voxels, but the volume property asks for nearest-neighbour "
-                    "interpolation (SetInterpolationTypeToNearest; ParaView: Interpolation Type), which they do "
-                    "not draw: set linear interpolation (volume.GetProperty().SetInterpolationTypeToLinear()) or "
-                    "draw with a sampled method (mip, minip, average, demip), which sample the nearest voxel")
         if self._samples_rays() and not (self.GetAutoAdjustSampleDistances()
                                          or self.GetLockSampleDistanceToInputSpacing()):
             dense = samples_per_ray_problem(image, self.GetSampleDistance())
