@@ -4,8 +4,9 @@ The first 24 cases of the differential run: every method with a float readout an
 random scalar type, NaN holes, a mask, vectors, anisotropic spacing, a rotated direction, an extent not from
 0, a slab, a clipping plane, cropping regions, bricks and view. Each must agree with the reference within the
 method's tolerance (docs/reliability.md, "Ties", lists the cases further on that do not, and why).
-And cases drawn by a scene that drew another case first and was then changed (``--after 5000``: input,
-in place for odd cases, window, view, size, sampling, matrix and every mapper setting), as a viewer is.
+Cases drawn with nearest-neighbour interpolation; and cases drawn by a scene that drew another case first
+and was then changed (``--after 5000``: input, in place for odd cases, window, view, size, sampling, matrix
+and every mapper setting), as a viewer is.
 """
 import numpy as np
 import pytest
@@ -32,4 +33,13 @@ def test_a_scene_changed_from_another_case_agrees_with_the_reference(base, numbe
     """Case 125 (demip_two_pass in bricks, its image given another spacing in place) found the bricks' box
     placed at the old spacing's first point (tests/test_bricked_mapper.py, the new time step)."""
     case, problem = run_case(number, base, after=number + 5000)
+    assert problem is None, (case, problem)
+
+
+@pytest.mark.parametrize("number", [24, 60, 99, 126, 176, 280, 322])
+def test_nearest_interpolation_cases_agree_with_the_reference(base, number):
+    """Cases drawn with nearest-neighbour interpolation (mip, minip, average): the front views' half-way ties
+    (either point accepted) and, in bricks, the CPU's one sample of a grazing outline ray (176, 322: linear
+    until 2026-12-05; tests/test_interpolation.py)."""
+    case, problem = run_case(number, base)
     assert problem is None, (case, problem)
