@@ -195,6 +195,15 @@ def configure(scene: OffscreenView, case: dict, number: int, image, mask, reset:
             getattr(mapper, "Set" + "".join(part.capitalize() for part in key.split("_")))(value)
     if mask is not None:
         mapper.SetMaskInput(mask)
+    framing = camera_case(case, number)
+    if framing == "shift":  # an off-centre window (a tiled display's tile, ParaView's image reduction)
+        draw = random.Random(number + 5000)
+        camera.SetWindowCenter(draw.uniform(-0.6, 0.6), draw.uniform(-0.6, 0.6))
+    elif framing == "inside":  # the eye inside the volume (a fly-through): the near plane cuts the box
+        bounds = np.array(scene.volume.GetBounds())
+        radius = 0.5 * np.linalg.norm(bounds[1::2] - bounds[0::2])
+        camera.Dolly(camera.GetDistance() / (0.35 * radius))
+        scene.renderer.ResetCameraClippingRange()
     planes, cropping = [], None
     if case["slab"]:
         mapper.SetSlabThickness(7.0)
@@ -223,6 +232,16 @@ def configure(scene: OffscreenView, case: dict, number: int, image, mask, reset:
     if nearest_case(case, number):  # the volume property's nearest-neighbour interpolation
         scene.volume.GetProperty().SetInterpolationTypeToNearest()
     return planes, cropping, matrix, settings
+
+
+def camera_case(case: dict, number: int):
+    """How case ``number``'s camera is framed beyond its view: ``"shift"`` (an off-centre window,
+    ``SetWindowCenter``), ``"inside"`` (a perspective eye inside the volume) or None; drawn apart from the
+    case, so that every other draw stays as it was."""
+    draw = random.Random(number + 4000).random()
+    if draw < 0.15:
+        return "shift"
+    return "inside" if draw < 0.35 and case["view"] == "perspective" else None
 
 
 def nearest_case(case: dict, number: int) -> bool:

@@ -206,6 +206,63 @@ def placed(image, matrix=None):
     return out
 
 
+#: VTK's least offset of the near-plane cap (vtkOpenGLGPUVolumeRayCastMapper: 1000 float epsilons).
+_LEAST_CAP_OFFSET = 1000.0 * float(np.finfo(np.float32).eps)
+
+
+def near_cap(whole, camera, aspect: float = 1.0) -> Optional[np.ndarray]:
+    """The plane where VTK's ray caster starts the rays when ``camera``'s near plane cuts the ``whole`` box, or None.
+
+    VTK's GPU ray caster (``vtkOpenGLGPUVolumeRayCastMapper``,
+    ``IsCameraInside`` and ``RenderVolumeGeometry``, the same in VTK 9.2 and
+    9.7) tests the box's 8 corners against the camera's near frustum plane
+    (``vtkCamera::GetFrustumPlanes``, normalised): where some lie on both
+    sides (or one on it) it clips the box with that plane moved ``max(0.001
+    (far - near), 1000 float epsilons)`` into the view (in the volume's own
+    units: under a volume matrix that scales, that many of them) and caps it, so a
+    ray crossing the cap starts there (its first sample one step further),
+    not at the box.  ``whole``: the whole volume's image data (the corners
+    through its index-to-physical matrix: a volume's own matrix folded in,
+    :func:`placed`; :func:`mipcast.mappers.brick_rays.whole_geometry`).
+
+    Returns
+    -------
+    numpy.ndarray or None
+        ``(nx, ny, nz, c)``: the cap is ``n . x = c`` in world coordinates,
+        ``n`` the unit view direction; None when the near plane does not
+        cut the box (the rays start at the box).
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkCamera
+    >>> whole = vtkImageData()
+    >>> whole.SetExtent(0, 10, 0, 10, 0, 10)
+    >>> camera = vtkCamera()
+    >>> camera.SetFocalPoint(5, 5, 5); camera.SetPosition(5, 5, 40); camera.SetClippingRange(1.0, 101.0)
+    >>> near_cap(whole, camera) is None
+    True
+    >>> camera.SetPosition(5, 5, 8); camera.SetClippingRange(1.0, 101.0)
+    >>> [round(float(v), 6) for v in near_cap(whole, camera)]   # z = 8 - 1 - 0.1
+    [0.0, 0.0, -1.0, -6.9]
+    """
+    planes = [0.0] * 24
+    camera.GetFrustumPlanes(float(aspect), planes)
+    plane = np.array(planes[16:20])
+    extent = whole.GetExtent()
+    corners = np.array([[i, j, k, 1.0] for k in extent[4:6] for j in extent[2:4] for i in extent[0:2]])
+    world = corners @ matrix_array(whole.GetIndexToPhysicalMatrix()).T
+    side = (world[:, :3] / world[:, 3:]) @ plane[:3] + plane[3]
+    if not (np.any(side == 0.0) or (np.any(side < 0.0) and np.any(side > 0.0))):
+        return None
+    near, far = camera.GetClippingRange()
+    offset = max((far - near) * 1.0e-3, _LEAST_CAP_OFFSET)
+    # VTK moves the plane by the offset in the volume's own (data) units, along the plane's normal there:
+    # in the world by offset * |M^T n| (M the volume's matrix; ``whole``'s direction matrix is M times an
+    # orthonormal one, so |D^T n| is the same; 1 without a matrix)
+    stretch = float(np.linalg.norm(matrix_array(whole.GetDirectionMatrix()).T @ plane[:3]))
+    return np.append(plane[:3], offset * stretch - plane[3])
+
+
 def box_interval(origin: np.ndarray, direction: np.ndarray, upper: np.ndarray,
                  margin: float = 0.0) -> tuple:
     """Ray parameters where rays enter/leave the box [-margin, upper + margin].
@@ -262,7 +319,9 @@ def camera_rays(image: vtkImageData, camera: Any, size: tuple, aspect: Optional[
     Notes
     -----
     ``t`` is a world distance measured from the near clipping plane; the
-    ray is clipped to ``[0, distance to the far plane]`` as VTK clips it.
+    ray is clipped to ``[0, distance to the far plane]`` as VTK clips it, and
+    where the near plane cuts the box (the eye inside the volume) it starts
+    at VTK's cap, the near plane moved a little into the view (:func:`near_cap`).
     A ray that misses the box by less than ``TOUCH_TOLERANCE`` voxels is
     reported as touching it (hit, with the parameters of that slightly
     larger box), so rays meant to run along a face or through a corner do
@@ -297,11 +356,16 @@ def camera_rays(image: vtkImageData, camera: Any, size: tuple, aspect: Optional[
     origin = near @ to_index[:3, :3].T + to_index[:3, 3]
     direction = world_dir @ to_index[:3, :3].T
 
+    start = np.zeros(length.shape)
+    cap = near_cap(image, camera, aspect)
+    if cap is not None:  # the near plane cuts the box: VTK starts the rays crossing it at its cap
+        with np.errstate(divide="ignore", invalid="ignore"):
+            start = np.maximum((cap[3] - near @ cap[:3]) / (world_dir @ cap[:3]), 0.0)
     t_enter, t_exit = box_interval(origin, direction, upper)
-    t_enter, t_exit = np.maximum(t_enter, 0.0), np.minimum(t_exit, length)
+    t_enter, t_exit = np.maximum(t_enter, start), np.minimum(t_exit, length)
     hit = t_enter <= t_exit
     loose_enter, loose_exit = box_interval(origin, direction, upper, TOUCH_TOLERANCE)
-    loose_enter, loose_exit = np.maximum(loose_enter, 0.0), np.minimum(loose_exit, length)
+    loose_enter, loose_exit = np.maximum(loose_enter, start), np.minimum(loose_exit, length)
     touch = ~hit & (loose_enter <= loose_exit)
     t_enter = np.where(hit, t_enter, np.where(touch, loose_enter, np.nan))
     t_exit = np.where(hit, t_exit, np.where(touch, loose_exit, np.nan))

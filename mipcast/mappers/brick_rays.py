@@ -13,7 +13,7 @@ from typing import Optional, Sequence
 import numpy as np
 from vtkmodules.vtkCommonCore import VTK_NEAREST_INTERPOLATION
 
-from mipcast.core.camera_rays import first_point, matrix_array, placed
+from mipcast.core.camera_rays import first_point, matrix_array, near_cap, placed  # noqa: F401  (near_cap: here before)
 
 
 def global_texture_box(piece_extent: Sequence[int], whole: Sequence[int]):
@@ -158,57 +158,6 @@ def ray_uniforms(image, camera, size) -> dict:
     cap = near_cap(image, camera, width / height)
     out["u_mc_rayCap"] = np.zeros(4) if cap is None else index_plane(cap, image.GetIndexToPhysicalMatrix())
     return {name: [float(v) for v in value] for name, value in out.items()}
-
-
-#: VTK's least offset of the near-plane cap (vtkOpenGLGPUVolumeRayCastMapper: 1000 float epsilons).
-_LEAST_CAP_OFFSET = 1000.0 * float(np.finfo(np.float32).eps)
-
-
-def near_cap(whole, camera, aspect: float = 1.0) -> Optional[np.ndarray]:
-    """The plane where VTK's ray caster starts the rays when ``camera``'s near plane cuts the ``whole`` box, or None.
-
-    VTK's GPU ray caster (``vtkOpenGLGPUVolumeRayCastMapper``,
-    ``IsCameraInside`` and ``RenderVolumeGeometry``, the same in VTK 9.2 and
-    9.7) tests the box's 8 corners against the camera's near frustum plane
-    (``vtkCamera::GetFrustumPlanes``, normalised): where some lie on both
-    sides (or one on it) it clips the box with that plane moved ``max(0.001
-    (far - near), 1000 float epsilons)`` into the view and caps it, so a
-    ray crossing the cap starts there (its first sample one step further),
-    not at the box.  ``whole``: :func:`whole_geometry`'s image (the corners
-    through its index-to-physical matrix: a volume's own matrix folded in,
-    :func:`placed`).
-
-    Returns
-    -------
-    numpy.ndarray or None
-        ``(nx, ny, nz, c)``: the cap is ``n . x = c`` in world coordinates,
-        ``n`` the unit view direction; None when the near plane does not
-        cut the box (the rays start at the box).
-
-    Examples
-    --------
-    >>> from vtkmodules.vtkRenderingCore import vtkCamera
-    >>> whole = whole_geometry(((0, 10, 0, 10, 0, 10), (0.0, 0.0, 0.0), (1.0, 1.0, 1.0), [1, 0, 0, 0, 1, 0, 0, 0, 1]))
-    >>> camera = vtkCamera()
-    >>> camera.SetFocalPoint(5, 5, 5); camera.SetPosition(5, 5, 40); camera.SetClippingRange(1.0, 101.0)
-    >>> near_cap(whole, camera) is None
-    True
-    >>> camera.SetPosition(5, 5, 8); camera.SetClippingRange(1.0, 101.0)
-    >>> [round(float(v), 6) for v in near_cap(whole, camera)]   # z = 8 - 1 - 0.1
-    [0.0, 0.0, -1.0, -6.9]
-    """
-    planes = [0.0] * 24
-    camera.GetFrustumPlanes(float(aspect), planes)
-    plane = np.array(planes[16:20])
-    extent = whole.GetExtent()
-    corners = np.array([[i, j, k, 1.0] for k in extent[4:6] for j in extent[2:4] for i in extent[0:2]])
-    world = corners @ matrix_array(whole.GetIndexToPhysicalMatrix()).T
-    side = (world[:, :3] / world[:, 3:]) @ plane[:3] + plane[3]
-    if not (np.any(side == 0.0) or (np.any(side < 0.0) and np.any(side > 0.0))):
-        return None
-    near, far = camera.GetClippingRange()
-    offset = max((far - near) * 1.0e-3, _LEAST_CAP_OFFSET)
-    return np.append(plane[:3], offset - plane[3])
 
 
 def index_plane(cap: Sequence[float], index_to_world) -> np.ndarray:
