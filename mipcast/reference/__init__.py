@@ -109,7 +109,8 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
         ``component : int or "magnitude"`` (optional, every method): see ``image``.
         ``interpolation : {"linear", "nearest"}`` (optional, ``"mip"``, ``"minip"``,
         ``"average"``): ``"nearest"`` samples the nearest point's value, as the GPU
-        does under ``SetInterpolationTypeToNearest`` (the exact methods refuse it).
+        does under ``SetInterpolationTypeToNearest`` (a ``ValueError`` for the other
+        methods: the exact ones draw the trilinear interpolant whatever the property says).
 
     Returns
     -------
