@@ -19,7 +19,7 @@ volume property's transfer functions.
   whole volume's point-index space from uniforms that are the same on
   every rank (:func:`ray_uniforms`), sample k sits at the whole box's entry
   (or, the camera inside the volume, VTK's near-plane cap beyond it:
-  :func:`mipcast.mappers.brick_rays.near_cap`) + (1 + k) steps and is
+  :func:`mipcast.core.camera_rays.near_cap`) + (1 + k) steps and is
   interpolated by hand from its cell's 8 points (the
   brick holding the cell takes it), and the readout is normalised with the
   whole range: N ranks give the 1-rank float image bit for bit (measured on

@@ -14,7 +14,7 @@
 // sample to the box's exit); the start is the whole box's entry, or where
 // the camera is inside the volume (its near plane cuts the box) VTK's
 // near-plane cap when the ray crosses it beyond the entry (u_mc_rayCap: the
-// cap n . p = w in point indices, brick_rays.near_cap; n = 0: no cap). mcGlobalSample(k) interpolates it by hand
+// cap n . p = w in point indices, camera_rays.near_cap; n = 0: no cap). mcGlobalSample(k) interpolates it by hand
 // (texelFetch of the cell's 8 points, exact cell index and fractions; under the
 // volume property's nearest-neighbour interpolation, u_mc_nearest, the nearest of them),
 // so the value does not depend on the brick's texture size; a brick takes

@@ -30,7 +30,7 @@
 // starts the whole volume's rays at its near-plane cap where they cross it
 // beyond the box's entry, so the samples count from there (u_mc_capTex: the
 // cap n . p = w in this piece's texture coordinates,
-// mipcast.mappers.brick_rays.near_cap and texture_plane; n = 0: none), also
+// mipcast.core.camera_rays.near_cap and texture_plane; n = 0: none), also
 // when the cap lies beyond this piece's entry (a piece VTK did not cap).
 // Installed on more than one rank only: one rank draws VTK's own shader.
 #define MC_PHASE_SLACK 1.0e-3

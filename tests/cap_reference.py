@@ -3,7 +3,7 @@
 Where the camera's near plane cuts the volume's box VTK starts each ray at its near-plane cap, a thousandth
 of the clipping range beyond the near plane (``vtkOpenGLGPUVolumeRayCastMapper``'s ``RenderVolumeGeometry``),
 not at the near plane where :func:`mipcast.core.camera_rays.camera_rays` starts them.  Computed here from the
-camera alone (not from :func:`mipcast.mappers.brick_rays.near_cap`, which the tests check).
+camera alone (not from :func:`mipcast.core.camera_rays.near_cap`, which the tests check).
 """
 import numpy as np
 

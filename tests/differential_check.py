@@ -18,6 +18,7 @@ pixels, or, for the methods whose picture is their value through the window's gr
 picture is more than 2 grey off the reference's on more than 1 % of the pixels.  docs/reliability.md, "Ties", lists what it found.
 """
 import argparse
+import functools
 import random
 import warnings
 from typing import Optional
@@ -112,14 +113,19 @@ def volumes(case: dict, base: np.ndarray):
     return image, reference_image, mask
 
 
+def drawn_values(image, component) -> np.ndarray:
+    """The values the methods draw of ``image`` (float64, flat): its component, or its vectors' magnitude."""
+    values = vtk_to_numpy(image.GetPointData().GetScalars() or image.GetCellData().GetScalars()).astype(np.float64)
+    if values.ndim == 2:
+        values = values[:, component] if component is not None else np.linalg.norm(values, axis=1)
+    return values
+
+
 def case_window(case: dict, image, component) -> Optional[tuple]:
     """The case's grey window in data units (None: OffscreenView's default)."""
     if case.get("window") is None:
         return None
-    drawn = image.GetPointData().GetScalars() or image.GetCellData().GetScalars()
-    values = vtk_to_numpy(drawn).astype(np.float64)
-    if values.ndim == 2:
-        values = values[:, component] if component is not None else np.linalg.norm(values, axis=1)
+    values = drawn_values(image, component)
     low, span = np.nanmin(values), np.nanmax(values) - np.nanmin(values)
     return tuple(float(low + f * span) for f in case["window"])
 
@@ -258,12 +264,10 @@ def run_case(number: int, base: np.ndarray, after: Optional[int] = None) -> tupl
     ``number`` the input is the first image object, given case ``number``'s contents by ``DeepCopy``."""
     case = draw_case(random.Random(number))
     image, reference_image, mask = volumes(case, base)
-    component = case.get("component") if case["vectors"] else None
-    drawn = reference_image.GetPointData().GetScalars() or reference_image.GetCellData().GetScalars()
-    values = vtk_to_numpy(drawn).astype(np.float64)
-    if values.ndim == 2:
-        values = values[:, component] if component is not None else np.linalg.norm(values, axis=1)
+    component = case_settings(case)[0]
+    values = drawn_values(reference_image, component)
     span = np.nanmax(values) - np.nanmin(values)
+    nearest = nearest_case(case, number)
     if after is None:
         scene = scene_for(case, image, reference_image)
     else:  # the scene drew another case first, then is changed to this one
@@ -293,24 +297,22 @@ def run_case(number: int, base: np.ndarray, after: Optional[int] = None) -> tupl
         outside = foveation.eccentricity(size, plan.gaze, plan.aspect) >= plan.start
         got[outside] = np.nan
     clip = (np.concatenate([p[0] for p in planes]), np.concatenate([p[1] for p in planes])) if planes else None
-    if nearest_case(case, number):
+    if nearest:
         settings["interpolation"] = "nearest"
-    expected = METHODS[name].reference(reference_image, camera, scene.size, sample_distance=scene.sample_distance,
-                                       window=scene.window, clip_planes=clip, cropping=cropping, matrix=matrix,
-                                       **({"component": component} if component is not None else {}), **settings)
-    if nearest_case(case, number):  # a sample within float rounding of half-way between two points is a tie:
-        # either point's value may count, sample by sample: the reductions of the lower and of the higher of the
-        # two values bound every choice (maximum, minimum and mean alike); expected is got moved into the bounds
+    the_reference = functools.partial(METHODS[name].reference, reference_image, camera, scene.size,
+                                      sample_distance=scene.sample_distance, window=scene.window, clip_planes=clip,
+                                      cropping=cropping, matrix=matrix, **settings,
+                                      **({"component": component} if component is not None else {}))
+    expected = the_reference()
+    if nearest:  # a sample within float rounding of half-way between two points is a tie: either point's
+        # value may count, sample by sample: the reductions of the lower and of the higher of the two values
+        # bound every choice (maximum, minimum and mean alike); expected is got moved into the bounds
         bounds = []
         for pick in (np.minimum, np.maximum):
             reference.nearest = lambda values, position, pick=pick: pick(rays.nearest(values, position - TIE),
                                                                         rays.nearest(values, position + TIE))
             try:
-                bounds.append(METHODS[name].reference(reference_image, camera, scene.size,
-                                                      sample_distance=scene.sample_distance, window=scene.window,
-                                                      clip_planes=clip, cropping=cropping, matrix=matrix,
-                                                      **({"component": component} if component is not None else {}),
-                                                      **settings))
+                bounds.append(the_reference())
             finally:
                 reference.nearest = rays.nearest
         expected = np.where(np.isnan(got), expected, np.clip(got, bounds[0], bounds[1]))
@@ -336,7 +338,7 @@ def run_case(number: int, base: np.ndarray, after: Optional[int] = None) -> tupl
     if problem or agree <= 0.97 or error > tolerance:
         return case, (f"{problem or ''} hit/miss agree {agree:.3f}, error {error:.3g} of the range "
                       f"(tolerance {tolerance:g}) at {int((errors > tolerance).sum())} of {int(both.sum())} pixels")
-    if name in GREY and not foveated and not nearest_case(case, number):  # the picture: the reference through
+    if name in GREY and not foveated and not nearest:  # the picture: the reference through
         # the window's grey ramp (block skipping starts rays at the window's floor, the float readout does not).
         # Not under nearest-neighbour interpolation: VTK reads the colour table nearest too, its colours step
         # between the table's entries (docs/reliability.md, "Blend modes"); the floats are checked

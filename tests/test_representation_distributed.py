@@ -73,7 +73,7 @@ NAN_METHODS = ("mip+nan", "analytic+nan", "minip+nan", "analytic_minip+nan", "av
 #: levels (two phases per level).  Content-adaptive density on missing values is refused over ranks (REFUSED).
 FOVEATED_METHODS = ("foveated@content_tolerance=4", "foveated@progressive=1", "foveated@method=demip")
 #: The camera inside the volume (2 ranks along x): every route, the pieces' samples counted from VTK's near-plane
-#: cap as one rank's (brick_rays.near_cap: global_phase, global_cells, stock_phase).  Before, the sampled methods
+#: cap as one rank's (camera_rays.near_cap: global_phase, global_cells, stock_phase).  Before, the sampled methods
 #: were refused there (measured before the refusal: mip 37.6 %, stock 37.6 %, stock_minip 30.7 %, demip 15.0 %,
 #: average 43.0 %; analytic_minip 97.07 %: its pieces' walks began at the whole box's entry, behind the camera).
 #: Now 100 % within 1 grey, minip (and stock_minip, measured, not run here: stock_phase as stock) 99.989 % (one

@@ -13,7 +13,7 @@ from typing import Optional, Sequence
 import numpy as np
 from vtkmodules.vtkCommonCore import VTK_NEAREST_INTERPOLATION
 
-from mipcast.core.camera_rays import first_point, matrix_array, near_cap, placed  # noqa: F401  (near_cap: here before)
+from mipcast.core.camera_rays import first_point, matrix_array, near_cap, placed
 
 
 def global_texture_box(piece_extent: Sequence[int], whole: Sequence[int]):

@@ -21,9 +21,9 @@ from typing import Optional, Tuple
 
 import numpy as np
 
-from mipcast.core.camera_rays import camera_rays, index_space
+from mipcast.core.camera_rays import camera_rays, index_space, near_cap
 from mipcast.core.demip_depth import DepthGeometry, enhance
-from mipcast.mappers.brick_rays import cap_steps, index_plane, near_cap
+from mipcast.mappers.brick_rays import cap_steps, index_plane
 
 
 def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, index: np.ndarray, params: dict,
@@ -41,7 +41,7 @@ def demip_composite(whole, camera, sample_distance: float, values: np.ndarray, i
     sample_distance : float
         Distance between samples in the volume's own units, as VTK's (sample k at the ray's start + (1 + k) steps:
         the box entry, or VTK's near-plane cap beyond it when the camera is inside the volume,
-        :func:`mipcast.mappers.brick_rays.near_cap`).
+        :func:`mipcast.core.camera_rays.near_cap`).
     values : numpy.ndarray, shape (height, width)
         The whole-ray maximum in data units (NaN: miss), top row first.
     index : numpy.ndarray, shape (height, width)

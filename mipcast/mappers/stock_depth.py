@@ -79,11 +79,12 @@ def push_cap(volume, whole, camera, piece_extent: Sequence[int], aspect: float =
 
     Where ``camera``'s near plane cuts the ``whole`` volume's box (the camera
     inside the volume) VTK starts the whole volume's rays at its cap
-    (:func:`mipcast.mappers.brick_rays.near_cap`): the plane in the
+    (:func:`mipcast.core.camera_rays.near_cap`): the plane in the
     texture coordinates of the piece of ``piece_extent``; none (zeros)
     otherwise.  ``whole``: :func:`mipcast.mappers.brick_rays.whole_geometry`'s image.
     """
-    from mipcast.mappers.brick_rays import index_plane, near_cap, texture_plane
+    from mipcast.core.camera_rays import near_cap
+    from mipcast.mappers.brick_rays import index_plane, texture_plane
 
     cap = near_cap(whole, camera, aspect)
     plane = np.zeros(4) if cap is None else texture_plane(index_plane(cap, whole.GetIndexToPhysicalMatrix()),
