@@ -42,10 +42,12 @@ float mcNormalised(float raw)
 // at (i + 0.5) / n, and reads it at s itself: the function half a table step off, -1/2 step at 0 to +1/2 at
 // 1 (stock VTK's own lookups; under a window 3 % of the range wide up to 4 grey darker). mipcast's colour
 // lookups read at mcAtTable instead: the function at s, interpolated between its tabulated points. Macros:
-// the samplers are declared after this piece.
+// the samplers are declared after this piece. u_mc_tableScale (scale, bias) first takes s to the value's
+// place in the tables: (1, 0) but for 8-bit data, whose s VTK computes for the value times 256/255
+// (float_readout.table_coordinate).
 float mcAtTable(float s, float texels)
 {
-  return (clamp(s, 0.0, 1.0) * (texels - 1.0) + 0.5) / texels;
+  return (clamp(s * u_mc_tableScale.x + u_mc_tableScale.y, 0.0, 1.0) * (texels - 1.0) + 0.5) / texels;
 }
 #define MC_COLOR_AT(s) vec4(mcAtTable((s), float(textureSize(in_colorTransferFunc_0[0], 0).x)))
 #define MC_OPACITY_AT(s) vec4(mcAtTable((s), float(textureSize(in_opacityTransferFunc_0[0], 0).x)))

@@ -54,3 +54,22 @@ def test_the_eye_inside_the_volume_agrees_with_the_reference(base, number):
     the reference took world units: 133 and 310 off until then)."""
     case, problem = run_case(number, base)
     assert problem is None, (case, problem)
+
+
+@pytest.mark.parametrize("number", [109, 148, 231, 234, 274, 275, 396, 543])
+def test_rays_from_an_eye_inside_the_volume_aim_through_the_pixel_centre(base, number):
+    """Eye-inside cases off until 2026-12-05 by 1.6e-4 to 5.1e-4 of the range (148: 0.03, a sample whose value
+    crossed the missing-data floor of the mask's edge, counted in the average): VTK aimed each ray from the
+    eye at its fragment on the near-plane cap, 0.001 of the clipping range away, both in float32. Now the
+    perspective_ray_direction piece aims it along the pixel's line through the frustum (1.3e-6 to 2.5e-5)."""
+    case, problem = run_case(number, base)
+    assert problem is None, (case, problem)
+
+
+@pytest.mark.parametrize("number", [521, 568])
+def test_8_bit_data_under_a_narrow_window_is_coloured_at_its_value(base, number):
+    """analytic on 8-bit data under a window 30 % of the range wide (0.7-1.0): until 2026-12-05 the picture
+    was 3 grey brighter than the float readout and the reference (tests/test_narrow_window.py, the 8-bit
+    ramp)."""
+    case, problem = run_case(number, base)
+    assert problem is None, (case, problem)

@@ -78,3 +78,43 @@ def test_the_picture_is_the_reference_through_the_window(name, window):
     error = picture - expected
     assert np.abs(error).max() <= 1, np.abs(error).max()
     assert abs(error[inside].mean()) < 0.35, error[inside].mean()
+
+
+@pytest.mark.parametrize("dtype", [np.uint8, np.int8])
+@pytest.mark.parametrize("name", ["mip", "analytic", "minip", "analytic_minip", "average", "analytic_average"])
+def test_8_bit_data_is_drawn_at_its_value_not_256_255_of_it(name, dtype):
+    """8-bit data: VTK's normalised scalar is that of the value times 256/255 (128/127 signed), so its colour
+    and opacity lookups read the tables 0.4 % of the value too high (stock VTK draws so); the float readout
+    undid the factor (float_readout.texture_scale), the colour pieces did not until 2026-12-05: under a
+    window 20 units wide every pixel inside it 2.5 to 9 grey too bright (uint8 analytic, a window 177-250 of
+    8-250: +3 grey). Now u_mc_tableScale takes the scalar to the value's place in the tables
+    (float_readout.table_coordinate). A ramp along x seen from the front: every ray's maximum, minimum and
+    mean are the ramp's value at its x."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    ramp = 4.0 * np.arange(64) - (0.0 if dtype == np.uint8 else 128.0)
+    image = vtkImageData()
+    image.SetDimensions(64, 4, 4)
+    image.GetPointData().SetScalars(numpy_to_vtk(np.tile(ramp, 16).astype(dtype), deep=True))
+    low, high = float(ramp[40]), float(ramp[40]) + 20.0  # 20 units of the range, in its upper part
+    scene = OffscreenView(image, name, size=(128, 16), view="front", window=(low, high))
+    camera = scene.camera
+    camera.SetParallelScale(2.0)  # 32 points across, a pixel a quarter of a point: the ramp's values at
+    camera.SetFocalPoint(31.625, 1.5, 1.5)  # the pixels are whole numbers (llvmpipe filters 8-bit
+    camera.SetPosition(31.625, 1.5, 40.0)   # textures to 8 bits: a half-way value would round up)
+    scene.renderer.ResetCameraClippingRange()
+    picture = scene.screenshot()[..., 0].astype(float)
+    method = METHODS[name]
+    settings = {} if method.walks_cells else {"sample_distance": scene.sample_distance}
+    exact = method.reference(image, camera, scene.size, window=(low, high), **settings)
+    inside = np.isfinite(exact) & (exact > low) & (exact < high)
+    assert inside.sum() > 100
+    expected = np.where(np.isfinite(exact), np.round(255 * np.clip((exact - low) / (high - low), 0, 1)), 0.0)
+    error = picture - expected
+    assert abs(error[inside].mean()) < 0.35, error[inside].mean()
+    # within 1 grey, but where the value lies within one table step (1/1023 of the range) of a window end:
+    # there VTK's table interpolates across the ramp's corner
+    step = np.ptp(ramp) / 1023.0
+    corner = (np.abs(exact - low) <= step) | (np.abs(exact - high) <= step)
+    assert np.abs(error)[~corner].max() <= 1, np.abs(error)[~corner].max()

@@ -15,15 +15,17 @@ from mipcast.core.prepare import prepare_scalars, scalar_image
 from mipcast.core.transfer_bounds import normalised_ends
 from mipcast.core.validation import samples_per_ray_problem
 from mipcast.mappers import brick_rays, bricked_draw, clip_uniforms, shader_pieces
-from mipcast.mappers.float_readout import from_data_units
+from mipcast.mappers.float_readout import from_data_units, table_coordinate
 from mipcast.mappers.input_preparer import InputPreparer
 from mipcast.mappers.max_blocks import block_bytes, block_level_image
 from mipcast.mappers.private_draw import rendering_renderer, scissor_from_origin
-from mipcast.mappers.stereo import eye_uniforms
+from mipcast.mappers.stereo import drawing_camera, eye_uniforms
 
 
 #: The piece every mipcast mapper adds to its own: stereo-correct ray directions.
 STEREO_PIECE = "stereo_ray_direction"
+#: ... and for mono perspective frames: ray directions from the pixel's line through the frustum.
+PERSPECTIVE_PIECE = "perspective_ray_direction"
 #: The sampled hook pieces that skip blocks, and their skipping variants (MIP's, MinIP's, DEMIP's).
 _BLOCK_HOOKS = {"mip_hooks": "mip_hooks_blocks", "minip_hooks": "minip_hooks_blocks",
                 "demip_hooks": "demip_hooks_blocks"}
@@ -391,6 +393,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
             self.Detach()
         self._install_pieces(volume)
         volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniformf("u_mc_refused", 0.0)
+        volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniform2f("u_mc_tableScale", [1.0, 0.0])
         clip_uniforms.push(volume.GetShaderProperty().GetFragmentCustomUniforms(), ())
         clip_uniforms.push_slab(volume.GetShaderProperty().GetFragmentCustomUniforms(), clip_uniforms.NO_SLAB)
         link = vtkWeakReference()  # a C++ weak pointer: Python wrappers come and go
@@ -554,13 +557,17 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         return bool(self.GetAutoAdjustSampleDistances()) or self.GetImageSampleDistance() > 1.0
 
     def _pieces_now(self, volume) -> tuple:
-        """:meth:`GetShaderPieces`, plus the stereo piece while an eye of a stereo pair renders and
+        """:meth:`GetShaderPieces`, plus the stereo piece while an eye of a stereo pair renders (else
+        ``perspective_ray_direction`` under a perspective camera) and
         ``clip_active`` while something clips (planes, cropping, a slab); ``clip_regions`` instead
         while it crops with region flags other than the sub-volume."""
         names = tuple(self.GetShaderPieces())
         if self._clips():
             names += ("clip_regions" if clip_uniforms.crops_regions(self) else "clip_active",)
-        return names + (STEREO_PIECE,) if eye_uniforms(self, volume) is not None else names
+        if eye_uniforms(self, volume) is not None:
+            return names + (STEREO_PIECE,)
+        camera = drawing_camera(self, volume)
+        return names + (PERSPECTIVE_PIECE,) if camera is not None and not camera.GetParallelProjection() else names
 
     def _clips(self) -> bool:
         """Clipping planes, cropping or a slab: the loops then narrow each ray (``clip_active``)."""
@@ -679,6 +686,17 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         below = type(self).MISSING_FILL == "below"
         uniforms.SetUniformf("u_mc_missingBelow" if below else "u_mc_missingAbove",
                              missing if missing is not None else (-1.0e30 if below else 1.0e30))
+        uniforms.SetUniform2f("u_mc_tableScale", list(self._table_scale()))  # (shaders/mip_globals.glsl)
+
+    def _table_scale(self) -> tuple:
+        """(scale, bias) from the normalised scalar the shader draws to its place in the transfer-function
+        tables (:func:`~mipcast.mappers.float_readout.table_coordinate`); (1, 0) for a brick of a
+        distributed volume, whose samples are normalised over the whole range (and coloured on the CPU)."""
+        if object_state(self).get("global_normalisation") is not None:
+            return 1.0, 0.0
+        image = self.GetInputPreparer().GetOutputDataObject(0)
+        scalars = image.GetPointData().GetScalars() if image is not None else None
+        return table_coordinate(scalars) if scalars is not None else (1.0, 0.0)
 
     def _slab_settings(self) -> tuple:
         """``(thickness, centre, normal)`` of the slab (the ``SLAB`` parameters; 0: none)."""

@@ -12,8 +12,10 @@ volume to a uniform shift; every mipcast mapper therefore installs the
 ``stereo_ray_direction`` piece while an eye renders, aiming rays from the
 eye's centre of projection (:func:`eye_position`: the shear is a lateral
 move of the camera by ``-s * tan(EyeAngle / 2) * distance`` plus an
-off-axis frustum; :func:`eye_uniforms`).  Mono frames use VTK's code
-unchanged.  Everything else the mappers derive per frame
+off-axis frustum; :func:`eye_uniforms`).  Mono perspective frames get
+``perspective_ray_direction`` instead (the pixel's line through the frustum,
+better conditioned than VTK's when the eye is inside the volume), mono
+parallel frames VTK's code.  Everything else the mappers derive per frame
 comes from the eye's own matrices, so each eye's image is that method seen
 through that eye (tests/test_stereo.py checks it for every method against
 a mono render through the eye's projection).
@@ -34,6 +36,7 @@ import math
 from typing import Optional, Sequence
 
 import numpy as np
+from vtkmodules.vtkRenderingCore import vtkCamera
 
 from mipcast.core.camera_rays import matrix_array
 from mipcast.core.object_state import object_state
@@ -164,6 +167,24 @@ def eye_position(camera, eye: str) -> np.ndarray:
     return np.array(camera.GetPosition()) - slope * camera.GetDistance() * right
 
 
+def drawing_camera(mapper, volume) -> Optional[vtkCamera]:
+    """The camera ``mapper`` draws ``volume`` for now: ``object_state(mapper)["draw_camera"]`` (private
+    level mappers drawing for another mapper), else the active camera of the renderer drawing ``volume``;
+    None when neither is known.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkVolume
+    >>> drawing_camera(None, vtkVolume()) is None
+    True
+    """
+    camera = object_state(mapper).get("draw_camera") if mapper is not None else None
+    if camera is None:
+        renderer = rendering_renderer(mapper, volume)
+        camera = renderer.GetActiveCamera() if renderer is not None else None
+    return camera
+
+
 def eye_uniforms(mapper, volume) -> Optional[dict]:
     """The ``stereo_ray_direction`` uniforms for the eye ``mapper`` renders now; None for mono frames.
 
@@ -179,10 +200,7 @@ def eye_uniforms(mapper, volume) -> Optional[dict]:
     >>> eye_uniforms(None, vtkVolume()) is None
     True
     """
-    camera = object_state(mapper).get("draw_camera") if mapper is not None else None
-    if camera is None:
-        renderer = rendering_renderer(mapper, volume)
-        camera = renderer.GetActiveCamera() if renderer is not None else None
+    camera = drawing_camera(mapper, volume)
     if camera is None or not camera.GetStereo():
         return None
     eye = "left" if camera.GetLeftEye() else "right"
