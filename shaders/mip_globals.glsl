@@ -35,7 +35,9 @@ float mcNormalised(float raw)
 // between two table texels). A macro, not a function: a brick of a
 // distributed volume redefines mcNormalised after this piece (global_cells,
 // global_phase), and the hooks that use it come after that.
-#define MC_BOUNDED_NORMALISED(raw, lo, hi) ((raw) <= (lo) ? 0.0 : ((raw) >= (hi) ? 1.0 : mcNormalised(raw)))
+// (The bounds are handed the normalised values of the tables' ends, mcTableEnd below: 0 and 1 but for
+// 8-bit data.)
+#define MC_BOUNDED_NORMALISED(raw, lo, hi) ((raw) <= (lo) ? mcTableEnd(0.0) : ((raw) >= (hi) ? mcTableEnd(1.0) : mcNormalised(raw)))
 
 // Where VTK's transfer-function tables hold a normalised value s. VTK tabulates each function at n points,
 // i / (n - 1) of the table's range (vtkColorTransferFunction::GetTable), into a texture whose texel i lies
@@ -48,6 +50,11 @@ float mcNormalised(float raw)
 float mcAtTable(float s, float texels)
 {
   return (clamp(s * u_mc_tableScale.x + u_mc_tableScale.y, 0.0, 1.0) * (texels - 1.0) + 0.5) / texels;
+}
+// The normalised value s whose place in the tables is t (0: the data's minimum, 1: its maximum).
+float mcTableEnd(float t)
+{
+  return (t - u_mc_tableScale.y) / u_mc_tableScale.x;
 }
 #define MC_COLOR_AT(s) vec4(mcAtTable((s), float(textureSize(in_colorTransferFunc_0[0], 0).x)))
 #define MC_OPACITY_AT(s) vec4(mcAtTable((s), float(textureSize(in_opacityTransferFunc_0[0], 0).x)))

@@ -80,27 +80,31 @@ def test_the_picture_is_the_reference_through_the_window(name, window):
     assert abs(error[inside].mean()) < 0.35, error[inside].mean()
 
 
+@pytest.mark.parametrize("where", ["inside", "top", "bottom"])
 @pytest.mark.parametrize("dtype", [np.uint8, np.int8])
 @pytest.mark.parametrize("name", ["mip", "analytic", "minip", "analytic_minip", "average", "analytic_average"])
-def test_8_bit_data_is_drawn_at_its_value_not_256_255_of_it(name, dtype):
+def test_8_bit_data_is_drawn_at_its_value_not_256_255_of_it(name, dtype, where):
     """8-bit data: VTK's normalised scalar is that of the value times 256/255 (128/127 signed), so its colour
     and opacity lookups read the tables 0.4 % of the value too high (stock VTK draws so); the float readout
     undid the factor (float_readout.texture_scale), the colour pieces did not until 2026-12-05: under a
     window 20 units wide every pixel inside it 2.5 to 9 grey too bright (uint8 analytic, a window 177-250 of
     8-250: +3 grey). Now u_mc_tableScale takes the scalar to the value's place in the tables
     (float_readout.table_coordinate). A ramp along x seen from the front: every ray's maximum, minimum and
-    mean are the ramp's value at its x."""
+    mean are the ramp's value at its x; it saturates at both ends (8-bit data often does), and the window
+    lies inside the range, or ends at its top or bottom: the projections' shortcuts hand a value beyond a
+    window end to the tables' ends (mcTableEnd), which must draw the saturated values white or black."""
     from vtkmodules.util.numpy_support import numpy_to_vtk
     from vtkmodules.vtkCommonDataModel import vtkImageData
 
-    ramp = 4.0 * np.arange(64) - (0.0 if dtype == np.uint8 else 128.0)
+    ramp = np.clip(4.0 * np.arange(64), 80.0, 172.0) - (0.0 if dtype == np.uint8 else 120.0)  # x 20 to 43
     image = vtkImageData()
     image.SetDimensions(64, 4, 4)
     image.GetPointData().SetScalars(numpy_to_vtk(np.tile(ramp, 16).astype(dtype), deep=True))
-    low, high = float(ramp[40]), float(ramp[40]) + 20.0  # 20 units of the range, in its upper part
+    low = {"inside": ramp[30], "top": ramp.max() - 20.0, "bottom": ramp.min()}[where]
+    low, high = float(low), float(low) + 20.0  # 20 units of the range
     scene = OffscreenView(image, name, size=(128, 16), view="front", window=(low, high))
     camera = scene.camera
-    camera.SetParallelScale(2.0)  # 32 points across, a pixel a quarter of a point: the ramp's values at
+    camera.SetParallelScale(2.0)  # x 15.6 to 47.6, a pixel a quarter of a point: the ramp's values at
     camera.SetFocalPoint(31.625, 1.5, 1.5)  # the pixels are whole numbers (llvmpipe filters 8-bit
     camera.SetPosition(31.625, 1.5, 40.0)   # textures to 8 bits: a half-way value would round up)
     scene.renderer.ResetCameraClippingRange()
@@ -110,11 +114,17 @@ def test_8_bit_data_is_drawn_at_its_value_not_256_255_of_it(name, dtype):
     exact = method.reference(image, camera, scene.size, window=(low, high), **settings)
     inside = np.isfinite(exact) & (exact > low) & (exact < high)
     assert inside.sum() > 100
+    if where != "inside":  # the saturated end drawn, and its pixels are the window's end
+        assert np.sum(exact == (ramp.max() if where == "top" else ramp.min())) > 100
     expected = np.where(np.isfinite(exact), np.round(255 * np.clip((exact - low) / (high - low), 0, 1)), 0.0)
     error = picture - expected
     assert abs(error[inside].mean()) < 0.35, error[inside].mean()
-    # within 1 grey, but where the value lies within one table step (1/1023 of the range) of a window end:
-    # there VTK's table interpolates across the ramp's corner
+    # within 1 grey, but where the value lies within one table step (1/1023 of the range) of a window end
+    # inside the data's range: there VTK's table interpolates across the ramp's corner (at the range's own
+    # ends the table ends: nothing to interpolate across)
     step = np.ptp(ramp) / 1023.0
-    corner = (np.abs(exact - low) <= step) | (np.abs(exact - high) <= step)
+    corner = np.zeros(exact.shape, bool)
+    for end in (low, high):
+        if ramp.min() < end < ramp.max():
+            corner |= np.abs(exact - end) <= step
     assert np.abs(error)[~corner].max() <= 1, np.abs(error)[~corner].max()
