@@ -20,12 +20,13 @@ def image():
 
 @pytest.mark.parametrize("view, bricks", [("oblique", False), ("perspective", False), ("front", False),
                                           ("perspective", True), ("oblique", True)])
-@pytest.mark.parametrize("name", ["mip", "minip", "average"])
+@pytest.mark.parametrize("name", ["mip", "minip", "average", "demip", "demip_two_pass"])
 def test_sampled_projections_sample_the_nearest_voxel(image, name, view, bricks):
     """In one texture and in bricks (texture limit 12: the bricks take the whole volume's samples by hand,
     ``global_phase``, which until 2026-12-05 interpolated them linearly whatever the property said: every
     pixel but 0-2 of 1233 off, up to 0.46 of the range; and the CPU's one sample of a grazing outline ray,
-    ``outline_rays``, was linear too: 1 pixel of 1233 off by 0.047 once the bricks were right)."""
+    ``outline_rays``, was linear too: 1 pixel of 1233 off by 0.047 once the bricks were right). DEMIP's
+    value (its maximum) against its reference's, which takes ``interpolation`` since 2026-12-05."""
     scene = OffscreenView(image, name, size=SIZE, window=(0.25, 1.0), view=view)
     if bricks:
         object_state(scene.mapper)["texture_limit"] = 12
@@ -58,7 +59,7 @@ def test_exact_projections_draw_the_trilinear_interpolant_whatever_the_interpola
 
 def test_the_reference_draws_nearest_for_the_sampled_projections_only(image):
     scene = OffscreenView(image, "analytic", size=SIZE)
-    with pytest.raises(ValueError, match="interpolation='nearest' is drawn by the sampled mip, minip and average"):
+    with pytest.raises(ValueError, match="interpolation='nearest' is drawn by the sampled mip, minip, average and demip"):
         reference.render(image, scene.camera, SIZE, "analytic", interpolation="nearest")
     with pytest.raises(ValueError, match="interpolation must be one of|unknown interpolation"):
         reference.render(image, scene.camera, SIZE, "mip", sample_distance=1.0, interpolation="cubic")

@@ -108,7 +108,7 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
         The exact methods take none.
         ``component : int or "magnitude"`` (optional, every method): see ``image``.
         ``interpolation : {"linear", "nearest"}`` (optional, ``"mip"``, ``"minip"``,
-        ``"average"``): ``"nearest"`` samples the nearest point's value, as the GPU
+        ``"average"``, ``"demip"``): ``"nearest"`` samples the nearest point's value, as the GPU
         does under ``SetInterpolationTypeToNearest`` (a ``ValueError`` for the other
         methods: the exact ones draw the trilinear interpolant whatever the property says).
 
@@ -156,12 +156,12 @@ def render(image: vtkImageData, camera: Any, size: tuple, method: str = "mip",
     prepared = prepare_scalars(image, component, "above" if minimum else "below")
     width, height = check_size(size)
     method = check_choice("method", method, tuple(METHODS))
-    if interpolation == "nearest" and method not in ("mip", "minip", "average"):
-        raise ValueError(f"interpolation='nearest' is drawn by the sampled mip, minip and average only, not by "
-                         f"{method!r} (the exact methods walk the trilinear interpolant)")
+    if interpolation == "nearest" and method not in ("mip", "minip", "average", "demip"):
+        raise ValueError(f"interpolation='nearest' is drawn by the sampled mip, minip, average and demip only, not "
+                         f"by {method!r} (the exact methods walk the trilinear interpolant)")
     if method == "demip":  # depth, colour or maximum: see mipcast.reference.demip
         return render_demip(image, camera, (width, height), clip_planes=clip_planes, cropping=cropping,
-                            component=component, matrix=matrix, **params)
+                            component=component, matrix=matrix, interpolation=interpolation, **params)
     allowed = METHODS[method]
     unknown = sorted(set(params) - set(allowed))
     if unknown:

@@ -23,14 +23,14 @@ from mipcast.core.demip_depth import DepthGeometry, enhance
 from mipcast.core.shading import FLOOR_TOLERANCE
 from mipcast.core.prepare import prepare_scalars, scalar_image
 from mipcast.core.validation import check_choice, check_positive, check_size
-from mipcast.reference.rays import BUDGET, clip_interval, cropping_setup, hit_rays, scatter, trilinear
+from mipcast.reference.rays import BUDGET, clip_interval, cropping_setup, hit_rays, nearest, scatter, trilinear
 
 #: What :func:`render_demip` can return.
 OUTPUTS = ("depth", "rgb", "value")
 
 #: Parameters besides the method's own (:data:`mipcast.core.parameter_tables.DEMIP`):
 #: name -> default (``None``: required).
-SCENE_PARAMETERS = {"sample_distance": None, "window": None, "output": "depth"}
+SCENE_PARAMETERS = {"sample_distance": None, "window": None, "output": "depth", "interpolation": "linear"}
 
 
 def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=None, cropping=None, matrix=None,
@@ -83,6 +83,9 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
         ``local_threshold : float, default: 0.5``, ``attenuation : float,
         default: 0.05``: as the setters of :class:`mipcast.DEMIPVolumeMapper`.
         ``output : {"depth", "rgb", "value"}, default: "depth"``.
+        ``interpolation : {"linear", "nearest"}, default: "linear"``: the samples
+        interpolate the volume trilinearly, or take the nearest point's value
+        (the volume property's ``SetInterpolationTypeToNearest``).
 
     Returns
     -------
@@ -132,6 +135,8 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
     step = check_positive("sample_distance", scene["sample_distance"])
     low, high = _window(scene["window"])
     output = check_choice("output", scene.get("output", "depth"), OUTPUTS)
+    interpolation = check_choice("interpolation", scene.get("interpolation", "linear"), ("linear", "nearest"))
+    sampler = nearest if interpolation == "nearest" else trilinear
     mode = p["depth_mode"]
     eps = 0.0 if p["depth_of"] == "maximum" else p["material_threshold"]
     projection, attenuation = p["projection"], p["attenuation"]
@@ -153,7 +158,7 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
     chunk = max(1, BUDGET // max(1, int(count.max(initial=1))))
     for start in range(0, len(count), chunk):
         part = slice(start, start + chunk)
-        sample, valid = _samples(values, entry[part], direction[part], count[part], step, crop)
+        sample, valid = _samples(values, entry[part], direction[part], count[part], step, crop, sampler)
         if clip_planes is not None:
             at = np.arange(1, sample.shape[1] + 1)[None, :] * step
             valid = valid & sample_kept(at, lo[part, None], hi[part, None], step)  # (one on a plane too)
@@ -205,12 +210,12 @@ def _window(window: Any) -> tuple:
     return low, high
 
 
-def _samples(values, entry, direction, count, step, crop=None) -> tuple:
-    """Trilinear samples (N, K) at ``k * step``, k = 1..K, and which of them exist (and are visible:
-    ``crop``, :func:`mipcast.core.clipping.crop_visible`)."""
+def _samples(values, entry, direction, count, step, crop=None, sampler=trilinear) -> tuple:
+    """Samples (N, K) at ``k * step``, k = 1..K (``sampler``: trilinear or nearest), and which of them exist
+    (and are visible: ``crop``, :func:`mipcast.core.clipping.crop_visible`)."""
     k = np.arange(1, int(count.max()) + 1)
     position = entry[:, None, :] + (k[:, None] * step) * direction[:, None, :]
-    sample = trilinear(values, position.reshape(-1, 3)).reshape(len(count), len(k))
+    sample = sampler(values, position.reshape(-1, 3)).reshape(len(count), len(k))
     valid = k[None, :] <= count[:, None]
     if crop is not None:
         valid &= sample_visible(position, step * direction[:, None, :], *crop)
