@@ -14,6 +14,7 @@ import mipcast
 from mipcast.data_fixtures import image_from_array
 from mipcast import reference
 from mipcast.core.metrics import grey_diff
+from mipcast.methods import METHODS
 from mipcast.offscreen import OffscreenView
 from mipcast.mappers.shader_pieces import installed_tags
 from installed import pvpython_env
@@ -398,3 +399,31 @@ def test_blend_modes_other_than_the_methods_own_are_refused(vessels48, method):
     Base.SetBlendMode(view.mapper, Base.ADDITIVE_BLEND)  # past the Python setters
     assert "blend mode 'additive' is not one of its settings" in view.mapper.GetRenderProblem()
     assert view.screenshot().max() == 0
+
+
+@pytest.mark.parametrize("method", ["mip", "analytic", "minip", "analytic_minip", "stock"])
+def test_int8_minus_128_is_drawn_as_minus_128(method):
+    """VTK's signed 8-bit texture holds -128 as -127 (signed normalised texels clamp at -1): until 2026-12-05 an
+    int8 volume's -128 was read back and drawn as -127 (1 unit of its range, 0.4 % of -128 .. 100), stock VTK's
+    too. Such data now goes to the GPU as an int16 copy (mipcast.core.prepare). Half the volume -128, half
+    -127: the front view's rays see each half's value."""
+    values = np.full((8, 8, 8), -127, np.int8)
+    values[:, :, :4] = -128
+    values[0, 0, 0] = 100  # (z, y, x): a range beyond the two values
+    image = image_from_array(values)
+    view = OffscreenView(image, method, size=(32, 32), view="front", window=(-130.0, -125.0))
+    picture = view.screenshot()[..., 0].astype(float)
+    reference_name = {"stock": "mip"}.get(method, method)
+    settings = {} if METHODS[reference_name].walks_cells else {"sample_distance": view.sample_distance}
+    expected = METHODS[reference_name].reference(image, view.camera, view.size, window=view.window, **settings)
+    row = expected[16]
+    assert np.sum(row == -128.0) >= 8 and np.sum(row == -127.0) >= 8  # both halves in view
+    grey = np.where(np.isfinite(expected), np.round(255 * np.clip((expected + 130.0) / 5.0, 0, 1)), 0.0)
+    # -128 is 102 grey, -127 153; stock reads VTK's colour table half a table step off (docs/methods.md,
+    # "Reading VTK's tables where they hold the value"): 1024 entries over 228 units, 5.7 grey here
+    allowed = 2.0 if method != "stock" else 1.0 + 0.5 * 228.0 / 1023.0 / 5.0 * 255.0
+    assert np.abs(picture - grey)[16].max() <= allowed, np.abs(picture - grey)[16].max()
+    if METHODS[method].float_readout:
+        found = view.float_image()
+        both = np.isfinite(found) & np.isfinite(expected)
+        assert np.abs(found[both] - expected[both]).max() < 0.01

@@ -27,7 +27,9 @@ the float64 references, so both compare like with like:
   are point values there, interpolated between the centres as VTK's GPU
   ray caster interpolates cell data.
 * **types**: int8 ... uint32, float32 and float64 go to VTK as they are
-  (VTK's textures hold 32/64-bit values as float32: exact up to 2**24);
+  (VTK's textures hold 32/64-bit values as float32: exact up to 2**24), but
+  int8 holding -128, which VTK's signed 8-bit texture reads as -127, goes
+  as an int16 copy;
   int64/uint64, which VTK's GPU ray caster does not upload, are copied to
   float64 (then float32 on the GPU) and keep their data units.  A constant
   integer volume is drawn from a float32 copy (VTK's normalisation of a
@@ -504,6 +506,9 @@ def prepare_scalars(image: vtkImageData, component: Any = None, fill_side: str =
             fill, missing_below, missing_above = missing_fill(wlow, whigh, fill_side, values.dtype)
             values, changed = np.where(finite, values, values.dtype.type(fill)), True
     low, high = (float(values.min()), float(values.max())) if not missing else (low, high)
+    if values.dtype == np.int8 and low == -128:
+        # VTK's signed 8-bit texture holds -128 as -127 (signed normalised texels clamp at -1): an int16 copy
+        values, changed = values.astype(np.int16), True
     if values.dtype.kind in "iu" and low == high:
         # VTK's normalisation of a constant integer texture divides by zero: draw it as float32
         values, changed = values.astype(np.float32), True
