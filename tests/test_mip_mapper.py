@@ -1,8 +1,6 @@
 """The base mapper: parity with stock VTK MIP, Attach rules, refusals, float readout."""
 import json
-import os
 import shutil
-import sys
 from pathlib import Path
 
 import numpy as np
