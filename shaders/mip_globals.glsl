@@ -36,7 +36,7 @@ float mcNormalised(float raw)
 // distributed volume redefines mcNormalised after this piece (global_cells,
 // global_phase), and the hooks that use it come after that.
 // (The bounds are handed the normalised values of the tables' ends, mcTableEnd below: 0 and 1 but for
-// 8-bit data.)
+// 8- and 16-bit integers.)
 #define MC_BOUNDED_NORMALISED(raw, lo, hi) ((raw) <= (lo) ? mcTableEnd(0.0) : ((raw) >= (hi) ? mcTableEnd(1.0) : mcNormalised(raw)))
 
 // Where VTK's transfer-function tables hold a normalised value s. VTK tabulates each function at n points,
@@ -45,8 +45,8 @@ float mcNormalised(float raw)
 // 1 (stock VTK's own lookups; under a window 3 % of the range wide up to 4 grey darker). mipcast's colour
 // lookups read at mcAtTable instead: the function at s, interpolated between its tabulated points. Macros:
 // the samplers are declared after this piece. u_mc_tableScale (scale, bias) first takes s to the value's
-// place in the tables: (1, 0) but for 8-bit data, whose s VTK computes for the value times 256/255
-// (float_readout.table_coordinate).
+// place in the tables: (1, 0) but for 8- and 16-bit integers, whose s VTK computes for the value times
+// 256/255 (65536/65535, ...; float_readout.table_coordinate).
 float mcAtTable(float s, float texels)
 {
   return (clamp(s * u_mc_tableScale.x + u_mc_tableScale.y, 0.0, 1.0) * (texels - 1.0) + 0.5) / texels;

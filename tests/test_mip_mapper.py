@@ -425,3 +425,28 @@ def test_int8_minus_128_is_drawn_as_minus_128(method):
         found = view.float_image()
         both = np.isfinite(found) & np.isfinite(expected)
         assert np.abs(found[both] - expected[both]).max() < 0.01
+
+
+@pytest.mark.parametrize("dtype, values", [(np.int16, (-1024, -1023, 0, 1, 1000, 3071)),
+                                           (np.uint16, (0, 1, 2, 40000, 65534, 65535))])
+@pytest.mark.parametrize("method", ["analytic", "mip"])
+def test_float_readout_of_16_bit_data_is_in_data_units(method, dtype, values):
+    """VTK normalises 16-bit texels by 32768 (65536) where they hold value / 32767 (65535), as 8-bit ones by
+    128 (256): until 2026-12-05 the readout took 16-bit values as they were, 3e-5 of the value off (a CT's
+    3071 HU read back as 3071.09, uint16's 65535 as 65536). Slabs of single values along x, seen from the
+    front: every ray's value is its slab's."""
+    slabs = np.repeat(np.array(values, dtype), 4)
+    volume = np.ascontiguousarray(np.broadcast_to(slabs, (4, 4, slabs.size)))
+    image = image_from_array(volume)
+    view = OffscreenView(image, method, size=(8 * slabs.size, 16), view="front")
+    camera = view.camera
+    camera.SetParallelScale(2.0)  # the slabs across the picture
+    camera.SetFocalPoint((slabs.size - 1) / 2.0, 1.5, 1.5)
+    camera.SetPosition((slabs.size - 1) / 2.0, 1.5, 40.0)
+    view.renderer.ResetCameraClippingRange()
+    found = view.float_image()
+    settings = {} if METHODS[method].walks_cells else {"sample_distance": view.sample_distance}
+    expected = METHODS[method].reference(image, camera, view.size, window=view.window, **settings)
+    inside = np.isfinite(found) & np.isin(expected, np.array(values, float))  # (not the cells between slabs)
+    assert {float(v) for v in values} <= set(expected[inside].tolist())
+    assert np.abs(found[inside] - expected[inside]).max() <= 2e-6 * np.ptp(np.array(values, float))

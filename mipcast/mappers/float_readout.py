@@ -13,31 +13,33 @@ from mipcast.core.object_state import object_state
 #: Normalised hits are written shifted by this much (see shaders/float_readout.glsl).
 _SHIFT = -2.0
 
-#: VTK's normalised scalar for 8-bit textures is (k * value - low) / (high - low):
-#: the texel holds value / 255 (uint8) or / 127 (int8), VTK's scale assumes 256 / 128.
-_EIGHT_BIT_SCALE = {"unsigned char": 256.0 / 255.0, "char": 128.0 / 127.0, "signed char": 128.0 / 127.0}
+#: VTK's normalised scalar for 8- and 16-bit integer textures is (k * value - low) / (high - low): the texel
+#: holds value / 255 (uint8), / 127 (int8), / 65535 (uint16) or / 32767 (int16), VTK's scale assumes 256,
+#: 128, 65536, 32768 (16-bit: until 2026-12-05 taken as 1, a CT's 3071 HU read back as 3071.09).
+_TEXTURE_SCALE = {"unsigned char": 256.0 / 255.0, "char": 128.0 / 127.0, "signed char": 128.0 / 127.0,
+                  "unsigned short": 65536.0 / 65535.0, "short": 32768.0 / 32767.0}
 
 
 def texture_scale(scalars) -> float:
-    """The factor VTK's normalisation puts on values of this scalar type (1 except 8-bit).
+    """The factor VTK's normalisation puts on values of this scalar type (1 except 8- and 16-bit integers).
 
     Examples
     --------
-    >>> from vtkmodules.vtkCommonCore import vtkUnsignedCharArray, vtkFloatArray
-    >>> texture_scale(vtkUnsignedCharArray()), texture_scale(vtkFloatArray())
-    (1.003921568627451, 1.0)
+    >>> from vtkmodules.vtkCommonCore import vtkUnsignedCharArray, vtkFloatArray, vtkShortArray
+    >>> texture_scale(vtkUnsignedCharArray()), texture_scale(vtkShortArray()), texture_scale(vtkFloatArray())
+    (1.003921568627451, 1.0000305185094759, 1.0)
     """
-    return _EIGHT_BIT_SCALE.get(scalars.GetDataTypeAsString(), 1.0)
+    return _TEXTURE_SCALE.get(scalars.GetDataTypeAsString(), 1.0)
 
 
 def table_coordinate(scalars) -> tuple:
     """``(scale, bias)``: VTK's normalised scalar ``s`` of ``scalars`` -> ``s * scale + bias``, where the
     value lies in VTK's transfer-function tables, ``(v - low) / (high - low)`` over the scalars' range.
 
-    ``(1, 0)`` except for 8-bit data, whose normalised scalar VTK computes for ``v`` times
+    ``(1, 0)`` except for 8- and 16-bit integers, whose normalised scalar VTK computes for ``v`` times
     :func:`texture_scale` (256/255 for unsigned char): its colour and opacity lookups read the tables 0.4 %
-    of the value too high (stock VTK's too), up to 1 unit of 250, 3 grey under a window 30 % of the
-    range wide (shaders/mip_globals.glsl, ``u_mc_tableScale``).
+    of the value too high for 8-bit data (stock VTK's too), up to 1 unit of 250, 3 grey under a window 30 %
+    of the range wide (16-bit: 3e-5 of the value; shaders/mip_globals.glsl, ``u_mc_tableScale``).
 
     Examples
     --------
