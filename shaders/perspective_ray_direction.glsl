@@ -12,20 +12,30 @@
 // (docs/reliability.md, "The eye inside the volume"). Here the direction
 // is the pixel's line through the view frustum, the pixel centre
 // unprojected onto the near and the far plane: two points the clipping
-// range apart, whatever the eye's distance to the volume. The pixel is
-// found from the rasterised position, projected (good to ~1e-5 of the
-// viewport, far less than half a pixel) and put on the pixel grid of the
-// buffer drawn into (in_inverseWindowSize: VTK's reduced buffer and
-// mipcast's private draws count gl_FragCoord from their own corner, so
-// gl_FragCoord and in_windowLowerLeftCorner do not always agree).
-vec3 computeRayDirection()
+// range apart, whatever the eye's distance to the volume. VTK's reduced
+// buffer and mipcast's private draws count gl_FragCoord from their own
+// corner, VTK's window draws from the window's: in a renderer off the
+// window's corner (in_windowLowerLeftCorner not 0) the pixel is the
+// candidate whose line VTK's own direction is closest to (they lie many
+// pixels apart: in_windowLowerLeftCorner).
+vec3 mcPixelLine(vec2 pixelCentre)
 {
-  vec4 mc_clip = in_projectionMatrix * in_modelViewMatrix * inverse(in_inverseVolumeMatrix[0]) *
-    vec4(ip_vertexPos.xyz, 1.0);
-  vec2 mc_pixel = floor((mc_clip.xy / mc_clip.w + 1.0) * 0.5 / in_inverseWindowSize);
-  vec2 mc_ndc = (mc_pixel + 0.5) * 2.0 * in_inverseWindowSize - 1.0;
+  vec2 mc_ndc = pixelCentre * 2.0 * in_inverseWindowSize - 1.0;
   vec4 mc_near = in_inverseProjectionMatrix * vec4(mc_ndc, -1.0, 1.0);
   vec4 mc_far = in_inverseProjectionMatrix * vec4(mc_ndc, 1.0, 1.0);
   vec3 mc_eyeDir = mc_far.xyz / mc_far.w - mc_near.xyz / mc_near.w;
-  return normalize((in_inverseVolumeMatrix[0] * in_inverseModelViewMatrix * vec4(mc_eyeDir, 0.0)).xyz);
+  return normalize((in_inverseVolumeMatrix[0] * (in_inverseModelViewMatrix * vec4(mc_eyeDir, 0.0))).xyz);
+}
+
+vec3 computeRayDirection()
+{
+  vec3 mc_dir = mcPixelLine(gl_FragCoord.xy);
+  if (any(notEqual(in_windowLowerLeftCorner, vec2(0.0))))
+  {
+    vec3 mc_offset = mcPixelLine(gl_FragCoord.xy - in_windowLowerLeftCorner);
+    vec4 mc_eye = in_inverseVolumeMatrix[0] * (in_inverseModelViewMatrix * vec4(0.0, 0.0, 0.0, 1.0));
+    vec3 mc_vtk = normalize(ip_vertexPos.xyz - mc_eye.xyz / mc_eye.w);  // VTK's own direction
+    mc_dir = dot(mc_offset, mc_vtk) > dot(mc_dir, mc_vtk) ? mc_offset : mc_dir;
+  }
+  return mc_dir;
 }
