@@ -1,8 +1,9 @@
 // mipcast piece: perspective_ray_direction
 // fills: ComputeRayDirection::Dec
 // mode: replace
-// Installed for mono perspective frames (stereo frames have
-// stereo_ray_direction). VTK aims a perspective ray from the eye at the
+// Installed for perspective frames, mono or an eye of a stereo pair (whose
+// sheared frustum's pixel lines leave from that eye; parallel stereo eyes
+// have stereo_ray_direction). VTK aims a perspective ray from the eye at the
 // fragment's rasterised position, normalize(ip_vertexPos - eye), both in
 // float32. When the eye is inside the volume the fragment is VTK's
 // near-plane cap, 0.001 of the clipping range in front of the eye, and the

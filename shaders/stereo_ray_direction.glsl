@@ -1,20 +1,14 @@
 // mipcast piece: stereo_ray_direction
 // fills: ComputeRayDirection::Dec
 // mode: replace
-// Installed only while an eye of a stereo pair renders
-// (mipcast/mappers/stereo.py). VTK's stereo shears each eye's projection,
-// which is the camera moved sideways plus an off-axis frustum; VTK's own
-// computeRayDirection() still aims rays from the mono camera position
-// (perspective) or along the mono direction (parallel), flattening a
-// volume's parallax to a uniform shift. Here rays leave from the eye:
-// u_mc_eyePosObj is the eye's centre of projection in the volume's object
-// space (perspective), u_mc_eyeDirection the eye's direction of projection
-// in world space (parallel, u_mc_eyeParallel = 1).
+// Installed only while an eye of a parallel stereo pair renders
+// (mipcast/mappers/stereo.py; perspective eyes have perspective_ray_direction,
+// their pixels' lines through the eye's sheared frustum). VTK's stereo
+// shears each eye's projection; VTK's own computeRayDirection() still aims
+// rays along the mono direction, flattening a volume's parallax to a
+// uniform shift. Here rays run along the eye's sheared direction of
+// projection, u_mc_eyeDirection (world space).
 vec3 computeRayDirection()
 {
-  if (u_mc_eyeParallel > 0.5)
-  {
-    return normalize((in_inverseVolumeMatrix[0] * vec4(u_mc_eyeDirection, 0.0)).xyz);
-  }
-  return normalize(ip_vertexPos.xyz - u_mc_eyePosObj);
+  return normalize((in_inverseVolumeMatrix[0] * vec4(u_mc_eyeDirection, 0.0)).xyz);
 }

@@ -119,3 +119,43 @@ def test_each_eye_is_the_method_seen_through_that_eye(frontback, method):
     assert reference.max() > 100
     error = np.abs(reference.astype(int) - eye).max(axis=-1)
     assert np.mean(error <= 1) >= 0.995, (np.mean(error <= 1), error.max())
+
+
+@pytest.mark.parametrize("method", ["mip", "analytic"])
+def test_an_eye_inside_the_volume_sees_its_rays_against_the_reference(frontback, method):
+    """A stereo fly-through: each eye's float readout against the float64 reference on that eye's own rays (the
+    eye camera: moved sideways, its off-axis projection explicit). Perspective eyes aim along the pixel's line
+    through their sheared frustum (shaders/perspective_ray_direction.glsl) since 2026-12-05; from the eye's
+    position (stereo_ray_direction) the near-plane cap's float32 rounding was ~1e-4 of the range off."""
+    from vtkmodules.vtkCommonMath import vtkMatrix4x4
+    from vtkmodules.vtkRenderingCore import vtkCamera
+
+    from mipcast.core.camera_rays import matrix_array
+    from mipcast.mappers.stereo import eye_position
+
+    view = _view(frontback, method, window=(0.0, 1.0))
+    camera = view.camera
+    camera.Dolly(camera.GetDistance() / 6.0)  # the eye 6 units from the centre of a 32-unit box
+    view.renderer.ResetCameraClippingRange()
+    mono = vtkCamera()
+    mono.DeepCopy(camera)
+    mono.SetEyeAngle(EYE_ANGLE)
+    for side in ("left", "right"):
+        set_stereo(view.render_window, side, EYE_ANGLE, camera)
+        found = view.float_image()
+        eye = vtkCamera()  # the eye's camera, mono: moved sideways, the off-axis projection explicit
+        eye.DeepCopy(mono)
+        move = eye_position(mono, side) - np.array(mono.GetPosition())
+        shift = np.eye(4)
+        shift[:3, 3] = matrix_array(mono.GetViewTransformMatrix())[:3, :3] @ move
+        matrix = vtkMatrix4x4()
+        matrix.DeepCopy((eye_projection(mono, SIZE[0] / SIZE[1], side) @ shift).ravel().tolist())
+        eye.SetPosition(*(np.array(mono.GetPosition()) + move))
+        eye.SetFocalPoint(*(np.array(mono.GetFocalPoint()) + move))
+        eye.SetExplicitProjectionTransformMatrix(matrix)
+        eye.UseExplicitProjectionTransformMatrixOn()
+        settings = {} if METHODS[method].walks_cells else {"sample_distance": view.sample_distance}
+        expected = METHODS[method].reference(frontback, eye, SIZE, window=(0.0, 1.0), **settings)
+        both = np.isfinite(found) & np.isfinite(expected)
+        assert both.sum() > 1000 and np.mean(np.isnan(found) == np.isnan(expected)) >= 0.99
+        assert np.abs(found[both] - expected[both]).max() <= 2e-5, (side, np.abs(found[both] - expected[both]).max())

@@ -22,10 +22,10 @@ from mipcast.mappers.private_draw import rendering_renderer, scissor_from_origin
 from mipcast.mappers.stereo import drawing_camera, eye_uniforms
 
 
-#: The piece every mipcast mapper adds to its own: stereo-correct ray directions.
-STEREO_PIECE = "stereo_ray_direction"
-#: ... and for mono perspective frames: ray directions from the pixel's line through the frustum.
+#: The pieces every mipcast mapper adds to its own: ray directions along the pixel's line through the
+#: frustum (perspective, mono or a stereo eye), and along a parallel stereo eye's sheared direction.
 PERSPECTIVE_PIECE = "perspective_ray_direction"
+STEREO_PIECE = "stereo_ray_direction"
 #: The sampled hook pieces that skip blocks, and their skipping variants (MIP's, MinIP's, DEMIP's).
 _BLOCK_HOOKS = {"mip_hooks": "mip_hooks_blocks", "minip_hooks": "minip_hooks_blocks",
                 "demip_hooks": "demip_hooks_blocks"}
@@ -557,17 +557,17 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         return bool(self.GetAutoAdjustSampleDistances()) or self.GetImageSampleDistance() > 1.0
 
     def _pieces_now(self, volume) -> tuple:
-        """:meth:`GetShaderPieces`, plus the stereo piece while an eye of a stereo pair renders (else
-        ``perspective_ray_direction`` under a perspective camera) and
+        """:meth:`GetShaderPieces`, plus ``perspective_ray_direction`` under a perspective camera (mono or
+        a stereo eye), the stereo piece while an eye of a parallel stereo pair renders, and
         ``clip_active`` while something clips (planes, cropping, a slab); ``clip_regions`` instead
         while it crops with region flags other than the sub-volume."""
         names = tuple(self.GetShaderPieces())
         if self._clips():
             names += ("clip_regions" if clip_uniforms.crops_regions(self) else "clip_active",)
-        if eye_uniforms(self, volume) is not None:
-            return names + (STEREO_PIECE,)
         camera = drawing_camera(self, volume)
-        return names + (PERSPECTIVE_PIECE,) if camera is not None and not camera.GetParallelProjection() else names
+        if camera is not None and not camera.GetParallelProjection():
+            return names + (PERSPECTIVE_PIECE,)  # (a stereo eye's too: its sheared frustum's pixel lines)
+        return names + (STEREO_PIECE,) if eye_uniforms(self, volume) is not None else names
 
     def _clips(self) -> bool:
         """Clipping planes, cropping or a slab: the loops then narrow each ray (``clip_active``)."""
@@ -835,10 +835,8 @@ def _check_before_render(mapper, event) -> None:
         uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
         mapper._push_uniforms(uniforms)
         eye = eye_uniforms(mapper, volume)
-        if eye is not None:  # rays from this eye (shaders/stereo_ray_direction.glsl)
-            uniforms.SetUniform3f("u_mc_eyePosObj", eye["u_mc_eyePosObj"])
+        if eye is not None:  # a parallel stereo eye's direction (shaders/stereo_ray_direction.glsl)
             uniforms.SetUniform3f("u_mc_eyeDirection", eye["u_mc_eyeDirection"])
-            uniforms.SetUniformf("u_mc_eyeParallel", eye["u_mc_eyeParallel"])
         mapper._push_clipping(volume)
         return
     vtkOutputWindow.GetInstance().DisplayErrorText(f"{type(mapper).__name__}: {problem}\n")

@@ -9,13 +9,14 @@ points at the focal distance have no parallax, nearer points crossed
 VTK's ray caster starts each ray on the (sheared) bounding box but aims
 it from the camera's mono position, which flattens the parallax of a
 volume to a uniform shift; every mipcast mapper therefore installs the
-``stereo_ray_direction`` piece while an eye renders, aiming rays from the
-eye's centre of projection (:func:`eye_position`: the shear is a lateral
-move of the camera by ``-s * tan(EyeAngle / 2) * distance`` plus an
-off-axis frustum; :func:`eye_uniforms`).  Mono perspective frames get
-``perspective_ray_direction`` instead (the pixel's line through the frustum,
-better conditioned than VTK's when the eye is inside the volume), mono
-parallel frames VTK's code.  Everything else the mappers derive per frame
+``perspective_ray_direction`` piece (as for mono perspective frames), which
+aims each ray along its pixel's line through the eye's sheared frustum: the
+rays leave from the eye's centre of projection (:func:`eye_position`: the
+shear is a lateral move of the camera by ``-s * tan(EyeAngle / 2) *
+distance`` plus an off-axis frustum), and are well conditioned with the eye
+inside the volume; a parallel camera's eyes get ``stereo_ray_direction``,
+the eye's sheared direction (:func:`eye_uniforms`); mono parallel frames
+VTK's code.  Everything else the mappers derive per frame
 comes from the eye's own matrices, so each eye's image is that method seen
 through that eye (tests/test_stereo.py checks it for every method against
 a mono render through the eye's projection).
@@ -186,13 +187,12 @@ def drawing_camera(mapper, volume) -> Optional[vtkCamera]:
 
 
 def eye_uniforms(mapper, volume) -> Optional[dict]:
-    """The ``stereo_ray_direction`` uniforms for the eye ``mapper`` renders now; None for mono frames.
+    """The ``stereo_ray_direction`` uniforms for the eye of a parallel stereo pair ``mapper`` renders now;
+    None for mono frames and perspective eyes (``perspective_ray_direction`` aims those along their pixels'
+    lines through the eye's sheared frustum).
 
-    The camera comes from ``object_state(mapper)["draw_camera"]`` (private
-    level mappers drawing for another mapper) or the renderer drawing
-    ``volume``.  Returns ``u_mc_eyePosObj`` (the eye in the volume's object
-    space), ``u_mc_eyeDirection`` (the eye's direction of projection, world)
-    and ``u_mc_eyeParallel``.
+    The camera is :func:`drawing_camera`'s.  Returns ``u_mc_eyeDirection`` (the eye's direction of
+    projection, world).
 
     Examples
     --------
@@ -201,14 +201,11 @@ def eye_uniforms(mapper, volume) -> Optional[dict]:
     True
     """
     camera = drawing_camera(mapper, volume)
-    if camera is None or not camera.GetStereo():
+    if camera is None or not camera.GetStereo() or not camera.GetParallelProjection():
         return None
     eye = "left" if camera.GetLeftEye() else "right"
     slope = math.tan(math.radians(camera.GetEyeAngle()) / 2.0) * (1.0 if eye == "left" else -1.0)
     view = matrix_array(camera.GetViewTransformMatrix())
     # the parallel shear x += slope * z tilts the rays: along -z (forward) they move by +slope in x
     direction = -view[2, :3] + slope * view[0, :3]
-    position = np.linalg.inv(matrix_array(volume.GetMatrix())) @ np.array([*eye_position(camera, eye), 1.0])
-    return {"u_mc_eyePosObj": [float(v) for v in position[:3] / position[3]],
-            "u_mc_eyeDirection": [float(v) for v in direction / np.linalg.norm(direction)],
-            "u_mc_eyeParallel": 1.0 if camera.GetParallelProjection() else 0.0}
+    return {"u_mc_eyeDirection": [float(v) for v in direction / np.linalg.norm(direction)]}
