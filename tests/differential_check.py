@@ -263,6 +263,12 @@ def nearest_case(case: dict, number: int) -> bool:
     return case["method"] in NEAREST and random.Random(number + 3000).random() < 0.2
 
 
+def tied_nearest(values: np.ndarray, position: np.ndarray, pick) -> np.ndarray:
+    """``pick`` (np.minimum, np.maximum) of the nearest point's value at every :data:`CORNERS` offset of
+    ``position``: one bound of what a sample within float rounding of half-way between points may read."""
+    return functools.reduce(pick, [rays.nearest(values, position + TIE * np.array(signs)) for signs in CORNERS])
+
+
 def run_case(number: int, base: np.ndarray, after: Optional[int] = None) -> tuple:
     """(case, problem or None).  ``after``: the scene first draws case ``after`` (with case ``number``'s
     method, or for ``number`` a multiple of 3 its own, the volume's mapper then replaced by one of case
@@ -318,9 +324,7 @@ def run_case(number: int, base: np.ndarray, after: Optional[int] = None) -> tupl
         # view ties there stay off, case 486); expected is got moved into the bounds
         bounds = []
         for pick in (np.minimum, np.maximum):
-            tied = functools.partial(lambda values, position, pick: functools.reduce(
-                pick, [rays.nearest(values, position + TIE * np.array(signs)) for signs in CORNERS]), pick=pick)
-            reference.nearest = reference_demip.nearest = tied
+            reference.nearest = reference_demip.nearest = functools.partial(tied_nearest, pick=pick)
             try:
                 bounds.append(the_reference())
             finally:

@@ -25,6 +25,26 @@ def _eye(view, eye):
     return view.screenshot()
 
 
+def _as_eye(camera, side):
+    """Make mono ``camera`` (its EyeAngle set) the camera of one eye, in place: moved sideways to the eye's
+    centre of projection, its off-axis (sheared) projection explicit."""
+    from vtkmodules.vtkCommonMath import vtkMatrix4x4
+
+    from mipcast.core.camera_rays import matrix_array
+    from mipcast.mappers.stereo import eye_position
+
+    projection = eye_projection(camera, SIZE[0] / SIZE[1], side)
+    move = eye_position(camera, side) - np.array(camera.GetPosition())
+    shift = np.eye(4)
+    shift[:3, 3] = matrix_array(camera.GetViewTransformMatrix())[:3, :3] @ move  # the move in eye coordinates
+    matrix = vtkMatrix4x4()
+    matrix.DeepCopy((projection @ shift).ravel().tolist())
+    camera.SetPosition(*(np.array(camera.GetPosition()) + move))
+    camera.SetFocalPoint(*(np.array(camera.GetFocalPoint()) + move))
+    camera.SetExplicitProjectionTransformMatrix(matrix)
+    camera.UseExplicitProjectionTransformMatrixOn()
+
+
 def _ball_centres(picture):
     """x centroids (pixels, left to right) of the two bright blobs, split at the image's middle gap."""
     grey = picture.max(axis=-1).astype(float)
@@ -89,11 +109,6 @@ def test_side_by_side_puts_each_eye_in_its_half(frontback):
 def test_each_eye_is_the_method_seen_through_that_eye(frontback, method):
     """An eye's image equals a mono render from that eye's centre of projection (the camera moved
     sideways, the off-axis frustum explicit): rays, depth normalisation etc. are per eye."""
-    from vtkmodules.vtkCommonMath import vtkMatrix4x4
-
-    from mipcast.core.camera_rays import matrix_array
-    from mipcast.mappers.stereo import eye_position
-
     if METHODS[method].projection != "mip":  # MinIP and average: dark balls in a bright box
         from mipcast.data_fixtures import image_from_array
         from vtkmodules.util.numpy_support import vtk_to_numpy
@@ -103,18 +118,8 @@ def test_each_eye_is_the_method_seen_through_that_eye(frontback, method):
     stereo = _view(frontback, method, window=(0.0, 1.0))
     eye = _eye(stereo, "left")
     mono = _view(frontback, method, window=(0.0, 1.0))
-    camera = mono.camera
-    camera.SetEyeAngle(EYE_ANGLE)
-    projection = eye_projection(camera, SIZE[0] / SIZE[1], "left")
-    move = eye_position(camera, "left") - np.array(camera.GetPosition())
-    shift = np.eye(4)
-    shift[:3, 3] = matrix_array(camera.GetViewTransformMatrix())[:3, :3] @ move  # the move in eye coordinates
-    matrix = vtkMatrix4x4()
-    matrix.DeepCopy((projection @ shift).ravel().tolist())
-    camera.SetPosition(*(np.array(camera.GetPosition()) + move))
-    camera.SetFocalPoint(*(np.array(camera.GetFocalPoint()) + move))
-    camera.SetExplicitProjectionTransformMatrix(matrix)
-    camera.UseExplicitProjectionTransformMatrixOn()
+    mono.camera.SetEyeAngle(EYE_ANGLE)
+    _as_eye(mono.camera, "left")
     reference = mono.screenshot()
     assert reference.max() > 100
     error = np.abs(reference.astype(int) - eye).max(axis=-1)
@@ -127,11 +132,7 @@ def test_an_eye_inside_the_volume_sees_its_rays_against_the_reference(frontback,
     eye camera: moved sideways, its off-axis projection explicit). Perspective eyes aim along the pixel's line
     through their sheared frustum (shaders/perspective_ray_direction.glsl) since 2026-12-05; from the eye's
     position (stereo_ray_direction) the near-plane cap's float32 rounding was ~1e-4 of the range off."""
-    from vtkmodules.vtkCommonMath import vtkMatrix4x4
     from vtkmodules.vtkRenderingCore import vtkCamera
-
-    from mipcast.core.camera_rays import matrix_array
-    from mipcast.mappers.stereo import eye_position
 
     view = _view(frontback, method, window=(0.0, 1.0))
     camera = view.camera
@@ -143,17 +144,9 @@ def test_an_eye_inside_the_volume_sees_its_rays_against_the_reference(frontback,
     for side in ("left", "right"):
         set_stereo(view.render_window, side, EYE_ANGLE, camera)
         found = view.float_image()
-        eye = vtkCamera()  # the eye's camera, mono: moved sideways, the off-axis projection explicit
+        eye = vtkCamera()  # the eye's camera, mono
         eye.DeepCopy(mono)
-        move = eye_position(mono, side) - np.array(mono.GetPosition())
-        shift = np.eye(4)
-        shift[:3, 3] = matrix_array(mono.GetViewTransformMatrix())[:3, :3] @ move
-        matrix = vtkMatrix4x4()
-        matrix.DeepCopy((eye_projection(mono, SIZE[0] / SIZE[1], side) @ shift).ravel().tolist())
-        eye.SetPosition(*(np.array(mono.GetPosition()) + move))
-        eye.SetFocalPoint(*(np.array(mono.GetFocalPoint()) + move))
-        eye.SetExplicitProjectionTransformMatrix(matrix)
-        eye.UseExplicitProjectionTransformMatrixOn()
+        _as_eye(eye, side)
         settings = {} if METHODS[method].walks_cells else {"sample_distance": view.sample_distance}
         expected = METHODS[method].reference(frontback, eye, SIZE, window=(0.0, 1.0), **settings)
         both = np.isfinite(found) & np.isfinite(expected)

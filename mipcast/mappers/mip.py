@@ -565,9 +565,11 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         if self._clips():
             names += ("clip_regions" if clip_uniforms.crops_regions(self) else "clip_active",)
         camera = drawing_camera(self, volume)
-        if camera is not None and not camera.GetParallelProjection():
+        if camera is None:
+            return names
+        if not camera.GetParallelProjection():
             return names + (PERSPECTIVE_PIECE,)  # (a stereo eye's too: its sheared frustum's pixel lines)
-        return names + (STEREO_PIECE,) if eye_uniforms(self, volume) is not None else names
+        return names + (STEREO_PIECE,) if camera.GetStereo() else names  # (eye_uniforms' parallel eyes)
 
     def _clips(self) -> bool:
         """Clipping planes, cropping or a slab: the loops then narrow each ray (``clip_active``)."""
