@@ -19,6 +19,8 @@ float mc_cubicScale = 1.0;
 float mc_cellsWalked = 0.0;
 float mc_cellsSolved = 0.0;
 float mc_blocksJumped = 0.0;
+// Point-index units per unit of the walk's ray parameter (|McRay.dir|), set in mcBeginRay.
+float mc_indexPerStep = 1.0;
 
 struct McRay
 {
@@ -196,6 +198,7 @@ McRay mcBeginRay()
 #endif
   ray.origin = entryTex * dims - 0.5;
   ray.dir = dirTex * dims;
+  mc_indexPerStep = length(ray.dir);
   ray.still = lessThan(abs(ray.dir), vec3(1.0e-20));
   ray.tDelta = mix(1.0 / max(abs(ray.dir), vec3(1.0e-20)), vec3(1.0e30), vec3(ray.still));
   ray.firstCell = ivec3(0);

@@ -10,6 +10,12 @@
 // changing: MIP's running maximum starts at the floor and the walk ends once
 // it reaches the ceiling (mcCellsBegin / mcCellsGoOn), which leaves the colour
 // unchanged. The float readout sets them to -/+1e30, so it stays exact in data units.
+#ifdef MC_RAY_MEND
+  if (!mcMendRay())  // VTK's set-up from a fragment off the box (ray_mend)
+  {
+    MC_DRAW_NOTHING(g_fragColor)  // the pixel's line misses the box
+  }
+#endif
   McRay mc_ray = mcBeginRay();
   if (mc_drawsNothing)
   {

@@ -13,6 +13,12 @@
 //   bool mcCellsBlockSkips(float blockBound, float value)
 //       whether a block whose bound (raw: its maximum, or minimum) is
 //       blockBound cannot change the running value.
+#ifdef MC_RAY_MEND
+  if (!mcMendRay())  // VTK's set-up from a fragment off the box (ray_mend)
+  {
+    MC_DRAW_NOTHING(g_fragColor)  // the pixel's line misses the box
+  }
+#endif
   McRay mc_ray = mcBeginRay();
   if (mc_drawsNothing)
   {

@@ -4,11 +4,13 @@
 // The one sampled ray loop, shared by every sampled method (MIP, DEMIP, LMIP,
 // attenuated MIP, MIDA, both passes of two-pass DEMIP, and any new sampled
 // projection). Samples sit where VTK's stock loop puts them: the first one
-// step after the box entry (g_dataPos), then every g_dirStep while the
-// position stays inside the point bounds and before the depth-buffer /
-// clipping termination (g_terminatePointMax). Sample i is at
-// g_dataPos + i * g_dirStep, not a running sum: summing thousands of float
-// steps (dense sampling) drifts by a good fraction of a voxel.
+// step after the box entry (g_dataPos; where the ray_mend piece is
+// installed, mended by mcMendRay where VTK's fragment lies off the box),
+// then every g_dirStep while the position stays inside the point bounds and
+// before the depth-buffer / clipping termination (g_terminatePointMax).
+// Sample i is at g_dataPos + i * g_dirStep, not a running sum: summing
+// thousands of float steps (dense sampling) drifts by a good fraction of a
+// voxel.
 //
 // Hooks (after vispy's volume.py: one template, a method fills only its
 // hooks). A sampled method is ONE hook piece filling Picking::Dec (global
@@ -58,6 +60,12 @@
 // the single-process sample positions and indices; the values are read by
 // mcGlobalSample(i) (the whole-volume ray, interpolated by hand), so they
 // are bit for bit the same whatever the split.
+#ifdef MC_RAY_MEND
+  if (!mcMendRay())  // VTK's set-up from a fragment off the box (ray_mend)
+  {
+    MC_DRAW_NOTHING(g_fragColor)  // the pixel's line misses the box
+  }
+#endif
   vec3 mc_limit = mix(in_texMin[0], in_texMax[0], vec3(greaterThan(g_dirStep, vec3(0.0))));
   vec3 mc_toExit = (mc_limit - g_dataPos) / g_dirStep;
   mc_toExit = mix(mc_toExit, vec3(1.0e30), vec3(equal(g_dirStep, vec3(0.0))));

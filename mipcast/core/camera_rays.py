@@ -206,6 +206,68 @@ def placed(image, matrix=None):
     return out
 
 
+def grazing_sine(image, camera, matrix=None) -> float:
+    """The sine of the smallest angle at which ``camera``'s rays meet a face of ``image``'s point box.
+
+    0 for a face seen edge-on (its plane along the rays: a volume whose
+    direction matrix turns it about the view axis, seen head-on), 1 for a
+    face seen square on. Parallel projection: the faces' normals against
+    the direction of projection; perspective: the eye's distance to each
+    face's plane over its distance to the face's farthest corner. ``matrix``:
+    the volume's (4x4 array or vtkMatrix4x4), folded in as :func:`placed`
+    does. Left out: faces exactly edge-on whose normal lies exactly along a
+    world axis (an unturned volume seen along an axis: VTK's float32
+    projection of such a face is exact, a line that draws no fragment), and
+    the faces of a box flat along an axis, which have no plane (1.0 when no
+    face is left).
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkCamera
+    >>> image = vtkImageData()
+    >>> image.SetExtent(0, 10, 0, 10, 0, 10)
+    >>> camera = vtkCamera()
+    >>> camera.SetFocalPoint(5, 5, 5); camera.SetPosition(5, 5, 40); camera.ParallelProjectionOn()
+    >>> grazing_sine(image, camera)   # the side faces run exactly along the view, along world axes
+    1.0
+    >>> image.SetDirectionMatrix(0.6, -0.8, 0.0, 0.8, 0.6, 0.0, 0.0, 0.0, 1.0)
+    >>> grazing_sine(image, camera)   # turned about the view axis: along the view, off the world axes
+    0.0
+    >>> camera.SetPosition(40, 40, 40)
+    >>> image.SetDirectionMatrix(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0)
+    >>> round(grazing_sine(image, camera), 6)   # every face at the same angle
+    0.57735
+    """
+    to_world = matrix_array(image.GetIndexToPhysicalMatrix())
+    if matrix is not None:
+        to_world = (matrix if isinstance(matrix, np.ndarray) else matrix_array(matrix)) @ to_world
+    extent = np.array(image.GetExtent(), dtype=float)
+    corners = extent[_CORNER_ENDS] @ to_world[:3, :3].T + to_world[:3, 3]
+    normals = np.cross(corners[_EDGES[:, 0]] - corners[0], corners[_EDGES[:, 1]] - corners[0])  # per axis
+    lengths = np.linalg.norm(normals, axis=1)
+    has_plane = lengths > 0.0
+    normals = normals / np.where(has_plane, lengths, 1.0)[:, None]
+    if camera.GetParallelProjection():
+        direction = np.array(camera.GetDirectionOfProjection())
+        sines = np.repeat(np.abs(normals @ direction) / np.linalg.norm(direction), 2)
+    else:
+        to_eye = np.array(camera.GetPosition()) - corners  # (8, 3)
+        reach = np.linalg.norm(to_eye, axis=1)[_FACES].max(axis=1)
+        across = np.abs(np.einsum("fk,fk->f", np.repeat(normals, 2, axis=0), to_eye[_FACES[:, 0]]))
+        sines = np.where(reach > 0.0, across / np.where(reach > 0.0, reach, 1.0), 0.0)
+    exact = (sines == 0.0) & np.repeat(np.count_nonzero(normals, axis=1) == 1, 2)  # along a world axis: no fragment
+    counted = np.repeat(has_plane, 2) & ~exact
+    return float(sines[counted].min()) if counted.any() else 1.0
+
+
+#: :func:`grazing_sine`'s box: corner c takes the extent's low or high end per axis by its bits (bit 0 the i
+#: end, bit 1 j, bit 2 k), as indices into the extent; per axis the corners one edge away along the other two
+#: axes; the faces (axis i low, axis i high, ...) as their four corners.
+_CORNER_ENDS = np.array([[2 * axis + ((c >> axis) & 1) for axis in range(3)] for c in range(8)])
+_EDGES = np.array([[1 << other for other in range(3) if other != axis] for axis in range(3)])
+_FACES = np.array([[c for c in range(8) if (c >> axis) & 1 == side] for axis in range(3) for side in (0, 1)])
+
+
 #: VTK's least offset of the near-plane cap (vtkOpenGLGPUVolumeRayCastMapper: 1000 float epsilons).
 _LEAST_CAP_OFFSET = 1000.0 * float(np.finfo(np.float32).eps)
 

@@ -8,6 +8,7 @@ from vtkmodules.vtkRenderingCore import vtkVolume
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
 from mipcast.core import parameter_tables
+from mipcast.core.camera_rays import grazing_sine
 from mipcast.core.object_state import object_state
 from mipcast.core.errors import InputError
 from mipcast.core.parameters import defaults, parameter_accessors, uniform_values
@@ -26,6 +27,16 @@ from mipcast.mappers.stereo import drawing_camera, eye_uniforms
 #: frustum (perspective, mono or a stereo eye), and along a parallel stereo eye's sheared direction.
 PERSPECTIVE_PIECE = "perspective_ray_direction"
 STEREO_PIECE = "stereo_ray_direction"
+#: And, while a face of the volume's box is seen within EDGE_ON (a sine) of edge-on, the piece that sets a
+#: ray up again along its pixel's line where VTK's fragment on the face's rasterised sliver lies off the box
+#: (shaders/ray_mend.glsl: a front view of a volume turned about the view axis). A sweep of 30 turns about the
+#: view axis, the view tilted 0 to 3 degrees (``python tests/edge_on_check.py sweep``), found such rays up to a
+#: sine of 0.012 (1 degree), 56 to 147 times the data range off up to a sine of 1.2e-6, 0.026 at most from
+#: there to 1.2e-5, 0.055 beyond. Installed up to a sine of 1e-4: a camera turned at random comes that near a
+#: face once in ~3000 moves, each time installing the piece binds another program (compiled the first time),
+#: and llvmpipe runs a branch's body on every lane, so installing it in every view cost 5-12 % of a frame.
+RAY_MEND_PIECE = "ray_mend"
+EDGE_ON = 1.0e-4
 #: The sampled hook pieces that skip blocks, and their skipping variants (MIP's, MinIP's, DEMIP's).
 _BLOCK_HOOKS = {"mip_hooks": "mip_hooks_blocks", "minip_hooks": "minip_hooks_blocks",
                 "demip_hooks": "demip_hooks_blocks"}
@@ -558,7 +569,8 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
 
     def _pieces_now(self, volume) -> tuple:
         """:meth:`GetShaderPieces`, plus ``perspective_ray_direction`` under a perspective camera (mono or
-        a stereo eye), the stereo piece while an eye of a parallel stereo pair renders, and
+        a stereo eye), the stereo piece while an eye of a parallel stereo pair renders, ``ray_mend`` while
+        a face of the volume's box is seen (nearly) edge-on (:data:`EDGE_ON`), and
         ``clip_active`` while something clips (planes, cropping, a slab); ``clip_regions`` instead
         while it crops with region flags other than the sub-volume."""
         names = tuple(self.GetShaderPieces())
@@ -567,9 +579,24 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         camera = drawing_camera(self, volume)
         if camera is None:
             return names
+        if self._grazing_sine(camera, volume) < EDGE_ON:
+            names += (RAY_MEND_PIECE,)
         if not camera.GetParallelProjection():
             return names + (PERSPECTIVE_PIECE,)  # (a stereo eye's too: its sheared frustum's pixel lines)
         return names + (STEREO_PIECE,) if camera.GetStereo() else names  # (eye_uniforms' parallel eyes)
+
+    def _grazing_sine(self, camera, volume) -> float:
+        """:func:`mipcast.core.camera_rays.grazing_sine` of the input's box drawn by ``volume`` for ``camera``
+        (1.0 without input), kept until the camera, the volume or the input change (it is asked every render)."""
+        image = self.GetInput()
+        if image is None:
+            return 1.0
+        matrix = volume.GetMatrix()
+        key = (id(camera), camera.GetMTime(), matrix.GetMTime(), id(image), image.GetMTime())
+        state = object_state(self)
+        if state.get("grazing", (None,))[0] != key:
+            state["grazing"] = (key, grazing_sine(image, camera, matrix))
+        return state["grazing"][1]
 
     def _clips(self) -> bool:
         """Clipping planes, cropping or a slab: the loops then narrow each ray (``clip_active``)."""

@@ -1,0 +1,61 @@
+"""A volume turned about the view axis and seen head-on: its side faces are edge-on to every ray.
+
+VTK starts each ray at its fragment's rasterised position on the volume's box. A face seen edge-on
+rasterises, after float rounding, as a sliver a pixel wide, whose interpolated position lands anywhere
+along the pixel's line (in front of the box, behind the eye) or is NaN, with VTK's step and termination
+(llvmpipe). Until 2026-12-05 such a pixel was drawn from there: analytic MIP 56 times the data range off
+(a cell walk from far outside the box), sampled MIP 0.7 of it, analytic MinIP in bricks 0.21 (differential
+case 704: an 8-bit volume, a direction matrix turning it 0.5 rad about z, a front view; case 821, the
+analytic average on the same ray, 0.013). While a face is that near edge-on, every method installs
+shaders/ray_mend.glsl, which sets such a ray up again along its pixel's line; every pixel is then within
+1e-4 of the range of the float64 reference on the same rays (docs/reliability.md, "A face seen edge-on").
+"""
+import numpy as np
+import pytest
+from vtkmodules.util.numpy_support import vtk_to_numpy
+
+from mipcast.core.object_state import object_state
+from mipcast.data_fixtures import make_fixture
+from mipcast.methods import METHODS
+from mipcast.offscreen import OffscreenView
+from differential_check import run_case
+from edge_on_check import tilted_scene, turned
+
+
+# (turn, window size, the view tilted by degrees): scenes of a sweep over 30 turns whose slivers llvmpipe drew
+# off, head-on and tilted (a face 1e-3 degree off edge-on: 0.026 of the range off until then)
+@pytest.mark.parametrize("angle, size, tilt", [(0.65, (41, 37), 0.0), (1.2, (64, 64), 0.0),
+                                               (0.65, (41, 37), 0.001)])
+@pytest.mark.parametrize("name", ["analytic", "analytic_minip", "mip", "average"])
+def test_a_volume_turned_about_the_view_axis_agrees_with_the_reference(name, angle, size, tilt):
+    image = turned(24, angle)
+    scene = tilted_scene(image, name, size, tilt)
+    got = scene.float_image()
+    assert "ray_mend" in object_state(scene.mapper)["installed"]
+    sampling = {} if METHODS[name].walks_cells else {"sample_distance": scene.sample_distance}
+    expected = METHODS[name].reference(image, scene.camera, size, window=scene.window, **sampling)
+    hits = np.isfinite(got) & np.isfinite(expected)
+    assert hits.sum() > 150  # (the box covers 12-14 % of the picture)
+    assert (np.isnan(got) != np.isnan(expected)).sum() <= 3  # pixel centres on the outline: rasterisation
+    error = np.abs(got[hits] - expected[hits]) / 250.0
+    assert error.max() <= 1e-4, (name, float(error.max()), int((error > 1e-4).sum()))
+
+
+@pytest.mark.parametrize("view, tilt, installed", [("front", 0.0, True), ("front", 0.002, True),
+                                                   ("front", 0.1, False), ("oblique", 0.0, False)])
+def test_the_mending_piece_is_installed_only_near_edge_on(view, tilt, installed):
+    """ray_mend costs llvmpipe 5-12 % of a frame (it runs a branch's body on every lane) and a program switch
+    when it comes or goes: installed while a face is within EDGE_ON (a sine of 1e-4) of edge-on (0 and 1.7e-5
+    here), not for the views further off (8.4e-4, the oblique view's 0.071)."""
+    scene = OffscreenView(turned(24, 0.5), "mip", size=(32, 32), view=view)
+    scene.camera.Elevation(tilt)
+    scene.camera.OrthogonalizeViewUp()
+    scene.float_image()
+    assert ("ray_mend" in object_state(scene.mapper)["installed"]) == installed
+
+
+@pytest.mark.parametrize("number", [704, 821])
+def test_the_differential_cases_seen_edge_on_agree_with_the_reference(number):
+    base = vtk_to_numpy(make_fixture("vessels", size=24).GetPointData().GetScalars()).astype(np.float64)
+    case, problem = run_case(number, base.reshape(24, 24, 24))
+    assert problem is None, (case, problem)
