@@ -12,7 +12,6 @@ installed against the same frames without it, in one process (auto-adjust off, l
 """
 from __future__ import annotations
 
-import statistics
 import sys
 
 import numpy as np
@@ -24,6 +23,7 @@ from mipcast.core.camera_rays import grazing_sine
 from mipcast.data_fixtures import make_fixture
 from mipcast.methods import METHODS
 from mipcast.offscreen import OffscreenView
+from ray_direction_check import piece_medians
 
 TILTS = (0.0, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 0.1, 0.5, 1.0, 3.0)
 _WITH = mip.MIPVolumeMapper._pieces_now
@@ -89,21 +89,7 @@ def sweep(name: str = "analytic") -> None:
 def timing(rounds: int = 9) -> None:
     image = turned(96, 0.5)
     for name in ("mip", "analytic"):
-        views = {}
-        for on in (False, True):
-            use_piece(on)
-            view = OffscreenView(image, name, size=(512, 512), view="front")
-            view.mapper.SetAutoAdjustSampleDistances(False)
-            views[on] = view
-        times = {False: [], True: []}
-        for index in range(rounds):
-            for on, view in views.items():
-                use_piece(on)
-                frame = view.frame_times(frames=1, warmup=1 if index == 0 else 0)[0]
-                if index:
-                    times[on].append(frame)
-        use_piece(True)
-        without, with_piece = (1000.0 * statistics.median(times[on]) for on in (False, True))
+        without, with_piece = piece_medians(image, name, "front", use_piece, rounds)
         print(f"{name}: without the piece {without:.1f} ms, with it {with_piece:.1f} ms, "
               f"ratio {with_piece / without:.3f}")
 

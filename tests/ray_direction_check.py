@@ -71,23 +71,29 @@ def errors(numbers) -> None:
             print(f"case {number} ({method}): VTK's direction {found[False]:.2e}, the piece {found[True]:.2e}")
 
 
+def piece_medians(image, method: str, view: str, use, rounds: int) -> tuple:
+    """Median frame ms (without, with) a piece: one 512^2 view per setting (``use(on)`` switches the piece
+    before each is made and drawn, auto-adjust off), frames interleaved, the first round a warm-up."""
+    views = {}
+    for on in (False, True):
+        use(on)
+        views[on] = OffscreenView(image, method, size=(512, 512), view=view)
+        views[on].mapper.SetAutoAdjustSampleDistances(False)
+    times = {False: [], True: []}
+    for index in range(rounds):
+        for on, scene in views.items():
+            use(on)
+            frame = scene.frame_times(frames=1, warmup=1 if index == 0 else 0)[0]
+            if index:
+                times[on].append(frame)
+    use(True)
+    return tuple(1000.0 * statistics.median(times[on]) for on in (False, True))
+
+
 def timing(rounds: int = 9) -> None:
     image = make_fixture("vessels", size=96)
     for method in ("mip", "analytic"):
-        views = {}
-        for on in (False, True):
-            view = OffscreenView(image, method, size=(512, 512), view="perspective")
-            view.mapper.SetAutoAdjustSampleDistances(False)
-            views[on] = view
-        times = {False: [], True: []}
-        for index in range(rounds):
-            for on, view in views.items():
-                use_piece(on)
-                frame = view.frame_times(frames=1, warmup=1 if index == 0 else 0)[0]
-                if index:
-                    times[on].append(frame)
-        use_piece(True)
-        vtk, piece = (1000.0 * statistics.median(times[on]) for on in (False, True))
+        vtk, piece = piece_medians(image, method, "perspective", use_piece, rounds)
         print(f"{method}: VTK's direction {vtk:.1f} ms, the piece {piece:.1f} ms, ratio {piece / vtk:.3f}")
 
 
