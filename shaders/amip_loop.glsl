@@ -10,7 +10,8 @@
 // changing: MIP's running maximum starts at the floor and the walk ends once
 // it reaches the ceiling (mcCellsBegin / mcCellsGoOn), which leaves the colour
 // unchanged. The float readout sets them to -/+1e30, so it stays exact in data units.
-#ifdef MC_RAY_MEND
+// (not on a distributed brick: its walk casts the whole volume's ray, global_cells)
+#if defined(MC_RAY_MEND) && !defined(MC_GLOBAL_CELLS)
   if (!mcMendRay())  // VTK's set-up from a fragment off the box (ray_mend)
   {
     MC_DRAW_NOTHING(g_fragColor)  // the pixel's line misses the box

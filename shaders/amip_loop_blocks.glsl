@@ -13,7 +13,8 @@
 //   bool mcCellsBlockSkips(float blockBound, float value)
 //       whether a block whose bound (raw: its maximum, or minimum) is
 //       blockBound cannot change the running value.
-#ifdef MC_RAY_MEND
+// (not on a distributed brick: its walk casts the whole volume's ray, global_cells)
+#if defined(MC_RAY_MEND) && !defined(MC_GLOBAL_CELLS)
   if (!mcMendRay())  // VTK's set-up from a fragment off the box (ray_mend)
   {
     MC_DRAW_NOTHING(g_fragColor)  // the pixel's line misses the box
