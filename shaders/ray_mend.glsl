@@ -8,8 +8,8 @@
 // box; such a face rasterises, after float rounding, as a sliver a pixel
 // wide whose interpolated position lands anywhere along the pixel's line (in
 // front of the box, behind the eye) or is NaN with VTK's step and
-// termination (llvmpipe): an analytic MIP walked from there drew 60 times
-// the data range, a sampled one 0.7 of it. Both ray loops (sampled_loop,
+// termination (llvmpipe): an analytic MIP walked from there drew 56 to 147
+// times the data range, a sampled one 0.7 of it. Both ray loops (sampled_loop,
 // amip_loop, amip_loop_blocks) call mcMendRay first, which sets such a ray up
 // again along the pixel's line. Not installed otherwise: llvmpipe runs a
 // branch's body on every lane (a loop's first pass too), and this one cost
@@ -97,9 +97,9 @@ bool mcOnSquareFace(vec3 p, vec3 dir)
 // VTK sets a ray up from the fragment's rasterised position: its entry
 // g_rayOrigin lies where the pixel's line enters the box, or, where the
 // camera's near plane cuts the box, on VTK's cap just beyond that plane. On
-// a face seen within a few degrees of edge-on that position is not to be
-// trusted along the line (off the box, a tenth of the box into it along the
-// face, NaN). VTK's set-up is kept where its entry lies in the box where the
+// a face seen nearly edge-on that position is not to be trusted along the
+// line (off the box, a tenth of the box into it along the face, NaN).
+// VTK's set-up is kept where its entry lies in the box where the
 // line enters it through a face seen at a sine above 0.01 (in texture
 // space), and on the cap (an entry in the box while the pixel's near-plane
 // point is in it too; a sliver's that lands there is not told from them);
@@ -108,9 +108,10 @@ bool mcOnSquareFace(vec3 p, vec3 dir)
 // distance; the entry where the line enters the box; the jitter's fraction
 // of a step kept (1 where it was lost); the end where the Terminate::Init
 // piece put it (g_terminatePos; NaN: the scene's depth), g_terminatePointMax
-// signed from the new start (a brick's whole_ray_end count is not kept). False: the pixel's line misses the box (the
-// ray draws nothing: with MSAA, the pixels whose centre lies off the box,
-// which VTK draws from the face's plane). The comparisons hold for NaN.
+// signed from the new start (a brick's whole_ray_end count is not kept).
+// False: the pixel's line misses the box (the ray draws nothing: with MSAA,
+// the pixels whose centre lies off the box, which VTK draws from the face's
+// plane). The comparisons hold for NaN.
 bool mcMendRay()
 {
   vec3 mc_entry = g_dataPos - g_rayJitter;
