@@ -116,7 +116,8 @@ bool mcMendRay()
 {
   vec3 mc_entry = g_dataPos - g_rayJitter;
   vec3 mc_dir = normalize(g_dirStep);
-  if (mcInBox(mc_entry) && abs(mcBoxAlong(mc_entry, mc_dir).x) <= 1.0e-4 && mcOnSquareFace(mc_entry, mc_dir))
+  bool mc_inBox = mcInBox(mc_entry);
+  if (mc_inBox && abs(mcBoxAlong(mc_entry, mc_dir).x) <= 1.0e-4 && mcOnSquareFace(mc_entry, mc_dir))
   {
     return true;  // where the line enters the box, through a face not seen near edge-on
   }
@@ -127,7 +128,7 @@ bool mcMendRay()
   vec4 mc_aTex = mcToTexture(mc_a);
   vec4 mc_bTex = mcToTexture(mc_b);
   vec3 mc_near = (mc_aTex.xyz - mc_bTex.xyz) / (mc_aTex.w - mc_bTex.w);
-  if (mcInBox(mc_entry) && dot(mc_dir, mc_dir) > 0.5 && mcInBox(mc_near))
+  if (mc_inBox && dot(mc_dir, mc_dir) > 0.5 && mcInBox(mc_near))
   {
     return true;  // VTK's near-plane cap
   }

@@ -23,19 +23,11 @@ from mipcast.core.camera_rays import grazing_sine
 from mipcast.data_fixtures import make_fixture
 from mipcast.methods import METHODS
 from mipcast.offscreen import OffscreenView
-from ray_direction_check import piece_medians
+from ray_direction_check import piece_medians, piece_switch
 
 TILTS = (0.0, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2, 0.1, 0.5, 1.0, 3.0)
-_WITH = mip.MIPVolumeMapper._pieces_now
-
-
-def _without(self, volume) -> tuple:
-    return tuple(name for name in _WITH(self, volume) if name != mip.RAY_MEND_PIECE)
-
-
-def use_piece(on: bool) -> None:
-    """Install the piece where a face is near edge-on (True, mipcast's rule) or never (False) from now on."""
-    mip.MIPVolumeMapper._pieces_now = _WITH if on else _without
+#: The piece installed where a face is near edge-on (True, mipcast's rule) or never (False) from now on.
+use_piece = piece_switch(mip.RAY_MEND_PIECE)
 
 
 def turned(size: int, angle: float) -> vtkImageData:
@@ -53,8 +45,9 @@ def turned(size: int, angle: float) -> vtkImageData:
     return image
 
 
-def tilted_scene(image, name: str, size: tuple, tilt: float) -> OffscreenView:
-    scene = OffscreenView(image, name, size=size, view="front")
+def tilted_scene(image, name: str, size: tuple, tilt: float, view: str = "front") -> OffscreenView:
+    """A scene of ``image`` drawn by method ``name``, its ``view`` tilted by ``tilt`` degrees of elevation."""
+    scene = OffscreenView(image, name, size=size, view=view)
     scene.camera.Elevation(tilt)
     scene.camera.OrthogonalizeViewUp()
     scene.renderer.ResetCameraClippingRange()

@@ -26,13 +26,19 @@ EYE_INSIDE = (109, 148, 231, 234, 274, 275, 396, 543, 575)
 _WITH = mip.MIPVolumeMapper._pieces_now
 
 
-def _without(self, volume) -> tuple:
-    return tuple(name for name in _WITH(self, volume) if name != mip.PERSPECTIVE_PIECE)
+def piece_switch(piece: str):
+    """``use(on)``: every mipcast mapper draws with its own pieces from now on (True) or with them less
+    ``piece`` (False)."""
+    def without(self, volume) -> tuple:
+        return tuple(name for name in _WITH(self, volume) if name != piece)
+
+    def use(on: bool) -> None:
+        mip.MIPVolumeMapper._pieces_now = _WITH if on else without
+    return use
 
 
-def use_piece(on: bool) -> None:
-    """Draw perspective rays with the piece (True) or VTK's own direction (False) from now on."""
-    mip.MIPVolumeMapper._pieces_now = _WITH if on else _without
+#: Perspective rays with the piece (True) or along VTK's own direction (False) from now on.
+use_piece = piece_switch(mip.PERSPECTIVE_PIECE)
 
 
 def case_error(number: int, base: np.ndarray) -> tuple:

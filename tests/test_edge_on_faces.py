@@ -17,7 +17,6 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 from mipcast.core.object_state import object_state
 from mipcast.data_fixtures import make_fixture
 from mipcast.methods import METHODS
-from mipcast.offscreen import OffscreenView
 from differential_check import run_case
 from edge_on_check import tilted_scene, turned
 
@@ -47,9 +46,7 @@ def test_the_mending_piece_is_installed_only_near_edge_on(view, tilt, installed)
     """ray_mend costs llvmpipe 5-12 % of a frame (it runs a branch's body on every lane) and a program switch
     when it comes or goes: installed while a face is within EDGE_ON (a sine of 1e-4) of edge-on (0 and 1.7e-5
     here), not for the views further off (8.4e-4, the oblique view's 0.071)."""
-    scene = OffscreenView(turned(24, 0.5), "mip", size=(32, 32), view=view)
-    scene.camera.Elevation(tilt)
-    scene.camera.OrthogonalizeViewUp()
+    scene = tilted_scene(turned(24, 0.5), "mip", (32, 32), tilt, view)
     scene.float_image()
     assert ("ray_mend" in object_state(scene.mapper)["installed"]) == installed
 
