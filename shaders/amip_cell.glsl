@@ -180,10 +180,7 @@ McRay mcBeginRay()
   vec3 dims = u_mc_dims;
   vec3 dirTex = normalize(g_dirStep);
   vec3 entryTex = g_dataPos - g_rayJitter;
-  vec3 parallel = vec3(equal(dirTex, vec3(0.0)));
-  vec3 exitPlanes = mix(in_texMin[0], in_texMax[0], vec3(greaterThan(dirTex, vec3(0.0))));
-  vec3 toPlanes = mix((exitPlanes - entryTex) / mix(dirTex, vec3(1.0), parallel), vec3(1.0e30), parallel);
-  ray.length = max(0.0, min(min(toPlanes.x, toPlanes.y), toPlanes.z));
+  ray.length = max(0.0, mcLineThroughBox(entryTex, dirTex, in_texMin[0], in_texMax[0]).y);
   ray.length = min(ray.length, g_terminatePointMax * length(g_dirStep) + length(g_rayJitter));
   ray.start = 0.0;
 #ifdef MC_CLIPPING

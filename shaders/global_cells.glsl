@@ -50,13 +50,9 @@ bool mcGlobalRay(out vec3 entry, out vec3 dir, out float start)
   vec3 point = u_mc_rayPoint0 + ndc.x * u_mc_rayPointX + ndc.y * u_mc_rayPointY;
   vec3 toward = mix(u_mc_rayDirection, point - u_mc_rayEye.xyz, u_mc_rayEye.w);
   dir = toward / length(toward * u_mc_raySpacing);
-  bvec3 still = equal(dir, vec3(0.0));
-  vec3 a = (u_mc_wholeLo - point) / mix(dir, vec3(1.0), vec3(still));
-  vec3 b = (u_mc_wholeHi - point) / mix(dir, vec3(1.0), vec3(still));
-  vec3 lo = mix(min(a, b), vec3(-1.0e30), vec3(still));
-  vec3 hi = mix(max(a, b), vec3(1.0e30), vec3(still));
-  float sIn = max(max(lo.x, lo.y), lo.z);
-  float sOut = min(min(hi.x, hi.y), hi.z);
+  vec2 whole = mcLineThroughBox(point, dir, u_mc_wholeLo, u_mc_wholeHi);
+  float sIn = whole.x;
+  float sOut = whole.y;
   entry = point + sIn * dir;
   float capAlong = dot(u_mc_rayCap.xyz, dir);
   start = capAlong > 0.0 ? max((u_mc_rayCap.w - dot(u_mc_rayCap.xyz, point)) / capAlong - sIn, 0.0) : 0.0;

@@ -47,13 +47,9 @@ void mcGlobalPhase(float stepsInBox, inout vec3 base, inout int first, inout int
   vec3 mc_point = u_mc_rayPoint0 + mc_ndc.x * u_mc_rayPointX + mc_ndc.y * u_mc_rayPointY;
   vec3 mc_dir = mix(u_mc_rayDirection, mc_point - u_mc_rayEye.xyz, u_mc_rayEye.w);
   mc_gStep = mc_dir * (u_mc_rayStep / length(mc_dir * u_mc_raySpacing));
-  vec3 mc_a = (u_mc_wholeLo - mc_point) / mc_gStep;
-  vec3 mc_b = (u_mc_wholeHi - mc_point) / mc_gStep;
-  bvec3 mc_flat = equal(mc_gStep, vec3(0.0));
-  vec3 mc_lo = mix(min(mc_a, mc_b), vec3(-1.0e30), vec3(mc_flat));
-  vec3 mc_hi = mix(max(mc_a, mc_b), vec3(1.0e30), vec3(mc_flat));
-  float mc_sIn = max(max(mc_lo.x, mc_lo.y), mc_lo.z);
-  float mc_sOut = min(min(mc_hi.x, mc_hi.y), mc_hi.z);
+  vec2 mc_whole = mcLineThroughBox(mc_point, mc_gStep, u_mc_wholeLo, u_mc_wholeHi);
+  float mc_sIn = mc_whole.x;
+  float mc_sOut = mc_whole.y;
   // the camera inside the volume: the cap's steps past the box entry (0 before it, or without a cap)
   float mc_capAlong = dot(u_mc_rayCap.xyz, mc_gStep);
   float mc_capShift = mc_capAlong > 0.0 ?
@@ -61,10 +57,8 @@ void mcGlobalPhase(float stepsInBox, inout vec3 base, inout int first, inout int
   mc_sIn += mc_capShift;
   mc_gEntry = mc_point + mc_sIn * mc_gStep;
   // the whole volume's sample 0 in this brick's texture coordinates (for clipping)
-  bvec3 mc_up = greaterThan(g_dirStep, vec3(0.0));
-  vec3 mc_in = (mix(u_mc_globalTexMax, u_mc_globalTexMin, vec3(mc_up)) - g_dataPos) / g_dirStep;
-  mc_in = mix(mc_in, vec3(-1.0e30), vec3(equal(g_dirStep, vec3(0.0))));
-  base = g_dataPos + (max(max(mc_in.x, mc_in.y), mc_in.z) + mc_capShift + 1.0) * g_dirStep;
+  float mc_in = mcLineThroughBox(g_dataPos, g_dirStep, u_mc_globalTexMin, u_mc_globalTexMax).x;
+  base = g_dataPos + (mc_in + mc_capShift + 1.0) * g_dirStep;
   if (mc_sIn > mc_sOut)
   {
     first = 0;
@@ -73,12 +67,9 @@ void mcGlobalPhase(float stepsInBox, inout vec3 base, inout int first, inout int
   }
   int mc_last = int(floor(max(mc_sOut - mc_sIn - 1.0, 0.0)));
   // this brick's part of the ray, one sample wider each side (the cell test decides)
-  vec3 mc_ba = (u_mc_brickLo - mc_gEntry) / mc_gStep;
-  vec3 mc_bb = (u_mc_brickHi - mc_gEntry) / mc_gStep;
-  vec3 mc_blo = mix(min(mc_ba, mc_bb), vec3(-1.0e30), vec3(mc_flat));
-  vec3 mc_bhi = mix(max(mc_ba, mc_bb), vec3(1.0e30), vec3(mc_flat));
-  float mc_bIn = max(max(mc_blo.x, mc_blo.y), mc_blo.z);
-  float mc_bOut = min(min(mc_bhi.x, mc_bhi.y), mc_bhi.z);
+  vec2 mc_brick = mcLineThroughBox(mc_gEntry, mc_gStep, u_mc_brickLo, u_mc_brickHi);
+  float mc_bIn = mc_brick.x;
+  float mc_bOut = mc_brick.y;
   first = mc_last == 0 ? 0 : int(clamp(floor(mc_bIn) - 2.0, 0.0, float(mc_last + 1)));
   count = mc_last == 0 ? 1 : int(clamp(ceil(mc_bOut) + 1.0, 0.0, float(mc_last + 1)));
 }

@@ -59,6 +59,23 @@ float mcTableEnd(float t)
 #define MC_COLOR_AT(s) vec4(mcAtTable((s), float(textureSize(in_colorTransferFunc_0[0], 0).x)))
 #define MC_OPACITY_AT(s) vec4(mcAtTable((s), float(textureSize(in_opacityTransferFunc_0[0], 0).x)))
 
+// (enters, leaves): the parameters (in units of dir from `from`) where the
+// line from + s dir enters and leaves the box [lo, hi]; axes the line runs
+// parallel to bound nothing (never divided by zero). The ray loops' exit
+// (sampled_loop, amip_cell), a brick's whole-volume entry and ray
+// (whole_ray_end, global_phase, global_cells) and a mended ray's set-up
+// (ray_mend) all read their box so.
+vec2 mcLineThroughBox(vec3 from, vec3 dir, vec3 lo, vec3 hi)
+{
+  vec3 parallel = vec3(equal(dir, vec3(0.0)));
+  vec3 safe = mix(dir, vec3(1.0), parallel);
+  vec3 toLow = (lo - from) / safe;
+  vec3 toHigh = (hi - from) / safe;
+  vec3 enters = mix(min(toLow, toHigh), vec3(-1.0e30), parallel);
+  vec3 leaves = mix(max(toLow, toHigh), vec3(1.0e30), parallel);
+  return vec2(max(max(enters.x, enters.y), enters.z), min(min(leaves.x, leaves.y), leaves.z));
+}
+
 // A cast ray that draws nothing (clipped or cropped away, missing the
 // volume): MC_DRAW_NOTHING(result) where it is found, in place of discard
 // (mcDrawNothing() where the function goes on to its end anyway). It

@@ -17,17 +17,10 @@
 #define MC_RAY_MEND
 
 // (enters, leaves): the ray parameters (texture units from `from` along the
-// unit `dir`) where the line enters and leaves the point bounds; axes the
-// line runs parallel to bound nothing.
+// unit `dir`) where the line enters and leaves the point bounds.
 vec2 mcBoxAlong(vec3 from, vec3 dir)
 {
-  vec3 parallel = vec3(equal(dir, vec3(0.0)));
-  vec3 safe = mix(dir, vec3(1.0), parallel);
-  vec3 toLow = (in_texMin[0] - from) / safe;
-  vec3 toHigh = (in_texMax[0] - from) / safe;
-  vec3 enters = mix(min(toLow, toHigh), vec3(-1.0e30), parallel);
-  vec3 leaves = mix(max(toLow, toHigh), vec3(1.0e30), parallel);
-  return vec2(max(max(enters.x, enters.y), enters.z), min(min(leaves.x, leaves.y), leaves.z));
+  return mcLineThroughBox(from, dir, in_texMin[0], in_texMax[0]);
 }
 
 // The line of pixel `pixelCentre` (counted from its buffer's corner) in the

@@ -66,10 +66,7 @@
     MC_DRAW_NOTHING(g_fragColor)  // the pixel's line misses the box
   }
 #endif
-  vec3 mc_limit = mix(in_texMin[0], in_texMax[0], vec3(greaterThan(g_dirStep, vec3(0.0))));
-  vec3 mc_toExit = (mc_limit - g_dataPos) / g_dirStep;
-  mc_toExit = mix(mc_toExit, vec3(1.0e30), vec3(equal(g_dirStep, vec3(0.0))));
-  float mc_stepsInBox = min(min(mc_toExit.x, mc_toExit.y), mc_toExit.z);
+  float mc_stepsInBox = mcLineThroughBox(g_dataPos, g_dirStep, in_texMin[0], in_texMax[0]).y;
   vec3 mc_base = g_dataPos;
   int mc_first = 0;
   int mc_count = 1 + int(max(0.0, floor(mc_stepsInBox)));

@@ -23,12 +23,9 @@
 void mcWholeRayEnd()
 {
   float mc_step2 = dot(g_dirStep, g_dirStep);
-  bvec3 mc_flat = equal(g_dirStep, vec3(0.0));
   vec3 mc_entry = g_dataPos - g_rayJitter;  // this brick's entry
-  vec3 mc_near = (mix(u_mc_globalTexMax, u_mc_globalTexMin, vec3(greaterThan(g_dirStep, vec3(0.0)))) - mc_entry)
-                 / mix(g_dirStep, vec3(1.0), vec3(mc_flat));
-  mc_near = mix(mc_near, vec3(-1.0e30), vec3(mc_flat));
-  vec3 mc_wholeEntry = mc_entry + min(max(max(mc_near.x, mc_near.y), mc_near.z), 0.0) * g_dirStep;
+  float mc_near = mcLineThroughBox(mc_entry, g_dirStep, u_mc_globalTexMin, u_mc_globalTexMax).x;
+  vec3 mc_wholeEntry = mc_entry + min(mc_near, 0.0) * g_dirStep;
   if (dot(g_terminatePos - mc_wholeEntry, g_dirStep) < 0.0)
   {
     discard;  // opaque geometry hides the whole box's entry: the single texture draws nothing here
