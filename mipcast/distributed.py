@@ -195,6 +195,7 @@ def extract_piece(image, extent: Sequence[int]):
     clip.Update()
     piece = vtkImageData()
     piece.DeepCopy(clip.GetOutput())
+    piece.SetDirectionMatrix(image.GetDirectionMatrix())  # VTK 9.2's vtkImageClip (ParaView's) drops it
     return piece
 
 

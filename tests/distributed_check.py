@@ -18,7 +18,9 @@ pictures (within 1 and 2 grey), the maximum's float image, the depth
 against the single process's ``render_depth`` and against the float64
 reference (``render_demip(output="depth")``), and whether the same pixels
 get a DEMIP term.
-``--max-voxels`` is each rank's texture budget (refused above it).
+``--max-voxels`` is each rank's texture budget (refused above it). ``--turned ANGLE`` draws
+``edge_on_check.turned``'s volume instead (a direction matrix, anisotropic spacing; with
+``--view front`` its side faces seen edge-on) and compares the floats with the float64 reference too.
 
     OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 \\
     PYTHONPATH=$(python tests/installed.py) xvfb-run -a -s "-screen 0 1280x1024x24 -noreset" \\
@@ -413,6 +415,11 @@ def main(argv=None):
                         help="the splits; 'x+inside': along x, the camera inside the volume (move_inside); "
                              "'y+moved': along y, the volume placed by its own matrix (moved)")
     parser.add_argument("--methods", default="mip,analytic")
+    parser.add_argument("--view", default="oblique", help="the view preset (mipcast.offscreen.VIEWS)")
+    parser.add_argument("--turned", type=float, default=None, metavar="ANGLE",
+                        help="edge_on_check.turned's volume (the vessels on anisotropic spacing, turned ANGLE rad "
+                             "about z by its direction matrix) in place of the phantom; floats against the float64 "
+                             "reference too (with --view front its side faces are seen edge-on)")
     parser.add_argument("--set", action="append", default=[], metavar="METHOD:NAME=VALUE",
                         help="a parameter for one method, e.g. analytic:packed_corners=0")
     parser.add_argument("--demip-modes", default="window,steps,entry_plus_length,eye_distance")
@@ -436,7 +443,11 @@ def main(argv=None):
                         help="the phantom with missing (NaN) voxels: with_missing")
     args = parser.parse_args(argv)
     comm = world_communicator()
-    image = make_fixture("vessels", size=args.size)
+    if args.turned is None:
+        image = make_fixture("vessels", size=args.size)
+    else:
+        from edge_on_check import turned
+        image = turned(args.size, args.turned)
     image = with_missing(image, args.missing) if args.missing else image
     span = float(np.subtract(*image.GetPointData().GetScalars().GetFiniteRange()[::-1]))
     window = image.GetPointData().GetScalars().GetFiniteRange()
@@ -456,7 +467,7 @@ def main(argv=None):
                     if owner == method:
                         settings[name] = json.loads(value)
                 view = DistributedView(brick, method, size=tuple(args.image), window=window, comm=comm,
-                                       max_voxels=args.max_voxels, **settings)
+                                       max_voxels=args.max_voxels, view=args.view, **settings)
                 if flag == "inside":
                     move_inside(view.camera, image)
                 elif flag == "moved":
@@ -500,7 +511,7 @@ def main(argv=None):
                                                one_values, span)}
                     if flag == "inside":  # the float64 samples / walk from VTK's near-plane cap
                         case.update(from_the_cap_error(image, view, method, values, span))
-                    elif flag == "moved":  # the float64 reference of the volume where its matrix puts it
+                    elif flag == "moved" or args.turned is not None:  # the float64 reference (of the volume where its matrix puts it)
                         case.update(moved_error(image, view, method, values, span))
                     results["cases"].append(case)
                     print(json.dumps(case), flush=True) if os.environ.get("MIPCAST_CHECK_VERBOSE") else None

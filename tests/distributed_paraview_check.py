@@ -44,13 +44,21 @@ def main():
     parser.add_argument("--size", type=int, default=64)
     parser.add_argument("--image", type=int, nargs=2, default=(96, 96))
     parser.add_argument("--methods", default="mip,analytic")
+    parser.add_argument("--view", default="oblique", help="the view preset (mipcast.offscreen.VIEWS)")
+    parser.add_argument("--turned", type=float, default=None, metavar="ANGLE",
+                        help="edge_on_check.turned's volume (the vessels on anisotropic spacing, turned ANGLE rad "
+                             "about z by its direction matrix, written to the .vti) in place of the phantom")
     parser.add_argument("--png", default=None, help="folder for PNGs (ParaView's own MIP, mipcast's)")
     args = parser.parse_args()
     ranks = 1
     if args.connect:
         host, port = args.connect.rsplit(":", 1)
         simple.Connect(host, int(port))
-    image = make_fixture("vessels", size=args.size)
+    if args.turned is None:
+        image = make_fixture("vessels", size=args.size)
+    else:
+        from edge_on_check import turned
+        image = turned(args.size, args.turned)
     window = image.GetPointData().GetScalars().GetRange()
     span = window[1] - window[0]
     folder = tempfile.mkdtemp(prefix="mipcast-distributed-")
@@ -67,11 +75,11 @@ def main():
     for method in args.methods.split(","):
         demip = methods.METHODS[method].distributed == "demip"
         parameters = {"depth_mode": "eye_distance", "sphere_weight": 0.5} if demip else {}
-        flt = distributed_mip(reader, method=method, size=tuple(args.image), view="oblique", window=window,
+        flt = distributed_mip(reader, method=method, size=tuple(args.image), view=args.view, window=window,
                               **parameters)
         images = fetch_images(flt)
         values = images["mip_value"]
-        single = OffscreenView(image, method, size=tuple(args.image), window=window)
+        single = OffscreenView(image, method, size=tuple(args.image), view=args.view, window=window)
         set_parameters(single.mapper, **parameters)
         keep.append(single)
         reference = single.float_image()
