@@ -239,6 +239,18 @@ def test_no_opengl_error_across_method_switches(builtin, part):
     assert builtin[part]["_opengl_errors"] == [], builtin[part]["_opengl_errors"][:3]
 
 
+@pytest.mark.parametrize("camera", ["oblique", "head_on"])
+@pytest.mark.parametrize("method", PARITY)
+def test_an_image_with_a_direction_matrix_matches_offscreen_render(builtin, camera, method):
+    """An oblique acquisition (a .vti whose direction matrix turns the volume 0.65 rad about z), at an
+    oblique camera and head-on (its side faces edge-on): the representation draws what the offscreen view
+    draws (which tests/test_edge_on_faces.py holds to the float64 reference)."""
+    report = builtin["oblique"]
+    assert abs(report["_direction"][1] + 0.605) < 1e-3  # ParaView's reader gave the image its direction matrix
+    assert report[camera]["_opengl_errors"] == [], report[camera]["_opengl_errors"][:3]
+    _matches(report[camera][method], _projection(method), lit=0.1)  # (the turned box covers 14-27 %)
+
+
 def test_each_method_draws_with_its_mipcast_mapper(builtin):
     mappers = {m: r["mapper"] for m, r in builtin["methods"].items() if not m.startswith("_")}
     assert mappers["mip"] == "MIPVolumeMapper"
