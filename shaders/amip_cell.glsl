@@ -180,8 +180,11 @@ McRay mcBeginRay()
   vec3 dims = u_mc_dims;
   vec3 dirTex = normalize(g_dirStep);
   vec3 entryTex = g_dataPos - g_rayJitter;
-  ray.length = max(0.0, mcLineThroughBox(entryTex, dirTex, in_texMin[0], in_texMax[0]).y);
-  ray.length = min(ray.length, g_terminatePointMax * length(g_dirStep) + length(g_rayJitter));
+  vec2 box = mcLineThroughBox(entryTex, dirTex, in_texMin[0], in_texMax[0]);
+  float shift = mcEntryShift(box, 1.0);  // a start off the box's entry along its line (mip_globals)
+  entryTex += shift * dirTex;
+  ray.length = max(0.0, box.y - shift);
+  ray.length = min(ray.length, g_terminatePointMax * length(g_dirStep) + length(g_rayJitter) - shift);
   ray.start = 0.0;
 #ifdef MC_CLIPPING
   if (u_mc_clipCount > 0)

@@ -66,7 +66,14 @@
     MC_DRAW_NOTHING(g_fragColor)  // the pixel's line misses the box
   }
 #endif
-  float mc_stepsInBox = mcLineThroughBox(g_dataPos, g_dirStep, in_texMin[0], in_texMax[0]).y;
+  // a start off the box's entry along its line moves there (mip_globals: mcEntryShift; the box from the start
+  // after the jitter, in steps)
+  vec2 mc_box = mcLineThroughBox(g_dataPos, g_dirStep, in_texMin[0], in_texMax[0]);
+  float mc_jitterSteps = dot(g_rayJitter, g_dirStep) / dot(g_dirStep, g_dirStep);
+  float mc_shift = mcEntryShift(mc_box + mc_jitterSteps, length(g_dirStep));
+  g_dataPos += mc_shift * g_dirStep;
+  g_terminatePointMax -= mc_shift;
+  float mc_stepsInBox = mc_box.y - mc_shift;
   vec3 mc_base = g_dataPos;
   int mc_first = 0;
   int mc_count = 1 + int(max(0.0, floor(mc_stepsInBox)));

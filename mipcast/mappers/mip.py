@@ -8,7 +8,7 @@ from vtkmodules.vtkRenderingCore import vtkVolume
 from vtkmodules.vtkRenderingVolumeOpenGL2 import vtkOpenGLGPUVolumeRayCastMapper
 
 from mipcast.core import parameter_tables
-from mipcast.core.camera_rays import grazing_sine
+from mipcast.core.camera_rays import grazing_sine, near_cap, placed
 from mipcast.core.object_state import object_state
 from mipcast.core.errors import InputError
 from mipcast.core.parameters import defaults, parameter_accessors, uniform_values
@@ -35,6 +35,9 @@ STEREO_PIECE = "stereo_ray_direction"
 #: there to 1.2e-5, 0.055 beyond. Installed up to a sine of 1e-4: a camera turned at random comes that near a
 #: face once in ~3000 moves, each time installing the piece binds another program (compiled the first time),
 #: and llvmpipe runs a branch's body on every lane, so installing it in every view cost 5-12 % of a frame.
+#: Further off edge-on (a sine up to ~0.01) VTK's fragment still lies on the pixel's line, only too deep into
+#: the box or in front of it: there every ray loop moves its start to the line's entry (shaders/mip_globals.glsl,
+#: ``mcEntryShift``; :meth:`MIPVolumeMapper._entry_moves`), no piece needed.
 RAY_MEND_PIECE = "ray_mend"
 EDGE_ON = 1.0e-4
 #: The sampled hook pieces that skip blocks, and their skipping variants (MIP's, MinIP's, DEMIP's).
@@ -404,6 +407,7 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
             self.Detach()
         self._install_pieces(volume)
         volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniformf("u_mc_refused", 0.0)
+        volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniformf("u_mc_entryMoves", 0.0)
         volume.GetShaderProperty().GetFragmentCustomUniforms().SetUniform2f("u_mc_tableScale", [1.0, 0.0])
         clip_uniforms.push(volume.GetShaderProperty().GetFragmentCustomUniforms(), ())
         clip_uniforms.push_slab(volume.GetShaderProperty().GetFragmentCustomUniforms(), clip_uniforms.NO_SLAB)
@@ -579,24 +583,39 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         camera = drawing_camera(self, volume)
         if camera is None:
             return names
-        if self._grazing_sine(camera, volume) < EDGE_ON:
+        if self._box_view(camera, volume)[0] < EDGE_ON:
             names += (RAY_MEND_PIECE,)
         if not camera.GetParallelProjection():
             return names + (PERSPECTIVE_PIECE,)  # (a stereo eye's too: its sheared frustum's pixel lines)
         return names + (STEREO_PIECE,) if camera.GetStereo() else names  # (eye_uniforms' parallel eyes)
 
-    def _grazing_sine(self, camera, volume) -> float:
-        """:func:`mipcast.core.camera_rays.grazing_sine` of the input's box drawn by ``volume`` for ``camera``
-        (1.0 without input), kept until the camera, the volume or the input change (it is asked every render)."""
+    def _box_view(self, camera, volume) -> tuple:
+        """(:func:`mipcast.core.camera_rays.grazing_sine`, whether ``camera``'s near plane cuts the box:
+        :func:`mipcast.core.camera_rays.near_cap`) of the input's box drawn by ``volume`` ((1.0, False) without
+        input), kept until the camera, the volume or the input change (it is asked every render)."""
         image = self.GetInput()
         if image is None:
-            return 1.0
+            return 1.0, False
         matrix = volume.GetMatrix()
         key = (id(camera), camera.GetMTime(), matrix.GetMTime(), id(image), image.GetMTime())
         state = object_state(self)
-        if state.get("grazing", (None,))[0] != key:
-            state["grazing"] = (key, grazing_sine(image, camera, matrix))
-        return state["grazing"][1]
+        if state.get("box_view", (None,))[0] != key:
+            state["box_view"] = (key, (grazing_sine(image, camera, matrix),
+                                       near_cap(placed(image, matrix), camera) is not None))
+        return state["box_view"][1]
+
+    def _entry_moves(self, volume) -> float:
+        """Which ray starts the loops move to where the ray's line enters the box (``u_mc_entryMoves``,
+        ``mcEntryShift`` in shaders/mip_globals.glsl): 0 none, while the camera's near plane cuts the box (VTK
+        starts those rays on its cap, inside the box) or no camera is known; 1 those behind the entry, with
+        MSAA (VTK starts a silhouette pixel whose centre lies off the box on the face's plane, in front of
+        the box, on purpose); 2 those behind or in front of it."""
+        camera = drawing_camera(self, volume)
+        if camera is None or self._box_view(camera, volume)[1]:
+            return 0.0
+        renderer = rendering_renderer(self, volume)
+        window = renderer.GetRenderWindow() if renderer is not None else None
+        return 1.0 if window is not None and window.GetMultiSamples() > 0 else 2.0
 
     def _clips(self) -> bool:
         """Clipping planes, cropping or a slab: the loops then narrow each ray (``clip_active``)."""
@@ -863,6 +882,7 @@ def _check_before_render(mapper, event) -> None:
             mapper._install_pieces(volume)
         uniforms = volume.GetShaderProperty().GetFragmentCustomUniforms()
         mapper._push_uniforms(uniforms)
+        uniforms.SetUniformf("u_mc_entryMoves", mapper._entry_moves(volume))  # (mip_globals: mcEntryShift)
         eye = eye_uniforms(mapper, volume)
         if eye is not None:  # a parallel stereo eye's direction (shaders/stereo_ray_direction.glsl)
             uniforms.SetUniform3f("u_mc_eyeDirection", eye["u_mc_eyeDirection"])
