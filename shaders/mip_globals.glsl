@@ -78,28 +78,25 @@ vec2 mcLineThroughBox(vec3 from, vec3 dir, vec3 lo, vec3 hi)
 
 // VTK starts each ray at its fragment's rasterised position on the box:
 // where the pixel's line enters it or, while the camera's near plane cuts
-// the box, on VTK's cap inside it; with MSAA, a silhouette pixel whose
-// centre lies off the box starts on the face's plane beyond the face. On a
-// face met at a grazing angle (0.01 to 1 degree; nearer edge-on the
-// ray_mend piece sets the ray up again) float rounding puts that position
-// on the line but up to a tenth of the box deeper in (the ray skipped the
-// box's first part: analytic MIP 0.055 of the range off,
-// tests/edge_on_check.py sweep) or in front of the box (sampled MIP 0.028).
-// The ray loops (sampled_loop, amip_cell) move such a start to where its
-// line enters the box, the jitter and the end kept: mcEntryShift(box, unit),
-// for `box` = mcLineThroughBox(start, dir, ...) and `unit` the length of dir
-// in texture units, is the ray parameter of that entry where it lies more
-// than 1e-4 (texture units) behind the start (u_mc_entryMoves >= 1) or in
-// front of it (u_mc_entryMoves 2), else 0. u_mc_entryMoves
-// (MIPVolumeMapper._entry_moves): 0 while VTK caps the box (a cap start
-// lies inside the box), 1 with MSAA (the silhouette's starts lie in front
-// of the box on purpose), else 2. Every other start stays as it is, bit for
-// bit, and so does every start whose line misses the box.
+// the box, on VTK's cap inside it. On a face met at a grazing angle (0.01 to
+// 1 degree; nearer edge-on the ray_mend piece sets the ray up again) float
+// rounding puts that position on the line but up to a tenth of the box
+// deeper in: the ray skipped the box's first part (analytic MIP 0.055 of the
+// range off; tests/edge_on_check.py sweep). The ray loops (sampled_loop,
+// amip_cell) move such a start back to where its line enters the box, the
+// jitter and the end kept: mcEntryShift(box, unit), for `box` =
+// mcLineThroughBox(start, dir, ...) and `unit` the length of dir in texture
+// units, is the ray parameter of that entry where it lies more than 1e-4
+// (texture units) behind the start, else 0: every other start stays as it
+// is, bit for bit, and so does every start while VTK caps the box
+// (u_mc_entryMoves 0, MIPVolumeMapper._entry_moves: a cap start lies inside
+// the box), or whose line misses it. Starts in front of the box are not
+// moved: with MSAA VTK starts a silhouette pixel whose centre lies off the
+// box there on purpose, and a private draw cannot tell whether it draws
+// with MSAA.
 float mcEntryShift(vec2 box, float unit)
 {
-  float off = box.x * unit;
-  bool moves = (off < -1.0e-4 && u_mc_entryMoves > 0.5) || (off > 1.0e-4 && u_mc_entryMoves > 1.5);
-  return moves && box.x <= box.y ? box.x : 0.0;
+  return all(bvec3(u_mc_entryMoves > 0.5, box.x * unit < -1.0e-4, box.x <= box.y)) ? box.x : 0.0;
 }
 
 // A cast ray that draws nothing (clipped or cropped away, missing the

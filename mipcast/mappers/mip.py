@@ -36,7 +36,7 @@ STEREO_PIECE = "stereo_ray_direction"
 #: face once in ~3000 moves, each time installing the piece binds another program (compiled the first time),
 #: and llvmpipe runs a branch's body on every lane, so installing it in every view cost 5-12 % of a frame.
 #: Further off edge-on (a sine up to ~0.01) VTK's fragment still lies on the pixel's line, only too deep into
-#: the box or in front of it: there every ray loop moves its start to the line's entry (shaders/mip_globals.glsl,
+#: the box: there every ray loop moves its start back to the line's entry (shaders/mip_globals.glsl,
 #: ``mcEntryShift``; :meth:`MIPVolumeMapper._entry_moves`), no piece needed.
 RAY_MEND_PIECE = "ray_mend"
 EDGE_ON = 1.0e-4
@@ -605,17 +605,12 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         return state["box_view"][1]
 
     def _entry_moves(self, volume) -> float:
-        """Which ray starts the loops move to where the ray's line enters the box (``u_mc_entryMoves``,
-        ``mcEntryShift`` in shaders/mip_globals.glsl): 0 none, while the camera's near plane cuts the box (VTK
-        starts those rays on its cap, inside the box) or no camera is known; 1 those behind the entry, with
-        MSAA (VTK starts a silhouette pixel whose centre lies off the box on the face's plane, in front of
-        the box, on purpose); 2 those behind or in front of it."""
+        """Whether the ray loops move a start that lies behind where its line enters the box back to that
+        entry (``u_mc_entryMoves``, ``mcEntryShift`` in shaders/mip_globals.glsl): 1.0, but 0.0 while the
+        camera's near plane cuts the box (VTK starts those rays on its cap, inside the box) or no camera is
+        known."""
         camera = drawing_camera(self, volume)
-        if camera is None or self._box_view(camera, volume)[1]:
-            return 0.0
-        renderer = rendering_renderer(self, volume)
-        window = renderer.GetRenderWindow() if renderer is not None else None
-        return 1.0 if window is not None and window.GetMultiSamples() > 0 else 2.0
+        return 0.0 if camera is None or self._box_view(camera, volume)[1] else 1.0
 
     def _clips(self) -> bool:
         """Clipping planes, cropping or a slab: the loops then narrow each ray (``clip_active``)."""
