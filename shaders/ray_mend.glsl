@@ -16,13 +16,6 @@
 // 5-12 % of a frame in views where no ray took it.
 #define MC_RAY_MEND
 
-// (enters, leaves): the ray parameters (texture units from `from` along the
-// unit `dir`) where the line enters and leaves the point bounds.
-vec2 mcBoxAlong(vec3 from, vec3 dir)
-{
-  return mcLineThroughBox(from, dir, in_texMin[0], in_texMax[0]);
-}
-
 // The line of pixel `pixelCentre` (counted from its buffer's corner) in the
 // dataset's coordinates: at NDC depth z its point is (a + z b) / (a.w + z b.w)
 // (-1: the near plane, 1: the far plane). From the uniforms alone: VTK's
@@ -110,7 +103,8 @@ bool mcMendRay()
   vec3 mc_entry = g_dataPos - g_rayJitter;
   vec3 mc_dir = normalize(g_dirStep);
   bool mc_inBox = mcInBox(mc_entry);
-  if (mc_inBox && abs(mcBoxAlong(mc_entry, mc_dir).x) <= 1.0e-4 && mcOnSquareFace(mc_entry, mc_dir))
+  bool mc_atEntry = abs(mcLineThroughBox(mc_entry, mc_dir, in_texMin[0], in_texMax[0]).x) <= 1.0e-4;
+  if (mc_inBox && mc_atEntry && mcOnSquareFace(mc_entry, mc_dir))
   {
     return true;  // where the line enters the box, through a face not seen near edge-on
   }
@@ -131,7 +125,7 @@ bool mcMendRay()
   vec3 mc_span = (mc_a.xyz + mc_b.xyz) / (mc_a.w + mc_b.w) - (mc_a.xyz - mc_b.xyz) / (mc_a.w - mc_b.w);
   g_dirStep = (mc_far - mc_near) * (in_sampleDistance / length(mc_span));  // VTK's: normalised in dataset space
   mc_dir = normalize(g_dirStep);
-  vec2 mc_through = mcBoxAlong(mc_near, mc_dir);
+  vec2 mc_through = mcLineThroughBox(mc_near, mc_dir, in_texMin[0], in_texMax[0]);
   g_rayJitter = mc_jitter * g_dirStep;
   g_rayOrigin = mc_near + max(mc_through.x, 0.0) * mc_dir + g_rayJitter;
   g_dataPos = g_rayOrigin;
