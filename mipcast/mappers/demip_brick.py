@@ -23,7 +23,7 @@ from mipcast.core.object_state import object_state
 from mipcast.core.shading import FLOOR_TOLERANCE
 from mipcast.core.transfer_bounds import constant_ends
 from mipcast.mappers.demip import DEMIPVolumeMapper
-from mipcast.mappers.float_readout import from_data_units, read_normalised
+from mipcast.mappers.float_readout import from_data_units, normalised_span, read_normalised
 
 #: Texture value for "no maximum" (the ray met no data on any rank).
 NO_MAXIMUM = 1.0e30
@@ -102,8 +102,8 @@ def bind_maximum(render_window, mapper: DEMIPBrickDepthMapper, maximum: np.ndarr
     scalars = mapper.GetRenderedInput().GetPointData().GetScalars()
     normalised = np.where(np.isnan(maximum), NO_MAXIMUM, from_data_units(np.nan_to_num(maximum), scalars))
     ends = constant_ends(mapper.GetAttachedVolume().GetProperty(), *data_range)
-    low, high = scalars.GetRange(0)
-    floor, ceiling = ((v - low) / (high - low) if high > low else 0.0 for v in ends)  # as normalised_ends
+    low, span = normalised_span(scalars)
+    floor, ceiling = ((v - low) / span for v in ends)  # as normalised_ends (a constant brick: VTK's span)
     if not ceiling > floor:  # constant transfer functions: no ray gets a DEMIP term (as DEMIPVolumeMapper)
         floor, ceiling = 1.0e20, 2.0e20
     eps = mapper.GetMaterialThreshold() if mapper.GetDepthOf() == "same_material" else 0.0

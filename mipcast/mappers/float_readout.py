@@ -16,8 +16,8 @@ _SHIFT = -2.0
 #: VTK's normalised scalar for 8- and 16-bit integer textures is (k * value - low) / (high - low): the texel
 #: holds value / 255 (uint8), / 127 (int8), / 65535 (uint16) or / 32767 (int16), VTK's scale assumes 256,
 #: 128, 65536, 32768 (16-bit: until 2026-12-05 taken as 1, a CT's 3071 HU read back as 3071.09).
-_TEXTURE_SCALE = {"unsigned char": 256.0 / 255.0, "char": 128.0 / 127.0, "signed char": 128.0 / 127.0,
-                  "unsigned short": 65536.0 / 65535.0, "short": 32768.0 / 32767.0}
+_GL_UNIT = {"unsigned char": 256.0, "char": 128.0, "signed char": 128.0, "unsigned short": 65536.0, "short": 32768.0}
+_TEXTURE_SCALE = {name: unit / (unit - 1.0) for name, unit in _GL_UNIT.items()}
 
 
 def texture_scale(scalars) -> float:
@@ -30,6 +30,31 @@ def texture_scale(scalars) -> float:
     [1.0039216, 1.0000305, 1.0]
     """
     return _TEXTURE_SCALE.get(scalars.GetDataTypeAsString(), 1.0)
+
+
+def normalised_span(scalars) -> tuple:
+    """``(low, span)``: VTK's normalised scalar of ``scalars`` is ``(value * texture_scale - low) / span``.
+
+    ``span`` is the range's width; for a constant array (a brick all air, all padding, all a mask's hidden
+    points) VTK widens the range by 1e-6 of its texture unit (``vtkVolumeTexture::GetScaleAndBias``): 1e-6
+    data units for floats, 256e-6 for unsigned char.  Until 2026-12-05 taken as 1: a value carried into such
+    a brick (bricked LMIP's running maximum) came back 0.0625 units off, and 1.5 of the range read as 0.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkCommonCore import vtkFloatArray, vtkUnsignedCharArray
+    >>> air, bytes_ = vtkFloatArray(), vtkUnsignedCharArray()
+    >>> _ = air.InsertNextValue(-3.0), bytes_.InsertNextValue(7), bytes_.InsertNextValue(9)
+    >>> normalised_span(air), normalised_span(bytes_)
+    ((-3.0, 1e-06), (7.0, 2.0))
+    >>> _ = bytes_.SetValue(1, 7), bytes_.Modified()
+    >>> normalised_span(bytes_)
+    (7.0, 0.000256)
+    """
+    low, high = scalars.GetRange(0)
+    if high > low:
+        return low, high - low
+    return low, 1.0e-6 * _GL_UNIT.get(scalars.GetDataTypeAsString(), 1.0)
 
 
 def table_coordinate(scalars) -> tuple:
@@ -139,8 +164,8 @@ def to_data_units(normalised: np.ndarray, scalars) -> np.ndarray:
     >>> to_data_units(np.array([0.5]), scalars)
     array([20.])
     """
-    low, high = scalars.GetRange(0)
-    return (low + np.asarray(normalised, dtype=np.float64) * (high - low)) / texture_scale(scalars)
+    low, span = normalised_span(scalars)
+    return (low + np.asarray(normalised, dtype=np.float64) * span) / texture_scale(scalars)
 
 
 def from_data_units(values: np.ndarray, scalars) -> np.ndarray:
@@ -154,8 +179,7 @@ def from_data_units(values: np.ndarray, scalars) -> np.ndarray:
     >>> from_data_units(np.array([20.0]), scalars)
     array([0.5])
     """
-    low, high = scalars.GetRange(0)
-    span = high - low if high > low else 1.0  # VTK's normalisation of a constant volume
+    low, span = normalised_span(scalars)
     return (np.asarray(values, dtype=np.float64) * texture_scale(scalars) - low) / span
 
 
