@@ -81,22 +81,30 @@ vec2 mcLineThroughBox(vec3 from, vec3 dir, vec3 lo, vec3 hi)
 // the box, on VTK's cap inside it. On a face met at a grazing angle (0.01 to
 // 1 degree; nearer edge-on the ray_mend piece sets the ray up again) float
 // rounding puts that position on the line but up to a tenth of the box
-// deeper in: the ray skipped the box's first part (analytic MIP 0.055 of the
-// range off; tests/edge_on_check.py sweep). The ray loops (sampled_loop,
-// amip_cell) move such a start back to where its line enters the box, the
-// jitter and the end kept: mcEntryShift(box, unit), for `box` =
-// mcLineThroughBox(start, dir, ...) and `unit` the length of dir in texture
-// units, is the ray parameter of that entry where it lies more than 1e-4
-// (texture units) behind the start, else 0: every other start stays as it
-// is, bit for bit, and so does every start while VTK caps the box
-// (u_mc_entryMoves 0, MIPVolumeMapper._entry_moves: a cap start lies inside
-// the box), or whose line misses it. Starts in front of the box are not
-// moved: with MSAA VTK starts a silhouette pixel whose centre lies off the
-// box there on purpose, and a private draw cannot tell whether it draws
-// with MSAA.
+// deeper in (the ray skipped the box's first part: analytic MIP 0.055 of
+// the range off; tests/edge_on_check.py sweep) or in front of the box. The
+// ray loops (sampled_loop, amip_cell) move such a start to where its line
+// enters the box, the jitter and the end kept: mcEntryShift(box, unit), for
+// `box` = mcLineThroughBox(start, dir, ...) and `unit` the length of dir in
+// texture units, is the ray parameter of that entry where it lies more than
+// 1e-4 (texture units) from the start, else 0: every other start stays as
+// it is, bit for bit. u_mc_entryMoves (MIPVolumeMapper._entry_moves): 0, no
+// start moves (VTK caps the box: a cap start lies inside it); 1, only
+// starts behind the entry move (the window draws with MSAA: VTK starts a
+// silhouette pixel whose centre lies off the box on the face's plane, in
+// front of the box, on purpose); 2, both; 0 too while no face is met at a
+// sine below 0.1 (mipcast.mappers.mip.ENTRY_MOVES: no start lies off by
+// 1e-4 there, and the test cost llvmpipe's analytic walk 4-7 % of a frame).
+// A line missing the box: no move.
 float mcEntryShift(vec2 box, float unit)
 {
-  return all(bvec3(u_mc_entryMoves > 0.5, box.x * unit < -1.0e-4, box.x <= box.y)) ? box.x : 0.0;
+  if (u_mc_entryMoves < 0.5)
+  {
+    return 0.0;
+  }
+  float ahead = box.x * unit;
+  bool moves = (ahead < -1.0e-4 && u_mc_entryMoves > 0.5) || (ahead > 1.0e-4 && u_mc_entryMoves > 1.5);
+  return moves && box.x <= box.y ? box.x : 0.0;
 }
 
 // A cast ray that draws nothing (clipped or cropped away, missing the

@@ -2,13 +2,17 @@
 
     python tests/edge_on_check.py sweep [METHOD]   # 30 turns about the view axis x 2 sizes, the view tilted 0-3 deg
     python tests/edge_on_check.py time [ROUNDS]    # vessels 96^3 turned 0.5 rad, 512^2 front view, mip and analytic
+    python tests/edge_on_check.py moves            # where moving starts to the box's entry changes a pixel
 
 ``sweep``: the vessels 24^3 (float32, anisotropic spacing) turned 0.05-1.5 rad about z by its direction
 matrix, seen head-on (``front``) and tilted by the elevation given, in 41x37 and 64x64 pictures; per tilt,
 the pixels more than 1e-4 of the range off the float64 reference on the same rays and the worst of them,
 without the piece (``EDGE_ON`` 0) and with it, and the smallest and largest sine at which a face is seen
 (``mipcast.core.camera_rays.grazing_sine``).  ``time``: median frame ms of interleaved frames, the piece
-installed against the same frames without it, in one process (auto-adjust off, llvmpipe).
+installed against the same frames without it, in one process (auto-adjust off, llvmpipe).  ``moves``: mip and
+analytic on the volume turned 0.05-1.5 rad, tilted 0.3-5 degrees and 2 degrees at 1.1 rad, each float readout
+with the starts' moves forced on (``u_mc_entryMoves`` 2) and off (0): the views where a pixel differs, with
+their grazing sine (``mipcast.mappers.mip.ENTRY_MOVES`` leaves the test out above 0.1).
 """
 from __future__ import annotations
 
@@ -79,6 +83,29 @@ def sweep(name: str = "analytic") -> None:
               f"pixels off, worst {found[False][1]:.3g}; with it {found[True][0]}, worst {found[True][1]:.3g}")
 
 
+def moves() -> None:
+    forced = {"moves": 2.0}
+    mip.MIPVolumeMapper._entry_moves = lambda self, volume: forced["moves"]
+    views = [(name, float(angle), tilt, size) for name in ("mip", "analytic") for angle in np.linspace(0.05, 1.5, 8)
+             for tilt in (0.3, 0.5, 1.0, 2.0, 3.0, 5.0) for size in ((41, 37), (64, 64))]
+    views += [("mip", 1.1, 2.0, (64, 64))]
+    largest, smallest = 0.0, 1.0
+    for name, angle, tilt, size in views:
+        image = turned(24, angle)
+        scene = tilted_scene(image, name, size, tilt)
+        pictures = []
+        for value in (2.0, 0.0):
+            forced["moves"] = value
+            pictures.append(scene.float_image())
+        sine = grazing_sine(image, scene.camera, scene.volume.GetMatrix())
+        smallest = min(smallest, sine)
+        same = (pictures[0] == pictures[1]) | (np.isnan(pictures[0]) & np.isnan(pictures[1]))
+        if not same.all():
+            largest = max(largest, sine)
+            print(f"{name} {angle:.3f} rad, {tilt} deg, {size}: sine {sine:.3g}, {int((~same).sum())} pixel(s) moved")
+    print(f"{len(views)} views, sines {smallest:.3g} and up; the largest sine with a pixel moved: {largest:.3g}")
+
+
 def timing(rounds: int = 9) -> None:
     image = turned(96, 0.5)
     for name in ("mip", "analytic"):
@@ -90,6 +117,8 @@ def timing(rounds: int = 9) -> None:
 if __name__ == "__main__":
     if len(sys.argv) > 1 and sys.argv[1] == "sweep":
         sweep(*sys.argv[2:3])
+    elif len(sys.argv) > 1 and sys.argv[1] == "moves":
+        moves()
     elif len(sys.argv) > 1 and sys.argv[1] == "time":
         timing(int(sys.argv[2]) if len(sys.argv) > 2 else 9)
     else:

@@ -68,6 +68,7 @@ from mipcast.mappers.demip_composite import demip_composite, demip_premultiplied
 from mipcast.mappers.input_preparer import piece_range
 from mipcast.mappers.outline_rays import scene_depth
 from mipcast.mappers.private_draw import auto_sample_distance, follow_volume
+from mipcast.mappers.stereo import draw_for
 
 
 #: The projections DEMIP composites in bricks: "mip" (MAX of the bricks), "lmip" (the bricks front to back,
@@ -187,7 +188,7 @@ def _render(renderer, entry, mapper, camera, shape, raw: bool = False, size=None
     """
 
     brick_mapper, brick_volume = entry["mapper"], entry["volume"]
-    object_state(brick_mapper)["draw_camera"] = camera
+    draw_for(brick_mapper, camera, renderer)
     push_rays(mapper, entry, camera, shape, size)
     object_state(brick_mapper)["exact_readout"] = True
     brick_mapper.RenderToImageOn()

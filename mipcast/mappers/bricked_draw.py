@@ -69,6 +69,8 @@ from mipcast.mappers.box_outline import box_corners, front_faces
 from mipcast.mappers.input_preparer import piece_range
 from mipcast.mappers.private_draw import (auto_sample_distance, draw_over, follow_volume, kept_texture,
                                           rendering_renderer)
+from mipcast.mappers.stereo import draw_for
+
 
 def _weighted_mean(values: list, weights: list) -> np.ndarray:
     """The bricks' means weighted by what each counted (NaN where none had a value).
@@ -345,7 +347,7 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
             continue  # its box covers no pixel: nothing to draw, nothing to combine
         drawn += 1
         step = brick_mapper.GetSampleDistance()
-        object_state(brick_mapper)["draw_camera"] = camera
+        draw_for(brick_mapper, camera, renderer)
         push_rays(mapper, entry, camera, shape, aspect_size)
         sampled = "global_phase" in brick_mapper.GetShaderPieces()
         object_state(brick_mapper)["exact_readout"] = True

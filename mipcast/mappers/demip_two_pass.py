@@ -21,6 +21,7 @@ from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.core.object_state import object_state
 from mipcast.mappers import clip_uniforms
 from mipcast.mappers.private_draw import GL_BLEND, GL_DEPTH_TEST, GL_SCISSOR_TEST, follow_volume, rendering_renderer
+from mipcast.mappers.stereo import draw_for
 
 #: Sample indices are packed as ``start * INDEX_BASE + max`` into one float32
 #: (exact below 2**24): rays of at most this many samples hand pass 2 the
@@ -194,7 +195,7 @@ def _draw_first_pass(mapper, event) -> None:
         first.Attach(first_volume)
         entry = state["first_pass"] = {"mapper": first, "volume": first_volume, "matrix": vtkMatrix4x4()}
     _copy_settings(mapper, volume, entry)
-    object_state(entry["mapper"])["draw_camera"] = renderer.GetActiveCamera()  # its eye, in stereo
+    draw_for(entry["mapper"], renderer.GetActiveCamera(), renderer)  # its eye, in stereo
     width, height, x0, y0 = [0], [0], [0], [0]
     renderer.GetTiledSizeAndOrigin(width, height, x0, y0)
     first_uniforms = entry["volume"].GetShaderProperty().GetFragmentCustomUniforms()

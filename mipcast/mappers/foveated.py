@@ -24,6 +24,7 @@ from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.core.object_state import object_state
 from mipcast.mappers.private_draw import GL_SCISSOR_BOX, auto_sample_distance, copy_drawn, rendering_renderer
 from mipcast.core.ray_cost import grid_cost
+from mipcast.mappers.stereo import draw_for
 
 #: State besides the parameters: the gaze of the last render (from the current source) and its source.
 _GAZE = {"gaze": (0.5, 0.5), "gaze_source": "point"}
@@ -550,7 +551,7 @@ def _begin_frame(mapper, state, volume, renderer) -> SimpleNamespace:
     base_distance = auto_sample_distance(image, volume) if auto else float(mapper.GetSampleDistance())
     depth = foveated_levels.capture_depth(state, renderer)  # the depth buffer copied once for all levels
     frame = SimpleNamespace(
-        image=image, params=params, viewport=viewport, camera=camera, plan=plan, readout=readout,
+        image=image, params=params, viewport=viewport, camera=camera, renderer=renderer, plan=plan, readout=readout,
         keeping=keeping, scene=scene, kept=kept, eye=eye, tolerance=tolerance, adaptive=adaptive,
         cells=cells, spacings=spacings, world_per_pixel=world_per_pixel, base_isd=base_isd,
         base_distance=base_distance, gl_state=gl_state, box=box, depth=depth,
@@ -703,7 +704,7 @@ def _level_entry(mapper, state, volume, frame, layer, kind, source) -> tuple:
     foveated_levels.set_uniforms(level_volume, frame.plan, layer, frame.kept)
     band = foveated_levels.set_silhouette(level_volume, frame.silhouette if len(frame.plan.layers) > 1 else None,
                                           layer.level)
-    object_state(level_mapper)["draw_camera"] = frame.camera
+    draw_for(level_mapper, frame.camera, frame.renderer)
     if frame.readout:
         object_state(level_mapper)["exact_readout"] = True
         level_mapper.RenderToImageOn()

@@ -30,6 +30,7 @@ from mipcast.core.object_state import object_state
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
 from mipcast.mappers import bricked_draw, bricked_foveated, clip_uniforms, float_readout, refine_keep, volume_pyramid
 from mipcast.mappers.private_draw import GL_SCISSOR_BOX, GL_SCISSOR_TEST, follow_volume, scissor_kept
+from mipcast.mappers.stereo import draw_for
 
 if TYPE_CHECKING:
     from vtkmodules.vtkRenderingOpenGL2 import vtkTextureObject
@@ -150,7 +151,7 @@ def composite_level(mapper, state, volume, renderer, level, volume_level, level_
         source_mapper.SetComponent(component)
     copy_settings(mapper, volume, source_mapper, source["volume"], source["matrix"], distance,
                    layer.image_sample_distance)
-    object_state(source_mapper)["draw_camera"] = renderer.GetActiveCamera()
+    draw_for(source_mapper, renderer.GetActiveCamera(), renderer)
     limit = bricked_foveated.level_limit(mapper, level_input)
     for brick in level_bricks(source, limit):  # they cast only the level's rays
         set_uniforms(brick["volume"], plan, layer)

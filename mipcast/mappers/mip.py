@@ -20,7 +20,7 @@ from mipcast.mappers.float_readout import from_data_units, table_coordinate
 from mipcast.mappers.input_preparer import InputPreparer
 from mipcast.mappers.max_blocks import block_bytes, block_level_image
 from mipcast.mappers.private_draw import rendering_renderer, scissor_from_origin
-from mipcast.mappers.stereo import drawing_camera, eye_uniforms
+from mipcast.mappers.stereo import drawing_camera, drawing_multisamples, eye_uniforms
 
 
 #: The pieces every mipcast mapper adds to its own: ray directions along the pixel's line through the
@@ -35,11 +35,15 @@ STEREO_PIECE = "stereo_ray_direction"
 #: there to 1.2e-5, 0.055 beyond. Installed up to a sine of 1e-4: a camera turned at random comes that near a
 #: face once in ~3000 moves, each time installing the piece binds another program (compiled the first time),
 #: and llvmpipe runs a branch's body on every lane, so installing it in every view cost 5-12 % of a frame.
-#: Further off edge-on (a sine up to ~0.01) VTK's fragment still lies on the pixel's line, only too deep into
-#: the box: there every ray loop moves its start back to the line's entry (shaders/mip_globals.glsl,
+#: Further off edge-on (a sine up to ~0.02) VTK's fragment still lies on the pixel's line, only too deep into
+#: the box or in front of it: there every ray loop moves its start to the line's entry (shaders/mip_globals.glsl,
 #: ``mcEntryShift``; :meth:`MIPVolumeMapper._entry_moves`), no piece needed.
 RAY_MEND_PIECE = "ray_mend"
 EDGE_ON = 1.0e-4
+#: The grazing sine below which the ray loops move a start that VTK's rasterisation put off where its line
+#: enters the box (:meth:`MIPVolumeMapper._entry_moves`): the largest seen moving, 0.016 (2 degrees; the
+#: start's error grows as 1 / sine); above, the test is left out (it cost analytic MIP 4-7 % of a frame).
+ENTRY_MOVES = 0.1
 #: The sampled hook pieces that skip blocks, and their skipping variants (MIP's, MinIP's, DEMIP's).
 _BLOCK_HOOKS = {"mip_hooks": "mip_hooks_blocks", "minip_hooks": "minip_hooks_blocks",
                 "demip_hooks": "demip_hooks_blocks"}
@@ -605,12 +609,19 @@ class MIPVolumeMapper(vtkOpenGLGPUVolumeRayCastMapper):
         return state["box_view"][1]
 
     def _entry_moves(self, volume) -> float:
-        """Whether the ray loops move a start that lies behind where its line enters the box back to that
-        entry (``u_mc_entryMoves``, ``mcEntryShift`` in shaders/mip_globals.glsl): 1.0, but 0.0 while the
-        camera's near plane cuts the box (VTK starts those rays on its cap, inside the box) or no camera is
-        known."""
+        """Which starts off where their line enters the box the ray loops move to that entry
+        (``u_mc_entryMoves``, ``mcEntryShift`` in shaders/mip_globals.glsl): 2.0, those behind it and those
+        in front; 1.0, those behind only, while the window draws with MSAA (VTK starts a silhouette pixel
+        off the box, in front of it, on purpose); 0.0, none, while the camera's near plane cuts the box (VTK
+        starts those rays on its cap, inside the box), no face is met at a sine below :data:`ENTRY_MOVES`
+        or no camera is known."""
         camera = drawing_camera(self, volume)
-        return 0.0 if camera is None or self._box_view(camera, volume)[1] else 1.0
+        if camera is None:
+            return 0.0
+        sine, capped = self._box_view(camera, volume)
+        if capped or sine >= ENTRY_MOVES:
+            return 0.0
+        return 1.0 if drawing_multisamples(self, volume) > 0 else 2.0
 
     def _clips(self) -> bool:
         """Clipping planes, cropping or a slab: the loops then narrow each ray (``clip_active``)."""

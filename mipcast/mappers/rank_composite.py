@@ -53,6 +53,7 @@ from mipcast.core.parameter_tables import DEMIP_SETTINGS
 from mipcast.mappers import bricked_draw, float_readout
 from mipcast.mappers.private_draw import draw_over, kept_texture
 from mipcast.mappers.brick_rays import box_in_view, brick_entry, push_whole_rays, whole_geometry
+from mipcast.mappers.stereo import draw_for
 
 #: Reduce(array, op) -> the array reduced over every rank; op is "max", "min" or "sum".
 Reduce = Callable[[np.ndarray, str], np.ndarray]
@@ -150,7 +151,7 @@ def _render(renderer, entry, whole_image, camera, shape, channel: Optional[float
             raw: bool = False) -> np.ndarray:
     """One float readout of this rank's brick (data units, or ``raw`` as written), NaN: none."""
     brick_mapper, brick_volume = entry["mapper"], entry["volume"]
-    object_state(brick_mapper)["draw_camera"] = camera
+    draw_for(brick_mapper, camera, renderer)
     push_whole_rays(entry["volume"], entry["mapper"].GetSampleDistance(), whole_image, camera, (shape[1], shape[0]))
     object_state(brick_mapper)["exact_readout"] = True
     brick_mapper.RenderToImageOn()

@@ -62,6 +62,7 @@ from mipcast.core.prepare import missing_fill, prepare_scalars
 from mipcast.core.parameter_tables import FOVEATION_LAYERS
 from mipcast.mappers.mip import MIPVolumeMapper
 from mipcast.mappers.clip_uniforms import cuts
+from mipcast.mappers.stereo import draw_for
 
 Reduce = Callable[[np.ndarray, str], np.ndarray]
 
@@ -882,7 +883,7 @@ def _readout(renderer, entry, rays, camera, shape, size, raw: bool = False) -> n
     from mipcast.mappers.brick_rays import push_whole_rays
 
     brick_mapper, brick_volume = entry["mapper"], entry["volume"]
-    object_state(brick_mapper)["draw_camera"] = camera
+    draw_for(brick_mapper, camera, renderer)
     push_whole_rays(brick_volume, brick_mapper.GetSampleDistance(), rays, camera, size)
     object_state(brick_mapper)["exact_readout"] = True
     brick_mapper.RenderToImageOn()

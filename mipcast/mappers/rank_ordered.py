@@ -119,10 +119,11 @@ def _readout(renderer, entry, whole_image, camera, shape, channel: float) -> np.
 
     from mipcast.core.object_state import object_state
     from mipcast.mappers.brick_rays import push_whole_rays
+    from mipcast.mappers.stereo import draw_for
 
     brick_mapper, brick_volume = entry["mapper"], entry["volume"]
     state = object_state(brick_mapper)
-    state["draw_camera"] = camera
+    draw_for(brick_mapper, camera, renderer)
     push_whole_rays(brick_volume, brick_mapper.GetSampleDistance(), whole_image, camera, (shape[1], shape[0]))
     state["exact_readout"] = True
     brick_mapper.RenderToImageOn()

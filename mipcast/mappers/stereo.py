@@ -186,6 +186,33 @@ def drawing_camera(mapper, volume) -> Optional[vtkCamera]:
     return camera
 
 
+def draw_for(mapper, camera: vtkCamera, renderer) -> None:
+    """Before a private mapper draws for another (a brick, a foveated level, a rank's piece, DEMIP's first
+    pass): the camera it draws with (:func:`drawing_camera`) and the multisampling of the window it draws
+    for (:func:`drawing_multisamples`), which its own render target does not show."""
+    state = object_state(mapper)
+    state["draw_camera"] = camera
+    state["draw_multisamples"] = int(renderer.GetRenderWindow().GetMultiSamples())
+
+
+def drawing_multisamples(mapper, volume) -> int:
+    """The MSAA samples of the window ``mapper`` draws ``volume`` for (:func:`draw_for`'s, else the drawing
+    renderer's window's; 0 when neither is known).
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkVolume
+    >>> drawing_multisamples(None, vtkVolume())
+    0
+    """
+    samples = object_state(mapper).get("draw_multisamples") if mapper is not None else None
+    if samples is None:
+        renderer = rendering_renderer(mapper, volume)
+        window = renderer.GetRenderWindow() if renderer is not None else None
+        samples = window.GetMultiSamples() if window is not None else 0
+    return int(samples)
+
+
 def eye_uniforms(mapper, volume) -> Optional[dict]:
     """The ``stereo_ray_direction`` uniforms for the eye of a parallel stereo pair ``mapper`` renders now;
     None for mono frames and perspective eyes (``perspective_ray_direction`` aims those along their pixels'
