@@ -189,7 +189,18 @@ def drawing_camera(mapper, volume) -> Optional[vtkCamera]:
 def draw_for(mapper, camera: vtkCamera, renderer) -> None:
     """Before a private mapper draws for another (a brick, a foveated level, a rank's piece, DEMIP's first
     pass): the camera it draws with (:func:`drawing_camera`) and the multisampling of the window it draws
-    for (:func:`drawing_multisamples`), which its own render target does not show."""
+    for (:func:`drawing_multisamples`), which its own render target does not show.
+
+    Examples
+    --------
+    >>> from vtkmodules.vtkRenderingCore import vtkRenderer, vtkRenderWindow, vtkVolume
+    >>> from mipcast.mappers.mip import MIPVolumeMapper
+    >>> window, renderer, brick = vtkRenderWindow(), vtkRenderer(), MIPVolumeMapper()
+    >>> window.AddRenderer(renderer); window.SetMultiSamples(4)
+    >>> draw_for(brick, renderer.GetActiveCamera(), renderer)
+    >>> drawing_multisamples(brick, vtkVolume())
+    4
+    """
     state = object_state(mapper)
     state["draw_camera"] = camera
     state["draw_multisamples"] = int(renderer.GetRenderWindow().GetMultiSamples())
