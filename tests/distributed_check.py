@@ -18,7 +18,8 @@ pictures (within 1 and 2 grey), the maximum's float image, the depth
 against the single process's ``render_depth`` and against the float64
 reference (``render_demip(output="depth")``), and whether the same pixels
 get a DEMIP term.
-``--max-voxels`` is each rank's texture budget (refused above it). ``--turned ANGLE`` draws
+``--max-voxels`` is each rank's texture budget (refused above it). ``--air``: the phantom as int16 HU, its
+low-x half air (:func:`with_air`: split along x, the first piece one value). ``--turned ANGLE`` draws
 ``edge_on_check.turned``'s volume instead (a direction matrix, anisotropic spacing; with
 ``--view front`` its side faces seen edge-on) and compares the floats with the float64 reference too.
 
@@ -406,6 +407,25 @@ def with_missing(image, kind="scattered"):
     return out
 
 
+def with_air(image):
+    """``image`` as a CT holds it: int16 (the phantom's 0..1 as -1000..1000 HU), its low-x half and two more
+    columns air (-1000): split along x, the first piece holds one value."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
+    nx, ny, nz = image.GetDimensions()
+    values = vtk_to_numpy(image.GetPointData().GetScalars()).astype(np.float64).reshape(nz, ny, nx)
+    low, high = values.min(), values.max()
+    hu = np.rint(-1000.0 + 2000.0 * (values - low) / (high - low)).astype(np.int16)
+    hu[:, :, : nx // 2 + 2] = -1000
+    out = vtkImageData()
+    out.CopyStructure(image)
+    array = numpy_to_vtk(hu.ravel(), deep=True)
+    array.SetName("HU")
+    out.GetPointData().SetScalars(array)
+    return out
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--out", required=True)
@@ -441,6 +461,8 @@ def main(argv=None):
     parser.add_argument("--png", default=None, help="folder for rank 0's PNGs (distributed, single)")
     parser.add_argument("--missing", choices=("scattered", "brick"), default=None,
                         help="the phantom with missing (NaN) voxels: with_missing")
+    parser.add_argument("--air", action="store_true",
+                        help="the phantom as int16 HU with its low-x half air: with_air")
     args = parser.parse_args(argv)
     comm = world_communicator()
     if args.turned is None:
@@ -449,6 +471,7 @@ def main(argv=None):
         from edge_on_check import turned
         image = turned(args.size, args.turned)
     image = with_missing(image, args.missing) if args.missing else image
+    image = with_air(image) if args.air else image
     span = float(np.subtract(*image.GetPointData().GetScalars().GetFiniteRange()[::-1]))
     window = image.GetPointData().GetScalars().GetFiniteRange()
     results = {"ranks": comm.size, "cases": []}

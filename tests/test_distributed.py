@@ -223,6 +223,24 @@ def check_ordered(cases):
             assert case["depth_terms"] == 0.0 and case["differs_from_mip"] > 0.3, label
 
 
+def test_a_piece_all_air_carries_the_ordered_scan_exactly(display):
+    """A CT (int16 HU) whose low-x half is air (``--air``), split along x: the first rank's piece holds one
+    value, a constant texture VTK normalises over a range 1e-6 of its unit wide.  LMIP's running maximum and
+    attenuated MIP's state cross it within float rounding of one process and the float64 reference.  Before
+    (2026-12-05, ``float_readout.normalised_span``) LMIP was 0.0144 of the range off, 5 pixels up to 65 grey."""
+    done, results = run_check(display, 2, "--air", "--axes", "x", "--methods", "demip", "--projections",
+                              "lmip,attenuated", "--size", "48", "--image", "64", "64")
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    ordered = [case for case in results["cases"] if "projection" in case]
+    assert {case["projection"] for case in ordered} == {"lmip", "attenuated"}, ordered
+    tolerance = methods.METHODS["demip"].reference_tolerance
+    for case in ordered:
+        label = f"{case['projection']}: {case}"
+        assert case["lit"] > 0.2 and case["within_1_grey"] >= 0.999, label
+        for name in ("", "reference_", "one_rank_"):
+            assert case[name + "misses_agree"] >= 0.999 and case[name + "float_max_error"] <= tolerance, label
+
+
 @pytest.mark.parametrize("angle, image", [(0.65, ("41", "37")), (1.2, ("64", "64"))])
 def test_a_volume_turned_by_its_direction_matrix_composites_exactly(display, angle, image):
     """An oblique acquisition: the vessels on spacing 0.7 x 1 x 1.6, turned about z by the image's direction
