@@ -31,7 +31,6 @@ import argparse
 import json
 import os
 import signal
-import sys
 import time
 
 import numpy as np
@@ -387,8 +386,7 @@ def with_missing(image, kind="scattered"):
     in the other) and its high-z quarter of the low-x half; the values in the high-x half raised by half the range,
     so the bricks' own finite ranges differ.  ``"brick"``: the low-x half and two more columns missing (split
     along x, the first brick holds missing values only)."""
-    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-    from vtkmodules.vtkCommonDataModel import vtkImageData
+    from vtkmodules.util.numpy_support import vtk_to_numpy
 
     nx, ny, nz = image.GetDimensions()
     values = vtk_to_numpy(image.GetPointData().GetScalars()).astype(np.float32).reshape(nz, ny, nx).copy()
@@ -399,29 +397,31 @@ def with_missing(image, kind="scattered"):
         values[nz // 3: nz // 2, ny // 3: ny // 2, :] = np.nan
         values[:, : ny // 4, nx // 2:] = np.nan
         values[3 * nz // 4:, :, : nx // 2] = np.nan
-    out = vtkImageData()
-    out.CopyStructure(image)
-    array = numpy_to_vtk(values.ravel(), deep=True)
-    array.SetName("values")
-    out.GetPointData().SetScalars(array)
-    return out
+    return _with_values(image, values, "values")
 
 
 def with_air(image):
     """``image`` as a CT holds it: int16 (the phantom's 0..1 as -1000..1000 HU), its low-x half and two more
     columns air (-1000): split along x, the first piece holds one value."""
-    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-    from vtkmodules.vtkCommonDataModel import vtkImageData
+    from vtkmodules.util.numpy_support import vtk_to_numpy
 
     nx, ny, nz = image.GetDimensions()
     values = vtk_to_numpy(image.GetPointData().GetScalars()).astype(np.float64).reshape(nz, ny, nx)
     low, high = values.min(), values.max()
     hu = np.rint(-1000.0 + 2000.0 * (values - low) / (high - low)).astype(np.int16)
     hu[:, :, : nx // 2 + 2] = -1000
+    return _with_values(image, hu, "HU")
+
+
+def _with_values(image, values, name: str):
+    """A new image of ``image``'s structure holding ``values`` (z, y, x) as its point scalars ``name``."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+
     out = vtkImageData()
     out.CopyStructure(image)
-    array = numpy_to_vtk(hu.ravel(), deep=True)
-    array.SetName("HU")
+    array = numpy_to_vtk(values.ravel(), deep=True)
+    array.SetName(name)
     out.GetPointData().SetScalars(array)
     return out
 
