@@ -85,3 +85,21 @@ def test_demip_with_nearest_interpolation_agrees_with_the_reference(base, number
     needs the ties bounded per axis (differential_check.CORNERS)."""
     case, problem = run_case(number, base)
     assert problem is None, (case, problem)
+
+
+def test_lmip_in_bricks_through_a_brick_of_hidden_points_agrees_with_the_reference(base):
+    """Case 1483 (DEMIP's LMIP in bricks with a mask, perspective): a brick all hidden points is a constant
+    texture, which VTK normalises over a range 1e-6 wide; until 2026-12-05 the readouts took it as 0 and 1 and
+    the running maximum carried through such a brick came back as its fill value (161 of 557 pixels up to
+    1.57 of the range off)."""
+    case, problem = run_case(1483, base)
+    assert problem is None, (case, problem)
+
+
+@pytest.mark.parametrize("number", [486, 1468, 2443])
+def test_nearest_ties_of_values_not_monotone_in_the_picks_agree_with_the_reference(base, number):
+    """Nearest interpolation, samples half-way between points: DEMIP's attenuated value (486) and LMIP (1468),
+    and the average with a mask (2443), whose lowest picks may give the higher value; the GPU's value lies in
+    the span of the plain reference and the two whole-ray picks (run_case; 1468: the lowest picks' exactly)."""
+    case, problem = run_case(number, base)
+    assert problem is None, (case, problem)
