@@ -36,11 +36,12 @@ def test_a_scene_changed_from_another_case_agrees_with_the_reference(base, numbe
     assert problem is None, (case, problem)
 
 
-@pytest.mark.parametrize("number", [24, 60, 99, 126, 176, 280, 322])
+@pytest.mark.parametrize("number", [24, 60, 99, 126, 176, 280, 322, 2942])
 def test_nearest_interpolation_cases_agree_with_the_reference(base, number):
     """Cases drawn with nearest-neighbour interpolation (mip, minip, average): the front views' half-way ties
     (either point accepted) and, in bricks, the CPU's one sample of a grazing outline ray (176, 322: linear
-    until 2026-12-05; tests/test_interpolation.py)."""
+    until 2026-12-05; tests/test_interpolation.py); 2942, the average on a long perspective ray through a
+    scaled volume, a sample 1e-5 to 3e-5 point-index units from half-way (the tie's width, TIE)."""
     case, problem = run_case(number, base)
     assert problem is None, (case, problem)
 
