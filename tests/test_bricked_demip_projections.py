@@ -304,3 +304,44 @@ def test_bricked_ordered_projections_carry_their_state_through_a_brick_of_one_va
         assert np.max(np.abs(got[both] - other[both])) / (high - low) <= 3e-5
     difference = np.abs(rgbs[1] - rgbs[0]).max(axis=-1)
     assert (difference <= 1).mean() >= 0.999, (difference.max(), (difference > 1).sum())
+
+
+@pytest.mark.parametrize("projection", ["lmip", "attenuated"])
+def test_bricked_ordered_projections_window_the_component_drawn(image, projection, monkeypatch, tmp_path):
+    """Three components (x 0.2, x 1, x 0.5 the fixture) drawing component 1 under a window inside its range
+    and above component 0's: the bricks' material window and LMIP's threshold come from the values drawn
+    (the rendered input's range, as the single texture's), not from component 0's range (until 2026-12-05
+    LMIP 0.49 and attenuated MIP 0.71 of the range off here; differential case 3250, the magnitude of
+    vectors cropped in bricks, 90 pixels up to 0.58)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    from mipcast.offscreen import grey_property
+
+    values = vtk_to_numpy(image.GetPointData().GetScalars()).astype(np.float32)
+    low, high = float(values.min()), float(values.max())
+    vectors = vtkImageData()
+    vectors.DeepCopy(image)
+    vectors.GetPointData().SetScalars(numpy_to_vtk(np.stack([0.2 * values, values, 0.5 * values], axis=1),
+                                                   deep=True))
+    window = (low + 0.3 * (high - low), low + 0.9 * (high - low))
+    assert window[0] > 0.2 * high  # (the window lies above every value of component 0)
+    drawn = []
+    for bricked in (False, True):
+        if bricked:
+            lowered(monkeypatch)
+        mapper, renderer, render_window = build(vectors, projection, 0.0, False)
+        mapper.SetComponent(1)
+        mapper.GetAttachedVolume().SetProperty(grey_property(window))
+        drawn.append((picture(render_window), render_float(render_window, mapper)))
+        assert mapper.GetNumberOfBricks() == (27 if bricked else 0) and mapper.GetLastProblem() is None
+    (one_rgb, one), (rgb, got) = drawn
+    write_png(tmp_path / f"bricked_{projection}_component.png", np.concatenate([one_rgb, rgb], axis=1).astype(np.uint8))
+    camera = renderer.GetActiveCamera()
+    settings = dict(sample_distance=DISTANCE, window=window, depth_weight=DEPTH, depth_mode="entry_plus_length",
+                    projection=projection, local_threshold=LOCAL, component=1)
+    expected = render_demip(vectors, camera, SIZE, output="value", **settings)
+    assert np.isfinite(expected).mean() > 0.3 and (np.isnan(got) == np.isnan(expected)).mean() >= 0.999
+    for other in (one, expected):
+        both = np.isfinite(got) & np.isfinite(other)
+        assert np.max(np.abs(got[both] - other[both])) / (high - low) <= 3e-5
+    assert (np.abs(rgb - one_rgb).max(axis=-1) <= 1).mean() >= 0.999

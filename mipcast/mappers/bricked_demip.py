@@ -374,7 +374,7 @@ def compose(mapper, volume, renderer, limit: int, image_sample_distance: float =
         scalars = first["mapper"].GetRenderedInput().GetPointData().GetScalars()
         brick = float_readout.to_data_units(np.where(np.abs(found) > 1.0e3, np.nan, found), scalars)
         values = np.fmax(values, brick)
-    data_range = mapper.GetInput().GetPointData().GetScalars().GetRange(0)
+    data_range = mapper.GetRenderedInput().GetPointData().GetScalars().GetRange(0)  # as the single texture's window
     completed = np.zeros(shape, dtype=bool)
     if mapper.GetProjection() == "mip" and in_view:  # the outline rays no brick could sample: one sample each
         from mipcast.mappers import outline_rays
@@ -448,7 +448,7 @@ def face_picture(mapper, volume, renderer, rgba: np.ndarray, face, pixels: np.nd
     image = placed(mapper.GetRenderedInput(), volume.GetMatrix())  # the volume's matrix folded in
     rows, columns, start, step, samples = outline_rays.face_samples(mapper, renderer, image, rgba.shape[:2], distance,
                                                                     face, pixels)
-    data_range = mapper.GetInput().GetPointData().GetScalars().GetRange(0)
+    data_range = mapper.GetRenderedInput().GetPointData().GetScalars().GetRange(0)  # as the single texture's window
     floor, ceiling = constant_ends(volume.GetProperty(), *data_range)
     window = ceiling > floor  # else no material anywhere: no DEMIP term, no attenuation, no MIDA fading
     params = {p.name: getattr(mapper, p.getter)() for p in DEMIP_SETTINGS}
