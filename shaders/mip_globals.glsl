@@ -103,7 +103,7 @@ float mcEntryShift(vec2 box, float unit)
     return 0.0;
   }
   float ahead = box.x * unit;
-  bool moves = (ahead < -1.0e-4 && u_mc_entryMoves > 0.5) || (ahead > 1.0e-4 && u_mc_entryMoves > 1.5);
+  bool moves = ahead < -1.0e-4 || (ahead > 1.0e-4 && u_mc_entryMoves > 1.5);  // (behind: 1 or 2)
   return moves && box.x <= box.y ? box.x : 0.0;
 }
 
