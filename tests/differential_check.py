@@ -11,11 +11,15 @@ window wherever a structure is above its floor with content-adaptive density, is
 extent not from 0, a volume matrix, a sample distance, a slab, a clipping plane, cropping regions, bricks
 (a texture limit of 12), view, picture size (40x36 or 41x37), grey window, cell scalars (drawn at the
 cell centres), for the sampled mip, minip, average and DEMIP nearest-neighbour interpolation and, for DEMIP, its projection
-(LMIP, attenuated, MIDA) and thresholds, and prints the cases whose
+(LMIP, attenuated, MIDA), thresholds, depth mode, depth weight, colour sphere and chromadepth, and prints the cases whose
 float readout is off the reference by more than the method's tolerance (sampled methods on 8-bit data: 2 of 250, the
 texture unit's 8-bit filtering, docs/reliability.md) or disagree on hit and miss on more than 3 % of the
 pixels, or, for the methods whose picture is their value through the window's grey ramp (GREY), whose
-picture is more than 2 grey off the reference's on more than 1 % of the pixels.  docs/reliability.md, "Ties", lists what it found.
+picture is more than 2 grey off the reference's on more than 1 % of the pixels, or, for DEMIP (not under
+nearest-neighbour interpolation), whose depth (the readout "depth") is more than 1e-4 off the reference's on
+more than 1 % of the pixels or whose picture is more than 2 grey off the reference's colours on more than 1 %
+(ties at the material threshold and the window's floor bounded by the references with both moved by the
+value's tolerance).  docs/reliability.md, "Ties", lists what it found.
 """
 import argparse
 import functools
@@ -37,6 +41,7 @@ from mipcast.methods import METHODS
 from mipcast.core.prepare import scalar_image
 from mipcast.core.windowing import resolve_window
 from mipcast.mappers.input_preparer import window_image
+from mipcast.mappers.demip import DEMIPVolumeMapper, render_depth
 from mipcast.offscreen import OffscreenView, set_view
 from mipcast.reference import demip as reference_demip, rays
 
@@ -58,6 +63,8 @@ NEAREST = ("mip", "minip", "average", "demip", "demip_two_pass")
 #: interpolation: the GPU places samples in float32 (1e-5 until case 2942: a perspective ray of 100+ steps
 #: through a volume placed by a scaling matrix, a sample 1e-5 to 3e-5 from half-way read the other point).
 TIE = 3e-5
+#: How far DEMIP's depth (in [0, 1]) may lie from the reference's: float32 rounding of the hit's position.
+DEPTH_TOLERANCE = 1e-4
 #: The directions a sample may be rounded to under nearest-neighbour interpolation, each axis on its own: the
 #: nearest point either side of every half-way coordinate (an odd picture's centre ray in the front view is
 #: half-way in x, y and, every few steps, z).
@@ -202,7 +209,7 @@ def configure(scene: OffscreenView, case: dict, number: int, image, mask, reset:
     name = case["layer"] if foveated else case["method"]
     settings = {}
     if name in ("demip", "demip_two_pass") and "demip" in case and not foveated:  # projections, thresholds
-        settings = dict(case["demip"])
+        settings = dict(case["demip"], **demip_look_case(number))
         if name == "demip_two_pass":
             settings["projection"] = "mip"  # (the two-pass variant draws MIP's maximum)
         for key, value in settings.items():
@@ -256,6 +263,16 @@ def camera_case(case: dict, number: int):
     if draw < 0.15:
         return "shift"
     return "inside" if draw < 0.35 and case["view"] == "perspective" else None
+
+
+def demip_look_case(number: int) -> dict:
+    """DEMIP's depth mode, depth weight, colour sphere and chromadepth for case ``number`` (drawn apart from
+    the case, so that every other draw stays as it was)."""
+    draw = random.Random(number + 6000)
+    return dict(depth_mode=draw.choice(DEMIPVolumeMapper.DEPTH_MODES), depth_weight=draw.choice([0.15, 0.5, 1.0]),
+                sphere_weight=draw.choice([0.0, 0.0, 0.4, 1.0]),
+                sphere_orientation=tuple(draw.uniform(-180.0, 180.0) for _ in range(3)),
+                chroma_depth_weight=draw.choice([0.0, 0.0, 0.0, 0.6]))
 
 
 def nearest_case(case: dict, number: int) -> bool:
@@ -358,6 +375,10 @@ def run_case(number: int, base: np.ndarray, after: Optional[int] = None) -> tupl
     if problem or agree <= 0.97 or error > tolerance:
         return case, (f"{problem or ''} hit/miss agree {agree:.3f}, error {error:.3g} of the range "
                       f"(tolerance {tolerance:g}) at {int((errors > tolerance).sum())} of {int(both.sum())} pixels")
+    if name in ("demip", "demip_two_pass") and not foveated and not nearest:
+        problem = demip_problem(scene, case, settings, planes, cropping, matrix, reference_image, component)
+        if problem:
+            return case, problem
     if name in GREY and not foveated and not nearest:  # the picture: the reference through
         # the window's grey ramp (block skipping starts rays at the window's floor, the float readout does not).
         # Not under nearest-neighbour interpolation: VTK reads the colour table nearest too, its colours step
@@ -369,6 +390,63 @@ def run_case(number: int, base: np.ndarray, after: Optional[int] = None) -> tupl
         if off.mean() > 0.01:
             return case, f"picture: {int(off.sum())} pixels more than {allowed:.3g} grey off the reference's"
     return case, None
+
+
+def demip_problem(scene: OffscreenView, case: dict, settings: dict, planes, cropping, matrix, reference_image,
+                  component) -> Optional[str]:
+    """Why DEMIP's depth (its readout "depth") or picture disagrees with the float64 reference's, or None."""
+    camera = scene.camera
+    slab = (7.0, camera.GetFocalPoint(), camera.GetDirectionOfProjection()) if case["slab"] else None
+    clip = (np.concatenate([p[0] for p in planes]), np.concatenate([p[1] for p in planes])) if planes else None
+
+    def reference_demip_output(output, material_threshold, move=0.0):
+        return reference.render(reference_image, camera, scene.size, "demip", output=output,
+                                sample_distance=scene.sample_distance, window=np.add(scene.window, move),
+                                clip_planes=clip, slab=slab, cropping=cropping, matrix=matrix,
+                                **dict(settings, material_threshold=material_threshold),
+                                **({"component": component} if component is not None else {}))
+
+    # the depth is of the first sample above the window's floor whose material lies within the threshold of
+    # the maximum's: a sample within the value's tolerance of either bound is a tie (8-bit data: the texture
+    # unit's 8-bit filtering). Depth falls as the threshold widens and as the window moves down: the
+    # threshold widened with the window moved down by the tolerance, and the reverse, bound every choice
+    threshold = settings.get("material_threshold", scene.mapper.GetMaterialThreshold())
+    low, high = scene.window
+    values = drawn_values(reference_image, component)
+    span = np.nanmax(values) - np.nanmin(values)
+    tolerance = 2.0 / 250.0 if case["dtype"] == "u8" else METHODS[case["method"]].reference_tolerance
+    move = tolerance * span
+    bounds = ((threshold, 0.0), (min(threshold + move / (high - low), 1.0), -move),
+              (max(threshold - move / (high - low), 1e-6), move))
+    if settings.get("projection") not in ("attenuated", "mida"):  # (those draw no DEMIP term, no depth)
+        candidates = np.stack([reference_demip_output("depth", *bound) for bound in bounds])
+        got = render_depth(scene.render_window, scene.mapper)
+        with np.errstate(invalid="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # (rays with no DEMIP term: all NaN)
+            # where the tightened bounds leave a ray no term (its maximum a tie at the floor), any later
+            # sample may be the first to count
+            latest = np.where(np.isnan(candidates).any(axis=0), np.inf, np.nanmax(candidates, axis=0))
+            nearest = np.clip(got, np.nanmin(candidates, axis=0), latest)
+        expected = np.where(np.isnan(got), candidates[0], nearest)
+        agree = np.mean(np.isnan(got) == np.isnan(expected))
+        both = np.isfinite(got) & np.isfinite(expected)
+        errors = np.abs(got[both] - expected[both])
+        off = int((errors > DEPTH_TOLERANCE).sum())
+        if agree <= 0.99 or off > max(1, 0.01 * both.sum()):
+            return (f"depth ({settings.get('depth_mode')}): term/no term agree {agree:.3f}, {off} of "
+                    f"{int(both.sum())} pixels more than {DEPTH_TOLERANCE:g} off, up to "
+                    f"{errors.max() if errors.size else 0:.3g}")
+    # the picture: each pixel within 2 grey (and the value's tolerance through the window) of the span of the
+    # references' colours at the bounds above (a tied sample moves the depth, and with it the colour)
+    colours = np.round(255.0 * np.nan_to_num(np.stack([reference_demip_output("rgb", *bound)
+                                                         for bound in bounds])))
+    allowed = 2.0 + 255.0 * (tolerance - METHODS[case["method"]].reference_tolerance) * span / (high - low)
+    picture = scene.screenshot()[..., :3].astype(float)
+    outside = np.maximum(colours.min(axis=0) - picture, picture - colours.max(axis=0)).max(axis=-1)
+    wrong = outside > allowed
+    if wrong.mean() > 0.01:
+        return f"picture: {int(wrong.sum())} pixels more than {allowed:.3g} grey off, up to {outside.max():.0f}"
+    return None
 
 
 def main() -> None:

@@ -104,3 +104,14 @@ def test_nearest_ties_of_values_not_monotone_in_the_picks_agree_with_the_referen
     the span of the plain reference and the two whole-ray picks (run_case; 1468: the lowest picks' exactly)."""
     case, problem = run_case(number, base)
     assert problem is None, (case, problem)
+
+
+@pytest.mark.parametrize("number", [143, 225, 233, 410, 441, 484, 549, 612])
+def test_demip_depth_and_picture_agree_with_the_reference(base, number):
+    """DEMIP's depth (the readout "depth") and picture against the float64 reference's, with a random depth
+    mode, depth weight, colour sphere and chromadepth (differential_check.demip_problem; since 2026-12-05):
+    slabs, cropping, clipping, bricks, masks, vectors, cell scalars, volume matrices, an off-centre window and
+    the eye inside the volume. 549 (8-bit data in bricks) has rays whose maximum lies at the window's floor
+    within the texture unit's 8-bit filtering: a tie at the floor."""
+    case, problem = run_case(number, base)
+    assert problem is None, (case, problem)
