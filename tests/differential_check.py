@@ -15,7 +15,9 @@ cell centres), for the sampled mip, minip, average and DEMIP nearest-neighbour i
 float readout is off the reference by more than the method's tolerance (sampled methods on 8-bit data: 2 of 250, the
 texture unit's 8-bit filtering, docs/reliability.md) or disagree on hit and miss on more than 3 % of the
 pixels, or, for the methods whose picture is their value through the window's grey ramp (GREY), whose
-picture is more than 2 grey off the reference's on more than 1 % of the pixels, or, for DEMIP (not under
+picture is more than 2 grey off the reference's on more than 1 % of the pixels (one case in two drawn with a
+random colour map and opacity, a ramp, sigmoid, step, V, band or half transparent: the reference through
+those functions, over black), or, for DEMIP (not under
 nearest-neighbour interpolation), whose depth (the readout "depth") is more than 1e-4 off the reference's on
 more than 1 % of the pixels or whose picture is more than 2 grey off the reference's colours on more than 1 %
 (ties at the material threshold and the window's floor bounded by the references with both moved by the
@@ -30,7 +32,8 @@ from typing import Optional
 
 import numpy as np
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPlane
+from vtkmodules.vtkCommonDataModel import vtkImageData, vtkPiecewiseFunction, vtkPlane
+from vtkmodules.vtkRenderingCore import vtkColorTransferFunction, vtkVolumeProperty
 
 from mipcast.core import foveation
 from mipcast.core.clipping import slab_planes
@@ -252,6 +255,9 @@ def configure(scene: OffscreenView, case: dict, number: int, image, mask, reset:
         object_state(mapper)["texture_limit"] = 12  # pretend a small GPU
     if nearest_case(case, number):  # the volume property's nearest-neighbour interpolation
         scene.volume.GetProperty().SetInterpolationTypeToNearest()
+    transfer = transfer_case(case, number)
+    if transfer is not None:  # a colour map and opacity of the user's (pyvista's cmap and opacity)
+        scene.volume.SetProperty(transfer_property(transfer, scene.window))
     return planes, cropping, matrix, settings
 
 
@@ -273,6 +279,59 @@ def demip_look_case(number: int) -> dict:
                 sphere_weight=draw.choice([0.0, 0.0, 0.4, 1.0]),
                 sphere_orientation=tuple(draw.uniform(-180.0, 180.0) for _ in range(3)),
                 chroma_depth_weight=draw.choice([0.0, 0.0, 0.0, 0.6]))
+
+
+def transfer_case(case: dict, number: int) -> Optional[tuple]:
+    """A colour map and opacity for case ``number``, ``(colour points, opacity points)``, each point ``(x, ...)``
+    with ``x`` a place in the window (0 its low end, 1 its high end), or None (the grey ramp, opaque): the grey
+    methods (not foveated, not under nearest interpolation), one case in two, drawn apart from the case, so
+    that every other draw stays as it was."""
+    if case["method"] not in GREY or nearest_case(case, number):
+        return None
+    draw = random.Random(number + 7000)
+    if draw.random() < 0.5:
+        return None
+    colours = sorted((draw.uniform(-0.1, 1.1), draw.random(), draw.random(), draw.random())
+                     for _ in range(draw.randint(2, 5)))
+    step = draw.uniform(0.2, 0.8)
+    opacity = draw.choice([((0.0, 0.0), (1.0, 1.0)),  # a ramp
+                           ((0.0, 0.0), (0.4, 0.05), (0.5, 0.5), (0.6, 0.95), (1.0, 1.0)),  # a sigmoid
+                           ((step - 0.001, 0.0), (step + 0.001, 1.0)),  # a step
+                           ((0.0, 1.0), (0.5, 0.0), (1.0, 1.0)),  # a V: the middle transparent
+                           ((0.3, 0.0), (0.35, 1.0), (0.65, 1.0), (0.7, 0.0)),  # a band
+                           ((0.0, 0.5), (1.0, 0.5))])  # half transparent
+    return colours, opacity
+
+
+def transfer_property(transfer: tuple, window) -> vtkVolumeProperty:
+    """The volume property of :func:`transfer_case`'s points placed in ``window`` (linear interpolation)."""
+    low, high = window
+    colour, opacity = vtkColorTransferFunction(), vtkPiecewiseFunction()
+    for x, r, g, b in transfer[0]:
+        colour.AddRGBPoint(low + x * (high - low), r, g, b)
+    for x, a in transfer[1]:
+        opacity.AddPoint(low + x * (high - low), a)
+    prop = vtkVolumeProperty()
+    prop.SetColor(colour)
+    prop.SetScalarOpacity(opacity)
+    prop.SetInterpolationTypeToLinear()
+    return prop
+
+
+def transfer_span(transfer: tuple, window, low_values: np.ndarray, high_values: np.ndarray) -> tuple:
+    """(least, greatest) premultiplied colour, shape (..., 3), of :func:`transfer_case`'s functions over each
+    value interval (float64, the functions piecewise linear and clamped, as VTK's: their extremes lie at the
+    interval's ends or the points inside it); 0 where the interval is NaN (a ray that drew nothing)."""
+    low, high = window
+    places = [np.array([low + point[0] * (high - low) for point in points]) for points in transfer]
+    colours, opacity = (np.array([point[1:] for point in points]) for points in transfer)
+    inside = [np.clip(x, low_values, high_values) for x in np.concatenate(places)]
+    samples = np.stack([low_values, high_values] + inside, axis=-1)  # (..., n): the ends, the points clipped in
+    rgb = np.stack([np.interp(samples, places[0], colours[:, channel]) for channel in range(3)], axis=-1)
+    alpha = np.interp(samples, places[1], opacity[:, 0])[..., None]
+    least, greatest = (rgb.min(axis=-2) * alpha.min(axis=-2), rgb.max(axis=-2) * alpha.max(axis=-2))
+    missed = np.isnan(low_values)[..., None]
+    return np.where(missed, 0.0, least), np.where(missed, 0.0, greatest)
 
 
 def nearest_case(case: dict, number: int) -> bool:
@@ -384,6 +443,19 @@ def run_case(number: int, base: np.ndarray, after: Optional[int] = None) -> tupl
         # Not under nearest-neighbour interpolation: VTK reads the colour table nearest too, its colours step
         # between the table's entries (docs/reliability.md, "Blend modes"); the floats are checked
         low, high = scene.window
+        transfer = transfer_case(case, number)
+        if transfer is not None:  # the reference through the colour and opacity functions, over black: within
+            # 2 grey of their span over the value's tolerance and one step of VTK's table (at least 1024 texels
+            # over the texture's range, at most twice the data's with missing values filled below)
+            reach = tolerance * span + 2.0 * span / 1023.0
+            least, greatest = transfer_span(transfer, scene.window, expected - reach, expected + reach)
+            picture = scene.screenshot().astype(float)
+            outside = np.maximum(255.0 * least - picture, picture - 255.0 * greatest).max(axis=-1)
+            off = outside > 2.0
+            if off.mean() > 0.01:
+                return case, (f"picture ({transfer}): {int(off.sum())} pixels more than 2 grey off the reference's "
+                              f"colours, up to {outside.max():.0f}")
+            return case, None
         grey = np.where(np.isnan(expected), 0.0, np.round(np.clip((expected - low) / (high - low), 0.0, 1.0) * 255))
         allowed = 2.0 + 255.0 * (tolerance - METHODS[name].reference_tolerance) * span / (high - low)
         off = np.abs(scene.screenshot()[..., 0].astype(float) - grey) > allowed

@@ -115,3 +115,13 @@ def test_demip_depth_and_picture_agree_with_the_reference(base, number):
     within the texture unit's 8-bit filtering: a tie at the floor."""
     case, problem = run_case(number, base)
     assert problem is None, (case, problem)
+
+
+@pytest.mark.parametrize("number", [55, 71, 86, 103, 145, 205, 240, 252])
+def test_pictures_under_a_users_colour_map_and_opacity_agree_with_the_reference(base, number):
+    """The grey methods under a random colour map and opacity (a V, its middle transparent; a step; a
+    sigmoid), as pyvista's ``cmap`` and ``opacity`` give them (differential_check.transfer_case; since
+    2026-12-05): the picture is the reference's value through those functions, premultiplied, over black,
+    in bricks (composited on the CPU) as in one texture."""
+    case, problem = run_case(number, base)
+    assert problem is None, (case, problem)
