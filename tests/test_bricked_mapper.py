@@ -16,6 +16,7 @@ import vtkmodules.vtkRenderingVolumeOpenGL2  # noqa: F401
 
 from cap_reference import from_the_cap
 from mipcast.core.parameters import set_parameters
+from mipcast.core.windowing import default_window
 from mipcast.data_fixtures import make_fixture
 from mipcast.mappers import gpu_limits
 from mipcast.mappers.float_readout import render_float
@@ -570,6 +571,44 @@ def test_with_msaa_the_bricked_silhouette_gets_the_boxs_coverage(image, missing_
         assert (blended & covered).sum() >= 30 and (blended & ~covered).sum() >= 30
     difference = np.abs(bricked - one).max(axis=-1)
     assert difference.max() <= 1, [(int(y), int(x), int(difference[y, x])) for y, x in zip(*np.nonzero(difference > 1))]
+
+
+def test_with_msaa_a_face_walked_far_off_the_box_leaves_the_colours_of_the_rest(image, monkeypatch):
+    """8x MSAA, analytic MinIP under its default window (3 % of the range) in the grazing view: the top face's
+    fragments next to it walk from where their pixel's line meets its plane, far off the box, and read the
+    extrapolated interpolant there (-15 where the data lie in 0..1), as the single texture's do. Until
+    2026-12-05 the CPU's colour table (:func:`mipcast.mappers.bricked_draw.colour`) spanned those values too:
+    3 table entries across the window, 113 pixels of the bricked picture 2-5 levels off the single
+    texture's, 33 more than 2 (differential case 461: 130 pixels up to 166 under a V-shaped opacity). Now 7
+    pixels 2 levels off, values within a step of VTK's own colour table below the window's top (its table is
+    coarser, the single texture's too with MSAA off), and 3 of the top silhouette up to 5."""
+    def shot(samples):
+        mapper, renderer, window = pipeline(image, "analytic_minip")
+        window.SetMultiSamples(samples)
+        _grazing(renderer, image)
+        mapper.GetAttachedVolume().SetProperty(grey_property(default_window(image, "minip")))
+        return mapper, picture(window)
+
+    one = shot(8)[1]
+    lowered(monkeypatch)
+    mapper, bricked = shot(8)
+    assert mapper.GetNumberOfBricks() == 27 and mapper.GetLastProblem() is None
+    assert one.max() == 255 and one.std() > 30  # the window shows structure
+    difference = np.abs(bricked - one).max(axis=-1)
+    assert (difference > 1).sum() <= 10 and (difference > 2).sum() <= 3, (difference > 1).sum()
+
+
+def test_the_cpus_colour_table_is_not_spread_by_values_far_outside_the_transfer_functions():
+    """:func:`mipcast.mappers.bricked_draw.colour` tabulates within the functions' own range: a value far
+    outside it (-80 where the window is 0..0.03) leaves every other value's colour as it was (before
+    2026-12-05 a quarter of the window came out 0.0046 off, over a level)."""
+    from mipcast.mappers.bricked_draw import colour
+
+    values = np.array([[0.0075, 0.015, 0.0225, -80.0, 0.5]])
+    rgba = colour(values, grey_property((0.0, 0.03)))
+    assert np.abs(rgba[0, :3, 0] - [0.25, 0.5, 0.75]).max() < 1e-3
+    assert rgba[0, 3, 0] == 0.0 and rgba[0, 4, 0] == 1.0  # beyond the window: its ends
+    assert np.all(rgba[0, :, 3] == 1.0)
 
 
 def test_the_pyvista_route_draws_it_in_bricks(image, monkeypatch):

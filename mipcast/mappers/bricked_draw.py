@@ -475,8 +475,14 @@ def colour(values: np.ndarray, volume_property) -> np.ndarray:
     """Data values -> premultiplied RGBA float32 (colour x opacity, alpha = opacity); NaN: transparent.
 
     The volume property's colour and scalar-opacity transfer functions of
-    component 0, tabulated at 8192 points over the values' range and
-    interpolated linearly (what ``shaders/mip_color.glsl`` writes).
+    component 0, tabulated at 8192 points over the values' range, within
+    the functions' own range where both clamp (VTK's default: beyond their
+    points they hold their end values), and interpolated linearly (what
+    ``shaders/mip_color.glsl`` writes). Until 2026-12-05 the table spanned the
+    values' whole range: a value far outside the functions' (a face's walk
+    extrapolated off the box under multisampling, -80 where the data lie in
+    0..1) spread it so thin that every pixel of the picture came out up to
+    10 grey off under a MinIP's narrow window.
 
     Examples
     --------
@@ -489,12 +495,15 @@ def colour(values: np.ndarray, volume_property) -> np.ndarray:
     out = np.zeros(values.shape + (4,), dtype=np.float32)
     if not hit.any():
         return out
-    low, high = float(values[hit].min()), float(values[hit].max())
-    if high <= low:
-        high = low + 1.0
-    samples = np.linspace(low, high, _TABLE)
     rgb_function = volume_property.GetRGBTransferFunction(0)
     opacity_function = volume_property.GetScalarOpacity(0)
+    low, high = float(values[hit].min()), float(values[hit].max())
+    if rgb_function.GetClamping() and opacity_function.GetClamping():  # constant beyond their points
+        ranges = np.array([rgb_function.GetRange(), opacity_function.GetRange()])
+        low, high = max(low, float(ranges[:, 0].min())), min(high, float(ranges[:, 1].max()))
+    if high <= low:  # (np.interp holds the table's end values beyond it)
+        high = low + 1.0
+    samples = np.linspace(low, high, _TABLE)
     rgb_table = np.zeros(_TABLE * 3)
     rgb_function.GetTable(low, high, _TABLE, rgb_table)
     opacity_table = np.zeros(_TABLE)
