@@ -17,7 +17,7 @@ texture unit's 8-bit filtering, docs/reliability.md) or disagree on hit and miss
 pixels, or, for the methods whose picture is their value through the window's grey ramp (GREY), whose
 picture is more than 2 grey off the reference's on more than 1 % of the pixels (one case in two drawn with a
 random colour map and opacity, a ramp, sigmoid, step, V, band or half transparent: the reference through
-those functions, over black), or, for DEMIP (not under
+those functions, over black; DEMIP too, but MIDA, on 8-bit data or with the step), or, for DEMIP (not under
 nearest-neighbour interpolation), whose depth (the readout "depth") is more than 1e-4 off the reference's on
 more than 1 % of the pixels or whose picture is more than 2 grey off the reference's colours on more than 1 %
 (ties at the material threshold and the window's floor bounded by the references with both moved by the
@@ -44,6 +44,7 @@ from mipcast.data_fixtures import make_fixture
 from mipcast import methods, reference
 from mipcast.methods import METHODS
 from mipcast.core.prepare import scalar_image
+from mipcast.core.transfer_bounds import constant_ends
 from mipcast.core.windowing import resolve_window
 from mipcast.mappers.input_preparer import window_image
 from mipcast.mappers.demip import DEMIPVolumeMapper, render_depth
@@ -314,7 +315,9 @@ def transfer_case(case: dict, number: int) -> Optional[tuple]:
     with ``x`` a place in the window (0 its low end, 1 its high end), or None (the grey ramp, opaque): the grey
     methods (not foveated, not under nearest interpolation), one case in two, drawn apart from the case, so
     that every other draw stays as it was."""
-    if case["method"] not in GREY or nearest_case(case, number):
+    demip = (case["method"] == "demip_two_pass" or (case["method"] == "demip" and case["demip"]["projection"] != "mida")) \
+        and case["dtype"] != "u8"  # (MIDA composites its own colours: its reference is grey)
+    if (case["method"] not in GREY and not demip) or nearest_case(case, number):
         return None
     draw = random.Random(number + 7000)
     if draw.random() < 0.5:
@@ -322,13 +325,15 @@ def transfer_case(case: dict, number: int) -> Optional[tuple]:
     colours = sorted((draw.uniform(-0.1, 1.1), draw.random(), draw.random(), draw.random())
                      for _ in range(draw.randint(2, 5)))
     step = draw.uniform(0.2, 0.8)
-    opacity = draw.choice([((0.0, 0.0), (1.0, 1.0)),  # a ramp
-                           ((0.0, 0.0), (0.4, 0.05), (0.5, 0.5), (0.6, 0.95), (1.0, 1.0)),  # a sigmoid
-                           ((step - 0.001, 0.0), (step + 0.001, 1.0)),  # a step
-                           ((0.0, 1.0), (0.5, 0.0), (1.0, 1.0)),  # a V: the middle transparent
-                           ((0.3, 0.0), (0.35, 1.0), (0.65, 1.0), (0.7, 0.0)),  # a band
-                           ((0.0, 0.5), (1.0, 0.5))])  # half transparent
-    return colours, opacity
+    shapes = [((0.0, 0.0), (1.0, 1.0)),  # a ramp
+              ((0.0, 0.0), (0.4, 0.05), (0.5, 0.5), (0.6, 0.95), (1.0, 1.0)),  # a sigmoid
+              ((step - 0.001, 0.0), (step + 0.001, 1.0)),  # a step
+              ((0.0, 1.0), (0.5, 0.0), (1.0, 1.0)),  # a V: the middle transparent
+              ((0.3, 0.0), (0.35, 1.0), (0.65, 1.0), (0.7, 0.0)),  # a band
+              ((0.0, 0.5), (1.0, 0.5))]  # half transparent
+    if demip:  # (DEMIP's colour is checked at the value, not over its tolerance: no step)
+        del shapes[2]
+    return colours, draw.choice(shapes)
 
 
 def transfer_property(transfer: tuple, window) -> vtkVolumeProperty:
@@ -346,10 +351,21 @@ def transfer_property(transfer: tuple, window) -> vtkVolumeProperty:
     return prop
 
 
-def transfer_span(transfer: tuple, window, low_values: np.ndarray, high_values: np.ndarray) -> tuple:
-    """(least, greatest) premultiplied colour, shape (..., 3), of :func:`transfer_case`'s functions over each
-    value interval (float64, the functions piecewise linear and clamped, as VTK's: their extremes lie at the
-    interval's ends or the points inside it); 0 where the interval is NaN (a ray that drew nothing)."""
+def demip_window(scene: OffscreenView, case: dict, number: int):
+    """DEMIP's window: the grey window, or under :func:`transfer_case`'s functions where they stop being
+    constant (the mapper's, ``transfer_bounds.constant_ends`` over the drawn scalars' range); None where they
+    are constant over it (no DEMIP term)."""
+    if transfer_case(case, number) is None:
+        return scene.window
+    scalars = scene.mapper.GetRenderedInput().GetPointData().GetScalars()
+    ends = constant_ends(scene.volume.GetProperty(), *scalars.GetRange(0))
+    return ends if ends[1] > ends[0] else None
+
+
+def transfer_extremes(transfer: tuple, window, low_values: np.ndarray, high_values: np.ndarray) -> tuple:
+    """(least, greatest) straight colour, shape (..., 3), and (least, greatest) opacity, shape (..., 1), of
+    :func:`transfer_case`'s functions over each value interval (float64, the functions piecewise linear and
+    clamped, as VTK's: their extremes lie at the interval's ends or the points inside it)."""
     low, high = window
     places = [np.array([low + point[0] * (high - low) for point in points]) for points in transfer]
     colours, opacity = (np.array([point[1:] for point in points]) for points in transfer)
@@ -357,9 +373,16 @@ def transfer_span(transfer: tuple, window, low_values: np.ndarray, high_values: 
     samples = np.stack([low_values, high_values] + inside, axis=-1)  # (..., n): the ends, the points clipped in
     rgb = np.stack([np.interp(samples, places[0], colours[:, channel]) for channel in range(3)], axis=-1)
     alpha = np.interp(samples, places[1], opacity[:, 0])[..., None]
-    least, greatest = (rgb.min(axis=-2) * alpha.min(axis=-2), rgb.max(axis=-2) * alpha.max(axis=-2))
+    return rgb.min(axis=-2), rgb.max(axis=-2), alpha.min(axis=-2), alpha.max(axis=-2)
+
+
+def transfer_span(transfer: tuple, window, low_values: np.ndarray, high_values: np.ndarray) -> tuple:
+    """(least, greatest) premultiplied colour, shape (..., 3), of :func:`transfer_case`'s functions over each
+    value interval (:func:`transfer_extremes`); 0 where the interval is NaN (a ray that drew nothing)."""
+    least_rgb, greatest_rgb, least_alpha, greatest_alpha = transfer_extremes(transfer, window, low_values,
+                                                                             high_values)
     missed = np.isnan(low_values)[..., None]
-    return np.where(missed, 0.0, least), np.where(missed, 0.0, greatest)
+    return np.where(missed, 0.0, least_rgb * least_alpha), np.where(missed, 0.0, greatest_rgb * greatest_alpha)
 
 
 def nearest_case(case: dict, number: int) -> bool:
@@ -417,8 +440,11 @@ def run_case(number: int, base: np.ndarray, after: Optional[int] = None) -> tupl
     clip = (np.concatenate([p[0] for p in planes]), np.concatenate([p[1] for p in planes])) if planes else None
     if nearest:
         settings["interpolation"] = "nearest"
+    window = demip_window(scene, case, number) if name in ("demip", "demip_two_pass") else scene.window
+    if window is None:  # (transfer functions constant over the data: nothing to compare)
+        return case, None
     the_reference = functools.partial(METHODS[name].reference, reference_image, camera, scene.size,
-                                      sample_distance=scene.sample_distance, window=scene.window, clip_planes=clip,
+                                      sample_distance=scene.sample_distance, window=window, clip_planes=clip,
                                       cropping=cropping, matrix=matrix, **settings,
                                       **({"component": component} if component is not None else {}))
     expected = the_reference()
@@ -464,7 +490,7 @@ def run_case(number: int, base: np.ndarray, after: Optional[int] = None) -> tupl
                       f"(tolerance {tolerance:g}) at {int((errors > tolerance).sum())} of {int(both.sum())} pixels")
     if name in ("demip", "demip_two_pass") and not foveated and not nearest:
         problem = demip_problem(scene, case, number, settings, planes, cropping, matrix, reference_image,
-                                component, got)
+                                component, got, window)
         if problem:
             return case, problem
     if name in GREY and not foveated and not nearest:  # the picture: the reference through
@@ -495,17 +521,19 @@ def run_case(number: int, base: np.ndarray, after: Optional[int] = None) -> tupl
 
 
 def demip_problem(scene: OffscreenView, case: dict, number: int, settings: dict, planes, cropping, matrix,
-                  reference_image, component, readout: np.ndarray) -> Optional[str]:
+                  reference_image, component, readout: np.ndarray, window) -> Optional[str]:
     """Why DEMIP's depth (its readout "depth") or picture disagrees with the float64 reference's, or None
-    (``readout``: the float readout)."""
+    (``readout``: the float readout; ``window``: DEMIP's, :func:`demip_window`)."""
     camera = scene.camera
     slab = (7.0, camera.GetFocalPoint(), camera.GetDirectionOfProjection()) if case["slab"] else None
     clip = (np.concatenate([p[0] for p in planes]), np.concatenate([p[1] for p in planes])) if planes else None
 
-    def reference_demip_output(output, material_threshold, move=0.0):
+    transfer = transfer_case(case, number)
+
+    def reference_demip_output(output, material_threshold, move=0.0, colour="grey"):
         return reference.render(reference_image, camera, scene.size, "demip", output=output,
-                                sample_distance=scene.sample_distance, window=np.add(scene.window, move),
-                                clip_planes=clip, slab=slab, cropping=cropping, matrix=matrix,
+                                sample_distance=scene.sample_distance, window=np.add(window, move),
+                                clip_planes=clip, slab=slab, cropping=cropping, matrix=matrix, colour=colour,
                                 **dict(settings, material_threshold=material_threshold),
                                 **({"component": component} if component is not None else {}))
 
@@ -514,7 +542,7 @@ def demip_problem(scene: OffscreenView, case: dict, number: int, settings: dict,
     # unit's 8-bit filtering). Depth falls as the threshold widens and as the window moves down: the
     # threshold widened with the window moved down by the tolerance, and the reverse, bound every choice
     threshold = settings.get("material_threshold", scene.mapper.GetMaterialThreshold())
-    low, high = scene.window
+    low, high = window
     values = drawn_values(reference_image, component)
     span = np.nanmax(values) - np.nanmin(values)
     tolerance = 2.0 / 250.0 if case["dtype"] == "u8" else METHODS[case["method"]].reference_tolerance
@@ -541,7 +569,21 @@ def demip_problem(scene: OffscreenView, case: dict, number: int, settings: dict,
                     f"{errors.max() if errors.size else 0:.3g}")
     # the picture: each pixel within 2 grey (and the value's tolerance through the window) of the span of the
     # references' colours at the bounds above (a tied sample moves the depth, and with it the colour)
-    references = np.stack([reference_demip_output("rgb", *bound) for bound in bounds])  # NaN: the ray misses
+    if transfer is None:
+        references = np.stack([reference_demip_output("rgb", *bound) for bound in bounds])  # NaN: the ray misses
+    else:  # the base colour, then the opacity of the ray's value (premultiplied, over black), as
+        # shaders/demip_color.glsl writes them, each at its least and greatest over the value's tolerance and
+        # one step of VTK's tables (the DEMIP terms are monotone in the base colour)
+        reach = tolerance * span + 2.0 * span / 1023.0
+
+        def base(pick):
+            return lambda v: transfer_extremes(transfer, scene.window, v - reach, v + reach)[pick]
+
+        value = reference_demip_output("value", *bounds[0])
+        _, _, least, greatest = transfer_extremes(transfer, scene.window, value - reach, value + reach)
+        references = np.stack([reference_demip_output("rgb", *bound, colour=base(0)) * least for bound in bounds]
+                              + [reference_demip_output("rgb", *bound, colour=base(1)) * greatest
+                                 for bound in bounds])
     colours = np.round(255.0 * np.nan_to_num(references))
     allowed = 2.0 + 255.0 * (tolerance - METHODS[case["method"]].reference_tolerance) * span / (high - low)
     picture = scene.screenshot()[..., :3].astype(float)

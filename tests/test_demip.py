@@ -477,3 +477,23 @@ def test_depth_readout_of_8_bit_data_matches_the_same_data_as_float():
     both = ~np.isnan(depths[0]) & ~np.isnan(depths[1])
     assert both.mean() > 0.2
     assert np.median(np.abs(depths[0][both] - depths[1][both])) < 1e-4
+
+
+def test_the_reference_colours_demip_by_a_colour_map():
+    """``colour=``: DEMIP's base colour from a function of the values (a colour map); the grey ramp written
+    as such a function gives the default picture, a red map only red, and anything else is refused."""
+    image = make_fixture("frontback", size=16)
+    view = OffscreenView(image, "demip", size=(24, 24))
+    low, high = view.window
+    settings = dict(sample_distance=view.sample_distance, window=view.window, output="rgb", depth_weight=0.5)
+    grey = reference.render(image, view.camera, view.size, "demip", **settings)
+    ramp = reference.render(image, view.camera, view.size, "demip", **settings,
+                            colour=lambda v: np.repeat(np.clip((v - low) / (high - low), 0, 1)[:, None], 3, axis=1))
+    assert np.isfinite(grey).any() and np.array_equal(np.isnan(grey), np.isnan(ramp))
+    assert np.nanmax(np.abs(grey - ramp)) < 1e-12
+    red = reference.render(image, view.camera, view.size, "demip", **settings,
+                           colour=lambda v: np.tile([1.0, 0.0, 0.0], (len(v), 1)))
+    hit = np.isfinite(red[..., 0])
+    assert np.all(red[hit][:, 0] >= red[hit][:, 1]) and np.nanmax(np.abs(red - grey)) > 0.1
+    with pytest.raises(TypeError, match="colour"):
+        reference.render(image, view.camera, view.size, "demip", **settings, colour="bone")

@@ -117,13 +117,15 @@ def test_demip_depth_and_picture_agree_with_the_reference(base, number):
     assert problem is None, (case, problem)
 
 
-@pytest.mark.parametrize("number", [55, 71, 86, 103, 145, 205, 240, 252, 461, 2440])
+@pytest.mark.parametrize("number", [55, 71, 82, 86, 103, 138, 145, 180, 205, 240, 252, 461, 2440])
 def test_pictures_under_a_users_colour_map_and_opacity_agree_with_the_reference(base, number):
     """The grey methods under a random colour map and opacity (a V, its middle transparent; a step; a
     sigmoid), as pyvista's ``cmap`` and ``opacity`` give them (differential_check.transfer_case; since
     2026-12-05): the picture is the reference's value through those functions, premultiplied, over black,
     in bricks (composited on the CPU) as in one texture. 461 and 2440 draw with MSAA: 461 (analytic MinIP in
     bricks, perspective, a volume matrix) was 130 pixels up to 166 levels off until the CPU's colour table
-    stopped spanning a face's extrapolated values (tests/test_bricked_mapper.py)."""
+    stopped spanning a face's extrapolated values (tests/test_bricked_mapper.py). 82, 138 and 180 are DEMIP
+    (its base colour through the colour map, ``reference.render(..., colour=)``, then its terms, then the
+    opacity)."""
     case, problem = run_case(number, base)
     assert problem is None, (case, problem)

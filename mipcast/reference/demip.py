@@ -30,7 +30,8 @@ OUTPUTS = ("depth", "rgb", "value")
 
 #: Parameters besides the method's own (:data:`mipcast.core.parameter_tables.DEMIP`):
 #: name -> default (``None``: required).
-SCENE_PARAMETERS = {"sample_distance": None, "window": None, "output": "depth", "interpolation": "linear"}
+SCENE_PARAMETERS = {"sample_distance": None, "window": None, "output": "depth", "interpolation": "linear",
+                    "colour": "grey"}
 
 
 def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=None, cropping=None, matrix=None,
@@ -86,6 +87,10 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
         ``interpolation : {"linear", "nearest"}, default: "linear"``: the samples
         interpolate the volume trilinearly, or take the nearest point's value
         (the volume property's ``SetInterpolationTypeToNearest``).
+        ``colour : callable or "grey", default: "grey"``: DEMIP's base colour,
+        a function giving the straight RGB ``(N, 3)`` in [0, 1] of ``N``
+        values (a colour map: the volume property's colour transfer
+        function), or the grey ramp of the window. MIDA's composite stays grey.
 
     Returns
     -------
@@ -136,6 +141,9 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
     low, high = _window(scene["window"])
     output = check_choice("output", scene.get("output", "depth"), OUTPUTS)
     interpolation = check_choice("interpolation", scene.get("interpolation", "linear"), ("linear", "nearest"))
+    colour = scene.get("colour", "grey")
+    if colour != "grey" and not callable(colour):
+        raise TypeError(f"colour must be a function of the values or 'grey' (the grey ramp), got {colour!r}")
     sampler = nearest if interpolation == "nearest" else trilinear
     mode = p["depth_mode"]
     eps = 0.0 if p["depth_of"] == "maximum" else p["material_threshold"]
@@ -196,7 +204,9 @@ def render_demip(image: Any, camera: Any, size: tuple, clip_planes=None, slab=No
         return scatter(depth, hit, height, width)
 
     grey = mida if projection == "mida" else np.clip((maximum - low) / (high - low), 0.0, 1.0)
-    color = enhance(np.repeat(grey[:, None], 3, axis=1), depth, term, where, geometry, p)
+    base = np.repeat(grey[:, None], 3, axis=1) if colour == "grey" or projection == "mida" else \
+        np.asarray(colour(maximum), dtype=np.float64).reshape(len(maximum), 3)
+    color = enhance(base, depth, term, where, geometry, p)
     return scatter(color, hit, height, width)
 
 
