@@ -293,7 +293,7 @@ def multisample_case(number: int) -> bool:
     return random.Random(number + 8000).random() < 0.25
 
 
-def inside_pixels(case: dict, number: int, *drawn: np.ndarray) -> np.ndarray:
+def inside_pixels(number: int, *drawn: np.ndarray) -> np.ndarray:
     """The pixels whose picture is checked: with MSAA those whose 3x3 neighbourhood each of ``drawn`` (the
     reference's values, the GPU's float readout: NaN where nothing is drawn) draws all or nothing of (MSAA
     blends a silhouette pixel's colour by the part of it the box covers; a ray grazing an edge-on face may be
@@ -489,8 +489,12 @@ def run_case(number: int, base: np.ndarray, after: Optional[int] = None) -> tupl
         return case, (f"{problem or ''} hit/miss agree {agree:.3f}, error {error:.3g} of the range "
                       f"(tolerance {tolerance:g}) at {int((errors > tolerance).sum())} of {int(both.sum())} pixels")
     if name in ("demip", "demip_two_pass") and not foveated and not nearest:
-        problem = demip_problem(scene, case, number, settings, planes, cropping, matrix, reference_image,
-                                component, got, window)
+        slab = (7.0, camera.GetFocalPoint(), camera.GetDirectionOfProjection()) if case["slab"] else None
+        rendered = functools.partial(reference.render, reference_image, camera, scene.size, "demip",
+                                     sample_distance=scene.sample_distance, clip_planes=clip, slab=slab,
+                                     cropping=cropping, matrix=matrix, **settings,
+                                     **({"component": component} if component is not None else {}))
+        problem = demip_problem(scene, case, number, rendered, window, got, span, tolerance)
         if problem:
             return case, problem
     if name in GREY and not foveated and not nearest:  # the picture: the reference through
@@ -506,52 +510,45 @@ def run_case(number: int, base: np.ndarray, after: Optional[int] = None) -> tupl
             least, greatest = transfer_span(transfer, scene.window, expected - reach, expected + reach)
             picture = scene.screenshot().astype(float)
             outside = np.maximum(255.0 * least - picture, picture - 255.0 * greatest).max(axis=-1)
-            off = (outside > 2.0) & inside_pixels(case, number, expected, got)
+            off = (outside > 2.0) & inside_pixels(number, expected, got)
             if off.mean() > 0.01:
                 return case, (f"picture ({transfer}): {int(off.sum())} pixels more than 2 grey off the reference's "
                               f"colours, up to {outside.max():.0f}")
             return case, None
         grey = np.where(np.isnan(expected), 0.0, np.round(np.clip((expected - low) / (high - low), 0.0, 1.0) * 255))
         allowed = 2.0 + 255.0 * (tolerance - METHODS[name].reference_tolerance) * span / (high - low)
-        off = (np.abs(scene.screenshot()[..., 0].astype(float) - grey) > allowed) & inside_pixels(case, number,
-                                                                                                   expected, got)
+        off = (np.abs(scene.screenshot()[..., 0].astype(float) - grey) > allowed) & inside_pixels(number, expected,
+                                                                                                   got)
         if off.mean() > 0.01:
             return case, f"picture: {int(off.sum())} pixels more than {allowed:.3g} grey off the reference's"
     return case, None
 
 
-def demip_problem(scene: OffscreenView, case: dict, number: int, settings: dict, planes, cropping, matrix,
-                  reference_image, component, readout: np.ndarray, window) -> Optional[str]:
-    """Why DEMIP's depth (its readout "depth") or picture disagrees with the float64 reference's, or None
-    (``readout``: the float readout; ``window``: DEMIP's, :func:`demip_window`)."""
-    camera = scene.camera
-    slab = (7.0, camera.GetFocalPoint(), camera.GetDirectionOfProjection()) if case["slab"] else None
-    clip = (np.concatenate([p[0] for p in planes]), np.concatenate([p[1] for p in planes])) if planes else None
-
+def demip_problem(scene: OffscreenView, case: dict, number: int, rendered, window, readout: np.ndarray,
+                  span: float, tolerance: float) -> Optional[str]:
+    """Why DEMIP's depth (its readout "depth") or picture disagrees with the float64 reference's, or None.
+    ``rendered``: ``reference.render`` bound to the case's scene, "demip" and settings; ``window``: DEMIP's
+    (:func:`demip_window`); ``readout``: the float readout; ``span``, ``tolerance``: the drawn values' range and
+    the value's tolerance (of it)."""
+    mapper = scene.mapper
     transfer = transfer_case(case, number)
 
     def reference_demip_output(output, material_threshold, move=0.0, colour="grey"):
-        return reference.render(reference_image, camera, scene.size, "demip", output=output,
-                                sample_distance=scene.sample_distance, window=np.add(window, move),
-                                clip_planes=clip, slab=slab, cropping=cropping, matrix=matrix, colour=colour,
-                                **dict(settings, material_threshold=material_threshold),
-                                **({"component": component} if component is not None else {}))
+        return rendered(output=output, window=np.add(window, move), material_threshold=material_threshold,
+                        colour=colour)
 
     # the depth is of the first sample above the window's floor whose material lies within the threshold of
     # the maximum's: a sample within the value's tolerance of either bound is a tie (8-bit data: the texture
     # unit's 8-bit filtering). Depth falls as the threshold widens and as the window moves down: the
     # threshold widened with the window moved down by the tolerance, and the reverse, bound every choice
-    threshold = settings.get("material_threshold", scene.mapper.GetMaterialThreshold())
+    threshold = mapper.GetMaterialThreshold()
     low, high = window
-    values = drawn_values(reference_image, component)
-    span = np.nanmax(values) - np.nanmin(values)
-    tolerance = 2.0 / 250.0 if case["dtype"] == "u8" else METHODS[case["method"]].reference_tolerance
     move = tolerance * span
     bounds = ((threshold, 0.0), (min(threshold + move / (high - low), 1.0), -move),
               (max(threshold - move / (high - low), 1e-6), move))
-    if settings.get("projection") not in ("attenuated", "mida"):  # (those draw no DEMIP term, no depth)
+    if mapper.GetProjection() not in ("attenuated", "mida"):  # (those draw no DEMIP term, no depth)
         candidates = np.stack([reference_demip_output("depth", *bound) for bound in bounds])
-        got = render_depth(scene.render_window, scene.mapper)
+        got = render_depth(scene.render_window, mapper)
         with np.errstate(invalid="ignore"), warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)  # (rays with no DEMIP term: all NaN)
             # where the tightened bounds leave a ray no term (its maximum a tie at the floor), any later
@@ -564,7 +561,7 @@ def demip_problem(scene: OffscreenView, case: dict, number: int, settings: dict,
         errors = np.abs(got[both] - expected[both])
         off = int((errors > DEPTH_TOLERANCE).sum())
         if agree <= 0.99 or off > max(1, 0.01 * both.sum()):
-            return (f"depth ({settings.get('depth_mode')}): term/no term agree {agree:.3f}, {off} of "
+            return (f"depth ({mapper.GetDepthMode()}): term/no term agree {agree:.3f}, {off} of "
                     f"{int(both.sum())} pixels more than {DEPTH_TOLERANCE:g} off, up to "
                     f"{errors.max() if errors.size else 0:.3g}")
     # the picture: each pixel within 2 grey (and the value's tolerance through the window) of the span of the
@@ -588,7 +585,7 @@ def demip_problem(scene: OffscreenView, case: dict, number: int, settings: dict,
     allowed = 2.0 + 255.0 * (tolerance - METHODS[case["method"]].reference_tolerance) * span / (high - low)
     picture = scene.screenshot()[..., :3].astype(float)
     outside = np.maximum(colours.min(axis=0) - picture, picture - colours.max(axis=0)).max(axis=-1)
-    wrong = (outside > allowed) & inside_pixels(case, number, references[0][..., 0], readout)
+    wrong = (outside > allowed) & inside_pixels(number, references[0][..., 0], readout)
     if wrong.mean() > 0.01:
         return f"picture: {int(wrong.sum())} pixels more than {allowed:.3g} grey off, up to {outside.max():.0f}"
     return None
